@@ -1,0 +1,31 @@
+//! sinew: articulated-body simulation after Kokkevis, *Practical Physics for Articulated
+//! Characters* (GDC 2004), on Featherstone's articulated-body algorithm.
+//!
+//! Data flow, in module order:
+//! MJCF text → [`mjcf::parse`] → [`mjcf::ModelSpec`] → [`Model`] (compiled, immutable) →
+//! [`Data`] + qpos/qvel/ctrl (one world) → [`step::step`]:
+//! kinematics → applied forces → ABA inward pass → ABA outward pass → integration.
+#![warn(missing_docs)]
+
+pub mod error;
+pub mod math;
+
+// ① description
+pub mod mjcf;
+// ② compiled model
+pub mod model;
+// ③ state and scratch
+pub mod data;
+pub mod state;
+// ④ the step
+pub mod step;
+// reference algorithms, used as checks
+pub mod dynamics;
+
+#[cfg(feature = "python")]
+mod python;
+
+pub use data::Data;
+pub use error::{Error, Result};
+pub use model::Model;
+pub use state::State;

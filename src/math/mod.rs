@@ -1,0 +1,66 @@
+//! Spatial algebra in Featherstone's notation (Featherstone, *Rigid Body Dynamics Algorithms*, 2008, ch. 2).
+//! Knows nothing about models. 6-vectors are stored as (angular, linear) pairs of `DVec3`.
+
+mod inertia;
+mod spatial;
+
+pub use glam::{DMat3, DQuat, DVec3};
+pub use inertia::{ArtInertia, SpatialInertia};
+pub use spatial::{Force, Motion, Xform};
+
+/// Skew-symmetric cross-product matrix: `skew(a) * b == a.cross(b)`.
+#[inline]
+pub fn skew(a: DVec3) -> DMat3 {
+    DMat3::from_cols(
+        DVec3::new(0.0, a.z, -a.y),
+        DVec3::new(-a.z, 0.0, a.x),
+        DVec3::new(a.y, -a.x, 0.0),
+    )
+}
+
+/// Outer product `a bᵀ`.
+#[inline]
+pub fn outer(a: DVec3, b: DVec3) -> DMat3 {
+    DMat3::from_cols(a * b.x, a * b.y, a * b.z)
+}
+
+/// Rotation of `angle` radians about the unit vector `axis`, as a quaternion.
+#[inline]
+pub fn quat_axis_angle(axis: DVec3, angle: f64) -> DQuat {
+    DQuat::from_axis_angle(axis, angle)
+}
+
+/// Quaternion from MuJoCo's (w, x, y, z) order.
+#[inline]
+pub fn quat_wxyz(q: &[f64]) -> DQuat {
+    DQuat::from_xyzw(q[1], q[2], q[3], q[0])
+}
+
+/// Integrates a unit quaternion by a body-frame angular velocity `omega` over `h`
+/// (right multiplication by exp(ω h / 2), as MuJoCo's `mju_quatIntegrate`), then renormalises.
+#[inline]
+pub fn quat_integrate(q: DQuat, omega: DVec3, h: f64) -> DQuat {
+    let angle = omega.length() * h;
+    if angle == 0.0 || !angle.is_finite() {
+        return if angle.is_finite() { q } else { DQuat::from_xyzw(f64::NAN, f64::NAN, f64::NAN, f64::NAN) };
+    }
+    let axis = omega / omega.length();
+    (q * DQuat::from_axis_angle(axis, angle)).normalize()
+}
+
+/// Rotation vector `v` with `q2 = q1 * exp(v)`, i.e. the body-frame rotation taking `q1` to `q2`
+/// (MuJoCo's `mju_subQuat(v, q2, q1)`).
+#[inline]
+pub fn quat_sub(q2: DQuat, q1: DQuat) -> DVec3 {
+    let mut d = q1.conjugate() * q2;
+    if d.w < 0.0 {
+        d = -d;
+    }
+    let s = DVec3::new(d.x, d.y, d.z);
+    let sn = s.length();
+    if sn < 1e-300 {
+        return DVec3::ZERO;
+    }
+    let angle = 2.0 * sn.atan2(d.w);
+    s * (angle / sn)
+}

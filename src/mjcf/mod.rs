@@ -1,0 +1,252 @@
+//! ① Model description: the MJCF (MuJoCo XML) subset sinew reads, parsed into a [`ModelSpec`] with
+//! defaults resolved, angles in radians and orientations as quaternions. `model::compile` turns the
+//! spec into a [`crate::Model`].
+//!
+//! Supported: the elements and attributes used by gymnasium's MuJoCo model files (see README).
+//! Visual-only elements (light, camera, material, texture, visual, asset, size, statistic, sensor)
+//! are accepted and ignored. MuJoCo's soft-constraint parameters (solref, solimp, …) are accepted
+//! and ignored by design: sinew's constraints are exact. Anything else that would change the physics
+//! and is not supported is an error, or a warning in [`ModelSpec::warnings`].
+
+mod parse;
+
+use glam::{DQuat, DVec3};
+
+pub use parse::parse;
+
+/// Integration scheme for the constraint-free dynamics.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Integrator {
+    /// Semi-implicit (symplectic) Euler with joint damping treated implicitly, as MuJoCo's `Euler`.
+    Euler,
+    /// Classical 4th-order Runge–Kutta, as MuJoCo's `RK4`.
+    Rk4,
+}
+
+/// Joint kinds (MuJoCo's `mjtJoint`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum JointType {
+    /// 6 DOF: position + unit quaternion; qvel = world linear + body angular velocity.
+    Free,
+    /// 3 DOF: unit quaternion; qvel = body-frame angular velocity.
+    Ball,
+    /// 1 DOF translation along `axis`.
+    Slide,
+    /// 1 DOF rotation about `axis` through `pos`.
+    Hinge,
+}
+
+impl JointType {
+    /// Number of position coordinates.
+    pub fn nq(self) -> usize {
+        match self {
+            JointType::Free => 7,
+            JointType::Ball => 4,
+            _ => 1,
+        }
+    }
+    /// Number of velocity coordinates (degrees of freedom).
+    pub fn nv(self) -> usize {
+        match self {
+            JointType::Free => 6,
+            JointType::Ball => 3,
+            _ => 1,
+        }
+    }
+}
+
+/// Geometric primitive kinds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GeomType {
+    /// Infinite plane, normal +z of its frame.
+    Plane,
+    /// Sphere of radius size[0].
+    Sphere,
+    /// Capsule of radius size[0] and half-length size[1] along z.
+    Capsule,
+    /// Cylinder of radius size[0] and half-length size[1] along z.
+    Cylinder,
+    /// Box of half-sizes size[0..3].
+    Box,
+    /// Ellipsoid of semi-axes size[0..3].
+    Ellipsoid,
+}
+
+/// Simulation options (`<option>`, `<compiler>`, `<flag>`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct OptionSpec {
+    /// Time step in seconds.
+    pub timestep: f64,
+    /// Gravity vector.
+    pub gravity: DVec3,
+    /// Integrator.
+    pub integrator: Integrator,
+    /// Contacts enabled (`<flag contact>`).
+    pub contact: bool,
+    /// Joint limits enabled (`<flag limit>`).
+    pub limit: bool,
+}
+
+/// A joint as written, with defaults applied and units converted.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointSpec {
+    /// Name (may be empty).
+    pub name: String,
+    /// Kind.
+    pub kind: JointType,
+    /// Anchor in the body frame.
+    pub pos: DVec3,
+    /// Unit axis in the body frame (hinge, slide).
+    pub axis: DVec3,
+    /// Reference position (qpos0 for hinge/slide).
+    pub reference: f64,
+    /// Lower/upper limit.
+    pub range: [f64; 2],
+    /// Whether the range is enforced.
+    pub limited: bool,
+    /// Limit activation margin.
+    pub margin: f64,
+    /// Armature inertia added to each DOF.
+    pub armature: f64,
+    /// Viscous damping per DOF.
+    pub damping: f64,
+    /// Spring stiffness.
+    pub stiffness: f64,
+    /// Spring rest position.
+    pub springref: f64,
+    /// Source line.
+    pub line: u32,
+}
+
+/// A geom as written, with defaults applied and `fromto` resolved.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GeomSpec {
+    /// Name (may be empty).
+    pub name: String,
+    /// Kind.
+    pub kind: GeomType,
+    /// Size parameters (meaning depends on kind).
+    pub size: [f64; 3],
+    /// Position in the body frame.
+    pub pos: DVec3,
+    /// Orientation in the body frame.
+    pub quat: DQuat,
+    /// Density for mass-from-volume.
+    pub density: f64,
+    /// Explicit mass, overriding density.
+    pub mass: Option<f64>,
+    /// Sliding, torsional, rolling friction.
+    pub friction: [f64; 3],
+    /// Contact type bitmask.
+    pub contype: u32,
+    /// Contact affinity bitmask.
+    pub conaffinity: u32,
+    /// Contact dimensionality (1 = frictionless, 3 = sliding friction).
+    pub condim: u32,
+    /// Contact detection margin.
+    pub margin: f64,
+    /// Source line.
+    pub line: u32,
+}
+
+/// A site: a named frame on a body with no physics.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SiteSpec {
+    /// Name (may be empty).
+    pub name: String,
+    /// Position in the body frame.
+    pub pos: DVec3,
+    /// Orientation in the body frame.
+    pub quat: DQuat,
+}
+
+/// Explicit `<inertial>`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InertialSpec {
+    /// Mass.
+    pub mass: f64,
+    /// Centre of mass in the body frame.
+    pub pos: DVec3,
+    /// Orientation of the principal axes.
+    pub quat: DQuat,
+    /// Principal moments, or the full tensor (xx, yy, zz, xy, xz, yz) in the inertial frame.
+    pub inertia: [f64; 6],
+}
+
+/// A body with its joints, geoms and sites. Body 0 is the world.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodySpec {
+    /// Name.
+    pub name: String,
+    /// Parent body index (0 for children of the world; the world is its own parent).
+    pub parent: usize,
+    /// Position relative to the parent.
+    pub pos: DVec3,
+    /// Orientation relative to the parent.
+    pub quat: DQuat,
+    /// Joints in order.
+    pub joints: Vec<JointSpec>,
+    /// Geoms in order.
+    pub geoms: Vec<GeomSpec>,
+    /// Sites in order.
+    pub sites: Vec<SiteSpec>,
+    /// Explicit inertial, if given.
+    pub inertial: Option<InertialSpec>,
+    /// Source line.
+    pub line: u32,
+}
+
+/// A `<motor>` actuator on a joint.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ActuatorSpec {
+    /// Name (may be empty).
+    pub name: String,
+    /// Target joint name.
+    pub joint: String,
+    /// Gear ratio.
+    pub gear: f64,
+    /// Control range.
+    pub ctrlrange: [f64; 2],
+    /// Whether ctrl is clamped to `ctrlrange`.
+    pub ctrllimited: bool,
+    /// Actuator force range.
+    pub forcerange: [f64; 2],
+    /// Whether the force is clamped to `forcerange`.
+    pub forcelimited: bool,
+    /// Source line.
+    pub line: u32,
+}
+
+/// How body inertias are obtained (`<compiler inertiafromgeom>`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum InertiaFromGeom {
+    /// Always from geoms.
+    True,
+    /// Never from geoms.
+    False,
+    /// From geoms when a body has no `<inertial>`.
+    Auto,
+}
+
+/// A whole parsed model description.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModelSpec {
+    /// Model name.
+    pub name: String,
+    /// Options.
+    pub option: OptionSpec,
+    /// Bodies in document order; index 0 is the world.
+    pub bodies: Vec<BodySpec>,
+    /// Actuators in document order.
+    pub actuators: Vec<ActuatorSpec>,
+    /// `<compiler inertiafromgeom>`.
+    pub inertiafromgeom: InertiaFromGeom,
+    /// `<compiler settotalmass>`, when positive.
+    pub settotalmass: Option<f64>,
+    /// Body-name pairs excluded from contact (`<contact><exclude>`).
+    pub contact_excludes: Vec<(String, String)>,
+    /// Contact restitution from `<custom><numeric name="sinew/restitution">`.
+    pub restitution: Option<f64>,
+    /// Things accepted but not modelled that may change the physics.
+    pub warnings: Vec<String>,
+}

@@ -1,0 +1,258 @@
+//! [`ModelSpec`] → [`Model`]: body inertias from geoms or `<inertial>`, the node tree, address
+//! tables, actuator resolution and a solvability check at the reference configuration.
+
+use glam::{DMat3, DVec3};
+
+use super::inertia::geom_inertia;
+use super::joint::constant_subspace;
+use super::{Model, Options, WORLD};
+use crate::error::{Error, Result};
+use crate::math::{SpatialInertia, Xform};
+use crate::mjcf::{InertiaFromGeom, JointType, ModelSpec};
+
+pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
+    let nbody = spec.bodies.len();
+
+    // body mass properties, in body frames
+    let mut inertia: Vec<SpatialInertia> = spec
+        .bodies
+        .iter()
+        .enumerate()
+        .map(|(id, b)| {
+            if id == 0 {
+                return SpatialInertia::ZERO;
+            }
+            let from_geom = match spec.inertiafromgeom {
+                InertiaFromGeom::True => true,
+                InertiaFromGeom::False => false,
+                InertiaFromGeom::Auto => b.inertial.is_none(),
+            };
+            if from_geom {
+                b.geoms.iter().fold(SpatialInertia::ZERO, |acc, g| acc.combine(&geom_inertia(g)))
+            } else if let Some(i) = &b.inertial {
+                let [xx, yy, zz, xy, xz, yz] = i.inertia;
+                let local = DMat3::from_cols(DVec3::new(xx, xy, xz), DVec3::new(xy, yy, yz), DVec3::new(xz, yz, zz));
+                SpatialInertia::new(i.mass, DVec3::ZERO, local).to_parent(DMat3::from_quat(i.quat), i.pos)
+            } else {
+                SpatialInertia::ZERO
+            }
+        })
+        .collect();
+    if let Some(total) = spec.settotalmass {
+        let sum: f64 = inertia.iter().map(|i| i.mass).sum();
+        if sum > 0.0 {
+            let k = total / sum;
+            for i in &mut inertia {
+                i.mass *= k;
+                i.ic *= k;
+            }
+        }
+    }
+
+    // joints, dofs and nodes in MuJoCo order
+    let mut m = Model {
+        name: spec.name.clone(),
+        opt: Options {
+            timestep: spec.option.timestep,
+            gravity: spec.option.gravity,
+            integrator: spec.option.integrator,
+            contact: spec.option.contact,
+            limit: spec.option.limit,
+            restitution: spec.restitution.unwrap_or(0.0),
+        },
+        nq: 0,
+        nv: 0,
+        nu: spec.actuators.len(),
+        nbody,
+        njnt: 0,
+        ngeom: 0,
+        qpos0: vec![],
+        qpos_spring: vec![],
+        body_name: spec.bodies.iter().map(|b| b.name.clone()).collect(),
+        body_parent: spec.bodies.iter().map(|b| b.parent).collect(),
+        body_pos: spec.bodies.iter().map(|b| b.pos).collect(),
+        body_quat: spec.bodies.iter().map(|b| b.quat).collect(),
+        body_mass: inertia.iter().map(|i| i.mass).collect(),
+        body_ipos: inertia.iter().map(|i| i.com).collect(),
+        body_inertia: inertia.iter().map(|i| i.ic).collect(),
+        body_node: vec![WORLD; nbody],
+        body_offset: vec![Xform::IDENTITY; nbody],
+        jnt_name: vec![],
+        jnt_type: vec![],
+        jnt_body: vec![],
+        jnt_qposadr: vec![],
+        jnt_dofadr: vec![],
+        jnt_pos: vec![],
+        jnt_axis: vec![],
+        jnt_range: vec![],
+        jnt_limited: vec![],
+        jnt_margin: vec![],
+        jnt_stiffness: vec![],
+        dof_damping: vec![],
+        dof_armature: vec![],
+        dof_jnt: vec![],
+        node_parent: vec![],
+        node_xtree: vec![],
+        node_inertia: vec![],
+        node_art: vec![],
+        node_s: vec![],
+        geom_name: vec![],
+        geom_type: vec![],
+        geom_body: vec![],
+        geom_size: vec![],
+        geom_pos: vec![],
+        geom_quat: vec![],
+        geom_friction: vec![],
+        geom_contype: vec![],
+        geom_conaffinity: vec![],
+        geom_condim: vec![],
+        geom_margin: vec![],
+        site_name: vec![],
+        site_body: vec![],
+        site_pos: vec![],
+        actuator_name: vec![],
+        actuator_jnt: vec![],
+        actuator_gear: vec![],
+        actuator_ctrlrange: vec![],
+        actuator_ctrllimited: vec![],
+        actuator_forcerange: vec![],
+        actuator_forcelimited: vec![],
+        exclude_pairs: vec![],
+        warnings: spec.warnings.clone(),
+    };
+
+    for (b, body) in spec.bodies.iter().enumerate().skip(1) {
+        let parent = body.parent;
+        // this body's frame relative to the parent body's node frame
+        let offset = Xform::from_pose_quat(body.quat, body.pos);
+        let from_parent_node = m.body_offset[parent].then(&offset);
+        if body.joints.is_empty() {
+            m.body_node[b] = m.body_node[parent];
+            m.body_offset[b] = from_parent_node;
+            continue;
+        }
+        for (k, j) in body.joints.iter().enumerate() {
+            if j.kind == JointType::Free && (parent != 0 || m.body_node[parent] != WORLD || body.joints.len() != 1) {
+                return Err(Error::model("joint", None, j.line, "a free joint must be the only joint of a child of the world"));
+            }
+            let id = m.jnt_type.len();
+            m.jnt_name.push(j.name.clone());
+            m.jnt_type.push(j.kind);
+            m.jnt_body.push(b);
+            m.jnt_qposadr.push(m.nq);
+            m.jnt_dofadr.push(m.nv);
+            m.jnt_pos.push(j.pos);
+            m.jnt_axis.push(j.axis);
+            m.jnt_range.push(j.range);
+            m.jnt_limited.push(j.limited);
+            m.jnt_margin.push(j.margin);
+            m.jnt_stiffness.push(j.stiffness);
+            match j.kind {
+                JointType::Free => {
+                    let p = body.pos;
+                    let q = body.quat;
+                    m.qpos0.extend([p.x, p.y, p.z, q.w, q.x, q.y, q.z]);
+                }
+                JointType::Ball => m.qpos0.extend([1.0, 0.0, 0.0, 0.0]),
+                _ => m.qpos0.push(j.reference),
+            }
+            match j.kind {
+                JointType::Hinge | JointType::Slide => m.qpos_spring.push(j.springref),
+                // ball and free springs rest at the reference configuration, as in MuJoCo
+                _ => m.qpos_spring.extend_from_slice(&m.qpos0[m.nq..]),
+            }
+            m.nq += j.kind.nq();
+            for _ in 0..j.kind.nv() {
+                m.dof_damping.push(j.damping);
+                m.dof_armature.push(j.armature);
+                m.dof_jnt.push(id);
+            }
+            m.nv += j.kind.nv();
+            m.node_parent.push(if k == 0 { m.body_node[parent] } else { id - 1 });
+            m.node_xtree.push(if k == 0 { from_parent_node } else { Xform::IDENTITY });
+            m.node_inertia.push(SpatialInertia::ZERO);
+            m.node_s.push(constant_subspace(j.kind, j.pos, j.axis));
+        }
+        m.body_node[b] = m.jnt_type.len() - 1;
+    }
+    m.njnt = m.jnt_type.len();
+
+    // node inertias: each body's inertia moved into its node frame
+    for b in 1..nbody {
+        let n = m.body_node[b];
+        if n == WORLD {
+            continue;
+        }
+        let (rot, pos) = m.body_offset[b].pose();
+        let moved = inertia[b].to_parent(rot, pos);
+        m.node_inertia[n] = m.node_inertia[n].combine(&moved);
+    }
+    m.node_art = m.node_inertia.iter().map(SpatialInertia::to_art).collect();
+
+    // geoms and sites
+    for (b, body) in spec.bodies.iter().enumerate() {
+        for g in &body.geoms {
+            m.geom_name.push(g.name.clone());
+            m.geom_type.push(g.kind);
+            m.geom_body.push(b);
+            m.geom_size.push(g.size);
+            m.geom_pos.push(g.pos);
+            m.geom_quat.push(g.quat);
+            m.geom_friction.push(g.friction);
+            m.geom_contype.push(g.contype);
+            m.geom_conaffinity.push(g.conaffinity);
+            m.geom_condim.push(g.condim);
+            m.geom_margin.push(g.margin);
+        }
+        for s in &body.sites {
+            m.site_name.push(s.name.clone());
+            m.site_body.push(b);
+            m.site_pos.push(s.pos);
+        }
+    }
+    m.ngeom = m.geom_type.len();
+
+    // actuators
+    for a in &spec.actuators {
+        let Some(j) = m.jnt_name.iter().position(|n| *n == a.joint) else {
+            return Err(Error::model("motor", Some("joint"), a.line, format!("unknown joint '{}'", a.joint)));
+        };
+        if !matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide) {
+            return Err(Error::model("motor", Some("joint"), a.line, "motors drive hinge or slide joints only"));
+        }
+        m.actuator_name.push(a.name.clone());
+        m.actuator_jnt.push(j);
+        m.actuator_gear.push(a.gear);
+        m.actuator_ctrlrange.push(a.ctrlrange);
+        m.actuator_ctrllimited.push(a.ctrllimited);
+        m.actuator_forcerange.push(a.forcerange);
+        m.actuator_forcelimited.push(a.forcelimited);
+    }
+
+    for (b1, b2) in &spec.contact_excludes {
+        let find = |n: &str| {
+            m.body_id(n).ok_or_else(|| Error::Compile(format!("<exclude> names unknown body '{n}'")))
+        };
+        let (i, j) = (find(b1)?, find(b2)?);
+        m.exclude_pairs.push((i.min(j), i.max(j)));
+    }
+
+    check_solvable(&m)?;
+    Ok(m)
+}
+
+/// Every joint must move some mass: the articulated inertia seen by each dof at the reference
+/// configuration must be positive definite, or the forward dynamics would divide by zero.
+fn check_solvable(m: &Model) -> Result<()> {
+    let mut data = crate::Data::new(m);
+    let qvel = vec![0.0; m.nv];
+    let ctrl = vec![0.0; m.nu];
+    crate::step::forward(m, &mut data, &m.qpos0, &qvel, &ctrl);
+    if let Some(j) = data.aba.singular_joint {
+        return Err(Error::Compile(format!(
+            "joint '{}' (body '{}') moves no mass or inertia: give its body geoms or an <inertial>",
+            m.jnt_name[j], m.body_name[m.jnt_body[j]]
+        )));
+    }
+    Ok(())
+}

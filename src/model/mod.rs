@@ -1,0 +1,195 @@
+//! ② The compiled model: immutable, flat arrays, every index resolved. Shared by all worlds.
+//!
+//! Arrays follow MuJoCo's `<object>_<field>` naming. The dynamics tree has one *node per joint*
+//! (MuJoCo's order, so node i carries joint i and qpos/qvel addresses match MuJoCo's); a body with
+//! several joints is a chain of nodes whose last frame is the body frame, and a body without
+//! joints is welded to its parent's node with a fixed offset.
+
+mod compile;
+mod inertia;
+pub mod joint;
+
+use glam::{DMat3, DQuat, DVec3};
+
+pub use crate::mjcf::{GeomType, Integrator, JointType};
+use crate::math::{ArtInertia, Motion, SpatialInertia, Xform};
+
+/// Parent index of nodes attached to the world.
+pub const WORLD: usize = usize::MAX;
+
+/// Simulation options.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Options {
+    /// Time step (s).
+    pub timestep: f64,
+    /// Gravity (m/s²).
+    pub gravity: DVec3,
+    /// Integrator.
+    pub integrator: Integrator,
+    /// Contacts enabled.
+    pub contact: bool,
+    /// Joint limits enabled.
+    pub limit: bool,
+    /// Contact restitution coefficient e in [0, 1].
+    pub restitution: f64,
+}
+
+/// A compiled model. Build it with [`Model::from_mjcf`].
+#[derive(Clone, Debug)]
+pub struct Model {
+    /// Model name.
+    pub name: String,
+    /// Options.
+    pub opt: Options,
+    /// Number of position coordinates.
+    pub nq: usize,
+    /// Number of degrees of freedom.
+    pub nv: usize,
+    /// Number of actuators.
+    pub nu: usize,
+    /// Number of bodies, world included.
+    pub nbody: usize,
+    /// Number of joints (= dynamics nodes).
+    pub njnt: usize,
+    /// Number of geoms.
+    pub ngeom: usize,
+    /// Reference configuration (nq).
+    pub qpos0: Vec<f64>,
+    /// Spring rest configuration (nq).
+    pub qpos_spring: Vec<f64>,
+
+    /// Body names (nbody).
+    pub body_name: Vec<String>,
+    /// Parent body (nbody); the world is its own parent.
+    pub body_parent: Vec<usize>,
+    /// Position relative to the parent body (nbody).
+    pub body_pos: Vec<DVec3>,
+    /// Orientation relative to the parent body (nbody).
+    pub body_quat: Vec<DQuat>,
+    /// Mass (nbody).
+    pub body_mass: Vec<f64>,
+    /// Centre of mass in the body frame (nbody).
+    pub body_ipos: Vec<DVec3>,
+    /// Rotational inertia about the centre of mass, body axes (nbody).
+    pub body_inertia: Vec<DMat3>,
+    /// Node whose frame the body moves with, or [`WORLD`] (nbody).
+    pub body_node: Vec<usize>,
+    /// Body frame relative to its node frame (nbody).
+    pub body_offset: Vec<Xform>,
+
+    /// Joint names (njnt).
+    pub jnt_name: Vec<String>,
+    /// Joint type (njnt).
+    pub jnt_type: Vec<JointType>,
+    /// Body the joint moves (njnt).
+    pub jnt_body: Vec<usize>,
+    /// First qpos address (njnt).
+    pub jnt_qposadr: Vec<usize>,
+    /// First qvel address (njnt).
+    pub jnt_dofadr: Vec<usize>,
+    /// Anchor in the joint's predecessor frame (njnt).
+    pub jnt_pos: Vec<DVec3>,
+    /// Unit axis (njnt).
+    pub jnt_axis: Vec<DVec3>,
+    /// Limits (njnt).
+    pub jnt_range: Vec<[f64; 2]>,
+    /// Whether limits apply (njnt).
+    pub jnt_limited: Vec<bool>,
+    /// Limit activation margin (njnt).
+    pub jnt_margin: Vec<f64>,
+    /// Spring stiffness (njnt).
+    pub jnt_stiffness: Vec<f64>,
+
+    /// Viscous damping (nv).
+    pub dof_damping: Vec<f64>,
+    /// Armature inertia (nv).
+    pub dof_armature: Vec<f64>,
+    /// Joint of each dof (nv).
+    pub dof_jnt: Vec<usize>,
+
+    /// Parent node or [`WORLD`] (njnt).
+    pub node_parent: Vec<usize>,
+    /// ^{pred}X_{parent}: parent node frame to this joint's predecessor frame (njnt).
+    pub node_xtree: Vec<Xform>,
+    /// Rigid inertia carried by the node frame (its body plus welded descendants) (njnt).
+    pub node_inertia: Vec<SpatialInertia>,
+    /// [`Model::node_inertia`] as 6×6 (njnt).
+    pub node_art: Vec<ArtInertia>,
+    /// Constant motion subspace columns in node coordinates (free joints: filled per step) (njnt).
+    pub node_s: Vec<[Motion; 6]>,
+
+    /// Geom names (ngeom).
+    pub geom_name: Vec<String>,
+    /// Geom type (ngeom).
+    pub geom_type: Vec<GeomType>,
+    /// Owning body (ngeom).
+    pub geom_body: Vec<usize>,
+    /// Size parameters (ngeom).
+    pub geom_size: Vec<[f64; 3]>,
+    /// Position in the body frame (ngeom).
+    pub geom_pos: Vec<DVec3>,
+    /// Orientation in the body frame (ngeom).
+    pub geom_quat: Vec<DQuat>,
+    /// Friction (sliding, torsional, rolling) (ngeom).
+    pub geom_friction: Vec<[f64; 3]>,
+    /// Contact type bits (ngeom).
+    pub geom_contype: Vec<u32>,
+    /// Contact affinity bits (ngeom).
+    pub geom_conaffinity: Vec<u32>,
+    /// Contact dimensionality (ngeom).
+    pub geom_condim: Vec<u32>,
+    /// Contact margin (ngeom).
+    pub geom_margin: Vec<f64>,
+
+    /// Site names.
+    pub site_name: Vec<String>,
+    /// Site body.
+    pub site_body: Vec<usize>,
+    /// Site position in the body frame.
+    pub site_pos: Vec<DVec3>,
+
+    /// Actuator names (nu).
+    pub actuator_name: Vec<String>,
+    /// Actuated joint (nu).
+    pub actuator_jnt: Vec<usize>,
+    /// Gear (nu).
+    pub actuator_gear: Vec<f64>,
+    /// Control range (nu).
+    pub actuator_ctrlrange: Vec<[f64; 2]>,
+    /// Whether ctrl is clamped (nu).
+    pub actuator_ctrllimited: Vec<bool>,
+    /// Force range (nu).
+    pub actuator_forcerange: Vec<[f64; 2]>,
+    /// Whether the force is clamped (nu).
+    pub actuator_forcelimited: Vec<bool>,
+
+    /// Body-pair contact exclusions (sorted pairs).
+    pub exclude_pairs: Vec<(usize, usize)>,
+    /// What the model file asks for that sinew does not model.
+    pub warnings: Vec<String>,
+}
+
+impl Model {
+    /// Parses and compiles MJCF text.
+    pub fn from_mjcf(xml: &str) -> crate::Result<Model> {
+        compile::compile(crate::mjcf::parse(xml)?)
+    }
+
+    /// Reads, parses and compiles an MJCF file.
+    pub fn from_mjcf_file(path: &std::path::Path) -> crate::Result<Model> {
+        let xml = std::fs::read_to_string(path)
+            .map_err(|e| crate::Error::Io(format!("cannot read MJCF file '{}': {e}", path.display())))?;
+        Model::from_mjcf(&xml)
+    }
+
+    /// Number of dofs of joint `j`.
+    #[inline]
+    pub fn jnt_nv(&self, j: usize) -> usize {
+        self.jnt_type[j].nv()
+    }
+
+    /// Index of the body named `name`.
+    pub fn body_id(&self, name: &str) -> Option<usize> {
+        self.body_name.iter().position(|n| n == name)
+    }
+}

@@ -1,0 +1,20 @@
+//! ⑥ pyo3 bindings (feature `python`): conversion and error mapping only, no physics.
+
+mod errors;
+mod model;
+mod sim;
+
+use pyo3::prelude::*;
+
+/// The compiled extension module `sinew._core`.
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add_class::<model::PyModel>()?;
+    m.add_class::<sim::PySim>()?;
+    m.add("ModelError", py.get_type::<errors::ModelError>())?;
+    m.add("ModelWarning", py.get_type::<errors::ModelWarning>())?;
+    m.add("SimulationError", py.get_type::<errors::SimulationError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

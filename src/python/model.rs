@@ -1,0 +1,262 @@
+//! `sinew.Model`: a compiled, immutable model shared by simulations.
+
+use std::ffi::CString;
+use std::sync::Arc;
+
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+use super::errors::{to_py, ModelWarning};
+use crate::model::{Integrator, JointType, Model};
+
+/// A compiled model (MuJoCo's mjModel counterpart). Immutable; share it between simulations.
+#[pyclass(name = "Model", module = "sinew._core", frozen)]
+pub struct PyModel {
+    pub inner: Arc<Model>,
+}
+
+fn emit_warnings(py: Python<'_>, m: &Model) -> PyResult<()> {
+    let cat = py.get_type::<ModelWarning>();
+    for w in &m.warnings {
+        let msg = CString::new(w.replace('\0', " ")).expect("no interior NUL");
+        PyErr::warn(py, cat.as_any(), &msg, 2)?;
+    }
+    Ok(())
+}
+
+fn integrator_name(i: Integrator) -> &'static str {
+    match i {
+        Integrator::Euler => "Euler",
+        Integrator::Rk4 => "RK4",
+    }
+}
+
+#[pymethods]
+impl PyModel {
+    /// Loads an MJCF file.
+    #[staticmethod]
+    fn from_mjcf(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Self> {
+        let m = py.detach(|| Model::from_mjcf_file(&path)).map_err(|e| to_py(py, e))?;
+        emit_warnings(py, &m)?;
+        Ok(PyModel { inner: Arc::new(m) })
+    }
+
+    /// Loads MJCF text.
+    #[staticmethod]
+    fn from_mjcf_string(py: Python<'_>, xml: &str) -> PyResult<Self> {
+        let m = Model::from_mjcf(xml).map_err(|e| to_py(py, e))?;
+        emit_warnings(py, &m)?;
+        Ok(PyModel { inner: Arc::new(m) })
+    }
+
+    /// A copy with some options replaced (the model itself never changes).
+    #[pyo3(signature = (*, timestep=None, integrator=None, gravity=None))]
+    fn with_options(&self, timestep: Option<f64>, integrator: Option<&str>, gravity: Option<[f64; 3]>) -> PyResult<Self> {
+        let mut m = (*self.inner).clone();
+        if let Some(h) = timestep {
+            if !(h.is_finite() && h > 0.0 && h <= 1.0) {
+                return Err(PyValueError::new_err(format!("timestep must lie in (0, 1] s, got {h}")));
+            }
+            m.opt.timestep = h;
+        }
+        if let Some(i) = integrator {
+            m.opt.integrator = match i {
+                "Euler" => Integrator::Euler,
+                "RK4" => Integrator::Rk4,
+                _ => return Err(PyValueError::new_err(format!("integrator must be 'Euler' or 'RK4', got '{i}'"))),
+            };
+        }
+        if let Some(g) = gravity {
+            if g.iter().any(|x| !x.is_finite()) {
+                return Err(PyValueError::new_err("gravity must be finite"));
+            }
+            m.opt.gravity = glam::DVec3::from_array(g);
+        }
+        Ok(PyModel { inner: Arc::new(m) })
+    }
+
+    /// Number of position coordinates.
+    #[getter]
+    fn nq(&self) -> usize {
+        self.inner.nq
+    }
+    /// Number of degrees of freedom.
+    #[getter]
+    fn nv(&self) -> usize {
+        self.inner.nv
+    }
+    /// Number of actuators.
+    #[getter]
+    fn nu(&self) -> usize {
+        self.inner.nu
+    }
+    /// Number of bodies including the world.
+    #[getter]
+    fn nbody(&self) -> usize {
+        self.inner.nbody
+    }
+    /// Number of joints.
+    #[getter]
+    fn njnt(&self) -> usize {
+        self.inner.njnt
+    }
+    /// Number of geoms.
+    #[getter]
+    fn ngeom(&self) -> usize {
+        self.inner.ngeom
+    }
+    /// Time step (s).
+    #[getter]
+    fn timestep(&self) -> f64 {
+        self.inner.opt.timestep
+    }
+    /// Integrator name: "Euler" or "RK4".
+    #[getter]
+    fn integrator(&self) -> &'static str {
+        integrator_name(self.inner.opt.integrator)
+    }
+    /// Gravity vector.
+    #[getter]
+    fn gravity<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.inner.opt.gravity.to_array())
+    }
+    /// Reference configuration (nq,).
+    #[getter]
+    fn qpos0<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.inner.qpos0)
+    }
+    /// Body masses (nbody,).
+    #[getter]
+    fn body_mass<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.inner.body_mass)
+    }
+    /// Body centres of mass in body frames (nbody, 3).
+    #[getter]
+    fn body_ipos<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        rows3(py, self.inner.body_ipos.iter().map(|v| v.to_array()))
+    }
+    /// Rotational inertia about the centre of mass, body axes (nbody, 3, 3).
+    #[getter]
+    fn body_inertia_tensor<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray3<f64>>> {
+        let rows: Vec<Vec<Vec<f64>>> = self
+            .inner
+            .body_inertia
+            .iter()
+            .map(|m| (0..3).map(|r| (0..3).map(|c| m.col(c)[r]).collect()).collect())
+            .collect();
+        Ok(numpy::PyArray3::from_vec3(py, &rows)?)
+    }
+    /// Body positions relative to their parents (nbody, 3).
+    #[getter]
+    fn body_pos<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        rows3(py, self.inner.body_pos.iter().map(|v| v.to_array()))
+    }
+    /// Body orientations relative to their parents, (w, x, y, z) (nbody, 4).
+    #[getter]
+    fn body_quat<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let rows: Vec<Vec<f64>> = self.inner.body_quat.iter().map(|q| vec![q.w, q.x, q.y, q.z]).collect();
+        Ok(PyArray2::from_vec2(py, &rows)?)
+    }
+    /// Parent body indices (nbody,).
+    #[getter]
+    fn body_parent(&self) -> Vec<usize> {
+        self.inner.body_parent.clone()
+    }
+    /// Body names.
+    #[getter]
+    fn body_names(&self) -> Vec<String> {
+        self.inner.body_name.clone()
+    }
+    /// Joint names.
+    #[getter]
+    fn joint_names(&self) -> Vec<String> {
+        self.inner.jnt_name.clone()
+    }
+    /// Joint types: "free", "ball", "slide" or "hinge".
+    #[getter]
+    fn joint_types(&self) -> Vec<&'static str> {
+        self.inner
+            .jnt_type
+            .iter()
+            .map(|t| match t {
+                JointType::Free => "free",
+                JointType::Ball => "ball",
+                JointType::Slide => "slide",
+                JointType::Hinge => "hinge",
+            })
+            .collect()
+    }
+    /// First qpos index of each joint.
+    #[getter]
+    fn jnt_qposadr(&self) -> Vec<usize> {
+        self.inner.jnt_qposadr.clone()
+    }
+    /// First qvel index of each joint.
+    #[getter]
+    fn jnt_dofadr(&self) -> Vec<usize> {
+        self.inner.jnt_dofadr.clone()
+    }
+    /// Joint limits (njnt, 2).
+    #[getter]
+    fn jnt_range<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let rows: Vec<Vec<f64>> = self.inner.jnt_range.iter().map(|r| r.to_vec()).collect();
+        Ok(PyArray2::from_vec2(py, &rows)?)
+    }
+    /// Whether each joint is limited.
+    #[getter]
+    fn jnt_limited(&self) -> Vec<bool> {
+        self.inner.jnt_limited.clone()
+    }
+    /// Geom names.
+    #[getter]
+    fn geom_names(&self) -> Vec<String> {
+        self.inner.geom_name.clone()
+    }
+    /// Site names.
+    #[getter]
+    fn site_names(&self) -> Vec<String> {
+        self.inner.site_name.clone()
+    }
+    /// Actuator names.
+    #[getter]
+    fn actuator_names(&self) -> Vec<String> {
+        self.inner.actuator_name.clone()
+    }
+    /// Actuator control ranges (nu, 2).
+    #[getter]
+    fn actuator_ctrlrange<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let rows: Vec<Vec<f64>> = self.inner.actuator_ctrlrange.iter().map(|r| r.to_vec()).collect();
+        Ok(PyArray2::from_vec2(py, &rows)?)
+    }
+    /// Whether each actuator clamps its control.
+    #[getter]
+    fn actuator_ctrllimited(&self) -> Vec<bool> {
+        self.inner.actuator_ctrllimited.clone()
+    }
+    /// Model features accepted but not simulated.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.inner.warnings.clone()
+    }
+
+    fn __repr__(&self) -> String {
+        let m = &self.inner;
+        format!(
+            "Model('{}', nq={}, nv={}, nu={}, nbody={}, timestep={}, integrator={})",
+            m.name,
+            m.nq,
+            m.nv,
+            m.nu,
+            m.nbody,
+            m.opt.timestep,
+            integrator_name(m.opt.integrator)
+        )
+    }
+}
+
+fn rows3<'py>(py: Python<'py>, it: impl Iterator<Item = [f64; 3]>) -> Bound<'py, PyArray2<f64>> {
+    let flat: Vec<f64> = it.flat_map(|a| a.into_iter()).collect();
+    let n = flat.len() / 3;
+    numpy::PyArray1::from_vec(py, flat).reshape([n, 3]).expect("n*3 elements")
+}

@@ -1,0 +1,240 @@
+//! `sinew.Sim`: one world. qpos/qvel/ctrl are NumPy arrays owned by the Sim and stepped in place.
+
+use std::sync::Arc;
+
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+use super::errors::{checked_values, diverged, first_nonfinite};
+use super::model::PyModel;
+use crate::model::Model;
+use crate::step::kinematics;
+use crate::Data;
+
+/// Largest magnitude a state entry may reach before the world counts as diverged (MuJoCo's mjMAXVAL).
+pub const MAX_STATE: f64 = 1e10;
+
+/// One simulated world.
+#[pyclass(name = "Sim", module = "sinew._core")]
+pub struct PySim {
+    model: Arc<Model>,
+    py_model: Py<PyModel>,
+    data: Data,
+    qpos: Py<PyArray1<f64>>,
+    qvel: Py<PyArray1<f64>>,
+    ctrl: Py<PyArray1<f64>>,
+    qacc: Py<PyArray1<f64>>,
+    time: f64,
+}
+
+/// First state entry that is non-finite or beyond [`MAX_STATE`], as (array name, index, value).
+fn bad_entry(qpos: &[f64], qvel: &[f64]) -> Option<(&'static str, usize, f64)> {
+    for (name, v) in [("qpos", qpos), ("qvel", qvel)] {
+        if let Some(i) = v.iter().position(|x| !(x.abs() <= MAX_STATE)) {
+            return Some((name, i, v[i]));
+        }
+    }
+    None
+}
+
+impl PySim {
+    fn assign(&self, py: Python<'_>, target: &Py<PyArray1<f64>>, value: &Bound<'_, PyAny>, what: &str) -> PyResult<()> {
+        let arr = target.bind(py);
+        let n = arr.len()?;
+        let v = checked_values(value, what, &[n])?;
+        arr.readwrite().as_slice_mut()?.copy_from_slice(&v);
+        Ok(())
+    }
+}
+
+#[pymethods]
+impl PySim {
+    /// A world at the model's reference configuration qpos0, at rest, with zero control.
+    #[new]
+    fn new(py: Python<'_>, model: Bound<'_, PyModel>) -> Self {
+        let m = model.get().inner.clone();
+        PySim {
+            data: Data::new(&m),
+            qpos: PyArray1::from_slice(py, &m.qpos0).unbind(),
+            qvel: PyArray1::zeros(py, m.nv, false).unbind(),
+            ctrl: PyArray1::zeros(py, m.nu, false).unbind(),
+            qacc: PyArray1::zeros(py, m.nv, false).unbind(),
+            time: 0.0,
+            py_model: model.unbind(),
+            model: m,
+        }
+    }
+
+    /// The model this world simulates.
+    #[getter]
+    fn model(&self, py: Python<'_>) -> Py<PyModel> {
+        self.py_model.clone_ref(py)
+    }
+    /// Positions (nq,), float64; assign into it or assign to it.
+    #[getter]
+    fn qpos(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
+        self.qpos.clone_ref(py)
+    }
+    #[setter]
+    fn set_qpos(&self, py: Python<'_>, v: Bound<'_, PyAny>) -> PyResult<()> {
+        self.assign(py, &self.qpos, &v, "qpos")
+    }
+    /// Velocities (nv,), float64.
+    #[getter]
+    fn qvel(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
+        self.qvel.clone_ref(py)
+    }
+    #[setter]
+    fn set_qvel(&self, py: Python<'_>, v: Bound<'_, PyAny>) -> PyResult<()> {
+        self.assign(py, &self.qvel, &v, "qvel")
+    }
+    /// Controls (nu,), float64; clamped to ctrlrange inside the step when limited.
+    #[getter]
+    fn ctrl(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
+        self.ctrl.clone_ref(py)
+    }
+    #[setter]
+    fn set_ctrl(&self, py: Python<'_>, v: Bound<'_, PyAny>) -> PyResult<()> {
+        self.assign(py, &self.ctrl, &v, "ctrl")
+    }
+    /// Accelerations (nv,) from the last `forward()` or at the start of the last step.
+    #[getter]
+    fn qacc(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
+        self.qacc.clone_ref(py)
+    }
+    /// Simulated time (s).
+    #[getter]
+    fn time(&self) -> f64 {
+        self.time
+    }
+    #[setter]
+    fn set_time(&mut self, t: f64) -> PyResult<()> {
+        if !t.is_finite() {
+            return Err(PyValueError::new_err(format!("time must be finite, got {t}")));
+        }
+        self.time = t;
+        Ok(())
+    }
+
+    /// Body positions in world (nbody, 3) for the current qpos.
+    #[getter]
+    fn xpos<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.kinematics(py)?;
+        let flat: Vec<f64> = self.data.kin.xpos.iter().flat_map(|v| v.to_array()).collect();
+        Ok(PyArray1::from_vec(py, flat).reshape([self.model.nbody, 3])?)
+    }
+    /// Body orientations in world as rotation matrices (nbody, 3, 3) for the current qpos.
+    #[getter]
+    fn xmat<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray3<f64>>> {
+        self.kinematics(py)?;
+        let flat: Vec<f64> = self
+            .data
+            .kin
+            .xmat
+            .iter()
+            .flat_map(|m| (0..3).flat_map(move |r| (0..3).map(move |c| m.col(c)[r])))
+            .collect();
+        Ok(PyArray1::from_vec(py, flat).reshape([self.model.nbody, 3, 3])?)
+    }
+
+    /// Computes qacc for the current state without advancing time.
+    fn forward(&mut self, py: Python<'_>) -> PyResult<()> {
+        self.check_inputs(py)?;
+        let (qpos, qvel, ctrl) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly());
+        crate::step::forward(&self.model, &mut self.data, qpos.as_slice()?, qvel.as_slice()?, ctrl.as_slice()?);
+        self.qacc.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&self.data.qacc);
+        Ok(())
+    }
+
+    /// Advances `n` steps inside Rust (GIL released). If the state becomes non-finite or exceeds
+    /// 1e10, the world is restored to where this call began and `SimulationError` is raised.
+    #[pyo3(signature = (n=1))]
+    fn step(&mut self, py: Python<'_>, n: usize) -> PyResult<()> {
+        self.check_inputs(py)?;
+        let m = &*self.model;
+        let data = &mut self.data;
+        let (mut qpos, mut qvel, ctrl) =
+            (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readonly());
+        let (qpos, qvel, ctrl) = (qpos.as_slice_mut()?, qvel.as_slice_mut()?, ctrl.as_slice()?);
+        let start = (qpos.to_vec(), qvel.to_vec(), self.time);
+        let mut time = self.time;
+        let failure = py.detach(|| {
+            for k in 0..n {
+                crate::step::step(m, data, qpos, qvel, ctrl, &mut time);
+                if let Some(bad) = bad_entry(qpos, qvel) {
+                    return Some((k, bad));
+                }
+            }
+            None
+        });
+        if let Some((k, (name, i, v))) = failure {
+            let t = time;
+            qpos.copy_from_slice(&start.0);
+            qvel.copy_from_slice(&start.1);
+            self.time = start.2;
+            return Err(diverged(format!(
+                "simulation diverged at t={t:.6} s (step {} of {n}): {name}[{i}] = {v}; state restored to t={:.6} s",
+                k + 1,
+                start.2
+            )));
+        }
+        self.time = time;
+        self.qacc.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&self.data.qacc);
+        Ok(())
+    }
+
+    /// Back to qpos0, zero velocity, zero control, time 0.
+    fn reset(&mut self, py: Python<'_>) -> PyResult<()> {
+        self.qpos.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&self.model.qpos0);
+        self.qvel.bind(py).readwrite().as_slice_mut()?.fill(0.0);
+        self.ctrl.bind(py).readwrite().as_slice_mut()?.fill(0.0);
+        self.qacc.bind(py).readwrite().as_slice_mut()?.fill(0.0);
+        self.time = 0.0;
+        Ok(())
+    }
+
+    /// The full state as one float64 array: [time, qpos (nq), qvel (nv), ctrl (nu)].
+    fn get_state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let mut v = Vec::with_capacity(1 + self.model.nq + self.model.nv + self.model.nu);
+        v.push(self.time);
+        v.extend_from_slice(self.qpos.bind(py).readonly().as_slice()?);
+        v.extend_from_slice(self.qvel.bind(py).readonly().as_slice()?);
+        v.extend_from_slice(self.ctrl.bind(py).readonly().as_slice()?);
+        Ok(PyArray1::from_vec(py, v))
+    }
+
+    /// Restores a state from `get_state`, bit-exactly. Wrong length or non-finite entries raise
+    /// ValueError and leave the world untouched.
+    fn set_state(&mut self, py: Python<'_>, state: Bound<'_, PyAny>) -> PyResult<()> {
+        let (nq, nv, nu) = (self.model.nq, self.model.nv, self.model.nu);
+        let v = checked_values(&state, "state", &[1 + nq + nv + nu])?;
+        self.time = v[0];
+        self.qpos.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&v[1..1 + nq]);
+        self.qvel.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&v[1 + nq..1 + nq + nv]);
+        self.ctrl.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&v[1 + nq + nv..]);
+        Ok(())
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Sim(model='{}', time={})", self.model.name, self.time)
+    }
+}
+
+impl PySim {
+    fn check_inputs(&self, py: Python<'_>) -> PyResult<()> {
+        for (name, arr) in [("qpos", &self.qpos), ("qvel", &self.qvel), ("ctrl", &self.ctrl)] {
+            let a = arr.bind(py).readonly();
+            if let Some(i) = first_nonfinite(a.as_slice()?) {
+                return Err(PyValueError::new_err(format!("{name}[{i}] is {} (must be finite)", a.as_slice()?[i])));
+            }
+        }
+        Ok(())
+    }
+
+    fn kinematics(&mut self, py: Python<'_>) -> PyResult<()> {
+        let (qpos, qvel) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly());
+        kinematics::forward(&self.model, qpos.as_slice()?, qvel.as_slice()?, &mut self.data.kin);
+        Ok(())
+    }
+}

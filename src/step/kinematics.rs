@@ -1,0 +1,84 @@
+//! Stage 1 — forward kinematics and velocities (Featherstone 2008, Table 7.1, pass 1 without the
+//! inertia terms). Reads qpos, qvel; writes node transforms X_up, world poses, motion subspaces S,
+//! spatial velocities v and velocity-product accelerations c, and body world poses.
+
+use glam::{DMat3, DVec3};
+
+use crate::math::{Motion, Xform};
+use crate::model::joint::{free_subspace, joint_bias, joint_pose, x_up};
+use crate::model::{JointType, Model, WORLD};
+
+/// Kinematic quantities of one configuration and velocity.
+#[derive(Clone, Debug, Default)]
+pub struct KinData {
+    /// ^iX_λ(i): parent node frame → node frame (njnt).
+    pub x_up: Vec<Xform>,
+    /// Node frame axes in world (njnt).
+    pub node_rot: Vec<DMat3>,
+    /// Node frame origin in world (njnt).
+    pub node_pos: Vec<DVec3>,
+    /// Motion subspace columns S_i in node coordinates (njnt).
+    pub s: Vec<[Motion; 6]>,
+    /// Spatial velocity v_i in node coordinates (njnt).
+    pub v: Vec<Motion>,
+    /// Velocity-product acceleration c_i = c_J + v_i ×m S_i q̇_i (njnt).
+    pub c: Vec<Motion>,
+    /// Body frame axes in world (nbody), as MuJoCo's `xmat`.
+    pub xmat: Vec<DMat3>,
+    /// Body frame origin in world (nbody), as MuJoCo's `xpos`.
+    pub xpos: Vec<DVec3>,
+}
+
+impl KinData {
+    /// Buffers sized for `m`.
+    pub fn new(m: &Model) -> Self {
+        KinData {
+            x_up: vec![Xform::IDENTITY; m.njnt],
+            node_rot: vec![DMat3::IDENTITY; m.njnt],
+            node_pos: vec![DVec3::ZERO; m.njnt],
+            s: m.node_s.clone(),
+            v: vec![Motion::ZERO; m.njnt],
+            c: vec![Motion::ZERO; m.njnt],
+            xmat: vec![DMat3::IDENTITY; m.nbody],
+            xpos: vec![DVec3::ZERO; m.nbody],
+        }
+    }
+}
+
+/// Computes all of [`KinData`] for (`qpos`, `qvel`).
+pub fn forward(m: &Model, qpos: &[f64], qvel: &[f64], kin: &mut KinData) {
+    for i in 0..m.njnt {
+        let kind = m.jnt_type[i];
+        let (qa, da) = (m.jnt_qposadr[i], m.jnt_dofadr[i]);
+        let (rot, pos) = joint_pose(kind, m.jnt_pos[i], m.jnt_axis[i], m.qpos0[qa], &qpos[qa..]);
+        let xu = x_up(kind, &m.node_xtree[i], rot, pos);
+        if kind == JointType::Free {
+            free_subspace(rot, &mut kin.s[i]);
+        }
+        // world pose and velocity, from the parent's
+        let (lrot, lpos) = xu.pose();
+        let p = m.node_parent[i];
+        let (v_parent, (prot, ppos)) = if p == WORLD {
+            (Motion::ZERO, (DMat3::IDENTITY, DVec3::ZERO))
+        } else {
+            (kin.v[p], (kin.node_rot[p], kin.node_pos[p]))
+        };
+        kin.node_rot[i] = prot * lrot;
+        kin.node_pos[i] = ppos + prot * lpos;
+        let mut vj = Motion::ZERO;
+        for k in 0..kind.nv() {
+            vj += kin.s[i][k] * qvel[da + k];
+        }
+        let v = xu.apply_motion(&v_parent) + vj;
+        kin.c[i] = joint_bias(kind, &vj) + v.cross_motion(&vj);
+        kin.v[i] = v;
+        kin.x_up[i] = xu;
+    }
+    for b in 1..m.nbody {
+        let (orot, opos) = m.body_offset[b].pose();
+        let n = m.body_node[b];
+        let (nrot, npos) = if n == WORLD { (DMat3::IDENTITY, DVec3::ZERO) } else { (kin.node_rot[n], kin.node_pos[n]) };
+        kin.xmat[b] = nrot * orot;
+        kin.xpos[b] = npos + nrot * opos;
+    }
+}
