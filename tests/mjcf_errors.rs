@@ -1,0 +1,92 @@
+//! Malformed and unsupported MJCF give errors naming element, attribute and line; accepted but
+//! unmodelled features give warnings.
+
+use sinew::{Error, Model};
+
+fn err(xml: &str) -> Error {
+    Model::from_mjcf(xml).expect_err("should fail")
+}
+
+#[test]
+fn malformed_xml_reports_the_line() {
+    match err("<mujoco>\n<worldbody>\n<body>\n</worldbody></mujoco>") {
+        Error::Xml { line, .. } => assert_eq!(line, 4),
+        e => panic!("{e:?}"),
+    }
+}
+
+#[test]
+fn bad_numbers_name_element_attribute_and_line() {
+    let e = err("<mujoco>\n<worldbody>\n<body>\n<joint range=\"0 abc\"/>\n<geom size=\"0.1\"/></body></worldbody></mujoco>");
+    assert_eq!(e, Error::model("joint", Some("range"), 4, "'abc' is not a number"));
+    let e = err("<mujoco><worldbody><body><joint axis=\"0 1\"/><geom size=\"1\"/></body></worldbody></mujoco>");
+    assert!(matches!(e, Error::Model { ref element, attribute: Some(ref a), line: 1, .. } if element == "joint" && a == "axis"), "{e}");
+}
+
+#[test]
+fn unsupported_things_are_errors() {
+    let cases = [
+        ("<mujoco><worldbody><body><joint foo=\"1\"/><geom size=\"1\"/></body></worldbody></mujoco>", "joint", Some("foo")),
+        ("<mujoco><worldbody><body><geom type=\"mesh\" size=\"1\"/></body></worldbody></mujoco>", "geom", Some("type")),
+        ("<mujoco><worldbody><body><composite/></body></worldbody></mujoco>", "composite", None),
+        ("<mujoco><equality><weld body1=\"a\"/></equality></mujoco>", "weld", None),
+        ("<mujoco><actuator><position joint=\"j\"/></actuator></mujoco>", "position", None),
+        ("<mujoco><compiler coordinate=\"global\"/></mujoco>", "compiler", Some("coordinate")),
+        ("<mujoco><tendon><fixed stiffness=\"3\"/></tendon></mujoco>", "fixed", Some("stiffness")),
+        ("<mujoco><worldbody><body><joint type=\"screw\"/></body></worldbody></mujoco>", "joint", Some("type")),
+        ("<mujoco><worldbody><body><joint class=\"nope\"/></body></worldbody></mujoco>", "joint", Some("class")),
+    ];
+    for (xml, element, attr) in cases {
+        match err(xml) {
+            Error::Model { element: e, attribute: a, .. } => {
+                assert_eq!((e.as_str(), a.as_deref()), (element, attr), "{xml}");
+            }
+            e => panic!("{xml}: {e:?}"),
+        }
+    }
+}
+
+#[test]
+fn massless_moving_body_is_a_compile_error() {
+    let e = err("<mujoco><worldbody><body><joint name=\"j\"/></body></worldbody></mujoco>");
+    assert!(matches!(e, Error::Compile(ref m) if m.contains("'j'")), "{e}");
+}
+
+#[test]
+fn unknown_actuator_joint_is_an_error() {
+    let e = err("<mujoco><worldbody><body><joint name=\"a\"/><geom size=\"1\"/></body></worldbody><actuator><motor joint=\"b\"/></actuator></mujoco>");
+    assert!(matches!(e, Error::Model { ref attribute, .. } if attribute.as_deref() == Some("joint")), "{e}");
+}
+
+#[test]
+fn unmodelled_physics_gives_warnings() {
+    let m = Model::from_mjcf("<mujoco><option viscosity=\"0.1\" integrator=\"implicitfast\"/><worldbody><body><joint frictionloss=\"1\"/><geom size=\"1\"/></body></worldbody></mujoco>").unwrap();
+    assert_eq!(m.warnings.len(), 3, "{:?}", m.warnings);
+}
+
+#[test]
+fn defaults_classes_and_childclass_resolve() {
+    let xml = r#"<mujoco><default><joint damping="1"/><default class="a"><joint damping="2" armature="0.5"/>
+        <default class="b"><joint armature="3"/></default></default></default>
+        <worldbody><body childclass="a"><joint/><geom size="1"/><body><joint class="b"/><geom size="1"/></body>
+        <body><joint class="main"/><geom size="1"/></body></body></worldbody></mujoco>"#;
+    let m = Model::from_mjcf(xml).unwrap();
+    assert_eq!(m.dof_damping, vec![2.0, 2.0, 1.0]);
+    assert_eq!(m.dof_armature, vec![0.5, 3.0, 0.0]);
+}
+
+#[test]
+fn orientations_agree_with_each_other() {
+    // the same 90° rotation about z in four notations
+    let forms = ["quat=\"0.7071067811865476 0 0 0.7071067811865476\"", "axisangle=\"0 0 1 90\"", "euler=\"0 0 90\"", "xyaxes=\"0 1 0 -1 0 0\""];
+    let quats: Vec<_> = forms
+        .iter()
+        .map(|f| {
+            let m = Model::from_mjcf(&format!("<mujoco><worldbody><body {f}><geom size=\"1\"/></body></worldbody></mujoco>")).unwrap();
+            m.body_quat[1]
+        })
+        .collect();
+    for q in &quats {
+        assert!(q.abs_diff_eq(quats[0], 1e-12), "{q:?} vs {:?}", quats[0]);
+    }
+}

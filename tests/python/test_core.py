@@ -1,0 +1,160 @@
+"""The Python surface of the core: Model and Sim contracts, state round-trips, bad input."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+import sinew
+from conftest import gym_model_path
+
+PENDULUM = """<mujoco><option timestep="0.01"/><worldbody><body name="pole">
+<joint name="hinge" type="hinge" axis="0 1 0" damping="0.1"/><geom type="capsule" fromto="0 0 0 0 0 -1" size="0.05"/>
+</body></worldbody><actuator><motor name="m" joint="hinge" gear="2" ctrlrange="-1 1"/></actuator></mujoco>"""
+
+
+def test_model_properties():
+    m = sinew.Model.from_mjcf_string(PENDULUM)
+    assert (m.nq, m.nv, m.nu, m.nbody) == (1, 1, 1, 2)
+    assert m.timestep == 0.01
+    assert m.body_names == ["world", "pole"]
+    assert m.joint_names == ["hinge"]
+    assert m.actuator_names == ["m"]
+    assert m.qpos0.dtype == np.float64 and m.qpos0.shape == (1,)
+    assert m.body_mass[1] > 0
+
+
+def test_model_loads_every_gym_file(gym_model):
+    name, path = gym_model
+    with warnings.catch_warnings(record=True) as w:
+        warnings.simplefilter("always")
+        m = sinew.Model.from_mjcf(path)
+    assert m.nq > 0
+    # swimmer's fluid forces are the only unmodelled physics in these files
+    assert bool(m.warnings) == (name == "swimmer")
+    assert any(issubclass(x.category, sinew.ModelWarning) for x in w) == (name == "swimmer")
+
+
+def test_arrays_are_assignable_in_place_and_shape_checked():
+    sim = sinew.Sim(sinew.Model.from_mjcf_string(PENDULUM))
+    sim.qpos[:] = 0.3
+    assert sim.qpos[0] == 0.3
+    sim.qvel = [1.5]
+    assert sim.qvel[0] == 1.5
+    sim.ctrl = np.array([0.5])
+    for bad in ([1.0, 2.0], np.zeros((1, 1))):
+        with pytest.raises(ValueError, match="shape"):
+            sim.qpos = bad
+    with pytest.raises(ValueError, match="finite"):
+        sim.ctrl = [np.nan]
+
+
+def test_forward_does_not_advance_and_step_does():
+    sim = sinew.Sim(sinew.Model.from_mjcf_string(PENDULUM))
+    sim.qpos[:] = 0.5
+    sim.forward()
+    assert sim.time == 0.0 and sim.qpos[0] == 0.5
+    assert sim.qacc[0] < 0  # gravity pulls the pendulum back
+    sim.step(10)
+    assert sim.time == pytest.approx(0.1)
+    assert sim.qpos[0] < 0.5
+
+
+def test_state_round_trips_bit_exactly():
+    m = sinew.Model.from_mjcf(gym_model_path("humanoid"))
+    sim = sinew.Sim(m)
+    rng = np.random.default_rng(0)
+    sim.qvel[:] = rng.normal(size=m.nv)
+    sim.ctrl[:] = rng.uniform(-0.4, 0.4, size=m.nu)
+    sim.step(7)
+    state = sim.get_state()
+    sim.step(20)
+    after = sim.get_state()
+    sim.set_state(state)
+    assert np.array_equal(sim.get_state(), state)
+    sim.step(20)
+    assert np.array_equal(sim.get_state(), after)
+
+
+def test_reset_restores_reference():
+    sim = sinew.Sim(sinew.Model.from_mjcf_string(PENDULUM))
+    sim.qvel[:] = 3
+    sim.step(5)
+    sim.reset()
+    assert sim.time == 0 and sim.qpos[0] == 0 and sim.qvel[0] == 0
+
+
+def test_set_state_rejects_bad_input_and_leaves_state_alone():
+    sim = sinew.Sim(sinew.Model.from_mjcf_string(PENDULUM))
+    sim.qpos[:] = 0.2
+    before = sim.get_state()
+    with pytest.raises(ValueError, match="shape"):
+        sim.set_state(before[:-1])
+    bad = before.copy()
+    bad[1] = np.inf
+    with pytest.raises(ValueError, match="finite"):
+        sim.set_state(bad)
+    assert np.array_equal(sim.get_state(), before)
+
+
+def test_nan_in_state_or_ctrl_is_a_value_error_not_a_panic():
+    sim = sinew.Sim(sinew.Model.from_mjcf_string(PENDULUM))
+    sim.ctrl[:] = np.nan
+    with pytest.raises(ValueError, match=r"ctrl\[0\]"):
+        sim.step()
+    sim.ctrl[:] = 0
+    sim.qvel[:] = np.inf
+    with pytest.raises(ValueError, match=r"qvel\[0\]"):
+        sim.forward()
+
+
+def test_divergence_raises_and_restores():
+    # a free body pushed to astronomic speed leaves the 1e10 bound within a step
+    m = sinew.Model.from_mjcf_string(
+        "<mujoco><worldbody><body><freejoint/><geom size='0.1'/></body></worldbody></mujoco>"
+    )
+    sim = sinew.Sim(m)
+    sim.qvel[:3] = 1e9
+    sim.qpos[0] = 9.99e9
+    before = sim.get_state()
+    with pytest.raises(sinew.SimulationError, match=r"qpos\[0\]"):
+        sim.step(100)
+    assert np.array_equal(sim.get_state(), before)
+
+
+def test_ctrl_is_clamped_to_ctrlrange():
+    m = sinew.Model.from_mjcf_string(PENDULUM)
+    a, b = sinew.Sim(m), sinew.Sim(m)
+    a.ctrl[:] = 1.0
+    b.ctrl[:] = 50.0
+    a.forward()
+    b.forward()
+    assert a.qacc[0] == b.qacc[0]
+
+
+def test_with_options_validates():
+    m = sinew.Model.from_mjcf_string(PENDULUM)
+    assert m.with_options(integrator="RK4").integrator == "RK4"
+    assert m.integrator == "Euler"
+    with pytest.raises(ValueError):
+        m.with_options(timestep=-1.0)
+    with pytest.raises(ValueError):
+        m.with_options(integrator="Verlet")
+
+
+def test_malformed_mjcf_raises_model_error_with_location():
+    with pytest.raises(sinew.ModelError) as e:
+        sinew.Model.from_mjcf_string("<mujoco>\n<worldbody>\n<body>\n<joint range='1 x'/></body></worldbody></mujoco>")
+    assert (e.value.element, e.value.attribute, e.value.line) == ("joint", "range", 4)
+    assert "line 4" in str(e.value)
+    with pytest.raises(sinew.ModelError) as e:
+        sinew.Model.from_mjcf_string("<mujoco><worldbody>")
+    assert e.value.line == 1
+    assert isinstance(e.value, ValueError)
+    with pytest.raises(OSError):
+        sinew.Model.from_mjcf("/nonexistent/model.xml")
+
+
+def test_unsupported_mjcf_raises_model_error():
+    with pytest.raises(sinew.ModelError, match="mesh"):
+        sinew.Model.from_mjcf_string("<mujoco><worldbody><body><geom type='mesh'/></body></worldbody></mujoco>")

