@@ -1,8 +1,13 @@
 //! ③ Per-world scratch: everything a step derives, allocated once per model so that stepping
 //! never allocates.
 
+use glam::DVec3;
+
 use crate::model::Model;
 use crate::step::aba::AbaData;
+use crate::step::collision::CollisionData;
+use crate::step::constraint::ConstraintData;
+use crate::step::lcp::{LcpStats, LcpWork};
 use crate::step::integrate::Rk4Scratch;
 use crate::step::kinematics::KinData;
 
@@ -19,6 +24,30 @@ pub struct Data {
     pub qacc: Vec<f64>,
     /// RK4 stage buffers.
     pub rk4: Rk4Scratch,
+    /// Geom poses and contacts.
+    pub coll: CollisionData,
+    /// Constraint rows, K, b.
+    pub con: ConstraintData,
+    /// Constraint force (acceleration solve) or impulse (impact solve) per row and λ.
+    pub force: Vec<f64>,
+    /// LCP matrix and vector scratch.
+    pub lcp_m: Vec<f64>,
+    /// LCP vector.
+    pub lcp_q: Vec<f64>,
+    /// Which LCP variables are normal or limit rows.
+    pub lcp_normal: Vec<bool>,
+    /// Lemke tableau.
+    pub lcp_work: LcpWork,
+    /// Solver statistics.
+    pub stats: LcpStats,
+    /// Impact solves run.
+    pub impacts: u64,
+    /// Friction tangents of the last step, keyed by (geom1, geom2, feature).
+    pub tangents: Vec<((usize, usize, usize), DVec3)>,
+    /// Tangents being recorded this step.
+    pub tangents_next: Vec<((usize, usize, usize), DVec3)>,
+    /// SplitMix64 state of this world's random tangents.
+    pub rng: u64,
 }
 
 impl Data {
@@ -30,6 +59,18 @@ impl Data {
             qfrc_applied: vec![0.0; m.nv],
             qacc: vec![0.0; m.nv],
             rk4: Rk4Scratch::new(m),
+            coll: CollisionData::new(m),
+            con: ConstraintData::new(m),
+            force: vec![],
+            lcp_m: vec![],
+            lcp_q: vec![],
+            lcp_normal: vec![],
+            lcp_work: LcpWork::default(),
+            stats: LcpStats::default(),
+            impacts: 0,
+            tangents: vec![],
+            tangents_next: vec![],
+            rng: 0x5EED,
         }
     }
 }

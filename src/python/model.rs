@@ -51,8 +51,17 @@ impl PyModel {
     }
 
     /// A copy with some options replaced (the model itself never changes).
-    #[pyo3(signature = (*, timestep=None, integrator=None, gravity=None))]
-    fn with_options(&self, timestep: Option<f64>, integrator: Option<&str>, gravity: Option<[f64; 3]>) -> PyResult<Self> {
+    #[pyo3(signature = (*, timestep=None, integrator=None, gravity=None, restitution=None, contact=None, limit=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn with_options(
+        &self,
+        timestep: Option<f64>,
+        integrator: Option<&str>,
+        gravity: Option<[f64; 3]>,
+        restitution: Option<f64>,
+        contact: Option<bool>,
+        limit: Option<bool>,
+    ) -> PyResult<Self> {
         let mut m = (*self.inner).clone();
         if let Some(h) = timestep {
             if !(h.is_finite() && h > 0.0 && h <= 1.0) {
@@ -72,6 +81,18 @@ impl PyModel {
                 return Err(PyValueError::new_err("gravity must be finite"));
             }
             m.opt.gravity = glam::DVec3::from_array(g);
+        }
+        if let Some(e) = restitution {
+            if !(0.0..=1.0).contains(&e) {
+                return Err(PyValueError::new_err(format!("restitution must lie in [0, 1], got {e}")));
+            }
+            m.opt.restitution = e;
+        }
+        if let Some(c) = contact {
+            m.opt.contact = c;
+        }
+        if let Some(l) = limit {
+            m.opt.limit = l;
         }
         Ok(PyModel { inner: Arc::new(m) })
     }
@@ -115,6 +136,21 @@ impl PyModel {
     #[getter]
     fn integrator(&self) -> &'static str {
         integrator_name(self.inner.opt.integrator)
+    }
+    /// Contact restitution coefficient e.
+    #[getter]
+    fn restitution(&self) -> f64 {
+        self.inner.opt.restitution
+    }
+    /// Whether contacts are simulated.
+    #[getter]
+    fn contact(&self) -> bool {
+        self.inner.opt.contact
+    }
+    /// Whether joint limits are enforced.
+    #[getter]
+    fn limit(&self) -> bool {
+        self.inner.opt.limit
     }
     /// Gravity vector.
     #[getter]

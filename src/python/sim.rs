@@ -216,6 +216,56 @@ impl PySim {
         Ok(())
     }
 
+    /// Contacts of the last step: dicts with geom1, geom2, body1, body2, pos, normal, dist (m,
+    /// negative when penetrating), normal_force and friction_force (world vector, N).
+    #[getter]
+    fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, pyo3::types::PyDict>>> {
+        use crate::step::constraint::RowKind;
+        let m = &*self.model;
+        let con = &self.data.con;
+        let mut out = Vec::new();
+        for (ci, c) in self.data.coll.contacts.iter().enumerate() {
+            let mut fnormal = 0.0;
+            let mut ffric = glam::DVec3::ZERO;
+            for j in 0..con.len() {
+                if con.source[j] == ci && con.kind[j] != RowKind::Limit {
+                    let f = self.data.force.get(j).copied().unwrap_or(0.0);
+                    match con.kind[j] {
+                        RowKind::Normal => fnormal = f,
+                        _ => ffric += con.dir[j] * f,
+                    }
+                }
+            }
+            let d = pyo3::types::PyDict::new(py);
+            d.set_item("geom1", c.geom1)?;
+            d.set_item("geom2", c.geom2)?;
+            d.set_item("body1", m.geom_body[c.geom1])?;
+            d.set_item("body2", m.geom_body[c.geom2])?;
+            d.set_item("pos", c.pos.to_array())?;
+            d.set_item("normal", c.normal.to_array())?;
+            d.set_item("dist", c.dist)?;
+            d.set_item("normal_force", fnormal)?;
+            d.set_item("friction_force", ffric.to_array())?;
+            out.push(d);
+        }
+        Ok(out)
+    }
+
+    /// Constraint statistics: rows of the last step, LCP solves, pivots, fallbacks, residual, impacts.
+    #[getter]
+    fn constraint_stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        let s = &self.data.stats;
+        let d = pyo3::types::PyDict::new(py);
+        d.set_item("rows", self.data.con.len())?;
+        d.set_item("solves", s.solves)?;
+        d.set_item("pivots", s.pivots)?;
+        d.set_item("fallback_pgs", s.fallback_pgs)?;
+        d.set_item("fallback_zero", s.fallback_zero)?;
+        d.set_item("residual", s.residual)?;
+        d.set_item("impacts", self.data.impacts)?;
+        Ok(d)
+    }
+
     fn __repr__(&self) -> String {
         format!("Sim(model='{}', time={})", self.model.name, self.time)
     }

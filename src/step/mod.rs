@@ -1,42 +1,202 @@
 //! ④ One simulation step. [`step`] reads as the pipeline; each stage lives in its own file.
 
 pub mod aba;
+pub mod collision;
+pub mod constraint;
 pub mod forces;
 pub mod integrate;
 pub mod kinematics;
+pub mod lcp;
+
+use glam::DVec3;
 
 use crate::data::Data;
 use crate::model::{Integrator, Model};
+use constraint::RowKind;
 
-/// Forward dynamics at (qpos, qvel, ctrl): fills `data.qacc` with the true accelerations
-/// (no implicit damping), as MuJoCo's `mj_forward`.
+/// Forward dynamics at (qpos, qvel, ctrl) without constraints: fills `data.qacc` with the true
+/// accelerations (no implicit damping), as MuJoCo's `mj_forward` with constraints disabled.
 pub fn forward(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) {
     evaluate(m, data, qpos, qvel, ctrl, 0.0);
 }
 
-/// Stages 1 to 5 for one state; `h_damp` > 0 treats joint damping implicitly over that step.
+/// Kinematics, applied forces and both ABA passes for one state; `h_damp` > 0 treats joint
+/// damping implicitly over that step.
 fn evaluate(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64], h_damp: f64) {
-    // 1. poses, velocities, velocity-product terms
     kinematics::forward(m, qpos, qvel, &mut data.kin);
-    // 2. applied joint forces: actuators, springs, dampers
     forces::applied(m, qpos, qvel, ctrl, &mut data.qfrc_applied);
-    // 3. articulated inertias and bias forces (inward pass)
     aba::backward(m, &data.kin, &data.qfrc_applied, h_damp, &mut data.aba);
-    // 4. joint accelerations (outward pass)
     aba::forward(m, &data.kin, &mut data.aba, &mut data.qacc);
 }
 
 /// Advances (qpos, qvel, time) by one time step under `ctrl`.
 pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl: &[f64], time: &mut f64) {
     let h = m.opt.timestep;
-    match m.opt.integrator {
-        Integrator::Euler => {
-            evaluate(m, data, qpos, qvel, ctrl, h);
-            integrate::euler(m, qpos, qvel, &data.qacc, h);
+    // 1. poses and velocities
+    kinematics::forward(m, qpos, qvel, &mut data.kin);
+    // 2. contacts of this configuration
+    collision::collide(m, &data.kin, &mut data.coll);
+    // 3. constraint rows: contacts (normal + friction) and active limits
+    build_rows(m, data, qpos, qvel);
+    if data.con.is_empty() {
+        // nothing to constrain: the plain step
+        data.force.clear();
+        match m.opt.integrator {
+            Integrator::Euler => {
+                evaluate(m, data, qpos, qvel, ctrl, h);
+                integrate::euler(m, qpos, qvel, &data.qacc, h);
+            }
+            Integrator::Rk4 => rk4(m, data, qpos, qvel, ctrl, h),
         }
-        Integrator::Rk4 => rk4(m, data, qpos, qvel, ctrl, h),
+        *time += h;
+        return;
     }
+    // with constraints the step is semi-implicit Euler (the seed's scheme), whatever the integrator
+    // 4. articulated inertias and the constraint-free accelerations
+    evaluate(m, data, qpos, qvel, ctrl, h);
+    // 5. K and b by test forces
+    constraint::assemble(m, &data.kin, &data.aba, &data.qacc, &mut data.con);
+    // 6. impacts: a velocity-level solve over all rows when something approaches
+    if needs_impact(&data.con, h) {
+        data.impacts += 1;
+        solve_rows(m, data, Level::Velocity);
+        apply(m, data, qvel);
+        evaluate(m, data, qpos, qvel, ctrl, h);
+        build_rows(m, data, qpos, qvel);
+        constraint::assemble(m, &data.kin, &data.aba, &data.qacc, &mut data.con);
+    }
+    // 7. constraint forces at the acceleration level, added to q̈
+    if !data.con.is_empty() {
+        solve_rows(m, data, Level::Acceleration);
+        let mut qacc = std::mem::take(&mut data.qacc);
+        apply(m, data, &mut qacc);
+        data.qacc = qacc;
+    }
+    // 8. integrate
+    integrate::euler(m, qpos, qvel, &data.qacc, h);
     *time += h;
+}
+
+fn build_rows(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) {
+    let Data { kin, coll, con, tangents, tangents_next, rng, .. } = data;
+    tangents_next.clear();
+    constraint::rows(
+        m,
+        kin,
+        qpos,
+        qvel,
+        &coll.contacts,
+        |ci, n, vt| {
+            let c = &coll.contacts[ci];
+            let key = (c.geom1, c.geom2, c.feature);
+            let speed = vt.length();
+            // dynamic friction opposes sliding; static reuses the last valid tangent of a
+            // persisting contact, or a random one for a new contact (Kokkevis 2004, §8.1)
+            let t = if speed > constraint::SLIDING_SPEED {
+                -vt / speed
+            } else if let Some((_, t)) = tangents.iter().find(|(k, t)| *k == key && t.dot(n).abs() < 1e-6) {
+                *t
+            } else {
+                random_tangent(rng, n)
+            };
+            tangents_next.push((key, t));
+            t
+        },
+        con,
+    );
+    std::mem::swap(tangents, tangents_next);
+}
+
+/// A unit vector orthogonal to `n` at a random angle, from the world's own SplitMix64 stream.
+fn random_tangent(state: &mut u64, n: DVec3) -> DVec3 {
+    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    let mut z = *state;
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    let angle = (z >> 11) as f64 / (1u64 << 53) as f64 * std::f64::consts::TAU;
+    let (a, b) = n.any_orthonormal_pair();
+    a * angle.cos() + b * angle.sin()
+}
+
+/// needImpact (Kokkevis 2004, §8.1): a contact or limit approaching fast enough to close within this step.
+fn needs_impact(con: &constraint::ConstraintData, h: f64) -> bool {
+    (0..con.len()).any(|j| {
+        !matches!(con.kind[j], RowKind::Tangent { .. })
+            && con.vel[j] < -constraint::IMPACT_SPEED
+            && con.dist[j] + h * con.vel[j] < 0.0
+    })
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Level {
+    Velocity,
+    Acceleration,
+}
+
+/// Assembles the LCP over all rows plus one λ per friction row and solves it into `data.force`.
+fn solve_rows(m: &Model, data: &mut Data, level: Level) {
+    let h = m.opt.timestep;
+    let con = &data.con;
+    let nr = con.len();
+    let nt = con.kind.iter().filter(|k| matches!(k, RowKind::Tangent { .. })).count();
+    let n = nr + nt;
+    data.lcp_m.clear();
+    data.lcp_m.resize(n * n, 0.0);
+    data.lcp_q.clear();
+    data.lcp_q.resize(n, 0.0);
+    data.lcp_normal.clear();
+    data.lcp_normal.resize(n, false);
+    data.force.clear();
+    data.force.resize(n, 0.0);
+    let (mm, q) = (&mut data.lcp_m, &mut data.lcp_q);
+    let mut lam = nr;
+    for j in 0..nr {
+        for k in 0..nr {
+            mm[j * n + k] = con.k[j * nr + k];
+        }
+        mm[j * n + j] += lcp::REGULARISATION * con.k[j * nr + j].abs().max(1e-300);
+        let (vel, dist) = (con.vel[j], con.dist[j]);
+        // desired values: acceleration a^d, or velocity change Δv^d for impacts
+        let desired = match (con.kind[j], level) {
+            (RowKind::Tangent { .. }, Level::Acceleration) => -vel / h,
+            (RowKind::Tangent { .. }, Level::Velocity) => -vel,
+            (_, Level::Acceleration) => {
+                let target = if dist > 0.0 { -dist / h } else { -constraint::POSITION_CORRECTION * dist / h };
+                (target - vel) / h
+            }
+            (_, Level::Velocity) => {
+                if vel < 0.0 && dist + h * vel < 0.0 { -(1.0 + m.opt.restitution) * vel } else { (-dist.max(0.0) / h - vel).min(0.0) }
+            }
+        };
+        q[j] = match level {
+            Level::Acceleration => con.b[j] - desired,
+            Level::Velocity => -desired,
+        };
+        if let RowKind::Tangent { normal } = con.kind[j] {
+            // (20): (a_t − a_t^d) + λ ≥ 0;  (21): μ f_n − f_t ≥ 0 ⟂ λ ≥ 0
+            mm[j * n + lam] = 1.0;
+            mm[lam * n + normal] = con.mu[j];
+            mm[lam * n + j] = -1.0;
+            lam += 1;
+        } else {
+            data.lcp_normal[j] = true;
+        }
+    }
+    lcp::solve(n, &data.lcp_m, &data.lcp_q, &data.lcp_normal, &mut data.force, &mut data.lcp_work, &mut data.stats);
+}
+
+/// target += Σ_k f_k Δq̈⁽ᵏ⁾ (forces into accelerations, or impulses into velocities).
+fn apply(m: &Model, data: &Data, target: &mut [f64]) {
+    let nv = m.nv;
+    for k in 0..data.con.len() {
+        let f = data.force[k];
+        if f != 0.0 {
+            for (t, d) in target.iter_mut().zip(&data.con.dqdd[k * nv..(k + 1) * nv]) {
+                *t += f * d;
+            }
+        }
+    }
 }
 
 /// Classical RK4 over the whole (qpos, qvel) state, quaternions composed on the manifold.

@@ -1,0 +1,258 @@
+//! Stage 2 — collision detection: contact points for the current configuration.
+//!
+//! Pairs: plane–{sphere, capsule, box}, sphere–sphere, sphere–capsule, capsule–capsule. Cylinders
+//! collide as capsules of the same radius and half-length, ellipsoids as spheres of their largest
+//! semi-axis (documented approximations). Other pairs (box–box, sphere–box, capsule–box) are not
+//! detected yet. Filtering follows MuJoCo: contype/conaffinity bits, no contact within a body or
+//! between a body and its parent (unless the parent is the world), `<exclude>` pairs, and a
+//! bounding-sphere broadphase. Friction is the maximum of the pair's, as MuJoCo's default.
+
+use glam::{DMat3, DVec3};
+
+use crate::model::{GeomType, Model, WORLD};
+
+use super::kinematics::KinData;
+
+/// One contact point. The normal points from geom2 to geom1: pushing body1 along +n and body2
+/// along −n separates them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    /// First geom.
+    pub geom1: usize,
+    /// Second geom.
+    pub geom2: usize,
+    /// Feature index within the pair (capsule end, box corner), for identity across steps.
+    pub feature: usize,
+    /// Contact point in world coordinates (midway between the surfaces).
+    pub pos: DVec3,
+    /// Unit normal in world coordinates.
+    pub normal: DVec3,
+    /// Signed distance: negative when penetrating.
+    pub dist: f64,
+    /// Friction coefficient.
+    pub mu: f64,
+    /// Whether friction applies (condim > 1 for both geoms).
+    pub friction: bool,
+}
+
+/// World poses of all geoms, and the contact list.
+#[derive(Clone, Debug, Default)]
+pub struct CollisionData {
+    /// Geom axes in world (ngeom).
+    pub geom_xmat: Vec<DMat3>,
+    /// Geom centre in world (ngeom).
+    pub geom_xpos: Vec<DVec3>,
+    /// Contacts of this configuration.
+    pub contacts: Vec<Contact>,
+}
+
+impl CollisionData {
+    /// Buffers sized for `m`.
+    pub fn new(m: &Model) -> Self {
+        CollisionData {
+            geom_xmat: vec![DMat3::IDENTITY; m.ngeom],
+            geom_xpos: vec![DVec3::ZERO; m.ngeom],
+            contacts: Vec::with_capacity(MAX_CONTACTS),
+        }
+    }
+}
+
+/// Contacts kept per step; further ones are dropped (deepest first is not guaranteed).
+pub const MAX_CONTACTS: usize = 128;
+
+/// Bounding radius of a geom about its centre (planes: infinite).
+pub fn geom_rbound(kind: GeomType, s: [f64; 3]) -> f64 {
+    match kind {
+        GeomType::Plane => f64::INFINITY,
+        GeomType::Sphere => s[0],
+        GeomType::Capsule | GeomType::Cylinder => s[0] + s[1],
+        GeomType::Box => DVec3::from_array(s).length(),
+        GeomType::Ellipsoid => s[0].max(s[1]).max(s[2]),
+    }
+}
+
+/// Whether geoms i and j may collide at all (independent of configuration).
+pub fn can_collide(m: &Model, i: usize, j: usize) -> bool {
+    let (bi, bj) = (m.geom_body[i], m.geom_body[j]);
+    if bi == bj {
+        return false;
+    }
+    if m.geom_contype[i] & m.geom_conaffinity[j] == 0 && m.geom_contype[j] & m.geom_conaffinity[i] == 0 {
+        return false;
+    }
+    // both static
+    if m.body_node[bi] == WORLD && m.body_node[bj] == WORLD {
+        return false;
+    }
+    // parent–child, unless the parent is the world
+    let (pi, pj) = (m.body_parent[bi], m.body_parent[bj]);
+    if (pi == bj && bj != 0) || (pj == bi && bi != 0) {
+        return false;
+    }
+    !m.exclude_pairs.contains(&(bi.min(bj), bi.max(bj)))
+}
+
+/// Detects all contacts of the configuration in `kin`.
+pub fn collide(m: &Model, kin: &KinData, out: &mut CollisionData) {
+    out.contacts.clear();
+    for g in 0..m.ngeom {
+        let b = m.geom_body[g];
+        out.geom_xmat[g] = kin.xmat[b] * DMat3::from_quat(m.geom_quat[g]);
+        out.geom_xpos[g] = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
+    }
+    if !m.opt.contact {
+        return;
+    }
+    for i in 0..m.ngeom {
+        for j in i + 1..m.ngeom {
+            if !can_collide(m, i, j) {
+                continue;
+            }
+            let margin = m.geom_margin[i].max(m.geom_margin[j]);
+            let (ri, rj) = (geom_rbound(m.geom_type[i], m.geom_size[i]), geom_rbound(m.geom_type[j], m.geom_size[j]));
+            if ri.is_finite() && rj.is_finite() && out.geom_xpos[i].distance(out.geom_xpos[j]) > ri + rj + margin {
+                continue;
+            }
+            pair(m, out, i, j, margin);
+        }
+    }
+}
+
+#[derive(Clone, Copy)]
+enum Shape {
+    Plane { p: DVec3, n: DVec3 },
+    Sphere { c: DVec3, r: f64 },
+    Segment { a: DVec3, b: DVec3, r: f64 },
+    Box { c: DVec3, rot: DMat3, half: DVec3 },
+}
+
+fn shape(m: &Model, cd: &CollisionData, g: usize) -> Shape {
+    let (p, r, s) = (cd.geom_xpos[g], cd.geom_xmat[g], m.geom_size[g]);
+    match m.geom_type[g] {
+        GeomType::Plane => Shape::Plane { p, n: r.col(2) },
+        GeomType::Sphere => Shape::Sphere { c: p, r: s[0] },
+        GeomType::Ellipsoid => Shape::Sphere { c: p, r: s[0].max(s[1]).max(s[2]) },
+        GeomType::Capsule | GeomType::Cylinder => {
+            let h = r.col(2) * s[1];
+            Shape::Segment { a: p - h, b: p + h, r: s[0] }
+        }
+        GeomType::Box => Shape::Box { c: p, rot: r, half: DVec3::from_array(s) },
+    }
+}
+
+fn pair(m: &Model, cd: &mut CollisionData, i: usize, j: usize, margin: f64) {
+    let (si, sj) = (shape(m, cd, i), shape(m, cd, j));
+    let mu = m.geom_friction[i][0].max(m.geom_friction[j][0]);
+    let friction = m.geom_condim[i] > 1 && m.geom_condim[j] > 1;
+    let add = |cd: &mut CollisionData, g1: usize, g2: usize, feature: usize, pos: DVec3, normal: DVec3, dist: f64| {
+        if dist <= margin && cd.contacts.len() < MAX_CONTACTS {
+            cd.contacts.push(Contact { geom1: g1, geom2: g2, feature, pos, normal, dist, mu, friction });
+        }
+    };
+    // order so that a plane, if any, is geom2 (the normal then points out of the plane)
+    let (g1, g2, s1, s2) = match (si, sj) {
+        (Shape::Plane { .. }, _) => (j, i, sj, si),
+        _ => (i, j, si, sj),
+    };
+    match (s1, s2) {
+        (Shape::Sphere { c, r }, Shape::Plane { p, n }) => {
+            let d = (c - p).dot(n) - r;
+            add(cd, g1, g2, 0, c - n * (r + 0.5 * d), n, d);
+        }
+        (Shape::Segment { a, b, r }, Shape::Plane { p, n }) => {
+            for (k, e) in [a, b].into_iter().enumerate() {
+                let d = (e - p).dot(n) - r;
+                add(cd, g1, g2, k, e - n * (r + 0.5 * d), n, d);
+            }
+        }
+        (Shape::Box { c, rot, half }, Shape::Plane { p, n }) => {
+            for k in 0..8 {
+                let sx = if k & 1 == 0 { -1.0 } else { 1.0 };
+                let sy = if k & 2 == 0 { -1.0 } else { 1.0 };
+                let sz = if k & 4 == 0 { -1.0 } else { 1.0 };
+                let corner = c + rot * DVec3::new(sx * half.x, sy * half.y, sz * half.z);
+                let d = (corner - p).dot(n);
+                add(cd, g1, g2, k, corner - n * (0.5 * d), n, d);
+            }
+        }
+        (Shape::Sphere { c: c1, r: r1 }, Shape::Sphere { c: c2, r: r2 }) => {
+            if let Some((pos, n, d)) = spheres(c1, r1, c2, r2) {
+                add(cd, g1, g2, 0, pos, n, d);
+            }
+        }
+        (Shape::Sphere { c, r }, Shape::Segment { a, b, r: rs }) => {
+            let q = closest_on_segment(a, b, c);
+            if let Some((pos, n, d)) = spheres(c, r, q, rs) {
+                add(cd, g1, g2, 0, pos, n, d);
+            }
+        }
+        (Shape::Segment { a, b, r: rs }, Shape::Sphere { c, r }) => {
+            let q = closest_on_segment(a, b, c);
+            if let Some((pos, n, d)) = spheres(q, rs, c, r) {
+                add(cd, g1, g2, 0, pos, n, d);
+            }
+        }
+        (Shape::Segment { a: a1, b: b1, r: r1 }, Shape::Segment { a: a2, b: b2, r: r2 }) => {
+            let (p1, p2) = closest_segments(a1, b1, a2, b2);
+            if let Some((pos, n, d)) = spheres(p1, r1, p2, r2) {
+                add(cd, g1, g2, 0, pos, n, d);
+            }
+        }
+        _ => {}
+    }
+}
+
+/// Contact between two spheres: (point, normal from 2 to 1, signed distance).
+fn spheres(c1: DVec3, r1: f64, c2: DVec3, r2: f64) -> Option<(DVec3, DVec3, f64)> {
+    let d = c1 - c2;
+    let len = d.length();
+    let n = if len > 1e-12 { d / len } else { DVec3::Z };
+    let dist = len - r1 - r2;
+    Some((c2 + n * (r2 + 0.5 * dist), n, dist))
+}
+
+fn closest_on_segment(a: DVec3, b: DVec3, p: DVec3) -> DVec3 {
+    let ab = b - a;
+    let l2 = ab.length_squared();
+    if l2 < 1e-24 {
+        return a;
+    }
+    a + ab * ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
+}
+
+/// Closest points between segments [a1, b1] and [a2, b2] (Ericson, *Real-Time Collision
+/// Detection*, 2005, §5.1.9).
+fn closest_segments(a1: DVec3, b1: DVec3, a2: DVec3, b2: DVec3) -> (DVec3, DVec3) {
+    let (d1, d2, r) = (b1 - a1, b2 - a2, a1 - a2);
+    let (a, e, f) = (d1.length_squared(), d2.length_squared(), d2.dot(r));
+    let (s, t);
+    if a <= 1e-24 && e <= 1e-24 {
+        return (a1, a2);
+    }
+    if a <= 1e-24 {
+        s = 0.0;
+        t = (f / e).clamp(0.0, 1.0);
+    } else {
+        let c = d1.dot(r);
+        if e <= 1e-24 {
+            t = 0.0;
+            s = (-c / a).clamp(0.0, 1.0);
+        } else {
+            let b = d1.dot(d2);
+            let denom = a * e - b * b;
+            let mut s0 = if denom > 1e-24 { ((b * f - c * e) / denom).clamp(0.0, 1.0) } else { 0.0 };
+            let mut t0 = (b * s0 + f) / e;
+            if t0 < 0.0 {
+                t0 = 0.0;
+                s0 = (-c / a).clamp(0.0, 1.0);
+            } else if t0 > 1.0 {
+                t0 = 1.0;
+                s0 = ((b - c) / a).clamp(0.0, 1.0);
+            }
+            s = s0;
+            t = t0;
+        }
+    }
+    (a1 + d1 * s, a2 + d2 * t)
+}
+

@@ -1,0 +1,318 @@
+//! Stage 3 — constraint rows `a = K f + b` (Kokkevis 2004): contact normals (unilateral), friction in
+//! the seed's one-tangent λ form (eqs. 19–21), and joint limits. Column k of K is measured by pushing
+//! a unit test force of row k through the ABA quantities kept from the inward pass (I^A, U, D⁻¹): a
+//! delta inward pass and a delta outward pass, no 6×6 work, O(n) per column, O(mn + m²) in all.
+
+use glam::DVec3;
+
+use crate::math::{Force, Motion};
+use crate::model::{JointType, Model, WORLD};
+
+use super::aba::AbaData;
+use super::collision::Contact;
+use super::kinematics::KinData;
+
+/// What a row constrains.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RowKind {
+    /// Contact normal: f ≥ 0, separation acceleration ≥ desired.
+    Normal,
+    /// Friction along one tangent, with its λ (seed eqs. 20–21); `normal` is its normal row.
+    Tangent {
+        /// Index of the contact's normal row.
+        normal: usize,
+    },
+    /// Joint limit: torque pushes away from the limit.
+    Limit,
+}
+
+/// Velocity below which a contact counts as approaching and triggers the impact solve (m/s).
+pub const IMPACT_SPEED: f64 = 1e-3;
+/// Baumgarte-style position correction: fraction of the penetration removed per step.
+pub const POSITION_CORRECTION: f64 = 0.2;
+/// Tangential speed above which friction is dynamic (tangent opposite to sliding).
+pub const SLIDING_SPEED: f64 = 1e-6;
+
+/// The rows of one step and their K, b and desired values, with scratch for the test forces.
+#[derive(Clone, Debug, Default)]
+pub struct ConstraintData {
+    /// Row kinds.
+    pub kind: Vec<RowKind>,
+    /// Node of side 1 (or [`WORLD`]), side 2 for contacts.
+    pub node: Vec<[usize; 2]>,
+    /// Point of application in each side's node coordinates.
+    pub point: Vec<[DVec3; 2]>,
+    /// Force direction in world coordinates (contacts).
+    pub dir: Vec<DVec3>,
+    /// Dof and sign (limits).
+    pub dof: Vec<(usize, f64)>,
+    /// Friction coefficient (tangent rows).
+    pub mu: Vec<f64>,
+    /// Relative velocity along the row.
+    pub vel: Vec<f64>,
+    /// Signed distance (normal and limit rows).
+    pub dist: Vec<f64>,
+    /// Source contact index (contacts) or joint (limits).
+    pub source: Vec<usize>,
+    /// K, row-major (m × m): K[j][k] = acceleration of row j per unit force of row k.
+    pub k: Vec<f64>,
+    /// Constraint acceleration with zero constraint force.
+    pub b: Vec<f64>,
+    /// Δq̈ per unit force of each row (m × nv).
+    pub dqdd: Vec<f64>,
+    dpa: Vec<Force>,
+    du: Vec<[f64; 6]>,
+    da: Vec<Motion>,
+}
+
+impl ConstraintData {
+    /// Empty rows, scratch sized for `m`.
+    pub fn new(m: &Model) -> Self {
+        ConstraintData {
+            dpa: vec![Force::ZERO; m.njnt],
+            du: vec![[0.0; 6]; m.njnt],
+            da: vec![Motion::ZERO; m.njnt],
+            ..Default::default()
+        }
+    }
+
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        self.kind.len()
+    }
+
+    /// Whether there are no rows.
+    pub fn is_empty(&self) -> bool {
+        self.kind.is_empty()
+    }
+
+    fn clear(&mut self) {
+        self.kind.clear();
+        self.node.clear();
+        self.point.clear();
+        self.dir.clear();
+        self.dof.clear();
+        self.mu.clear();
+        self.vel.clear();
+        self.dist.clear();
+        self.source.clear();
+    }
+
+    fn push(&mut self, kind: RowKind, node: [usize; 2], point: [DVec3; 2], dir: DVec3, dof: (usize, f64), mu: f64, source: usize) {
+        self.kind.push(kind);
+        self.node.push(node);
+        self.point.push(point);
+        self.dir.push(dir);
+        self.dof.push(dof);
+        self.mu.push(mu);
+        self.vel.push(0.0);
+        self.dist.push(0.0);
+        self.source.push(source);
+    }
+}
+
+fn node_of_geom(m: &Model, g: usize) -> usize {
+    m.body_node[m.geom_body[g]]
+}
+
+/// World velocity of the point with node coordinates `r` on node `n`.
+fn point_vel(kin: &KinData, n: usize, r: DVec3) -> DVec3 {
+    if n == WORLD { DVec3::ZERO } else { kin.node_rot[n] * kin.v[n].point_velocity(r) }
+}
+
+/// Builds the rows for `contacts` and active limits. `tangent_for(i, n, v_t)` picks the friction
+/// direction of contact i (the caller handles sliding, persistence and the seeded random choice).
+pub fn rows(
+    m: &Model,
+    kin: &KinData,
+    qpos: &[f64],
+    qvel: &[f64],
+    contacts: &[Contact],
+    mut tangent_for: impl FnMut(usize, DVec3, DVec3) -> DVec3,
+    out: &mut ConstraintData,
+) {
+    out.clear();
+    let h = m.opt.timestep;
+    for (ci, c) in contacts.iter().enumerate() {
+        let nodes = [node_of_geom(m, c.geom1), node_of_geom(m, c.geom2)];
+        let local = |n: usize| if n == WORLD { c.pos } else { kin.node_rot[n].transpose() * (c.pos - kin.node_pos[n]) };
+        let pts = [local(nodes[0]), local(nodes[1])];
+        let vrel = point_vel(kin, nodes[0], pts[0]) - point_vel(kin, nodes[1], pts[1]);
+        let normal_row = out.len();
+        out.push(RowKind::Normal, nodes, pts, c.normal, (0, 0.0), c.mu, ci);
+        out.vel[normal_row] = c.normal.dot(vrel);
+        out.dist[normal_row] = c.dist;
+        if c.friction && c.mu > 0.0 {
+            let vt = vrel - c.normal * c.normal.dot(vrel);
+            let t = tangent_for(ci, c.normal, vt);
+            let r = out.len();
+            out.push(RowKind::Tangent { normal: normal_row }, nodes, pts, t, (0, 0.0), c.mu, ci);
+            out.vel[r] = t.dot(vrel);
+        }
+    }
+    if m.opt.limit {
+        for j in 0..m.njnt {
+            if !m.jnt_limited[j] || !matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide) {
+                continue;
+            }
+            let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
+            let [lo, hi] = m.jnt_range[j];
+            for (dist, sign) in [(qpos[qa] - lo, 1.0), (hi - qpos[qa], -1.0)] {
+                let v = sign * qvel[da];
+                // active when at the limit or about to reach it within this step
+                if dist + h * v.min(0.0) <= m.jnt_margin[j] {
+                    let r = out.len();
+                    out.push(RowKind::Limit, [WORLD, WORLD], [DVec3::ZERO; 2], DVec3::ZERO, (da, sign), 0.0, j);
+                    out.vel[r] = v;
+                    out.dist[r] = dist;
+                }
+            }
+        }
+    }
+}
+
+/// Fills K (by test forces), Δq̈ per unit force, and b from the ABA outward-pass accelerations
+/// `aba.a` and `qacc0` of the same state.
+pub fn assemble(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], out: &mut ConstraintData) {
+    let nr = out.len();
+    let nv = m.nv;
+    out.k.clear();
+    out.k.resize(nr * nr, 0.0);
+    out.dqdd.clear();
+    out.dqdd.resize(nr * nv, 0.0);
+    out.b.clear();
+    for j in 0..nr {
+        let b = measure(m, kin, out, j, Measure::Actual { aba, qacc0 });
+        out.b.push(b);
+    }
+    for k in 0..nr {
+        // seed: a unit test force of row k (Kokkevis 2004; δp^A = −f at the point's node)
+        for f in out.dpa.iter_mut() {
+            *f = Force::ZERO;
+        }
+        let mut dtau = None;
+        match out.kind[k] {
+            RowKind::Limit => dtau = Some(out.dof[k]),
+            _ => {
+                for side in 0..2 {
+                    let n = out.node[k][side];
+                    if n == WORLD {
+                        continue;
+                    }
+                    let sgn = if side == 0 { 1.0 } else { -1.0 };
+                    let d = kin.node_rot[n].transpose() * out.dir[k] * sgn;
+                    out.dpa[n] -= Force::at_point(out.point[k][side], d);
+                }
+            }
+        }
+        delta_pass(m, kin, aba, dtau, &mut out.dpa, &mut out.du, &mut out.da, &mut out.dqdd[k * nv..(k + 1) * nv]);
+        for j in 0..nr {
+            out.k[j * nr + k] = measure(m, kin, out, j, Measure::Delta { col: k });
+        }
+    }
+}
+
+enum Measure<'a> {
+    Actual { aba: &'a AbaData, qacc0: &'a [f64] },
+    Delta { col: usize },
+}
+
+/// Acceleration of row j: from the actual accelerations (b, with velocity-product and gravity
+/// terms) or from the delta accelerations of column `col` (a K entry).
+fn measure(m: &Model, kin: &KinData, cd: &ConstraintData, j: usize, what: Measure) -> f64 {
+    if cd.kind[j] == RowKind::Limit {
+        let (dof, sign) = cd.dof[j];
+        return sign
+            * match what {
+                Measure::Actual { qacc0, .. } => qacc0[dof],
+                Measure::Delta { col } => cd.dqdd[col * m.nv + dof],
+            };
+    }
+    let mut acc = DVec3::ZERO;
+    for side in 0..2 {
+        let n = cd.node[j][side];
+        if n == WORLD {
+            continue;
+        }
+        let r = cd.point[j][side];
+        let local = match what {
+            // classical acceleration of a body point: a_O + α × r + ω × v_r; ABA's accelerations
+            // carry the fictitious −g of the base, added back here
+            Measure::Actual { aba, .. } => {
+                let (a, v) = (aba.a[n], kin.v[n]);
+                a.lin + a.ang.cross(r) + v.ang.cross(v.point_velocity(r))
+            }
+            Measure::Delta { .. } => cd.da[n].lin + cd.da[n].ang.cross(r),
+        };
+        let mut world = kin.node_rot[n] * local;
+        if matches!(what, Measure::Actual { .. }) {
+            world += m.opt.gravity;
+        }
+        acc += if side == 0 { world } else { -world };
+    }
+    cd.dir[j].dot(acc)
+}
+
+/// Response of the articulated system to the test forces in `dpa` (node coordinates) or the unit
+/// joint torque `dtau` = (dof, value): a delta ABA with the inertias of the main pass (velocity
+/// terms cancel). Writes Δq̈ into `dqdd` and spatial Δa into `da`; leaves `dpa` modified.
+#[allow(clippy::too_many_arguments)]
+pub fn delta_pass(
+    m: &Model,
+    kin: &KinData,
+    aba: &AbaData,
+    dtau: Option<(usize, f64)>,
+    dpa: &mut [Force],
+    du: &mut [[f64; 6]],
+    da: &mut [Motion],
+    dqdd: &mut [f64],
+) {
+    // inward: δu_i = δτ_i − S_iᵀ δp^A_i;  δp^A_λ += Xᵀ (δp^A_i + U_i D_i⁻¹ δu_i)
+    for i in (0..m.njnt).rev() {
+        let k = m.jnt_type[i].nv();
+        let d0 = m.jnt_dofadr[i];
+        for r in 0..k {
+            let t = match dtau {
+                Some((dof, v)) if dof == d0 + r => v,
+                _ => 0.0,
+            };
+            du[i][r] = t - kin.s[i][r].dot(&dpa[i]);
+        }
+        let p = m.node_parent[i];
+        if p == WORLD {
+            continue;
+        }
+        let mut pa = dpa[i];
+        let d = &aba.d_inv[i];
+        for r in 0..k {
+            let mut w = 0.0;
+            for q in 0..k {
+                w += d[r * 6 + q] * du[i][q];
+            }
+            pa += aba.u_mat[i][r] * w;
+        }
+        let moved = kin.x_up[i].inv_apply_force(&pa);
+        dpa[p] += moved;
+    }
+    // outward: δa'_i = X δa_λ;  δq̈_i = D⁻¹(δu_i − Uᵀ δa'_i);  δa_i = δa'_i + S δq̈_i
+    for i in 0..m.njnt {
+        let p = m.node_parent[i];
+        let mut a = if p == WORLD { Motion::ZERO } else { kin.x_up[i].apply_motion(&da[p]) };
+        let k = m.jnt_type[i].nv();
+        let d0 = m.jnt_dofadr[i];
+        let mut rhs = [0.0; 6];
+        for r in 0..k {
+            rhs[r] = du[i][r] - a.dot(&aba.u_mat[i][r]);
+        }
+        let d = &aba.d_inv[i];
+        for r in 0..k {
+            let mut x = 0.0;
+            for q in 0..k {
+                x += d[r * 6 + q] * rhs[q];
+            }
+            dqdd[d0 + r] = x;
+            a += kin.s[i][r] * x;
+        }
+        da[i] = a;
+    }
+}

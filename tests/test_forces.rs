@@ -1,0 +1,143 @@
+//! K built by pushing unit test forces through the ABA quantities (Kokkevis 2004) equals
+//! J M⁻¹ Jᵀ from CRBA + Cholesky, on random trees with every joint type and on gymnasium-like
+//! rows (contact normals, tangents, two-body contacts and joint limits).
+
+mod common;
+
+use common::{random_state, random_tree_mjcf, Rng};
+use sinew::dynamics::crba::{cholesky_solve, crba};
+use sinew::math::{DVec3, Motion};
+use sinew::model::{Model, WORLD};
+use sinew::step::collision::Contact;
+use sinew::step::constraint::{self, ConstraintData, RowKind};
+use sinew::step::{aba, kinematics};
+use sinew::Data;
+
+/// Row j of J: the row's acceleration per unit q̈ of each dof, without velocity terms.
+fn jacobian(m: &Model, data: &Data, con: &ConstraintData) -> Vec<Vec<f64>> {
+    let kin = &data.kin;
+    let mut rows = vec![vec![0.0; m.nv]; con.len()];
+    for dof in 0..m.nv {
+        // spatial accelerations of every node for q̈ = e_dof
+        let mut a = vec![Motion::ZERO; m.njnt];
+        for i in 0..m.njnt {
+            let p = m.node_parent[i];
+            let mut ai = if p == WORLD { Motion::ZERO } else { kin.x_up[i].apply_motion(&a[p]) };
+            for r in 0..m.jnt_type[i].nv() {
+                if m.jnt_dofadr[i] + r == dof {
+                    ai += kin.s[i][r];
+                }
+            }
+            a[i] = ai;
+        }
+        for j in 0..con.len() {
+            rows[j][dof] = match con.kind[j] {
+                RowKind::Limit => if con.dof[j].0 == dof { con.dof[j].1 } else { 0.0 },
+                _ => {
+                    let mut acc = DVec3::ZERO;
+                    for side in 0..2 {
+                        let n = con.node[j][side];
+                        if n == WORLD {
+                            continue;
+                        }
+                        let r = con.point[j][side];
+                        let w = kin.node_rot[n] * (a[n].lin + a[n].ang.cross(r));
+                        acc += if side == 0 { w } else { -w };
+                    }
+                    con.dir[j].dot(acc)
+                }
+            };
+        }
+    }
+    rows
+}
+
+fn check(xml: &str, seed: u64) {
+    let m = Model::from_mjcf(xml).unwrap();
+    let mut r = Rng(seed);
+    let mut data = Data::new(&m);
+    let (q, v) = random_state(&m, &mut r);
+    kinematics::forward(&m, &q, &v, &mut data.kin);
+    aba::backward(&m, &data.kin, &vec![0.0; m.nv], 0.0, &mut data.aba);
+    let mut qacc = vec![0.0; m.nv];
+    aba::forward(&m, &data.kin, &mut data.aba, &mut qacc);
+    // synthetic contacts: random points between random geoms (bodies) and the world or each other
+    let mut contacts = vec![];
+    for k in 0..6 {
+        let g1 = r.below(m.ngeom);
+        let g2 = if k % 2 == 0 { usize::MAX } else { r.below(m.ngeom) };
+        if g2 != usize::MAX && m.geom_body[g1] == m.geom_body[g2] {
+            continue;
+        }
+        let n = DVec3::new(r.uniform(-1.0, 1.0), r.uniform(-1.0, 1.0), r.uniform(0.2, 1.0)).normalize();
+        contacts.push(Contact {
+            geom1: g1,
+            geom2: g2,
+            feature: k,
+            pos: DVec3::new(r.uniform(-1.0, 1.0), r.uniform(-1.0, 1.0), r.uniform(-1.0, 1.0)),
+            normal: n,
+            dist: -1e-4,
+            mu: 0.8,
+            friction: true,
+        });
+    }
+    // a world geom to stand for the ground: index past the end maps to the world below
+    let mut m2 = m.clone();
+    m2.geom_body.push(0);
+    m2.ngeom += 1;
+    for c in &mut contacts {
+        if c.geom2 == usize::MAX {
+            c.geom2 = m.ngeom;
+        }
+    }
+    let mut con = ConstraintData::new(&m2);
+    constraint::rows(&m2, &data.kin, &q, &v, &contacts, |_, n, _| n.any_orthonormal_vector(), &mut con);
+    constraint::assemble(&m2, &data.kin, &data.aba, &qacc, &mut con);
+    let nr = con.len();
+    assert!(nr >= 6, "rows {nr}");
+    let j = jacobian(&m2, &data, &con);
+    let mass = crba(&m, &data.kin);
+    let mut worst = 0.0f64;
+    let scale = (0..nr).map(|i| con.k[i * nr + i].abs()).fold(0.0, f64::max);
+    for c in 0..nr {
+        let minv_jt = cholesky_solve(&mass, &j[c]);
+        for rr in 0..nr {
+            let reference: f64 = j[rr].iter().zip(&minv_jt).map(|(a, b)| a * b).sum();
+            worst = worst.max((con.k[rr * nr + c] - reference).abs() / scale);
+        }
+    }
+    assert!(worst <= 1e-9, "K vs J M⁻¹ Jᵀ: rel err {worst:e} (seed {seed})");
+}
+
+#[test]
+fn test_force_k_matches_dense_delassus_on_random_trees() {
+    for seed in 0..12 {
+        check(&random_tree_mjcf(3 + seed as usize % 9, seed % 2 == 0, seed), seed);
+    }
+}
+
+#[test]
+fn limit_rows_match_the_inverse_mass_matrix() {
+    let xml = "<mujoco><worldbody><body><joint name='a' range='-1 1'/><geom size='0.1' pos='0.3 0 0'/>\
+        <body pos='0.5 0 0'><joint name='b' type='slide' axis='1 0 0' range='-0.5 0.5'/><geom size='0.1'/></body></body></worldbody></mujoco>";
+    let m = Model::from_mjcf(xml).unwrap();
+    let mut data = Data::new(&m);
+    let q = vec![-1.0, 0.5];
+    let v = vec![0.0, 0.0];
+    kinematics::forward(&m, &q, &v, &mut data.kin);
+    aba::backward(&m, &data.kin, &[0.0, 0.0], 0.0, &mut data.aba);
+    let mut qacc = vec![0.0; 2];
+    aba::forward(&m, &data.kin, &mut data.aba, &mut qacc);
+    let mut con = ConstraintData::new(&m);
+    constraint::rows(&m, &data.kin, &q, &v, &[], |_, n, _| n, &mut con);
+    assert_eq!(con.len(), 2, "both joints sit at a limit");
+    constraint::assemble(&m, &data.kin, &data.aba, &qacc, &mut con);
+    let mass = crba(&m, &data.kin);
+    let minv0 = cholesky_solve(&mass, &[1.0, 0.0]);
+    let minv1 = cholesky_solve(&mass, &[0.0, 1.0]);
+    // rows: joint a at its lower limit (+1), joint b at its upper limit (−1)
+    let expect = [minv0[0], -minv1[0], -minv0[1], minv1[1]];
+    for (k, e) in con.k.iter().zip(expect) {
+        assert!((k - e).abs() < 1e-12 * e.abs().max(1.0), "{:?} vs {expect:?}", con.k);
+    }
+}
