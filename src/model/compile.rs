@@ -117,6 +117,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         actuator_ctrllimited: vec![],
         actuator_forcerange: vec![],
         actuator_forcelimited: vec![],
+        collision_pairs: vec![],
         exclude_pairs: vec![],
         warnings: spec.warnings.clone(),
     };
@@ -237,6 +238,13 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         m.exclude_pairs.push((i.min(j), i.max(j)));
     }
 
+    for i in 0..m.ngeom {
+        for j in i + 1..m.ngeom {
+            if crate::step::collision::can_collide(&m, i, j) {
+                m.collision_pairs.push((i, j));
+            }
+        }
+    }
     check_solvable(&m)?;
     Ok(m)
 }

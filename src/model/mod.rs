@@ -163,6 +163,8 @@ pub struct Model {
     /// Whether the force is clamped (nu).
     pub actuator_forcelimited: Vec<bool>,
 
+    /// Geom pairs that pass the configuration-independent collision filters.
+    pub collision_pairs: Vec<(usize, usize)>,
     /// Body-pair contact exclusions (sorted pairs).
     pub exclude_pairs: Vec<(usize, usize)>,
     /// What the model file asks for that sinew does not model.

@@ -95,26 +95,21 @@ pub fn can_collide(m: &Model, i: usize, j: usize) -> bool {
 /// Detects all contacts of the configuration in `kin`.
 pub fn collide(m: &Model, kin: &KinData, out: &mut CollisionData) {
     out.contacts.clear();
+    if !m.opt.contact || m.collision_pairs.is_empty() {
+        return;
+    }
     for g in 0..m.ngeom {
         let b = m.geom_body[g];
         out.geom_xmat[g] = kin.xmat[b] * DMat3::from_quat(m.geom_quat[g]);
         out.geom_xpos[g] = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
     }
-    if !m.opt.contact {
-        return;
-    }
-    for i in 0..m.ngeom {
-        for j in i + 1..m.ngeom {
-            if !can_collide(m, i, j) {
-                continue;
-            }
-            let margin = m.geom_margin[i].max(m.geom_margin[j]);
-            let (ri, rj) = (geom_rbound(m.geom_type[i], m.geom_size[i]), geom_rbound(m.geom_type[j], m.geom_size[j]));
-            if ri.is_finite() && rj.is_finite() && out.geom_xpos[i].distance(out.geom_xpos[j]) > ri + rj + margin {
-                continue;
-            }
-            pair(m, out, i, j, margin);
+    for &(i, j) in &m.collision_pairs {
+        let margin = m.geom_margin[i].max(m.geom_margin[j]);
+        let (ri, rj) = (geom_rbound(m.geom_type[i], m.geom_size[i]), geom_rbound(m.geom_type[j], m.geom_size[j]));
+        if ri.is_finite() && rj.is_finite() && out.geom_xpos[i].distance(out.geom_xpos[j]) > ri + rj + margin {
+            continue;
         }
+        pair(m, out, i, j, margin);
     }
 }
 

@@ -24,6 +24,11 @@ pub fn forward(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f
 /// damping implicitly over that step.
 fn evaluate(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64], h_damp: f64) {
     kinematics::forward(m, qpos, qvel, &mut data.kin);
+    dynamics(m, data, qpos, qvel, ctrl, h_damp);
+}
+
+/// Applied forces and both ABA passes, on the kinematics already in `data.kin`.
+fn dynamics(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64], h_damp: f64) {
     forces::applied(m, qpos, qvel, ctrl, &mut data.qfrc_applied);
     aba::backward(m, &data.kin, &data.qfrc_applied, h_damp, &mut data.aba);
     aba::forward(m, &data.kin, &mut data.aba, &mut data.qacc);
@@ -43,7 +48,7 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
         data.force.clear();
         match m.opt.integrator {
             Integrator::Euler => {
-                evaluate(m, data, qpos, qvel, ctrl, h);
+                dynamics(m, data, qpos, qvel, ctrl, h);
                 integrate::euler(m, qpos, qvel, &data.qacc, h);
             }
             Integrator::Rk4 => rk4(m, data, qpos, qvel, ctrl, h),
@@ -53,7 +58,7 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
     }
     // with constraints the step is semi-implicit Euler (the seed's scheme), whatever the integrator
     // 4. articulated inertias and the constraint-free accelerations
-    evaluate(m, data, qpos, qvel, ctrl, h);
+    dynamics(m, data, qpos, qvel, ctrl, h);
     // 5. K and b by test forces
     constraint::assemble(m, &data.kin, &data.aba, &data.qacc, &mut data.con);
     // 6. impacts: a velocity-level solve over all rows when something approaches
@@ -203,7 +208,8 @@ fn apply(m: &Model, data: &Data, target: &mut [f64]) {
 fn rk4(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl: &[f64], h: f64) {
     use integrate::{integrate_pos, RK4_A, RK4_B};
     let mut rk = std::mem::take(&mut data.rk4);
-    evaluate(m, data, qpos, qvel, ctrl, 0.0);
+    // stage 1 reuses the step's kinematics
+    dynamics(m, data, qpos, qvel, ctrl, 0.0);
     rk.kv[0].copy_from_slice(qvel);
     rk.ka[0].copy_from_slice(&data.qacc);
     for i in 1..4 {
