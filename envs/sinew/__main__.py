@@ -42,7 +42,7 @@ def main() -> None:
     end = sim.xpos
     moved = np.linalg.norm(end - start, axis=1)
     far = int(np.argmax(moved))
-    print(f"simulated {sim.time:.2f} s ({steps} steps, {model.integrator}, dt={model.timestep}) without contacts")
+    print(f"simulated {sim.time:.2f} s ({steps} steps, {model.integrator}, dt={model.timestep})")
     print(f"  body '{model.body_names[far]}' moved farthest: {moved[far]:.3f} m, now at {np.round(end[far], 3)}")
     print(f"  max |qvel| = {np.abs(sim.qvel).max():.3f}, all finite: {bool(np.isfinite(sim.get_state()).all())}")
     print(f"  wall time {wall:.3f} s: {steps / wall:,.0f} steps/s, {sim.time / wall:,.0f}x real time (one thread)")
