@@ -117,24 +117,32 @@ pub fn forward(m: &Model, kin: &KinData, aba: &mut AbaData, qacc: &mut [f64]) {
     for i in 0..m.njnt {
         let p = m.node_parent[i];
         let a_parent = if p == WORLD { a0 } else { aba.a[p] };
-        let mut a = kin.x_up[i].apply_motion(&a_parent) + kin.c[i];
-        let k = m.jnt_type[i].nv();
-        let da = m.jnt_dofadr[i];
-        let mut rhs = [0.0; 6];
-        for r in 0..k {
-            rhs[r] = aba.u[i][r] - a.dot(&aba.u_mat[i][r]);
-        }
-        let d = &aba.d_inv[i];
-        for r in 0..k {
-            let mut x = 0.0;
-            for q in 0..k {
-                x += d[r * 6 + q] * rhs[q];
-            }
-            qacc[da + r] = x;
-            a += kin.s[i][r] * x;
-        }
-        aba.a[i] = a;
+        let a = kin.x_up[i].apply_motion(&a_parent) + kin.c[i];
+        aba.a[i] = joint_accel(m, kin, aba, i, &aba.u[i], a, qacc);
     }
+}
+
+/// One node of the outward pass: q̈_i = D_i⁻¹(u_i − U_iᵀ a'_i) into `qacc`, returning
+/// a_i = a'_i + S_i q̈_i. Shared by the main pass and the test-force delta pass.
+#[inline]
+pub fn joint_accel(m: &Model, kin: &KinData, aba: &AbaData, i: usize, u: &[f64; 6], a_prime: Motion, qacc: &mut [f64]) -> Motion {
+    let k = m.jnt_type[i].nv();
+    let da = m.jnt_dofadr[i];
+    let mut rhs = [0.0; 6];
+    for r in 0..k {
+        rhs[r] = u[r] - a_prime.dot(&aba.u_mat[i][r]);
+    }
+    let d = &aba.d_inv[i];
+    let mut a = a_prime;
+    for r in 0..k {
+        let mut x = 0.0;
+        for q in 0..k {
+            x += d[r * 6 + q] * rhs[q];
+        }
+        qacc[da + r] = x;
+        a += kin.s[i][r] * x;
+    }
+    a
 }
 
 /// In-place inverse of a symmetric positive-definite k × k matrix (row-major in a 6 × 6 block) by

@@ -297,22 +297,7 @@ pub fn delta_pass(
     // outward: δa'_i = X δa_λ;  δq̈_i = D⁻¹(δu_i − Uᵀ δa'_i);  δa_i = δa'_i + S δq̈_i
     for i in 0..m.njnt {
         let p = m.node_parent[i];
-        let mut a = if p == WORLD { Motion::ZERO } else { kin.x_up[i].apply_motion(&da[p]) };
-        let k = m.jnt_type[i].nv();
-        let d0 = m.jnt_dofadr[i];
-        let mut rhs = [0.0; 6];
-        for r in 0..k {
-            rhs[r] = du[i][r] - a.dot(&aba.u_mat[i][r]);
-        }
-        let d = &aba.d_inv[i];
-        for r in 0..k {
-            let mut x = 0.0;
-            for q in 0..k {
-                x += d[r * 6 + q] * rhs[q];
-            }
-            dqdd[d0 + r] = x;
-            a += kin.s[i][r] * x;
-        }
-        da[i] = a;
+        let a = if p == WORLD { Motion::ZERO } else { kin.x_up[i].apply_motion(&da[p]) };
+        da[i] = super::aba::joint_accel(m, kin, aba, i, &du[i], a, dqdd);
     }
 }
