@@ -6,6 +6,8 @@
 //! detected yet. Filtering follows MuJoCo: contype/conaffinity bits, no contact within a body or
 //! between a body and its parent (unless the parent is the world), `<exclude>` pairs, and a
 //! bounding-sphere broadphase. Friction is the maximum of the pair's, as MuJoCo's default.
+//! Detection is speculative: a pair within its margin plus the distance its geoms can cover in one
+//! step yields a (separated, dist > 0) contact, whose row only stops it at the surface.
 
 use glam::{DMat3, DVec3};
 
@@ -42,6 +44,8 @@ pub struct CollisionData {
     pub geom_xmat: Vec<DMat3>,
     /// Geom centre in world (ngeom).
     pub geom_xpos: Vec<DVec3>,
+    /// Bound on the speed of any point of each geom (ngeom), for speculative detection.
+    pub geom_speed: Vec<f64>,
     /// Contacts of this configuration.
     pub contacts: Vec<Contact>,
 }
@@ -52,6 +56,7 @@ impl CollisionData {
         CollisionData {
             geom_xmat: vec![DMat3::IDENTITY; m.ngeom],
             geom_xpos: vec![DVec3::ZERO; m.ngeom],
+            geom_speed: vec![0.0; m.ngeom],
             contacts: Vec::with_capacity(MAX_CONTACTS),
         }
     }
@@ -102,9 +107,22 @@ pub fn collide(m: &Model, kin: &KinData, out: &mut CollisionData) {
         let b = m.geom_body[g];
         out.geom_xmat[g] = kin.xmat[b] * DMat3::from_quat(m.geom_quat[g]);
         out.geom_xpos[g] = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
+        let n = m.body_node[b];
+        out.geom_speed[g] = if n == WORLD || m.geom_type[g] == GeomType::Plane {
+            0.0
+        } else {
+            let v = kin.v[n];
+            let centre = kin.node_rot[n].transpose() * (out.geom_xpos[g] - kin.node_pos[n]);
+            v.point_velocity(centre).length() + v.ang.length() * geom_rbound(m.geom_type[g], m.geom_size[g])
+        };
     }
+    let h = m.opt.timestep;
     for &(i, j) in &m.collision_pairs {
-        let margin = m.geom_margin[i].max(m.geom_margin[j]);
+        // speculative: pairs that could close within this step count as contacts, so a fast foot
+        // is stopped at the surface instead of being found inside it one step later
+        // (h²|g| covers a body starting to fall from rest)
+        let reach = h * (out.geom_speed[i] + out.geom_speed[j]) + h * h * m.opt.gravity.length();
+        let margin = m.geom_margin[i].max(m.geom_margin[j]) + reach;
         let (ri, rj) = (geom_rbound(m.geom_type[i], m.geom_size[i]), geom_rbound(m.geom_type[j], m.geom_size[j]));
         if ri.is_finite() && rj.is_finite() && out.geom_xpos[i].distance(out.geom_xpos[j]) > ri + rj + margin {
             continue;

@@ -127,10 +127,14 @@ fn random_tangent(state: &mut u64, n: DVec3) -> DVec3 {
 /// needImpact (Kokkevis 2004, §8.1): a contact or limit approaching fast enough to close within this step.
 fn needs_impact(con: &constraint::ConstraintData, h: f64) -> bool {
     (0..con.len()).any(|j| {
-        !matches!(con.kind[j], RowKind::Tangent { .. })
-            && con.vel[j] < -constraint::IMPACT_SPEED
-            && con.dist[j] + h * con.vel[j] < 0.0
+        !matches!(con.kind[j], RowKind::Tangent { .. }) && approaching(con.vel[j], con.dist[j], con.vel[j] + h * con.b[j], h)
     })
+}
+
+/// A row moving into its constraint faster than [`constraint::IMPACT_SPEED`] that would close
+/// within this step, given its velocity now and predicted at the step's end.
+fn approaching(vel: f64, dist: f64, vel_end: f64, h: f64) -> bool {
+    vel < -constraint::IMPACT_SPEED && dist + h * vel_end.min(vel) < 0.0
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -170,8 +174,19 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
                 let target = if dist > 0.0 { -dist / h } else { -constraint::POSITION_CORRECTION * dist / h };
                 (target - vel) / h
             }
+            // end-of-step velocity v⁺ for a row that closes within this step: e|v_p| with
+            // restitution (reversing at the current gap), else −d/h, which just closes the gap
+            // (v_p: velocity predicted at the step's end without constraint forces)
             (_, Level::Velocity) => {
-                if vel < 0.0 && dist + h * vel < 0.0 { -(1.0 + m.opt.restitution) * vel } else { (-dist.max(0.0) / h - vel).min(0.0) }
+                // no restitution below a few steps' worth of gravity: resting contacts do not jitter
+                let e = if -vel > 4.0 * h * m.opt.gravity.length() { m.opt.restitution } else { 0.0 };
+                let vp = vel + h * con.b[j];
+                let gap = dist.max(0.0) / h;
+                if approaching(vel, dist, vp, h) {
+                    if e > 0.0 { -(1.0 + e) * vp } else { -gap - vp }
+                } else {
+                    (-gap - vp).min(0.0)
+                }
             }
         };
         q[j] = match level {
