@@ -34,8 +34,10 @@ pub struct Data {
     pub lcp_m: Vec<f64>,
     /// LCP vector.
     pub lcp_q: Vec<f64>,
-    /// Which LCP variables are normal or limit rows.
-    pub lcp_normal: Vec<bool>,
+    /// λ variable of each normal row with friction (usize::MAX: none).
+    pub lcp_lambda: Vec<usize>,
+    /// Role of each LCP variable.
+    pub lcp_role: Vec<crate::step::lcp::Role>,
     /// Lemke tableau.
     pub lcp_work: LcpWork,
     /// Solver statistics.
@@ -64,7 +66,8 @@ impl Data {
             force: vec![],
             lcp_m: vec![],
             lcp_q: vec![],
-            lcp_normal: vec![],
+            lcp_lambda: vec![],
+            lcp_role: vec![],
             lcp_work: LcpWork::default(),
             stats: LcpStats::default(),
             impacts: 0,

@@ -37,7 +37,10 @@ class Model:
         restitution: Optional[float] = None,
         contact: Optional[bool] = None,
         limit: Optional[bool] = None,
+        friction: Optional[str] = None,
     ) -> Model: ...
+    @property
+    def friction(self) -> str: ...
     @property
     def restitution(self) -> float: ...
     @property

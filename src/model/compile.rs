@@ -59,6 +59,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
             contact: spec.option.contact,
             limit: spec.option.limit,
             restitution: spec.restitution.unwrap_or(0.0),
+            friction: super::FrictionModel::OneTangent,
         },
         nq: 0,
         nv: 0,

@@ -17,6 +17,16 @@ use crate::math::{ArtInertia, Motion, SpatialInertia, Xform};
 /// Parent index of nodes attached to the world.
 pub const WORLD: usize = usize::MAX;
 
+/// How friction is posed in the LCP.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrictionModel {
+    /// The seed's three conditions per contact (Kokkevis 2004, eqs. 19–21): one tangent, opposite
+    /// the sliding velocity, else the last valid or a random one.
+    OneTangent,
+    /// Six conditions per contact: ±t₁, ±t₂ and one λ (a four-sided friction pyramid).
+    Pyramid,
+}
+
 /// Simulation options.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Options {
@@ -32,6 +42,8 @@ pub struct Options {
     pub limit: bool,
     /// Contact restitution coefficient e in [0, 1].
     pub restitution: f64,
+    /// Friction formulation.
+    pub friction: FrictionModel,
 }
 
 /// A compiled model. Build it with [`Model::from_mjcf`].

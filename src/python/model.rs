@@ -8,7 +8,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use super::errors::{to_py, ModelWarning};
-use crate::model::{Integrator, JointType, Model};
+use crate::model::{FrictionModel, Integrator, JointType, Model};
 
 /// A compiled model (MuJoCo's mjModel counterpart). Immutable; share it between simulations.
 #[pyclass(name = "Model", module = "sinew._core", frozen)]
@@ -51,7 +51,7 @@ impl PyModel {
     }
 
     /// A copy with some options replaced (the model itself never changes).
-    #[pyo3(signature = (*, timestep=None, integrator=None, gravity=None, restitution=None, contact=None, limit=None))]
+    #[pyo3(signature = (*, timestep=None, integrator=None, gravity=None, restitution=None, contact=None, limit=None, friction=None))]
     #[allow(clippy::too_many_arguments)]
     fn with_options(
         &self,
@@ -61,6 +61,7 @@ impl PyModel {
         restitution: Option<f64>,
         contact: Option<bool>,
         limit: Option<bool>,
+        friction: Option<&str>,
     ) -> PyResult<Self> {
         let mut m = (*self.inner).clone();
         if let Some(h) = timestep {
@@ -93,6 +94,13 @@ impl PyModel {
         }
         if let Some(l) = limit {
             m.opt.limit = l;
+        }
+        if let Some(f) = friction {
+            m.opt.friction = match f {
+                "seed" => FrictionModel::OneTangent,
+                "pyramid" => FrictionModel::Pyramid,
+                _ => return Err(PyValueError::new_err(format!("friction must be 'seed' or 'pyramid', got '{f}'"))),
+            };
         }
         Ok(PyModel { inner: Arc::new(m) })
     }
@@ -141,6 +149,14 @@ impl PyModel {
     #[getter]
     fn restitution(&self) -> f64 {
         self.inner.opt.restitution
+    }
+    /// Friction formulation: "seed" (one tangent, Kokkevis eqs. 19–21) or "pyramid" (±t₁, ±t₂).
+    #[getter]
+    fn friction(&self) -> &'static str {
+        match self.inner.opt.friction {
+            FrictionModel::OneTangent => "seed",
+            FrictionModel::Pyramid => "pyramid",
+        }
     }
     /// Whether contacts are simulated.
     #[getter]

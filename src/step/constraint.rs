@@ -6,7 +6,7 @@
 use glam::DVec3;
 
 use crate::math::{Force, Motion};
-use crate::model::{JointType, Model, WORLD};
+use crate::model::{FrictionModel, JointType, Model, WORLD};
 
 use super::aba::AbaData;
 use super::collision::Contact;
@@ -17,7 +17,8 @@ use super::kinematics::KinData;
 pub enum RowKind {
     /// Contact normal: f ≥ 0, separation acceleration ≥ desired.
     Normal,
-    /// Friction along one tangent, with its λ (seed eqs. 20–21); `normal` is its normal row.
+    /// Friction along one direction (seed eqs. 20–21); `normal` is its contact's normal row, whose
+    /// λ it shares with the contact's other friction rows.
     Tangent {
         /// Index of the contact's normal row.
         normal: usize,
@@ -145,9 +146,18 @@ pub fn rows(
         if c.friction && c.mu > 0.0 {
             let vt = vrel - c.normal * c.normal.dot(vrel);
             let t = tangent_for(ci, c.normal, vt);
-            let r = out.len();
-            out.push(RowKind::Tangent { normal: normal_row }, nodes, pts, t, (0, 0.0), c.mu, ci);
-            out.vel[r] = t.dot(vrel);
+            let dirs = match m.opt.friction {
+                FrictionModel::OneTangent => [t, DVec3::ZERO, DVec3::ZERO, DVec3::ZERO],
+                FrictionModel::Pyramid => {
+                    let t2 = c.normal.cross(t);
+                    [t, -t, t2, -t2]
+                }
+            };
+            for d in dirs.into_iter().filter(|d| *d != DVec3::ZERO) {
+                let r = out.len();
+                out.push(RowKind::Tangent { normal: normal_row }, nodes, pts, d, (0, 0.0), c.mu, ci);
+                out.vel[r] = d.dot(vrel);
+            }
         }
     }
     if m.opt.limit {

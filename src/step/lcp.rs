@@ -6,7 +6,7 @@
 //! (Cottle, Pang & Stone, *The Linear Complementarity Problem*, 1992, §4.4). Redundant rows (four
 //! coplanar box corners) make K singular; a tiny diagonal regulariser keeps pivots finite. Every
 //! accepted solution is checked independently (w = M z + q recomputed); on failure the cascade
-//! falls back to projected Gauss–Seidel on the normal rows alone (frictionless), then to zero force.
+//! falls back to projected Gauss–Seidel on the same conditions, then to zero force.
 
 /// Counters Python can read.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -15,7 +15,7 @@ pub struct LcpStats {
     pub solves: u64,
     /// Total Lemke pivots.
     pub pivots: u64,
-    /// Solves that fell back to frictionless PGS.
+    /// Solves that fell back to projected Gauss–Seidel.
     pub fallback_pgs: u64,
     /// Solves that fell back to zero force.
     pub fallback_zero: u64,
@@ -32,7 +32,10 @@ pub struct LcpWork {
 }
 
 /// Relative regulariser added to the diagonal of the force rows.
-pub const REGULARISATION: f64 = 1e-11;
+pub const REGULARISATION: f64 = 1e-8;
+/// Largest scaled residual of an accepted solution (tableau round-off on degenerate problems,
+/// such as four coplanar corners, stays around 1e-6).
+pub const ACCEPT_RESIDUAL: f64 = 1e-5;
 /// Pivot cap, as a multiple of the problem size.
 pub const PIVOT_CAP_PER_ROW: usize = 50;
 
@@ -78,29 +81,50 @@ pub fn lemke(n: usize, m: &[f64], q: &[f64], z: &mut [f64], work: &mut LcpWork) 
         }
         // complement of the leaving variable enters
         entering = if leaving < n { leaving + n } else { leaving - n };
-        // minimum ratio test; prefer z0 on ties so the method terminates
-        let mut best: Option<(usize, f64)> = None;
-        for i in 0..n {
-            let d = work.tab[i * cols + entering];
-            if d > 1e-12 {
-                let ratio = work.tab[i * cols + rhs] / d;
-                match best {
-                    None => best = Some((i, ratio)),
-                    Some((bi, br)) => {
-                        let tie = (ratio - br).abs() <= 1e-12 * br.abs().max(1e-300);
-                        if ratio < br && !tie || tie && work.basis[i] == z0 && work.basis[bi] != z0 {
-                            best = Some((i, ratio));
-                        }
-                    }
-                }
-            }
-        }
-        r = best?.0;
+        r = ratio_test(&work.tab, cols, n, entering, &work.basis, z0, &mut work.w)?;
         if !work.tab[r * cols + rhs].is_finite() {
             return None;
         }
     }
     None
+}
+
+/// Lexicographic minimum-ratio test (Cottle, Pang & Stone 1992, §4.9): the rows with the smallest
+/// rhs/d, ties broken by z0 first, then by the columns of B⁻¹ (the tableau's w block) over d, so
+/// degenerate problems (redundant contacts) cannot cycle.
+fn ratio_test(tab: &[f64], cols: usize, n: usize, entering: usize, basis: &[usize], z0: usize, cand: &mut Vec<f64>) -> Option<usize> {
+    let rhs = 2 * n + 1;
+    let tol = 1e-11;
+    // candidate rows, kept as indices in `cand` (stored as f64 to reuse the buffer)
+    cand.clear();
+    let mut best = f64::INFINITY;
+    for i in 0..n {
+        let d = tab[i * cols + entering];
+        if d > tol {
+            let ratio = tab[i * cols + rhs] / d;
+            if cand.is_empty() || ratio < best - tol * (1.0 + best.abs()) {
+                best = ratio;
+                cand.clear();
+            }
+            if (ratio - best).abs() <= tol * (1.0 + best.abs()) {
+                cand.push(i as f64);
+            }
+        }
+    }
+    if cand.is_empty() {
+        return None;
+    }
+    if let Some(&i) = cand.iter().find(|&&i| basis[i as usize] == z0) {
+        return Some(i as usize);
+    }
+    let mut col = 0;
+    while cand.len() > 1 && col < n {
+        let val = |i: f64| tab[i as usize * cols + col] / tab[i as usize * cols + entering];
+        let min = cand.iter().map(|&i| val(i)).fold(f64::INFINITY, f64::min);
+        cand.retain(|&i| val(i) <= min + tol * (1.0 + min.abs()));
+        col += 1;
+    }
+    Some(cand[0] as usize)
 }
 
 fn pivot(tab: &mut [f64], cols: usize, n: usize, r: usize, c: usize) {
@@ -134,19 +158,20 @@ pub fn residual(n: usize, m: &[f64], q: &[f64], z: &[f64], w: &mut Vec<f64>) -> 
     if worst.is_nan() { f64::INFINITY } else { worst }
 }
 
-/// Solves with the cascade Lemke → PGS on `normal_rows` → zero; returns the path taken in `stats`.
-pub fn solve(n: usize, m: &[f64], q: &[f64], normal_rows: &[bool], z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
+/// Solves with the cascade Lemke → projected Gauss–Seidel → zero; counts the path in `stats`.
+pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
     stats.solves += 1;
     if let Some(p) = lemke(n, m, q, z, work) {
         stats.pivots += p as u64;
+        polish(n, m, q, z, work);
         let res = residual(n, m, q, z, &mut work.w);
-        if res <= 1e-6 {
+        if res <= ACCEPT_RESIDUAL {
             stats.residual = res;
             return;
         }
     }
     stats.fallback_pgs += 1;
-    if pgs(n, m, q, normal_rows, z) {
+    if pgs(n, m, q, role, z) {
         stats.residual = residual(n, m, q, z, &mut work.w);
         return;
     }
@@ -155,17 +180,99 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], normal_rows: &[bool], z: &mut [f64]
     stats.residual = 0.0;
 }
 
-/// Projected Gauss–Seidel on the normal rows only (others held at zero).
-fn pgs(n: usize, m: &[f64], q: &[f64], normal_rows: &[bool], z: &mut [f64]) -> bool {
+/// Re-solves M_AA z_A = −q_A on Lemke's active set A = {z > 0} by Gaussian elimination with
+/// partial pivoting, removing the round-off the tableau accumulates on degenerate problems. The
+/// polished z is kept only if it stays non-negative and lowers the residual.
+fn polish(n: usize, m: &[f64], q: &[f64], z: &mut [f64], work: &mut LcpWork) {
+    let before = residual(n, m, q, z, &mut work.w);
+    let active: Vec<usize> = (0..n).filter(|&i| z[i] > 0.0).collect();
+    let k = active.len();
+    if k == 0 {
+        return;
+    }
+    // augmented k × (k + 1) system in the tableau buffer
+    let a = &mut work.tab;
+    a.clear();
+    a.resize(k * (k + 1), 0.0);
+    for (r, &i) in active.iter().enumerate() {
+        for (c, &j) in active.iter().enumerate() {
+            a[r * (k + 1) + c] = m[i * n + j];
+        }
+        a[r * (k + 1) + k] = -q[i];
+    }
+    for c in 0..k {
+        let p = (c..k).max_by(|&x, &y| a[x * (k + 1) + c].abs().total_cmp(&a[y * (k + 1) + c].abs())).unwrap();
+        if a[p * (k + 1) + c].abs() < 1e-300 {
+            return;
+        }
+        for j in 0..=k {
+            a.swap(c * (k + 1) + j, p * (k + 1) + j);
+        }
+        for r in 0..k {
+            if r != c {
+                let f = a[r * (k + 1) + c] / a[c * (k + 1) + c];
+                if f != 0.0 {
+                    for j in c..=k {
+                        a[r * (k + 1) + j] -= f * a[c * (k + 1) + j];
+                    }
+                }
+            }
+        }
+    }
+    let mut trial = z[..n].to_vec();
+    for (r, &i) in active.iter().enumerate() {
+        trial[i] = a[r * (k + 1) + k] / a[r * (k + 1) + r];
+    }
+    if trial.iter().all(|x| x.is_finite() && *x >= 0.0) && residual(n, m, q, &trial, &mut work.w) < before {
+        z[..n].copy_from_slice(&trial);
+    }
+}
+
+/// What an LCP variable is, for the projected Gauss–Seidel fallback.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Role {
+    /// A normal or limit force: z ≥ 0.
+    Normal,
+    /// A friction force bounded by μ times the force of variable `normal`; its λ is `lambda`.
+    Friction {
+        /// The normal force's variable.
+        normal: usize,
+        /// The λ variable shared by the contact's friction rows.
+        lambda: usize,
+        /// Friction coefficient.
+        mu: f64,
+    },
+    /// The auxiliary λ of eq. (21).
+    Lambda,
+}
+
+/// Projected Gauss–Seidel on the same conditions: normals z ≥ 0, each contact's friction forces
+/// summing to at most μ f_n, λ recovered afterwards as the unmet tangential demand.
+fn pgs(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64]) -> bool {
     z[..n].fill(0.0);
-    for _ in 0..200 {
-        for i in (0..n).filter(|&i| normal_rows[i]) {
+    let w_of = |z: &[f64], i: usize| q[i] + (0..n).filter(|&j| role[j] != Role::Lambda).map(|j| m[i * n + j] * z[j]).sum::<f64>();
+    for _ in 0..500 {
+        for i in 0..n {
             let d = m[i * n + i];
             if d <= 0.0 {
                 continue;
             }
-            let wi: f64 = q[i] + (0..n).map(|j| m[i * n + j] * z[j]).sum::<f64>();
-            z[i] = (z[i] - wi / d).max(0.0);
+            match role[i] {
+                Role::Normal => z[i] = (z[i] - w_of(z, i) / d).max(0.0),
+                Role::Friction { normal, lambda, mu } => {
+                    // room left under μ f_n by the contact's other friction rows
+                    let others: f64 =
+                        (0..n).filter(|&j| j != i && matches!(role[j], Role::Friction { lambda: l, .. } if l == lambda)).map(|j| z[j]).sum();
+                    let cap = (mu * z[normal] - others).max(0.0);
+                    z[i] = (z[i] - w_of(z, i) / d).clamp(0.0, cap);
+                }
+                Role::Lambda => {}
+            }
+        }
+    }
+    for i in 0..n {
+        if let Role::Friction { lambda, .. } = role[i] {
+            z[lambda] = z[lambda].max(-w_of(z, i));
         }
     }
     z[..n].iter().all(|x| x.is_finite())

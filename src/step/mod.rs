@@ -148,18 +148,27 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
     let h = m.opt.timestep;
     let con = &data.con;
     let nr = con.len();
-    let nt = con.kind.iter().filter(|k| matches!(k, RowKind::Tangent { .. })).count();
-    let n = nr + nt;
+    // one λ per contact with friction rows, shared by them (eq. 21 sums their forces)
+    data.lcp_lambda.clear();
+    data.lcp_lambda.resize(nr, usize::MAX);
+    let mut n = nr;
+    for j in 0..nr {
+        if let RowKind::Tangent { normal } = con.kind[j] {
+            if data.lcp_lambda[normal] == usize::MAX {
+                data.lcp_lambda[normal] = n;
+                n += 1;
+            }
+        }
+    }
     data.lcp_m.clear();
     data.lcp_m.resize(n * n, 0.0);
     data.lcp_q.clear();
     data.lcp_q.resize(n, 0.0);
-    data.lcp_normal.clear();
-    data.lcp_normal.resize(n, false);
+    data.lcp_role.clear();
+    data.lcp_role.resize(n, lcp::Role::Lambda);
     data.force.clear();
     data.force.resize(n, 0.0);
     let (mm, q) = (&mut data.lcp_m, &mut data.lcp_q);
-    let mut lam = nr;
     for j in 0..nr {
         for k in 0..nr {
             mm[j * n + k] = con.k[j * nr + k];
@@ -194,16 +203,17 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
             Level::Velocity => -desired,
         };
         if let RowKind::Tangent { normal } = con.kind[j] {
-            // (20): (a_t − a_t^d) + λ ≥ 0;  (21): μ f_n − f_t ≥ 0 ⟂ λ ≥ 0
+            // (20): (a_t − a_t^d) + λ ≥ 0;  (21): μ f_n − Σ f_t ≥ 0 ⟂ λ ≥ 0
+            let lam = data.lcp_lambda[normal];
             mm[j * n + lam] = 1.0;
             mm[lam * n + normal] = con.mu[j];
             mm[lam * n + j] = -1.0;
-            lam += 1;
+            data.lcp_role[j] = lcp::Role::Friction { normal, lambda: lam, mu: con.mu[j] };
         } else {
-            data.lcp_normal[j] = true;
+            data.lcp_role[j] = lcp::Role::Normal;
         }
     }
-    lcp::solve(n, &data.lcp_m, &data.lcp_q, &data.lcp_normal, &mut data.force, &mut data.lcp_work, &mut data.stats);
+    lcp::solve(n, &data.lcp_m, &data.lcp_q, &data.lcp_role, &mut data.force, &mut data.lcp_work, &mut data.stats);
 }
 
 /// target += Σ_k f_k Δq̈⁽ᵏ⁾ (forces into accelerations, or impulses into velocities).
