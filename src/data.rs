@@ -48,6 +48,8 @@ pub struct Data {
     pub tangents: Vec<((usize, usize, usize), DVec3)>,
     /// Tangents being recorded this step.
     pub tangents_next: Vec<((usize, usize, usize), DVec3)>,
+    /// Per-node spatial forces, scratch for `sensors` (njnt).
+    pub node_force: Vec<crate::math::Force>,
     /// SplitMix64 state of this world's random tangents.
     pub rng: u64,
 }
@@ -73,6 +75,7 @@ impl Data {
             impacts: 0,
             tangents: vec![],
             tangents_next: vec![],
+            node_force: vec![crate::math::Force::ZERO; m.njnt],
             rng: 0x5EED,
         }
     }

@@ -19,6 +19,9 @@ pub mod data;
 pub mod state;
 // ④ the step
 pub mod step;
+// ⑤ many worlds, and what environments observe of them
+pub mod batch;
+pub mod sensors;
 // reference algorithms, used as checks
 pub mod dynamics;
 

@@ -1,5 +1,6 @@
 //! ⑥ pyo3 bindings (feature `python`): conversion and error mapping only, no physics.
 
+mod batch;
 mod errors;
 mod model;
 mod sim;
@@ -12,6 +13,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add_class::<model::PyModel>()?;
     m.add_class::<sim::PySim>()?;
+    m.add_class::<batch::PyBatch>()?;
     m.add("ModelError", py.get_type::<errors::ModelError>())?;
     m.add("ModelWarning", py.get_type::<errors::ModelWarning>())?;
     m.add("SimulationError", py.get_type::<errors::SimulationError>())?;

@@ -286,6 +286,26 @@ impl PyModel {
     fn actuator_ctrllimited(&self) -> Vec<bool> {
         self.inner.actuator_ctrllimited.clone()
     }
+    /// Site positions in their bodies' frames (nsite, 3).
+    #[getter]
+    fn site_pos<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        rows3(py, self.inner.site_pos.iter().map(|v| v.to_array()))
+    }
+    /// Body of each site.
+    #[getter]
+    fn site_body(&self) -> Vec<usize> {
+        self.inner.site_body.clone()
+    }
+    /// Actuator gear ratios (nu,).
+    #[getter]
+    fn actuator_gear<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.inner.actuator_gear)
+    }
+    /// Dof driven by each actuator.
+    #[getter]
+    fn actuator_dofadr(&self) -> Vec<usize> {
+        self.inner.actuator_jnt.iter().map(|&j| self.inner.jnt_dofadr[j]).collect()
+    }
     /// Model features accepted but not simulated.
     #[getter]
     fn warnings(&self) -> Vec<String> {

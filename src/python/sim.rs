@@ -12,8 +12,7 @@ use crate::model::Model;
 use crate::step::kinematics;
 use crate::Data;
 
-/// Largest magnitude a state entry may reach before the world counts as diverged (MuJoCo's mjMAXVAL).
-pub const MAX_STATE: f64 = 1e10;
+use crate::batch::MAX_STATE;
 
 /// One simulated world.
 #[pyclass(name = "Sim", module = "sinew._core")]

@@ -87,7 +87,8 @@ impl ConstraintData {
         self.kind.is_empty()
     }
 
-    fn clear(&mut self) {
+    /// Removes all rows.
+    pub fn clear(&mut self) {
         self.kind.clear();
         self.node.clear();
         self.point.clear();

@@ -1,0 +1,202 @@
+"""Gymnasium environments over ``sinew.Batch``: one task, N worlds stepped in Rust.
+
+- :class:`SinewEnv`: a single ``gymnasium.Env`` (a batch of one), made by
+  ``gymnasium.make("sinew/Hopper-v0")``.
+- :class:`SinewVectorEnv`: a native ``gymnasium.vector.VectorEnv`` made by
+  ``gymnasium.make_vec(..., vectorization_mode="vector_entry_point")``, with gymnasium's
+  next-step autoreset. Its rollouts equal N single envs seeded ``seed, seed + 1, ...``.
+
+Actions are motor controls in the twin's action Box (gymnasium v5 semantics: ctrl = action, clamped
+to ctrlrange inside the physics; for these models ctrl × gear is the joint torque in N·m, or force
+in N for slides). Non-finite actions raise ``ValueError``; wrong shapes raise ``ValueError``. A world
+whose state becomes non-finite or exceeds 1e10 is reset alone and reported with
+``info["sim_diverged"]``, ``terminated=True`` and reward 0.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+import gymnasium
+import numpy as np
+from gymnasium import spaces
+from gymnasium.utils import seeding
+from gymnasium.vector import AutoresetMode, VectorEnv
+
+from sinew._core import Batch, Model
+from sinew.tasks import ASSETS, TASKS, View
+
+
+class BatchTask:
+    """A task over N worlds: reset with per-world generators, step with a batch of actions."""
+
+    def __init__(self, task: str, num_envs: int, num_threads: int | None = None, xml_file: str | None = None,
+                 friction: str = "pyramid", **task_kwargs):
+        if task not in TASKS:
+            raise ValueError(f"unknown task {task!r}; known: {sorted(TASKS)}")
+        cls = TASKS[task]
+        path = xml_file or os.path.join(ASSETS, cls.xml)
+        self.model = Model.from_mjcf(path).with_options(friction=friction)
+        self.task = cls(self.model, **task_kwargs)
+        self.num_envs = num_envs
+        self.batch = Batch(self.model, num_envs, seed=0, num_threads=num_threads)
+        b = self.batch
+        self.view = View(b.qpos, b.qvel, b.ctrl, b.xpos, b.xmat.reshape(num_envs, -1, 3, 3), b.xvel, b.cfrc_ext,
+                         b.qfrc_constraint)
+        lo, hi = self.model.actuator_ctrlrange.astype(np.float32).T
+        self.action_space = spaces.Box(low=lo, high=hi, dtype=np.float32)
+        self.observation_space = spaces.Box(-np.inf, np.inf, shape=(self.task.obs_dim(),), dtype=np.float64)
+
+    def check_actions(self, actions) -> np.ndarray:
+        a = np.asarray(actions, dtype=np.float64)
+        shape = (self.num_envs, self.model.nu)
+        if a.shape != shape:
+            if self.num_envs == 1 and a.shape == shape[1:]:
+                a = a[None]
+            else:
+                raise ValueError(f"action shape mismatch: expected {shape[1:] if self.num_envs == 1 else shape}, got {a.shape}")
+        bad = ~np.isfinite(a).all(axis=1)
+        if bad.any():
+            raise ValueError(f"actions are not finite (NaN or inf) for env indices {np.flatnonzero(bad).tolist()}")
+        return a
+
+    def reset_worlds(self, idx: np.ndarray, rngs: list) -> None:
+        """Resets the worlds `idx`, drawing their noise (as the twin does) and physics seeds from `rngs`."""
+        qpos, qvel = self.task.reset_state(rngs)
+        seeds = [int(r.integers(2**63)) for r in rngs]
+        mask = np.zeros(self.num_envs, dtype=bool)
+        mask[idx] = True
+        self.batch.reset(mask, seeds)
+        self.batch.qpos[idx] = qpos
+        self.batch.qvel[idx] = qvel
+        self.batch.forward_kinematics()
+
+    def observe(self) -> np.ndarray:
+        return self.task.observe(self.view)
+
+    def step(self, actions: np.ndarray):
+        before = self.task.before(self.view)
+        self.batch.ctrl[:] = actions
+        self.batch.step(self.task.frame_skip)
+        obs = self.observe()
+        reward, terminated, info = self.task.after(self.view, before, actions, obs)
+        diverged = self.batch.diverged.copy()
+        reward = np.where(diverged, 0.0, reward).astype(np.float64)
+        terminated = terminated | diverged
+        info["sim_diverged"] = diverged
+        return obs, reward, terminated, info
+
+
+class SinewEnv(gymnasium.Env):
+    """One sinew world with a gymnasium MuJoCo v5 task (see module docstring)."""
+
+    metadata = {"render_modes": []}
+
+    def __init__(self, task: str, render_mode: str | None = None, **kwargs):
+        if render_mode is not None:
+            raise ValueError("sinew environments do not render")
+        self._core = BatchTask(task, 1, num_threads=1, **kwargs)
+        self.action_space = self._core.action_space
+        self.observation_space = self._core.observation_space
+        self.model = self._core.model
+        self.frame_skip = self._core.task.frame_skip
+        self.dt = self._core.task.dt
+        self.metadata = {"render_modes": [], "render_fps": int(np.round(1.0 / self.dt))}
+        self._needs_reset = True
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+        super().reset(seed=seed)
+        self._core.reset_worlds(np.array([0]), [self.np_random])
+        self._needs_reset = False
+        info = {k: v[0] for k, v in self._core.task.reset_info(self._core.view).items()}
+        return self._core.observe()[0], info
+
+    def step(self, action):
+        if self._needs_reset:
+            raise gymnasium.error.ResetNeeded("call reset() before step()")
+        a = self._core.check_actions(action)
+        obs, reward, terminated, info = self._core.step(a)
+        return obs[0], float(reward[0]), bool(terminated[0]), False, {k: v[0] for k, v in info.items()}
+
+    @property
+    def data_qpos(self) -> np.ndarray:
+        """The world's qpos (MuJoCo layout)."""
+        return self._core.batch.qpos[0]
+
+    @property
+    def data_qvel(self) -> np.ndarray:
+        """The world's qvel (MuJoCo layout)."""
+        return self._core.batch.qvel[0]
+
+    def set_state(self, qpos, qvel) -> None:
+        """Sets qpos and qvel, as MujocoEnv.set_state."""
+        self._core.batch.qpos[0] = qpos
+        self._core.batch.qvel[0] = qvel
+        self._core.batch.forward_kinematics()
+
+
+def _seeds(seed, n):
+    if seed is None:
+        return [None] * n
+    if isinstance(seed, (int, np.integer)):
+        return [int(seed) + i for i in range(n)]
+    seed = list(seed)
+    if len(seed) != n:
+        raise ValueError(f"expected {n} seeds, got {len(seed)}")
+    return seed
+
+
+class SinewVectorEnv(VectorEnv):
+    """N sinew worlds of one task as a native gymnasium VectorEnv (next-step autoreset)."""
+
+    def __init__(self, task: str, num_envs: int = 1, max_episode_steps: int | None = None,
+                 num_threads: int | None = None, render_mode: str | None = None, **kwargs):
+        if render_mode is not None:
+            raise ValueError("sinew environments do not render")
+        self._core = BatchTask(task, num_envs, num_threads=num_threads, **kwargs)
+        self.num_envs = num_envs
+        self.single_action_space = self._core.action_space
+        self.single_observation_space = self._core.observation_space
+        self.action_space = gymnasium.vector.utils.batch_space(self.single_action_space, num_envs)
+        self.observation_space = gymnasium.vector.utils.batch_space(self.single_observation_space, num_envs)
+        self.max_episode_steps = max_episode_steps or self._core.task.max_episode_steps
+        self.metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": [],
+                         "render_fps": int(np.round(1.0 / self._core.task.dt))}
+        self._rngs = [seeding.np_random()[0] for _ in range(num_envs)]
+        self._steps = np.zeros(num_envs, dtype=np.int64)
+        self._autoreset = np.zeros(num_envs, dtype=bool)
+
+    def reset(self, *, seed=None, options=None):
+        for i, s in enumerate(_seeds(seed, self.num_envs)):
+            if s is not None or seed is None and self._rngs[i] is None:
+                self._rngs[i] = seeding.np_random(s)[0]
+        idx = np.arange(self.num_envs)
+        self._core.reset_worlds(idx, self._rngs)
+        self._steps[:] = 0
+        self._autoreset[:] = False
+        return self._core.observe(), self._info(self._core.task.reset_info(self._core.view))
+
+    def step(self, actions):
+        a = self._core.check_actions(actions)
+        obs, reward, terminated, info = self._core.step(a)
+        self._steps += 1
+        truncated = (self._steps >= self.max_episode_steps) & ~terminated
+        # next-step autoreset: worlds that ended on the previous call start over now
+        done_before = np.flatnonzero(self._autoreset)
+        if len(done_before):
+            self._core.reset_worlds(done_before, [self._rngs[i] for i in done_before])
+            obs = self._core.observe()
+            reward[done_before] = 0.0
+            terminated[done_before] = False
+            truncated[done_before] = False
+            self._steps[done_before] = 0
+        self._autoreset = terminated | truncated
+        return obs, reward, terminated, truncated, self._info(info)
+
+    def _info(self, info: dict) -> dict:
+        out = {}
+        for k, v in info.items():
+            out[k] = np.asarray(v)
+            out["_" + k] = np.ones(self.num_envs, dtype=bool)
+        return out

@@ -1,0 +1,19 @@
+"""Registers sinew's environments with gymnasium under the namespace ``sinew`` on import."""
+
+import gymnasium
+
+from sinew.tasks import TASKS
+
+
+def register_envs() -> None:
+    for name, cls in TASKS.items():
+        env_id = f"sinew/{name}-v0"
+        if env_id in gymnasium.registry:
+            continue
+        gymnasium.register(
+            id=env_id,
+            entry_point="sinew.env:SinewEnv",
+            vector_entry_point="sinew.env:SinewVectorEnv",
+            max_episode_steps=cls.max_episode_steps,
+            kwargs={"task": name},
+        )

@@ -1,0 +1,165 @@
+//! ⑤ Many worlds sharing one immutable [`Model`], stepped in parallel with rayon.
+//!
+//! Worlds are independent: each has its own [`Data`] (scratch and its seeded random stream) and
+//! its own rows of the flat (N × nq), (N × nv), (N × nu) state arrays, so the result is
+//! bit-identical for any thread count and any batch size. A world whose state leaves the finite
+//! range is reset alone to qpos0 and flagged.
+
+use std::sync::Arc;
+
+use rayon::prelude::*;
+
+use crate::data::Data;
+use crate::model::Model;
+use crate::sensors::{self, Sensors};
+use crate::step::step;
+
+/// Largest magnitude a state entry may reach before the world counts as diverged (MuJoCo's mjMAXVAL).
+pub const MAX_STATE: f64 = 1e10;
+
+/// Scratch of N worlds and the thread pool that steps them.
+pub struct Batch {
+    /// The shared model.
+    pub model: Arc<Model>,
+    /// Per-world scratch (N).
+    pub data: Vec<Data>,
+    root: Vec<usize>,
+    pool: rayon::ThreadPool,
+}
+
+/// The flat state arrays of a batch, borrowed for one call.
+pub struct BatchState<'a> {
+    /// Positions (N × nq).
+    pub qpos: &'a mut [f64],
+    /// Velocities (N × nv).
+    pub qvel: &'a mut [f64],
+    /// Controls (N × nu).
+    pub ctrl: &'a [f64],
+    /// Simulated time per world (N).
+    pub time: &'a mut [f64],
+    /// Set for worlds that diverged and were reset during the call (N).
+    pub diverged: &'a mut [bool],
+    /// Body positions after the call (N × nbody × 3).
+    pub xpos: &'a mut [f64],
+    /// Body rotation matrices, row-major (N × nbody × 9).
+    pub xmat: &'a mut [f64],
+    /// Body velocities (N × nbody × 6), see [`Sensors`].
+    pub xvel: &'a mut [f64],
+    /// Contact wrenches per body (N × nbody × 6), see [`Sensors`].
+    pub cfrc_ext: &'a mut [f64],
+    /// Generalised constraint forces (N × nv).
+    pub qfrc_constraint: &'a mut [f64],
+}
+
+/// SplitMix64 finaliser: a well-mixed 64-bit value from a seed.
+pub fn mix_seed(seed: u64) -> u64 {
+    let mut z = seed.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+impl Batch {
+    /// `seeds.len()` worlds; world i draws its random friction tangents from `seeds[i]`.
+    /// `num_threads` = None uses all cores.
+    pub fn new(model: Arc<Model>, seeds: &[u64], num_threads: Option<usize>) -> crate::Result<Batch> {
+        let data = seeds
+            .iter()
+            .map(|&s| {
+                let mut d = Data::new(&model);
+                d.rng = mix_seed(s);
+                d
+            })
+            .collect();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(num_threads.unwrap_or(0))
+            .build()
+            .map_err(|e| crate::Error::Input(format!("cannot start the thread pool: {e}")))?;
+        Ok(Batch { root: sensors::body_root(&model), model, data, pool })
+    }
+
+    /// Number of worlds.
+    pub fn len(&self) -> usize {
+        self.data.len()
+    }
+
+    /// Whether the batch has no worlds.
+    pub fn is_empty(&self) -> bool {
+        self.data.is_empty()
+    }
+
+    /// Threads in the pool.
+    pub fn num_threads(&self) -> usize {
+        self.pool.current_num_threads()
+    }
+
+    /// Re-seeds world `i`'s random stream.
+    pub fn seed(&mut self, i: usize, seed: u64) {
+        self.data[i].rng = mix_seed(seed);
+        self.data[i].tangents.clear();
+    }
+
+    /// Advances every world `n` steps in parallel, then writes the sensor outputs.
+    pub fn step(&mut self, st: BatchState<'_>, n: usize) {
+        let m = &*self.model;
+        let root = &self.root[..];
+        let (nq, nv, nu, nb) = (m.nq.max(1), m.nv.max(1), m.nu.max(1), m.nbody);
+        let data = &mut self.data;
+        // models without actuators still need one slot per world for the chunk iterators
+        let no_ctrl;
+        let ctrl = if m.nu == 0 {
+            no_ctrl = vec![0.0; data.len()];
+            &no_ctrl[..]
+        } else {
+            st.ctrl
+        };
+        self.pool.install(|| {
+            (
+                data.par_iter_mut(),
+                st.qpos.par_chunks_mut(nq),
+                st.qvel.par_chunks_mut(nv),
+                ctrl.par_chunks(nu),
+                st.time.par_iter_mut(),
+                st.diverged.par_iter_mut(),
+                (st.xpos.par_chunks_mut(3 * nb), st.xmat.par_chunks_mut(9 * nb)),
+                (st.xvel.par_chunks_mut(6 * nb), st.cfrc_ext.par_chunks_mut(6 * nb), st.qfrc_constraint.par_chunks_mut(nv)),
+            )
+                .into_par_iter()
+                .for_each(|(d, qpos, qvel, ctrl, time, div, (xpos, xmat), (xvel, cfrc_ext, qfrc_constraint))| {
+                    let (qpos, qvel) = (&mut qpos[..m.nq], &mut qvel[..m.nv]);
+                    let ctrl = &ctrl[..m.nu];
+                    *div = false;
+                    for _ in 0..n {
+                        step(m, d, qpos, qvel, ctrl, time);
+                        if qpos.iter().chain(qvel.iter()).any(|x| !(x.abs() <= MAX_STATE)) {
+                            reset_world(m, d, qpos, qvel);
+                            *div = true;
+                            break;
+                        }
+                    }
+                    let qfrc_constraint = &mut qfrc_constraint[..m.nv];
+                    sensors::write(m, root, d, qpos, qvel, Sensors { xpos, xmat, xvel, cfrc_ext, qfrc_constraint });
+                });
+        });
+    }
+
+    /// Resets world `i` to qpos0 at rest (its constraint forces cleared) in the given rows.
+    pub fn reset(&mut self, i: usize, qpos: &mut [f64], qvel: &mut [f64]) {
+        reset_world(&self.model, &mut self.data[i], qpos, qvel);
+    }
+
+    /// Recomputes the sensor outputs of world `i` for its current state (after a reset or a
+    /// state written from Python).
+    pub fn sense(&mut self, i: usize, qpos: &[f64], qvel: &[f64], out: Sensors<'_>) {
+        sensors::write(&self.model, &self.root, &mut self.data[i], qpos, qvel, out);
+    }
+}
+
+fn reset_world(m: &Model, d: &mut Data, qpos: &mut [f64], qvel: &mut [f64]) {
+    qpos.copy_from_slice(&m.qpos0);
+    qvel.fill(0.0);
+    d.tangents.clear();
+    d.force.clear();
+    d.con.clear();
+    d.coll.contacts.clear();
+}

@@ -1,0 +1,253 @@
+//! `sinew.Batch`: N worlds sharing one model; state arrays are NumPy arrays stepped in place by
+//! rayon with the GIL released.
+
+use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+use super::errors::as_f64;
+use super::model::PyModel;
+use crate::batch::{Batch, BatchState};
+use crate::sensors::Sensors;
+
+/// N simulated worlds of one model, stepped in parallel.
+#[pyclass(name = "Batch", module = "sinew._core")]
+pub struct PyBatch {
+    inner: Batch,
+    py_model: Py<PyModel>,
+    qpos: Py<PyArray2<f64>>,
+    qvel: Py<PyArray2<f64>>,
+    ctrl: Py<PyArray2<f64>>,
+    time: Py<PyArray1<f64>>,
+    diverged: Py<PyArray1<bool>>,
+    xpos: Py<PyArray3<f64>>,
+    xmat: Py<PyArray3<f64>>,
+    xvel: Py<PyArray3<f64>>,
+    cfrc_ext: Py<PyArray3<f64>>,
+    qfrc_constraint: Py<PyArray2<f64>>,
+}
+
+#[pymethods]
+impl PyBatch {
+    /// `num_envs` worlds at qpos0; world i's random stream is seeded from `seed + i`.
+    /// `num_threads=None` uses every core.
+    #[new]
+    #[pyo3(signature = (model, num_envs, seed=0, num_threads=None))]
+    fn new(py: Python<'_>, model: Bound<'_, PyModel>, num_envs: usize, seed: u64, num_threads: Option<usize>) -> PyResult<Self> {
+        let m = model.get().inner.clone();
+        if num_envs == 0 {
+            return Err(PyValueError::new_err("num_envs must be at least 1"));
+        }
+        if m.nq == 0 {
+            return Err(PyValueError::new_err("the model has no joints: nothing to simulate"));
+        }
+        if num_threads == Some(0) {
+            return Err(PyValueError::new_err("num_threads must be at least 1 (or None for all cores)"));
+        }
+        let seeds: Vec<u64> = (0..num_envs as u64).map(|i| seed.wrapping_add(i)).collect();
+        let inner = Batch::new(m.clone(), &seeds, num_threads).map_err(|e| super::errors::to_py(py, e))?;
+        let qpos0: Vec<f64> = (0..num_envs).flat_map(|_| m.qpos0.iter().copied()).collect();
+        let qpos = PyArray1::from_vec(py, qpos0).reshape([num_envs, m.nq])?.unbind();
+        let mut b = PyBatch {
+            inner,
+            py_model: model.unbind(),
+            qpos,
+            qvel: PyArray2::zeros(py, [num_envs, m.nv], false).unbind(),
+            ctrl: PyArray2::zeros(py, [num_envs, m.nu], false).unbind(),
+            time: PyArray1::zeros(py, num_envs, false).unbind(),
+            diverged: PyArray1::from_vec(py, vec![false; num_envs]).unbind(),
+            xpos: PyArray3::zeros(py, [num_envs, m.nbody, 3], false).unbind(),
+            xmat: PyArray3::zeros(py, [num_envs, m.nbody, 9], false).unbind(),
+            xvel: PyArray3::zeros(py, [num_envs, m.nbody, 6], false).unbind(),
+            cfrc_ext: PyArray3::zeros(py, [num_envs, m.nbody, 6], false).unbind(),
+            qfrc_constraint: PyArray2::zeros(py, [num_envs, m.nv], false).unbind(),
+        };
+        b.refresh_poses(py)?;
+        Ok(b)
+    }
+
+    /// The shared model.
+    #[getter]
+    fn model(&self, py: Python<'_>) -> Py<PyModel> {
+        self.py_model.clone_ref(py)
+    }
+    /// Number of worlds.
+    #[getter]
+    fn num_envs(&self) -> usize {
+        self.inner.len()
+    }
+    /// Threads stepping the worlds.
+    #[getter]
+    fn num_threads(&self) -> usize {
+        self.inner.num_threads()
+    }
+    /// Positions (N, nq), stepped in place.
+    #[getter]
+    fn qpos(&self, py: Python<'_>) -> Py<PyArray2<f64>> {
+        self.qpos.clone_ref(py)
+    }
+    /// Velocities (N, nv), stepped in place.
+    #[getter]
+    fn qvel(&self, py: Python<'_>) -> Py<PyArray2<f64>> {
+        self.qvel.clone_ref(py)
+    }
+    /// Controls (N, nu); clamped to ctrlrange inside the step when limited.
+    #[getter]
+    fn ctrl(&self, py: Python<'_>) -> Py<PyArray2<f64>> {
+        self.ctrl.clone_ref(py)
+    }
+    /// Simulated time per world (N,).
+    #[getter]
+    fn time(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
+        self.time.clone_ref(py)
+    }
+    /// Worlds that diverged during the last `step` and were reset to qpos0 (N,).
+    #[getter]
+    fn diverged(&self, py: Python<'_>) -> Py<PyArray1<bool>> {
+        self.diverged.clone_ref(py)
+    }
+    /// Body positions (N, nbody, 3) for the current state.
+    #[getter]
+    fn xpos(&self, py: Python<'_>) -> Py<PyArray3<f64>> {
+        self.xpos.clone_ref(py)
+    }
+    /// Body rotation matrices, row-major (N, nbody, 9), for the current state.
+    #[getter]
+    fn xmat(&self, py: Python<'_>) -> Py<PyArray3<f64>> {
+        self.xmat.clone_ref(py)
+    }
+
+    /// Body velocities (N, nbody, 6): world angular velocity, then world velocity of the body origin.
+    #[getter]
+    fn xvel(&self, py: Python<'_>) -> Py<PyArray3<f64>> {
+        self.xvel.clone_ref(py)
+    }
+    /// Contact wrench per body (N, nbody, 6) of the last step: torque then force, world axes, about
+    /// the centre of mass of the body's root subtree (MuJoCo's `cfrc_ext`).
+    #[getter]
+    fn cfrc_ext(&self, py: Python<'_>) -> Py<PyArray3<f64>> {
+        self.cfrc_ext.clone_ref(py)
+    }
+    /// Generalised constraint force of the last step (N, nv) (MuJoCo's `qfrc_constraint`).
+    #[getter]
+    fn qfrc_constraint(&self, py: Python<'_>) -> Py<PyArray2<f64>> {
+        self.qfrc_constraint.clone_ref(py)
+    }
+
+    /// Advances every world `n` steps (GIL released). Non-finite controls raise ValueError naming
+    /// the worlds; worlds that diverge are reset alone and flagged in `diverged`.
+    #[pyo3(signature = (n=1))]
+    fn step(&mut self, py: Python<'_>, n: usize) -> PyResult<()> {
+        let nu = self.inner.model.nu;
+        {
+            let ctrl = self.ctrl.bind(py).readonly();
+            let c = ctrl.as_slice()?;
+            let bad: Vec<usize> = (0..self.inner.len()).filter(|&i| c[i * nu..(i + 1) * nu].iter().any(|x| !x.is_finite())).collect();
+            if !bad.is_empty() {
+                return Err(PyValueError::new_err(format!("ctrl is not finite in worlds {bad:?}")));
+            }
+        }
+        let (mut qpos, mut qvel, ctrl) = (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readonly());
+        let (mut time, mut div) = (self.time.bind(py).readwrite(), self.diverged.bind(py).readwrite());
+        let (mut xpos, mut xmat) = (self.xpos.bind(py).readwrite(), self.xmat.bind(py).readwrite());
+        let (mut xvel, mut cfrc, mut qfc) =
+            (self.xvel.bind(py).readwrite(), self.cfrc_ext.bind(py).readwrite(), self.qfrc_constraint.bind(py).readwrite());
+        let st = BatchState {
+            qpos: qpos.as_slice_mut()?,
+            qvel: qvel.as_slice_mut()?,
+            ctrl: ctrl.as_slice()?,
+            time: time.as_slice_mut()?,
+            diverged: div.as_slice_mut()?,
+            xpos: xpos.as_slice_mut()?,
+            xmat: xmat.as_slice_mut()?,
+            xvel: xvel.as_slice_mut()?,
+            cfrc_ext: cfrc.as_slice_mut()?,
+            qfrc_constraint: qfc.as_slice_mut()?,
+        };
+        let inner = &mut self.inner;
+        py.detach(|| inner.step(st, n));
+        Ok(())
+    }
+
+    /// Resets the worlds where `mask` is true (all when None) to qpos0, zero velocity, control
+    /// and time; `seeds` (one per reset world, in order) re-seeds their random streams.
+    #[pyo3(signature = (mask=None, seeds=None))]
+    fn reset(&mut self, py: Python<'_>, mask: Option<Bound<'_, PyAny>>, seeds: Option<Vec<u64>>) -> PyResult<()> {
+        let n = self.inner.len();
+        let chosen: Vec<usize> = match mask {
+            None => (0..n).collect(),
+            Some(mk) => {
+                let arr = as_f64(&mk, "mask")?;
+                if arr.shape() != [n] {
+                    return Err(PyValueError::new_err(format!("mask: expected shape [{n}], got {:?}", arr.shape())));
+                }
+                let v = arr.readonly();
+                v.as_slice()?.iter().enumerate().filter(|(_, x)| **x != 0.0).map(|(i, _)| i).collect()
+            }
+        };
+        if let Some(s) = &seeds {
+            if s.len() != chosen.len() {
+                return Err(PyValueError::new_err(format!("seeds: expected {} values, got {}", chosen.len(), s.len())));
+            }
+        }
+        let m = self.inner.model.clone();
+        {
+            let (mut qpos, mut qvel) = (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite());
+            let (mut ctrl, mut time) = (self.ctrl.bind(py).readwrite(), self.time.bind(py).readwrite());
+            let (qp, qv, c, t) = (qpos.as_slice_mut()?, qvel.as_slice_mut()?, ctrl.as_slice_mut()?, time.as_slice_mut()?);
+            for (k, &i) in chosen.iter().enumerate() {
+                self.inner.reset(i, &mut qp[i * m.nq..(i + 1) * m.nq], &mut qv[i * m.nv..(i + 1) * m.nv]);
+                c[i * m.nu..(i + 1) * m.nu].fill(0.0);
+                t[i] = 0.0;
+                if let Some(s) = &seeds {
+                    self.inner.seed(i, s[k]);
+                }
+            }
+        }
+        self.refresh(py, &chosen)
+    }
+
+    /// Recomputes `xpos`, `xmat`, `xvel` after qpos/qvel were written from Python.
+    fn forward_kinematics(&mut self, py: Python<'_>) -> PyResult<()> {
+        self.refresh_poses(py)
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Batch(model='{}', num_envs={}, num_threads={})", self.inner.model.name, self.inner.len(), self.inner.num_threads())
+    }
+}
+
+impl PyBatch {
+    fn refresh_poses(&mut self, py: Python<'_>) -> PyResult<()> {
+        let all: Vec<usize> = (0..self.inner.len()).collect();
+        self.refresh(py, &all)
+    }
+
+    /// Sensor outputs of the worlds `which` for their current state.
+    fn refresh(&mut self, py: Python<'_>, which: &[usize]) -> PyResult<()> {
+        let m = self.inner.model.clone();
+        let (qpos, qvel) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly());
+        let (mut xpos, mut xmat) = (self.xpos.bind(py).readwrite(), self.xmat.bind(py).readwrite());
+        let (mut xvel, mut cfrc, mut qfc) =
+            (self.xvel.bind(py).readwrite(), self.cfrc_ext.bind(py).readwrite(), self.qfrc_constraint.bind(py).readwrite());
+        let (qp, qv) = (qpos.as_slice()?, qvel.as_slice()?);
+        let (xp, xm, xv, cf, qc) =
+            (xpos.as_slice_mut()?, xmat.as_slice_mut()?, xvel.as_slice_mut()?, cfrc.as_slice_mut()?, qfc.as_slice_mut()?);
+        let nb = m.nbody;
+        for &i in which {
+            self.inner.sense(
+                i,
+                &qp[i * m.nq..(i + 1) * m.nq],
+                &qv[i * m.nv..(i + 1) * m.nv],
+                Sensors {
+                    xpos: &mut xp[i * 3 * nb..(i + 1) * 3 * nb],
+                    xmat: &mut xm[i * 9 * nb..(i + 1) * 9 * nb],
+                    xvel: &mut xv[i * 6 * nb..(i + 1) * 6 * nb],
+                    cfrc_ext: &mut cf[i * 6 * nb..(i + 1) * 6 * nb],
+                    qfrc_constraint: &mut qc[i * m.nv..(i + 1) * m.nv],
+                },
+            );
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,123 @@
+//! Quantities MuJoCo's gymnasium environments observe, computed from sinew's own state and
+//! constraint forces after a step: body velocities, contact forces per body in MuJoCo's com-based
+//! frame (`cfrc_ext`) and the generalised constraint force (`qfrc_constraint`).
+
+use glam::DVec3;
+
+use crate::data::Data;
+use crate::math::Force;
+use crate::model::{Model, WORLD};
+use crate::step::constraint::RowKind;
+use crate::step::kinematics;
+
+/// Output rows of one world.
+pub struct Sensors<'a> {
+    /// Body positions (nbody × 3).
+    pub xpos: &'a mut [f64],
+    /// Body rotation matrices, row-major (nbody × 9).
+    pub xmat: &'a mut [f64],
+    /// Body velocities (nbody × 6): world angular velocity, then world velocity of the body origin.
+    pub xvel: &'a mut [f64],
+    /// Contact wrench on each body (nbody × 6): torque then force, world axes, about the centre of
+    /// mass of the subtree of the body's root (MuJoCo's `cfrc_ext`).
+    pub cfrc_ext: &'a mut [f64],
+    /// Generalised constraint force of the last step (nv), MuJoCo's `qfrc_constraint`.
+    pub qfrc_constraint: &'a mut [f64],
+}
+
+/// Root body (child of the world) of every body (nbody); the world is its own root.
+pub fn body_root(m: &Model) -> Vec<usize> {
+    let mut root = vec![0; m.nbody];
+    for b in 1..m.nbody {
+        let p = m.body_parent[b];
+        root[b] = if p == 0 { b } else { root[p] };
+    }
+    root
+}
+
+/// Fills `out` for the state (qpos, qvel) and the constraint forces of the last step in `d`.
+pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64], out: Sensors<'_>) {
+    kinematics::forward(m, qpos, qvel, &mut d.kin);
+    let Data { kin, con, coll, force, node_force: node_f, .. } = d;
+    // poses and velocities
+    for b in 0..m.nbody {
+        out.xpos[3 * b..3 * b + 3].copy_from_slice(&kin.xpos[b].to_array());
+        let r = kin.xmat[b];
+        for i in 0..3 {
+            for j in 0..3 {
+                out.xmat[9 * b + 3 * i + j] = r.col(j)[i];
+            }
+        }
+        let n = m.body_node[b];
+        let (w, v) = if n == WORLD {
+            (DVec3::ZERO, DVec3::ZERO)
+        } else {
+            let vn = kin.v[n];
+            let rot = kin.node_rot[n];
+            (rot * vn.ang, rot * vn.point_velocity(m.body_offset[b].r))
+        };
+        out.xvel[6 * b..6 * b + 3].copy_from_slice(&w.to_array());
+        out.xvel[6 * b + 3..6 * b + 6].copy_from_slice(&v.to_array());
+    }
+    // subtree centres of mass of the roots
+    out.cfrc_ext.fill(0.0);
+    out.qfrc_constraint.fill(0.0);
+    let com_of_root = |r: usize| {
+        let (mut mc, mut mass) = (DVec3::ZERO, 0.0);
+        for b in 1..m.nbody {
+            if root[b] == r {
+                mc += (kin.xpos[b] + kin.xmat[b] * m.body_ipos[b]) * m.body_mass[b];
+                mass += m.body_mass[b];
+            }
+        }
+        if mass > 0.0 { mc / mass } else { kin.xpos[r] }
+    };
+    if con.is_empty() || force.len() < con.len() {
+        return;
+    }
+    // spatial constraint forces per node, node coordinates, for J^T f
+    node_f.fill(Force::ZERO);
+    for (ci, c) in coll.contacts.iter().enumerate() {
+        let mut f = DVec3::ZERO;
+        for j in 0..con.len() {
+            if con.source[j] == ci && con.kind[j] != RowKind::Limit {
+                f += con.dir[j] * force[j];
+            }
+        }
+        if f == DVec3::ZERO {
+            continue;
+        }
+        for (g, sign) in [(c.geom1, 1.0), (c.geom2, -1.0)] {
+            let b = m.geom_body[g];
+            let fs = f * sign;
+            let com = com_of_root(root[b]);
+            let torque = (c.pos - com).cross(fs);
+            for k in 0..3 {
+                out.cfrc_ext[6 * b + k] += torque[k];
+                out.cfrc_ext[6 * b + 3 + k] += fs[k];
+            }
+            let n = m.body_node[b];
+            if n != WORLD {
+                let rt = kin.node_rot[n].transpose();
+                node_f[n] += Force::at_point(rt * (c.pos - kin.node_pos[n]), rt * fs);
+            }
+        }
+    }
+    // τ = Jᵀ f: leaves to root, as RNEA's second pass (Featherstone 2008, Table 5.1)
+    for i in (0..m.njnt).rev() {
+        for r in 0..m.jnt_type[i].nv() {
+            out.qfrc_constraint[m.jnt_dofadr[i] + r] += kin.s[i][r].dot(&node_f[i]);
+        }
+        let p = m.node_parent[i];
+        if p != WORLD {
+            let fp = kin.x_up[i].inv_apply_force(&node_f[i]);
+            node_f[p] += fp;
+        }
+    }
+    for j in 0..con.len() {
+        if con.kind[j] == RowKind::Limit {
+            let (dof, sign) = con.dof[j];
+            out.qfrc_constraint[dof] += sign * force[j];
+        }
+    }
+}
