@@ -1,0 +1,97 @@
+"""Stable-Baselines3 adapter: SB3 rejects gymnasium VectorEnvs, so this VecEnv drives a sinew
+Batch directly with SB3's conventions (autoreset within the step, ``infos[i]["terminal_observation"]``
+and ``infos[i]["TimeLimit.truncated"]``). Requires ``stable-baselines3`` (``pip install sinew[train]``).
+"""
+
+from __future__ import annotations
+
+from typing import Any, Sequence
+
+import gymnasium
+import numpy as np
+from gymnasium.utils import seeding
+from stable_baselines3.common.vec_env.base_vec_env import VecEnv
+
+from sinew.env import BatchTask
+
+
+class SinewVecEnv(VecEnv):
+    """N sinew worlds of one task as an SB3 VecEnv."""
+
+    def __init__(self, task: str, n_envs: int, max_episode_steps: int, seed: int | None = None,
+                 num_threads: int | None = None, **kwargs):
+        self._core = BatchTask(task, n_envs, num_threads=num_threads, **kwargs)
+        self.render_mode = None
+        super().__init__(n_envs, self._core.observation_space, self._core.action_space)
+        self.max_episode_steps = max_episode_steps
+        self._base_seed = seed
+        self._rngs = [seeding.np_random(None if seed is None else seed + i)[0] for i in range(n_envs)]
+        self._steps = np.zeros(n_envs, dtype=np.int64)
+        self._returns = np.zeros(n_envs)
+        self._actions: np.ndarray | None = None
+
+    def reset(self) -> np.ndarray:
+        for i, s in enumerate(self._seeds):
+            if s is not None:
+                self._rngs[i] = seeding.np_random(int(s))[0]
+        self._reset_seeds()
+        self._core.reset_worlds(np.arange(self.num_envs), self._rngs)
+        self._steps[:] = 0
+        self._returns[:] = 0
+        return self._core.observe()
+
+    def step_async(self, actions: np.ndarray) -> None:
+        self._actions = self._core.check_actions(actions)
+
+    def step_wait(self):
+        obs, reward, terminated, info = self._core.step(self._actions)
+        self._steps += 1
+        self._returns += reward
+        truncated = (self._steps >= self.max_episode_steps) & ~terminated
+        dones = terminated | truncated
+        infos: list[dict[str, Any]] = [{k: v[i] for k, v in info.items()} for i in range(self.num_envs)]
+        ended = np.flatnonzero(dones)
+        if len(ended):
+            for i in ended:
+                infos[i]["terminal_observation"] = obs[i].copy()
+                infos[i]["TimeLimit.truncated"] = bool(truncated[i])
+                infos[i]["episode"] = {"r": float(self._returns[i]), "l": int(self._steps[i])}
+            self._core.reset_worlds(ended, [self._rngs[i] for i in ended])
+            obs = self._core.observe()
+            self._steps[ended] = 0
+            self._returns[ended] = 0
+        return obs, reward.astype(np.float32), dones, infos
+
+    def close(self) -> None:
+        pass
+
+    def get_attr(self, attr_name: str, indices=None) -> list[Any]:
+        return [getattr(self, attr_name) for _ in self._get_indices(indices)]
+
+    def set_attr(self, attr_name: str, value: Any, indices=None) -> None:
+        setattr(self, attr_name, value)
+
+    def env_method(self, method_name: str, *method_args, indices=None, **method_kwargs) -> list[Any]:
+        raise NotImplementedError(f"sinew's SB3 VecEnv has no per-env method {method_name!r}")
+
+    def env_is_wrapped(self, wrapper_class, indices=None) -> list[bool]:
+        return [False for _ in self._get_indices(indices)]
+
+
+def make_vec_env(env_id: str, n_envs: int = 1, seed: int | None = None, **env_kwargs) -> SinewVecEnv:
+    """An SB3 VecEnv of ``n_envs`` worlds of a registered sinew environment, e.g. ``"sinew/Hopper-v0"``.
+
+    ``env_kwargs`` go to the task (reward weights, reset noise, ...) and to the batch
+    (``num_threads``, ``friction``); the time limit is the environment's registered one unless
+    ``max_episode_steps`` is given.
+    """
+    spec = gymnasium.spec(env_id)
+    if not spec.entry_point == "sinew.env:SinewEnv":
+        raise ValueError(f"{env_id} is not a sinew environment")
+    kwargs = dict(spec.kwargs)
+    kwargs.update(env_kwargs)
+    max_steps = kwargs.pop("max_episode_steps", spec.max_episode_steps)
+    return SinewVecEnv(n_envs=n_envs, max_episode_steps=max_steps, seed=seed, **kwargs)
+
+
+__all__: Sequence[str] = ["SinewVecEnv", "make_vec_env"]

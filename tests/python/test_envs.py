@@ -1,0 +1,228 @@
+"""sinew's gymnasium environments against their MuJoCo v5 twins, gymnasium's and SB3's checkers,
+the native vector env against single envs, determinism and bad input."""
+
+import warnings
+
+import gymnasium as gym
+import mujoco
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import sinew
+from sinew.tasks import TASKS
+
+NAMES = list(TASKS)
+#: observation entries that come from contact forces (soft in MuJoCo, exact in sinew)
+CONTACT_OBS = {"Ant": slice(27, 105), "Humanoid": slice(270, 348)}
+
+
+def twin(name):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return gym.make(f"{name}-v5")
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_spaces_and_reset_match_the_mujoco_twin(name):
+    env, ref = gym.make(f"sinew/{name}-v0"), twin(name)
+    assert env.observation_space == ref.observation_space
+    assert env.action_space == ref.action_space
+    assert env.spec.max_episode_steps == ref.spec.max_episode_steps
+    assert env.unwrapped.dt == pytest.approx(ref.unwrapped.dt)
+    obs, info = env.reset(seed=7)
+    ref_obs, ref_info = ref.reset(seed=7)
+    np.testing.assert_allclose(obs, ref_obs, rtol=0, atol=1e-12)
+    assert set(info) == set(ref_info) - {"tendon_length", "tendon_velocity"}
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_observations_match_the_twin_at_the_same_state(name):
+    """cinert, cvel, qfrc_actuator, site and body positions come from sinew's own physics."""
+    env, ref = gym.make(f"sinew/{name}-v0"), twin(name)
+    env.reset(seed=1)
+    ref.reset(seed=1)
+    rng = np.random.default_rng(0)
+    for _ in range(15):
+        a = rng.uniform(env.action_space.low, env.action_space.high)
+        obs, *_ = env.step(a)
+    u, r = env.unwrapped, ref.unwrapped
+    r.set_state(u.data_qpos.copy(), u.data_qvel.copy())
+    r.data.ctrl[:] = a
+    mujoco.mj_forward(r.model, r.data)
+    mujoco.mj_rnePostConstraint(r.model, r.data)
+    ref_obs = r._get_obs()
+    keep = np.ones(len(obs), bool)
+    if name in CONTACT_OBS:
+        keep[CONTACT_OBS[name]] = False
+    if name == "InvertedDoublePendulum":
+        keep[-1] = False  # slider limit force: soft in MuJoCo
+    np.testing.assert_allclose(obs[keep], ref_obs[keep], rtol=1e-9, atol=1e-9)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_reward_terms_are_reported_and_sum_to_the_reward(name):
+    env, ref = gym.make(f"sinew/{name}-v0"), twin(name)
+    env.reset(seed=0)
+    ref.reset(seed=0)
+    a = env.action_space.sample()
+    _, reward, _, _, info = env.step(a)
+    _, _, _, _, ref_info = ref.step(a)
+    terms = [k for k in ref_info if k.startswith("reward_") or k.endswith("_penalty")]
+    assert terms and set(terms) <= set(info)
+    assert reward == pytest.approx(sum(info[k] for k in terms), abs=1e-12)
+    assert info["sim_diverged"] is False or info["sim_diverged"] == np.False_
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_checkers_warn_no_more_than_for_the_twin(name):
+    from stable_baselines3.common.env_checker import check_env as sb3_check
+
+    def warned(env, checker):
+        with warnings.catch_warnings(record=True) as w:
+            warnings.simplefilter("always")
+            checker(env)
+        return {str(x.message).split(".")[0] for x in w if "render" not in str(x.message).lower()}
+
+    env, ref = gym.make(f"sinew/{name}-v0").unwrapped, twin(name).unwrapped
+    # rendering is skipped for both: the twin's renderer needs a display
+    gym_check = lambda e: check_env(e, skip_render_check=True)  # noqa: E731
+    assert warned(env, gym_check) <= warned(ref, gym_check)
+    assert warned(env, sb3_check) <= warned(ref, sb3_check)
+
+
+def rollout_single(name, seeds, steps, actions):
+    out = []
+    envs = [gym.make(f"sinew/{name}-v0") for _ in seeds]
+    obs = [e.reset(seed=s)[0] for e, s in zip(envs, seeds)]
+    out.append(np.stack(obs))
+    pending = [False] * len(envs)
+    for t in range(steps):
+        row = []
+        for i, e in enumerate(envs):
+            if pending[i]:  # next-step autoreset, as the vector env does
+                o, _ = e.reset()
+                pending[i] = False
+            else:
+                o, r, term, trunc, _ = e.step(actions[t, i])
+                pending[i] = term or trunc
+            row.append(o)
+        out.append(np.stack(row))
+    return np.stack(out)
+
+
+@pytest.mark.parametrize("name", ["Hopper", "InvertedPendulum"])
+def test_vector_env_equals_single_envs_with_the_same_seeds(name):
+    n, steps = 3, 120
+    venv = gym.make_vec(f"sinew/{name}-v0", num_envs=n, vectorization_mode="vector_entry_point")
+    assert isinstance(venv.unwrapped, gym.vector.VectorEnv)
+    rng = np.random.default_rng(0)
+    actions = rng.uniform(-1, 1, size=(steps, n, venv.single_action_space.shape[0]))
+    obs, _ = venv.reset(seed=10)
+    vec = [obs]
+    ends = 0
+    for t in range(steps):
+        obs, r, term, trunc, info = venv.step(actions[t])
+        ends += int((term | trunc).sum())
+        vec.append(obs)
+    assert ends > 0, "the rollout should exercise autoreset"
+    np.testing.assert_array_equal(np.stack(vec), rollout_single(name, [10, 11, 12], steps, actions))
+
+
+def batch_rollout(n, threads, seeds_from=0, steps=300):
+    m = sinew.Model.from_mjcf(sinew.tasks.ASSETS + "/hopper.xml").with_options(friction="seed")
+    b = sinew.Batch(m, n, seed=seeds_from, num_threads=threads)
+    rng = np.random.default_rng(5)
+    b.qpos[:] += rng.uniform(-0.1, 0.1, size=b.qpos.shape)
+    b.forward_kinematics()
+    traj = []
+    for _ in range(steps):
+        b.ctrl[:] = rng.uniform(-1, 1, size=b.ctrl.shape)
+        b.step(4)
+        traj.append(b.qpos.copy())
+    return np.stack(traj)
+
+
+def test_batch_is_bit_identical_for_any_thread_count():
+    np.testing.assert_array_equal(batch_rollout(8, 1), batch_rollout(8, 2))
+    np.testing.assert_array_equal(batch_rollout(8, 1), batch_rollout(8, 3))
+
+
+def test_batch_world_does_not_depend_on_batch_size():
+    # world 0 of a batch of 5 with seed s equals world 3 of a batch of 7 with seed s − 3,
+    # given the same per-world inputs: the inputs here differ per batch, so compare one world
+    m = sinew.Model.from_mjcf(sinew.tasks.ASSETS + "/hopper.xml").with_options(friction="seed")
+    outs = []
+    for n, seed, i in [(1, 4, 0), (5, 0, 4), (7, 2, 2)]:
+        b = sinew.Batch(m, n, seed=seed, num_threads=2)
+        rng = np.random.default_rng(9)
+        b.qpos[i, 2] = 0.1
+        b.forward_kinematics()
+        traj = []
+        for _ in range(400):
+            b.ctrl[i] = rng.uniform(-1, 1, size=3)
+            b.step(4)
+            traj.append(b.qpos[i].copy())
+        outs.append(np.stack(traj))
+    np.testing.assert_array_equal(outs[0], outs[1])
+    np.testing.assert_array_equal(outs[0], outs[2])
+
+
+def test_diverging_world_is_reset_alone_and_reported():
+    m = sinew.Model.from_mjcf(sinew.tasks.ASSETS + "/hopper.xml")
+    a, b = sinew.Batch(m, 3, seed=0), sinew.Batch(m, 3, seed=0)
+    b.qvel[1, 0] = 1e12  # world 1 starts beyond the 1e10 bound
+    for _ in range(20):
+        for x in (a, b):
+            x.ctrl[:] = 0.5
+            x.step(4)
+        if _ == 0:
+            assert b.diverged.tolist() == [False, True, False]
+    assert np.isfinite(b.qpos).all()
+    np.testing.assert_array_equal(a.qpos[[0, 2]], b.qpos[[0, 2]])
+
+
+def test_bad_actions_raise_value_errors():
+    env = gym.make("sinew/Hopper-v0")
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match="not finite"):
+        env.step(np.array([np.nan, 0, 0]))
+    with pytest.raises(ValueError, match="shape"):
+        env.step(np.zeros(4))
+    venv = gym.make_vec("sinew/Hopper-v0", num_envs=2, vectorization_mode="vector_entry_point")
+    venv.reset(seed=0)
+    with pytest.raises(ValueError, match=r"\[1\]"):
+        venv.step(np.array([[0, 0, 0], [0, np.inf, 0]]))
+    with pytest.raises(ValueError, match="shape"):
+        venv.step(np.zeros((3, 3)))
+    with pytest.raises(gym.error.ResetNeeded):
+        gym.make("sinew/Hopper-v0").unwrapped.step(np.zeros(3))
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_long_random_rollouts_never_produce_nan(name):
+    from stable_baselines3.common.vec_env import VecCheckNan
+
+    import sinew.sb3
+
+    venv = VecCheckNan(sinew.sb3.make_vec_env(f"sinew/{name}-v0", 8, seed=0), raise_exception=True)
+    venv.reset()
+    low, high = venv.action_space.low, venv.action_space.high
+    rng = np.random.default_rng(0)
+    for _ in range(1000):
+        obs, reward, done, infos = venv.step(rng.uniform(low, high, size=(8, len(low))))
+    assert np.isfinite(obs).all()
+
+
+def test_sb3_adapter_reports_terminal_observations():
+    import sinew.sb3
+
+    venv = sinew.sb3.make_vec_env("sinew/InvertedPendulum-v0", 2, seed=0)
+    venv.reset()
+    seen = 0
+    for _ in range(200):
+        obs, reward, done, infos = venv.step(np.full((2, 1), 3.0))
+        for i in np.flatnonzero(done):
+            assert "terminal_observation" in infos[i] and "TimeLimit.truncated" in infos[i]
+            seen += 1
+    assert seen > 0
