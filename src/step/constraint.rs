@@ -55,6 +55,9 @@ pub struct ConstraintData {
     pub dist: Vec<f64>,
     /// Source contact index (contacts) or joint (limits).
     pub source: Vec<usize>,
+    /// Row whose force direction is the negation of this one's (pyramid ±t), or usize::MAX: its
+    /// K column and Δq̈ are that row's, negated, with no test force pushed.
+    pub mirror: Vec<usize>,
     /// K, row-major (m × m): K[j][k] = acceleration of row j per unit force of row k.
     pub k: Vec<f64>,
     /// Constraint acceleration with zero constraint force.
@@ -98,6 +101,7 @@ impl ConstraintData {
         self.vel.clear();
         self.dist.clear();
         self.source.clear();
+        self.mirror.clear();
     }
 
     fn push(&mut self, kind: RowKind, node: [usize; 2], point: [DVec3; 2], dir: DVec3, dof: (usize, f64), mu: f64, source: usize) {
@@ -110,6 +114,7 @@ impl ConstraintData {
         self.vel.push(0.0);
         self.dist.push(0.0);
         self.source.push(source);
+        self.mirror.push(usize::MAX);
     }
 }
 
@@ -154,10 +159,13 @@ pub fn rows(
                     [t, -t, t2, -t2]
                 }
             };
-            for d in dirs.into_iter().filter(|d| *d != DVec3::ZERO) {
+            for (k, d) in dirs.into_iter().enumerate().filter(|(_, d)| *d != DVec3::ZERO) {
                 let r = out.len();
                 out.push(RowKind::Tangent { normal: normal_row }, nodes, pts, d, (0, 0.0), c.mu, ci);
                 out.vel[r] = d.dot(vrel);
+                if k % 2 == 1 {
+                    out.mirror[r] = r - 1;
+                }
             }
         }
     }
@@ -197,6 +205,17 @@ pub fn assemble(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], out: &mu
         out.b.push(b);
     }
     for k in 0..nr {
+        let mk = out.mirror[k];
+        if mk != usize::MAX {
+            for j in 0..nr {
+                out.k[j * nr + k] = -out.k[j * nr + mk];
+            }
+            let (done, rest) = out.dqdd.split_at_mut(k * nv);
+            for (d, s) in rest[..nv].iter_mut().zip(&done[mk * nv..(mk + 1) * nv]) {
+                *d = -s;
+            }
+            continue;
+        }
         // seed: a unit test force of row k (Kokkevis 2004; δp^A = −f at the point's node)
         for f in out.dpa.iter_mut() {
             *f = Force::ZERO;

@@ -15,6 +15,8 @@ pub struct LcpStats {
     pub solves: u64,
     /// Total Lemke pivots.
     pub pivots: u64,
+    /// Solves settled by the previous step's active set, without pivoting.
+    pub warm_starts: u64,
     /// Solves that fell back to projected Gauss–Seidel.
     pub fallback_pgs: u64,
     /// Solves that fell back to zero force.
@@ -27,8 +29,14 @@ pub struct LcpStats {
 #[derive(Clone, Debug, Default)]
 pub struct LcpWork {
     tab: Vec<f64>,
+    /// Active set of the last accepted acceleration-level solution, and the rows it belongs to.
+    pub warm: Vec<bool>,
+    /// Row signature (kind, source, direction) the warm set belongs to.
+    pub warm_rows: Vec<(u8, usize, usize, usize, usize)>,
     basis: Vec<usize>,
     w: Vec<f64>,
+    active: Vec<usize>,
+    trial: Vec<f64>,
 }
 
 /// Relative regulariser added to the diagonal of the force rows.
@@ -158,9 +166,25 @@ pub fn residual(n: usize, m: &[f64], q: &[f64], z: &[f64], w: &mut Vec<f64>) -> 
     if worst.is_nan() { f64::INFINITY } else { worst }
 }
 
-/// Solves with the cascade Lemke → projected Gauss–Seidel → zero; counts the path in `stats`.
-pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
+/// Solves with the cascade warm start → Lemke → projected Gauss–Seidel → zero; counts the path
+/// in `stats`. `warm`, when given, is the previous step's active set for the same rows: if solving
+/// on it directly passes the independent check, no pivoting is needed (resting contacts).
+#[allow(clippy::too_many_arguments)]
+pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
     stats.solves += 1;
+    if let Some(prev) = warm.filter(|w| w.len() == n) {
+        work.active.clear();
+        work.active.extend((0..n).filter(|&i| prev[i]));
+        if solve_active(n, m, q, work) {
+            let res = residual(n, m, q, &work.trial, &mut work.w);
+            if res <= ACCEPT_RESIDUAL {
+                z[..n].copy_from_slice(&work.trial);
+                stats.warm_starts += 1;
+                stats.residual = res;
+                return;
+            }
+        }
+    }
     if let Some(p) = lemke(n, m, q, z, work) {
         stats.pivots += p as u64;
         polish(n, m, q, z, work);
@@ -180,18 +204,14 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64], work:
     stats.residual = 0.0;
 }
 
-/// Re-solves M_AA z_A = −q_A on Lemke's active set A = {z > 0} by Gaussian elimination with
-/// partial pivoting, removing the round-off the tableau accumulates on degenerate problems. The
-/// polished z is kept only if it stays non-negative and lowers the residual.
-fn polish(n: usize, m: &[f64], q: &[f64], z: &mut [f64], work: &mut LcpWork) {
-    let before = residual(n, m, q, z, &mut work.w);
-    let active: Vec<usize> = (0..n).filter(|&i| z[i] > 0.0).collect();
+/// Solves M_AA z_A = −q_A on the active set `active` (z = 0 elsewhere) into `work.trial` by
+/// Gaussian elimination with partial pivoting. False when singular or the result is negative.
+fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
+    let LcpWork { tab: a, active, trial, .. } = work;
     let k = active.len();
-    if k == 0 {
-        return;
-    }
+    trial.clear();
+    trial.resize(n, 0.0);
     // augmented k × (k + 1) system in the tableau buffer
-    let a = &mut work.tab;
     a.clear();
     a.resize(k * (k + 1), 0.0);
     for (r, &i) in active.iter().enumerate() {
@@ -203,7 +223,7 @@ fn polish(n: usize, m: &[f64], q: &[f64], z: &mut [f64], work: &mut LcpWork) {
     for c in 0..k {
         let p = (c..k).max_by(|&x, &y| a[x * (k + 1) + c].abs().total_cmp(&a[y * (k + 1) + c].abs())).unwrap();
         if a[p * (k + 1) + c].abs() < 1e-300 {
-            return;
+            return false;
         }
         for j in 0..=k {
             a.swap(c * (k + 1) + j, p * (k + 1) + j);
@@ -219,12 +239,20 @@ fn polish(n: usize, m: &[f64], q: &[f64], z: &mut [f64], work: &mut LcpWork) {
             }
         }
     }
-    let mut trial = z[..n].to_vec();
     for (r, &i) in active.iter().enumerate() {
         trial[i] = a[r * (k + 1) + k] / a[r * (k + 1) + r];
     }
-    if trial.iter().all(|x| x.is_finite() && *x >= 0.0) && residual(n, m, q, &trial, &mut work.w) < before {
-        z[..n].copy_from_slice(&trial);
+    trial.iter().all(|x| x.is_finite() && *x >= 0.0)
+}
+
+/// Re-solves on Lemke's active set A = {z > 0}, removing the round-off the tableau accumulates on
+/// degenerate problems; the polished z is kept only if it lowers the residual.
+fn polish(n: usize, m: &[f64], q: &[f64], z: &mut [f64], work: &mut LcpWork) {
+    let before = residual(n, m, q, z, &mut work.w);
+    work.active.clear();
+    work.active.extend((0..n).filter(|&i| z[i] > 0.0));
+    if !work.active.is_empty() && solve_active(n, m, q, work) && residual(n, m, q, &work.trial, &mut work.w) < before {
+        z[..n].copy_from_slice(&work.trial);
     }
 }
 

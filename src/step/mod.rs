@@ -213,7 +213,40 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
             data.lcp_role[j] = lcp::Role::Normal;
         }
     }
-    lcp::solve(n, &data.lcp_m, &data.lcp_q, &data.lcp_role, &mut data.force, &mut data.lcp_work, &mut data.stats);
+    // warm start: the rows are the same contacts, features and limits as last step's
+    let same_rows = level == Level::Acceleration && {
+        let w = &data.lcp_work.warm_rows;
+        w.len() == nr && (0..nr).all(|j| w[j] == row_key(data, j))
+    };
+    let warm = std::mem::take(&mut data.lcp_work.warm);
+    lcp::solve(n, &data.lcp_m, &data.lcp_q, &data.lcp_role, same_rows.then_some(&warm[..]), &mut data.force, &mut data.lcp_work, &mut data.stats);
+    data.lcp_work.warm = warm;
+    if level == Level::Acceleration {
+        data.lcp_work.warm.clear();
+        data.lcp_work.warm.extend(data.force.iter().map(|&f| f > 0.0));
+        data.lcp_work.warm_rows.clear();
+        for j in 0..nr {
+            let key = row_key(data, j);
+            data.lcp_work.warm_rows.push(key);
+        }
+    }
+}
+
+/// Identity of row j across steps: kind, contact (geoms, feature) or joint, and position within
+/// its contact.
+fn row_key(data: &Data, j: usize) -> (u8, usize, usize, usize, usize) {
+    let con = &data.con;
+    match con.kind[j] {
+        RowKind::Limit => (0, con.source[j], 0, 0, (con.dof[j].1 > 0.0) as usize),
+        kind => {
+            let c = &data.coll.contacts[con.source[j]];
+            let within = match kind {
+                RowKind::Tangent { normal } => j - normal,
+                _ => 0,
+            };
+            (1, c.geom1, c.geom2, c.feature, within)
+        }
+    }
 }
 
 /// target += Σ_k f_k Δq̈⁽ᵏ⁾ (forces into accelerations, or impulses into velocities).

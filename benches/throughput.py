@@ -1,0 +1,77 @@
+"""Env-steps/s of sinew's native vector env beside EnvPool and gymnasium's SyncVectorEnv of the
+MuJoCo twins, random actions, each task at its v5 frame_skip, on this machine.
+
+    python benches/throughput.py [--num-envs 64] [--steps 200] [--out results/throughput.md]
+
+sinew runs with 1 and 2 threads (scaling efficiency = rate(2) / (2 · rate(1))); EnvPool with 2
+threads (``num_threads=2``, its v4 envs: same models and frame_skip); SyncVectorEnv is one thread.
+"""
+
+import argparse
+import os
+import time
+import warnings
+
+import gymnasium as gym
+import numpy as np
+
+import sinew  # noqa: F401  (registers sinew/*)
+
+TASKS = ["Hopper", "Walker2d", "HalfCheetah", "Ant", "Humanoid"]
+
+
+def rate_gym_vec(env, steps, rng):
+    env.reset(seed=0)
+    a = rng.uniform(env.single_action_space.low, env.single_action_space.high, size=(steps,) + env.action_space.shape)
+    env.step(a[0])
+    t = time.perf_counter()
+    for k in range(steps):
+        env.step(a[k])
+    return steps * env.num_envs / (time.perf_counter() - t)
+
+
+def rate_envpool(name, n, steps, rng):
+    import envpool
+
+    env = envpool.make_gymnasium(f"{name}-v4", num_envs=n, num_threads=2, seed=0)
+    env.reset()
+    space = env.action_space
+    a = rng.uniform(space.low, space.high, size=(steps, n) + space.shape).astype(np.float32)
+    t = time.perf_counter()
+    for k in range(steps):
+        env.step(a[k])
+    return steps * n / (time.perf_counter() - t)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--num-envs", type=int, default=64)
+    ap.add_argument("--steps", type=int, default=200)
+    ap.add_argument("--out", default=None)
+    args = ap.parse_args()
+    n, steps = args.num_envs, args.steps
+    rng = np.random.default_rng(0)
+    rows = []
+    for name in TASKS:
+        r1 = rate_gym_vec(gym.make_vec(f"sinew/{name}-v0", num_envs=n, vectorization_mode="vector_entry_point", num_threads=1), steps, rng)
+        r2 = rate_gym_vec(gym.make_vec(f"sinew/{name}-v0", num_envs=n, vectorization_mode="vector_entry_point", num_threads=2), steps, rng)
+        ep = rate_envpool(name, n, steps, rng)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            sync = gym.make_vec(f"{name}-v5", num_envs=n, vectorization_mode="sync")
+        sv = rate_gym_vec(sync, max(10, steps // 4), rng)
+        rows.append((name, r1, r2, r2 / (2 * r1), ep, sv))
+        print(f"{name:12s} sinew 1t {r1:10,.0f}  2t {r2:10,.0f}  eff {r2/(2*r1):.2f}  envpool {ep:10,.0f}  sync {sv:10,.0f}  sinew/envpool {r2/ep:.2f}", flush=True)
+    lines = [
+        f"| task | sinew, 1 thread | sinew, 2 threads | scaling efficiency | EnvPool, 2 threads | gymnasium SyncVectorEnv | sinew / EnvPool |",
+        "|---|---|---|---|---|---|---|",
+    ] + [f"| {a} | {b:,.0f} | {c:,.0f} | {d:.2f} | {e:,.0f} | {f:,.0f} | {c / e:.2f}× |" for a, b, c, d, e, f in rows]
+    table = "\n".join(lines)
+    print(table)
+    if args.out:
+        with open(args.out, "w") as f:
+            f.write(f"<!-- python benches/throughput.py --num-envs {n} --steps {steps} --out {args.out} -->\n{table}\n")
+
+
+if __name__ == "__main__":
+    main()

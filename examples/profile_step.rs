@@ -1,0 +1,20 @@
+fn main() {
+    let path = std::env::args().nth(1).unwrap();
+    let m = sinew::Model::from_mjcf_file(std::path::Path::new(&path)).unwrap();
+    let mut m = m;
+    m.opt.friction = sinew::model::FrictionModel::Pyramid;
+    m.opt.integrator = sinew::model::Integrator::Euler;
+    let mut s = sinew::State::new(&m);
+    let mut x: u64 = 1;
+    for k in 0..200_000 {
+        if k % 10 == 0 {
+            for c in s.ctrl.iter_mut() {
+                x = x.wrapping_mul(6364136223846793005).wrapping_add(1);
+                *c = ((x >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0;
+            }
+        }
+        s.step(&m);
+        if k % 5000 == 0 { s.qpos.copy_from_slice(&m.qpos0); s.qvel.fill(0.0); }
+    }
+    println!("{:?} {:?}", &s.qpos[..3], s.data.stats);
+}
