@@ -7,9 +7,12 @@ from __future__ import annotations
 
 from typing import Any, Sequence
 
+import time
+
 import gymnasium
 import numpy as np
 from gymnasium.utils import seeding
+from stable_baselines3.common.monitor import Monitor
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv
 
 from sinew.env import BatchTask
@@ -29,6 +32,7 @@ class SinewVecEnv(VecEnv):
         self._steps = np.zeros(n_envs, dtype=np.int64)
         self._returns = np.zeros(n_envs)
         self._actions: np.ndarray | None = None
+        self._t0 = time.perf_counter()
 
     def reset(self) -> np.ndarray:
         for i, s in enumerate(self._seeds):
@@ -55,7 +59,8 @@ class SinewVecEnv(VecEnv):
             for i in ended:
                 infos[i]["terminal_observation"] = obs[i].copy()
                 infos[i]["TimeLimit.truncated"] = bool(truncated[i])
-                infos[i]["episode"] = {"r": float(self._returns[i]), "l": int(self._steps[i])}
+                infos[i]["episode"] = {"r": float(self._returns[i]), "l": int(self._steps[i]),
+                                       "t": round(time.perf_counter() - self._t0, 6)}
             self._core.reset_worlds(ended, [self._rngs[i] for i in ended])
             obs = self._core.observe()
             self._steps[ended] = 0
@@ -75,7 +80,8 @@ class SinewVecEnv(VecEnv):
         raise NotImplementedError(f"sinew's SB3 VecEnv has no per-env method {method_name!r}")
 
     def env_is_wrapped(self, wrapper_class, indices=None) -> list[bool]:
-        return [False for _ in self._get_indices(indices)]
+        # episode statistics are reported in info["episode"] exactly as SB3's Monitor does
+        return [wrapper_class is Monitor for _ in self._get_indices(indices)]
 
 
 def make_vec_env(env_id: str, n_envs: int = 1, seed: int | None = None, **env_kwargs) -> SinewVecEnv:

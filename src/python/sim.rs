@@ -250,7 +250,8 @@ impl PySim {
         Ok(out)
     }
 
-    /// Constraint statistics: rows of the last step, LCP solves, pivots, fallbacks, residual, impacts.
+    /// Constraint statistics: rows of the last step, LCP solves, pivots, warm starts, fallbacks,
+    /// residual, impacts.
     #[getter]
     fn constraint_stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
         let s = &self.data.stats;
@@ -258,6 +259,7 @@ impl PySim {
         d.set_item("rows", self.data.con.len())?;
         d.set_item("solves", s.solves)?;
         d.set_item("pivots", s.pivots)?;
+        d.set_item("warm_starts", s.warm_starts)?;
         d.set_item("fallback_pgs", s.fallback_pgs)?;
         d.set_item("fallback_zero", s.fallback_zero)?;
         d.set_item("residual", s.residual)?;
