@@ -38,7 +38,10 @@ class Model:
         contact: Optional[bool] = None,
         limit: Optional[bool] = None,
         friction: Optional[str] = None,
+        pd_gains: Optional[tuple[float, float]] = None,
     ) -> Model: ...
+    @property
+    def pd_gains(self) -> Optional[tuple[float, float]]: ...
     @property
     def friction(self) -> str: ...
     @property

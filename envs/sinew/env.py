@@ -6,9 +6,19 @@
   ``gymnasium.make_vec(..., vectorization_mode="vector_entry_point")``, with gymnasium's
   next-step autoreset. Its rollouts equal N single envs seeded ``seed, seed + 1, ...``.
 
-Actions are motor controls in the twin's action Box (gymnasium v5 semantics: ctrl = action, clamped
-to ctrlrange inside the physics; for these models ctrl × gear is the joint torque in N·m, or force
-in N for slides). Non-finite actions raise ``ValueError``; wrong shapes raise ``ValueError``. A world
+Actions (keyword ``action_mode``):
+
+- ``"torque"`` (default): motor controls in the twin's action Box (gymnasium v5 semantics:
+  ctrl = action, clamped to ctrlrange inside the physics; ctrl × gear is the joint torque in N·m,
+  or force in N for slides).
+- ``"pd"``: joint position targets (rad, or m for slides) in the actuated joints' ranges (±π rad
+  or ±1 m where unlimited). Every physics step, torque = gear · clamp(kp (target − q) − kd q̇,
+  ctrlrange) with ``pd_gains=(kp, kd)`` in control units per rad and per rad/s (default (5, 0.1)),
+  so each motor's own torque limit bounds its servo. Reward terms named ``reward_ctrl`` then
+  penalise the targets, not torques.
+
+The seed's constraint-based trajectory following (motion-control rows) is not available yet.
+Non-finite actions raise ``ValueError``; wrong shapes raise ``ValueError``. A world
 whose state becomes non-finite or exceeds 1e10 is reset alone and reported with
 ``info["sim_diverged"]``, ``terminated=True`` and reward 0.
 """
@@ -32,20 +42,32 @@ class BatchTask:
     """A task over N worlds: reset with per-world generators, step with a batch of actions."""
 
     def __init__(self, task: str, num_envs: int, num_threads: int | None = None, xml_file: str | None = None,
-                 friction: str = "pyramid", **task_kwargs):
+                 friction: str = "pyramid", action_mode: str = "torque", pd_gains: tuple = (5.0, 0.1), **task_kwargs):
         if task not in TASKS:
             raise ValueError(f"unknown task {task!r}; known: {sorted(TASKS)}")
         cls = TASKS[task]
         path = xml_file or os.path.join(ASSETS, cls.xml)
-        self.model = Model.from_mjcf(path).with_options(friction=friction)
+        model = Model.from_mjcf(path).with_options(friction=friction)
+        if action_mode == "pd":
+            model = model.with_options(pd_gains=tuple(pd_gains))
+        elif action_mode != "torque":
+            raise ValueError(f"action_mode must be 'torque' or 'pd', got {action_mode!r}")
+        self.model = model
         self.task = cls(self.model, **task_kwargs)
         self.num_envs = num_envs
         self.batch = Batch(self.model, num_envs, seed=0, num_threads=num_threads)
         b = self.batch
         self.view = View(b.qpos, b.qvel, b.ctrl, b.xpos, b.xmat.reshape(num_envs, -1, 3, 3), b.xvel, b.cfrc_ext,
                          b.qfrc_constraint)
-        lo, hi = self.model.actuator_ctrlrange.astype(np.float32).T
-        self.action_space = spaces.Box(low=lo, high=hi, dtype=np.float32)
+        if action_mode == "pd":
+            jnt = [self.model.jnt_dofadr.index(d) for d in self.model.actuator_dofadr]
+            unlimited = [np.pi if self.model.joint_types[j] == "hinge" else 1.0 for j in jnt]
+            rng = self.model.jnt_range
+            lo = np.array([rng[j, 0] if self.model.jnt_limited[j] else -u for j, u in zip(jnt, unlimited)])
+            hi = np.array([rng[j, 1] if self.model.jnt_limited[j] else u for j, u in zip(jnt, unlimited)])
+        else:
+            lo, hi = self.model.actuator_ctrlrange.T
+        self.action_space = spaces.Box(low=lo.astype(np.float32), high=hi.astype(np.float32), dtype=np.float32)
         self.observation_space = spaces.Box(-np.inf, np.inf, shape=(self.task.obs_dim(),), dtype=np.float64)
 
     def check_actions(self, actions) -> np.ndarray:

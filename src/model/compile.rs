@@ -60,6 +60,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
             limit: spec.option.limit,
             restitution: spec.restitution.unwrap_or(0.0),
             friction: super::FrictionModel::OneTangent,
+            actuation: super::Actuation::Motor,
         },
         nq: 0,
         nv: 0,

@@ -27,6 +27,21 @@ pub enum FrictionModel {
     Pyramid,
 }
 
+/// What an actuator's control means.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Actuation {
+    /// MuJoCo's motor: force = gear · ctrl (ctrl clamped to ctrlrange).
+    Motor,
+    /// PD servo to the position target ctrl (rad or m) on the actuated joint, evaluated every
+    /// step: force = gear · clamp(kp (ctrl − q) − kd q̇, ctrlrange), so the motor's own limit bounds it.
+    Pd {
+        /// Proportional gain, control units per rad (or per m).
+        kp: f64,
+        /// Derivative gain, control units per rad/s (or per m/s).
+        kd: f64,
+    },
+}
+
 /// Simulation options.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Options {
@@ -44,6 +59,8 @@ pub struct Options {
     pub restitution: f64,
     /// Friction formulation.
     pub friction: FrictionModel,
+    /// Meaning of ctrl.
+    pub actuation: Actuation,
 }
 
 /// A compiled model. Build it with [`Model::from_mjcf`].

@@ -8,7 +8,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use super::errors::{to_py, ModelWarning};
-use crate::model::{FrictionModel, Integrator, JointType, Model};
+use crate::model::{Actuation, FrictionModel, Integrator, JointType, Model};
 
 /// A compiled model (MuJoCo's mjModel counterpart). Immutable; share it between simulations.
 #[pyclass(name = "Model", module = "sinew._core", frozen)]
@@ -51,7 +51,7 @@ impl PyModel {
     }
 
     /// A copy with some options replaced (the model itself never changes).
-    #[pyo3(signature = (*, timestep=None, integrator=None, gravity=None, restitution=None, contact=None, limit=None, friction=None))]
+    #[pyo3(signature = (*, timestep=None, integrator=None, gravity=None, restitution=None, contact=None, limit=None, friction=None, pd_gains=None))]
     #[allow(clippy::too_many_arguments)]
     fn with_options(
         &self,
@@ -62,6 +62,7 @@ impl PyModel {
         contact: Option<bool>,
         limit: Option<bool>,
         friction: Option<&str>,
+        pd_gains: Option<(f64, f64)>,
     ) -> PyResult<Self> {
         let mut m = (*self.inner).clone();
         if let Some(h) = timestep {
@@ -94,6 +95,12 @@ impl PyModel {
         }
         if let Some(l) = limit {
             m.opt.limit = l;
+        }
+        if let Some((kp, kd)) = pd_gains {
+            if !(kp.is_finite() && kd.is_finite() && kp >= 0.0 && kd >= 0.0) {
+                return Err(PyValueError::new_err(format!("pd_gains must be finite and non-negative, got ({kp}, {kd})")));
+            }
+            m.opt.actuation = Actuation::Pd { kp, kd };
         }
         if let Some(f) = friction {
             m.opt.friction = match f {
@@ -156,6 +163,14 @@ impl PyModel {
         match self.inner.opt.friction {
             FrictionModel::OneTangent => "seed",
             FrictionModel::Pyramid => "pyramid",
+        }
+    }
+    /// PD gains (kp, kd) when actuators are position servos, else None (motors).
+    #[getter]
+    fn pd_gains(&self) -> Option<(f64, f64)> {
+        match self.inner.opt.actuation {
+            Actuation::Motor => None,
+            Actuation::Pd { kp, kd } => Some((kp, kd)),
         }
     }
     /// Whether contacts are simulated.

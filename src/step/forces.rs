@@ -1,8 +1,9 @@
 //! Applied joint forces: actuators (gear · ctrl, ctrl clamped to ctrlrange and force to forcerange
-//! when limited, as MuJoCo's `motor`) and passive springs and dampers (MuJoCo's `qfrc_passive`).
+//! when limited, as MuJoCo's `motor`; or a PD servo to ctrl as position target, see
+//! [`Actuation`]) and passive springs and dampers (MuJoCo's `qfrc_passive`).
 
 use crate::math::{quat_sub, quat_wxyz, DVec3};
-use crate::model::{JointType, Model};
+use crate::model::{Actuation, JointType, Model};
 
 /// Writes the total applied generalised force into `tau` (nv).
 pub fn applied(m: &Model, qpos: &[f64], qvel: &[f64], ctrl: &[f64], tau: &mut [f64]) {
@@ -37,7 +38,11 @@ pub fn applied(m: &Model, qpos: &[f64], qvel: &[f64], ctrl: &[f64], tau: &mut [f
     }
     // actuators
     for a in 0..m.nu {
-        let mut u = ctrl[a];
+        let dof = m.jnt_dofadr[m.actuator_jnt[a]];
+        let mut u = match m.opt.actuation {
+            Actuation::Motor => ctrl[a],
+            Actuation::Pd { kp, kd } => kp * (ctrl[a] - qpos[m.jnt_qposadr[m.actuator_jnt[a]]]) - kd * qvel[dof],
+        };
         if m.actuator_ctrllimited[a] {
             let [lo, hi] = m.actuator_ctrlrange[a];
             u = u.clamp(lo, hi);
@@ -46,6 +51,6 @@ pub fn applied(m: &Model, qpos: &[f64], qvel: &[f64], ctrl: &[f64], tau: &mut [f
             let [lo, hi] = m.actuator_forcerange[a];
             u = u.clamp(lo, hi);
         }
-        tau[m.jnt_dofadr[m.actuator_jnt[a]]] += m.actuator_gear[a] * u;
+        tau[dof] += m.actuator_gear[a] * u;
     }
 }

@@ -158,3 +158,23 @@ def test_malformed_mjcf_raises_model_error_with_location():
 def test_unsupported_mjcf_raises_model_error():
     with pytest.raises(sinew.ModelError, match="mesh"):
         sinew.Model.from_mjcf_string("<mujoco><worldbody><body><geom type='mesh'/></body></worldbody></mujoco>")
+
+
+def test_pd_actuation_servos_to_the_target_within_the_motor_limit():
+    xml = """<mujoco><option gravity="0 0 0" timestep="0.002"/><worldbody><body>
+    <joint name="j" axis="0 0 1"/><geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.05"/></body></worldbody>
+    <actuator><motor joint="j" gear="10" ctrlrange="-1 1"/></actuator></mujoco>"""
+    m = sinew.Model.from_mjcf_string(xml).with_options(pd_gains=(5.0, 0.5))
+    assert m.pd_gains == (5.0, 0.5)
+    sim = sinew.Sim(m)
+    sim.ctrl[:] = 0.5  # target angle, rad
+    sim.forward()
+    # 5 · 0.5 = 2.5 saturates at ctrlrange 1: torque = gear · 1
+    inertia = sinew.Sim(sinew.Model.from_mjcf_string(xml))
+    inertia.ctrl[:] = 1.0
+    inertia.forward()
+    assert sim.qacc[0] == pytest.approx(inertia.qacc[0])
+    sim.step(5000)
+    assert sim.qpos[0] == pytest.approx(0.5, abs=1e-6)
+    with pytest.raises(ValueError):
+        m.with_options(pd_gains=(-1.0, 0.0))

@@ -226,3 +226,18 @@ def test_sb3_adapter_reports_terminal_observations():
             assert "terminal_observation" in infos[i] and "TimeLimit.truncated" in infos[i]
             seen += 1
     assert seen > 0
+
+
+def test_pd_action_mode_targets_joint_positions():
+    env = gym.make("sinew/Hopper-v0", action_mode="pd")
+    m = env.unwrapped.model
+    np.testing.assert_allclose(env.action_space.low, m.jnt_range[3:, 0].astype(np.float32))
+    np.testing.assert_allclose(env.action_space.high, m.jnt_range[3:, 1].astype(np.float32))
+    env.reset(seed=0)
+    target = np.array([-0.3, -0.3, 0.0], dtype=np.float32)
+    for _ in range(40):
+        env.step(target)
+    q = env.unwrapped.data_qpos[3:]
+    assert np.abs(q - target).max() < 0.15  # servo pulls the joints toward the targets under load
+    with pytest.raises(ValueError, match="action_mode"):
+        gym.make("sinew/Hopper-v0", action_mode="velocity")
