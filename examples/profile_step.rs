@@ -1,3 +1,5 @@
+//! Steps a model 200 000 times with random controls (pyramid friction, Euler): a workload for `perf`.
+//! `cargo build --profile profiling --example profile_step && perf record target/profiling/examples/profile_step model.xml`
 fn main() {
     let path = std::env::args().nth(1).unwrap();
     let m = sinew::Model::from_mjcf_file(std::path::Path::new(&path)).unwrap();
