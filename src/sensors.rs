@@ -6,7 +6,7 @@ use glam::DVec3;
 
 use crate::data::Data;
 use crate::math::Force;
-use crate::model::{Model, WORLD};
+use crate::model::{ConstraintMode, Model, WORLD};
 use crate::step::constraint::RowKind;
 use crate::step::kinematics;
 
@@ -75,13 +75,15 @@ pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64]
     if con.is_empty() || force.len() < con.len() {
         return;
     }
+    // velocity-level time stepping solves for impulses over the step
+    let per_force = if m.opt.constraint_mode == ConstraintMode::Velocity { 1.0 / m.opt.timestep } else { 1.0 };
     // spatial constraint forces per node, node coordinates, for J^T f
     node_f.fill(Force::ZERO);
     for (ci, c) in coll.contacts.iter().enumerate() {
         let mut f = DVec3::ZERO;
         for j in 0..con.len() {
             if con.source[j] == ci && con.kind[j] != RowKind::Limit {
-                f += con.dir[j] * force[j];
+                f += con.dir[j] * force[j] * per_force;
             }
         }
         if f == DVec3::ZERO {
@@ -117,7 +119,7 @@ pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64]
     for j in 0..con.len() {
         if con.kind[j] == RowKind::Limit {
             let (dof, sign) = con.dof[j];
-            out.qfrc_constraint[dof] += sign * force[j];
+            out.qfrc_constraint[dof] += sign * force[j] * per_force;
         }
     }
 }

@@ -39,7 +39,10 @@ class Model:
         limit: Optional[bool] = None,
         friction: Optional[str] = None,
         pd_gains: Optional[tuple[float, float]] = None,
+        constraint_mode: Optional[str] = None,
     ) -> Model: ...
+    @property
+    def constraint_mode(self) -> str: ...
     @property
     def pd_gains(self) -> Optional[tuple[float, float]]: ...
     @property

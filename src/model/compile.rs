@@ -61,6 +61,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
             restitution: spec.restitution.unwrap_or(0.0),
             friction: super::FrictionModel::OneTangent,
             actuation: super::Actuation::Motor,
+            constraint_mode: super::ConstraintMode::Acceleration,
         },
         nq: 0,
         nv: 0,

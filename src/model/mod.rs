@@ -27,6 +27,18 @@ pub enum FrictionModel {
     Pyramid,
 }
 
+/// How constraints enter the step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ConstraintMode {
+    /// The seed's scheme: an impact solve when something approaches, then constraint forces at the
+    /// acceleration level (Kokkevis 2004, §8.1).
+    Acceleration,
+    /// Time stepping at the velocity level (Stewart & Trinkle 1996; Anitescu & Potra 1997): one
+    /// impulse solve per step with the same K, Δq̇ = Σ p_k Δq̈⁽ᵏ⁾. Always solvable where the
+    /// acceleration-level problem is not (Painlevé).
+    Velocity,
+}
+
 /// What an actuator's control means.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Actuation {
@@ -61,6 +73,8 @@ pub struct Options {
     pub friction: FrictionModel,
     /// Meaning of ctrl.
     pub actuation: Actuation,
+    /// Acceleration-level (seed) or velocity-level constraint handling.
+    pub constraint_mode: ConstraintMode,
 }
 
 /// A compiled model. Build it with [`Model::from_mjcf`].

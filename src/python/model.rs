@@ -8,7 +8,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use super::errors::{to_py, ModelWarning};
-use crate::model::{Actuation, FrictionModel, Integrator, JointType, Model};
+use crate::model::{Actuation, ConstraintMode, FrictionModel, Integrator, JointType, Model};
 
 /// A compiled model (MuJoCo's mjModel counterpart). Immutable; share it between simulations.
 #[pyclass(name = "Model", module = "sinew._core", frozen)]
@@ -51,7 +51,7 @@ impl PyModel {
     }
 
     /// A copy with some options replaced (the model itself never changes).
-    #[pyo3(signature = (*, timestep=None, integrator=None, gravity=None, restitution=None, contact=None, limit=None, friction=None, pd_gains=None))]
+    #[pyo3(signature = (*, timestep=None, integrator=None, gravity=None, restitution=None, contact=None, limit=None, friction=None, pd_gains=None, constraint_mode=None))]
     #[allow(clippy::too_many_arguments)]
     fn with_options(
         &self,
@@ -63,6 +63,7 @@ impl PyModel {
         limit: Option<bool>,
         friction: Option<&str>,
         pd_gains: Option<(f64, f64)>,
+        constraint_mode: Option<&str>,
     ) -> PyResult<Self> {
         let mut m = (*self.inner).clone();
         if let Some(h) = timestep {
@@ -95,6 +96,13 @@ impl PyModel {
         }
         if let Some(l) = limit {
             m.opt.limit = l;
+        }
+        if let Some(c) = constraint_mode {
+            m.opt.constraint_mode = match c {
+                "acceleration" => ConstraintMode::Acceleration,
+                "velocity" => ConstraintMode::Velocity,
+                _ => return Err(PyValueError::new_err(format!("constraint_mode must be 'acceleration' or 'velocity', got '{c}'"))),
+            };
         }
         if let Some((kp, kd)) = pd_gains {
             if !(kp.is_finite() && kd.is_finite() && kp >= 0.0 && kd >= 0.0) {
@@ -163,6 +171,14 @@ impl PyModel {
         match self.inner.opt.friction {
             FrictionModel::OneTangent => "seed",
             FrictionModel::Pyramid => "pyramid",
+        }
+    }
+    /// "acceleration" (the seed's impact + force solves) or "velocity" (time stepping).
+    #[getter]
+    fn constraint_mode(&self) -> &'static str {
+        match self.inner.opt.constraint_mode {
+            ConstraintMode::Acceleration => "acceleration",
+            ConstraintMode::Velocity => "velocity",
         }
     }
     /// PD gains (kp, kd) when actuators are position servos, else None (motors).

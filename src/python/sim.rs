@@ -222,13 +222,14 @@ impl PySim {
         use crate::step::constraint::RowKind;
         let m = &*self.model;
         let con = &self.data.con;
+        let per_force = if m.opt.constraint_mode == crate::model::ConstraintMode::Velocity { 1.0 / m.opt.timestep } else { 1.0 };
         let mut out = Vec::new();
         for (ci, c) in self.data.coll.contacts.iter().enumerate() {
             let mut fnormal = 0.0;
             let mut ffric = glam::DVec3::ZERO;
             for j in 0..con.len() {
                 if con.source[j] == ci && con.kind[j] != RowKind::Limit {
-                    let f = self.data.force.get(j).copied().unwrap_or(0.0);
+                    let f = self.data.force.get(j).copied().unwrap_or(0.0) * per_force;
                     match con.kind[j] {
                         RowKind::Normal => fnormal = f,
                         _ => ffric += con.dir[j] * f,

@@ -11,7 +11,7 @@ pub mod lcp;
 use glam::DVec3;
 
 use crate::data::Data;
-use crate::model::{Integrator, Model};
+use crate::model::{ConstraintMode, Integrator, Model};
 use constraint::RowKind;
 
 /// Forward dynamics at (qpos, qvel, ctrl) without constraints: fills `data.qacc` with the true
@@ -61,11 +61,21 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
     dynamics(m, data, qpos, qvel, ctrl, h);
     // 5. K and b by test forces
     constraint::assemble(m, &data.kin, &data.aba, &data.qacc, &mut data.con);
+    if m.opt.constraint_mode == ConstraintMode::Velocity {
+        // 6'. one impulse solve: q̈ = q̈₀ + Σ p_k Δq̈⁽ᵏ⁾ / h
+        solve_rows(m, data, Level::TimeStep);
+        let mut qacc = std::mem::take(&mut data.qacc);
+        apply(m, data, &mut qacc, 1.0 / h);
+        data.qacc = qacc;
+        integrate::euler(m, qpos, qvel, &data.qacc, h);
+        *time += h;
+        return;
+    }
     // 6. impacts: a velocity-level solve over all rows when something approaches
     if needs_impact(&data.con, h) {
         data.impacts += 1;
         solve_rows(m, data, Level::Velocity);
-        apply(m, data, qvel);
+        apply(m, data, qvel, 1.0);
         evaluate(m, data, qpos, qvel, ctrl, h);
         build_rows(m, data, qpos, qvel);
         constraint::assemble(m, &data.kin, &data.aba, &data.qacc, &mut data.con);
@@ -74,7 +84,7 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
     if !data.con.is_empty() {
         solve_rows(m, data, Level::Acceleration);
         let mut qacc = std::mem::take(&mut data.qacc);
-        apply(m, data, &mut qacc);
+        apply(m, data, &mut qacc, 1.0);
         data.qacc = qacc;
     }
     // 8. integrate
@@ -139,8 +149,12 @@ fn approaching(vel: f64, dist: f64, vel_end: f64, h: f64) -> bool {
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Level {
+    /// The seed's impact solve.
     Velocity,
+    /// The seed's per-step force solve.
     Acceleration,
+    /// Velocity-level time stepping: impulses over the whole step.
+    TimeStep,
 }
 
 /// Assembles the LCP over all rows plus one λ per friction row and solves it into `data.force`.
@@ -179,6 +193,17 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
         let desired = match (con.kind[j], level) {
             (RowKind::Tangent { .. }, Level::Acceleration) => -vel / h,
             (RowKind::Tangent { .. }, Level::Velocity) => -vel,
+            // time stepping: end-of-step velocity v⁺ (tangents: 0; normals: close the gap or remove
+            // a fraction of the penetration; restitution for fast approach) against the predicted
+            // constraint-free v_p = v + h b
+            (RowKind::Tangent { .. }, Level::TimeStep) => -(vel + h * con.b[j]),
+            (_, Level::TimeStep) => {
+                let mut target = if dist > 0.0 { -dist / h } else { -constraint::POSITION_CORRECTION * dist / h };
+                if -vel > 4.0 * h * m.opt.gravity.length() && dist + h * vel < 0.0 {
+                    target = target.max(-m.opt.restitution * vel);
+                }
+                target - (vel + h * con.b[j])
+            }
             (_, Level::Acceleration) => {
                 let target = if dist > 0.0 { -dist / h } else { -constraint::POSITION_CORRECTION * dist / h };
                 (target - vel) / h
@@ -200,7 +225,7 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
         };
         q[j] = match level {
             Level::Acceleration => con.b[j] - desired,
-            Level::Velocity => -desired,
+            Level::Velocity | Level::TimeStep => -desired,
         };
         if let RowKind::Tangent { normal } = con.kind[j] {
             // (20): (a_t − a_t^d) + λ ≥ 0;  (21): μ f_n − Σ f_t ≥ 0 ⟂ λ ≥ 0
@@ -214,14 +239,14 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
         }
     }
     // warm start: the rows are the same contacts, features and limits as last step's
-    let same_rows = level == Level::Acceleration && {
+    let same_rows = level != Level::Velocity && {
         let w = &data.lcp_work.warm_rows;
         w.len() == nr && (0..nr).all(|j| w[j] == row_key(data, j))
     };
     let warm = std::mem::take(&mut data.lcp_work.warm);
     lcp::solve(n, &data.lcp_m, &data.lcp_q, &data.lcp_role, same_rows.then_some(&warm[..]), &mut data.force, &mut data.lcp_work, &mut data.stats);
     data.lcp_work.warm = warm;
-    if level == Level::Acceleration {
+    if level != Level::Velocity {
         data.lcp_work.warm.clear();
         data.lcp_work.warm.extend(data.force.iter().map(|&f| f > 0.0));
         data.lcp_work.warm_rows.clear();
@@ -249,11 +274,11 @@ fn row_key(data: &Data, j: usize) -> (u8, usize, usize, usize, usize) {
     }
 }
 
-/// target += Σ_k f_k Δq̈⁽ᵏ⁾ (forces into accelerations, or impulses into velocities).
-fn apply(m: &Model, data: &Data, target: &mut [f64]) {
+/// target += scale · Σ_k f_k Δq̈⁽ᵏ⁾ (forces into accelerations, or impulses into velocities).
+fn apply(m: &Model, data: &Data, target: &mut [f64], scale: f64) {
     let nv = m.nv;
     for k in 0..data.con.len() {
-        let f = data.force[k];
+        let f = data.force[k] * scale;
         if f != 0.0 {
             for (t, d) in target.iter_mut().zip(&data.con.dqdd[k * nv..(k + 1) * nv]) {
                 *t += f * d;

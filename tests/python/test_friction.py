@@ -12,12 +12,12 @@ import sinew
 G = 9.81
 
 
-def box_on_slope(deg, mu, dt, friction):
+def box_on_slope(deg, mu, dt, friction, mode="acceleration"):
     xml = f"""<mujoco><option timestep="{dt}"/><worldbody>
     <geom type="plane" size="50 50 .1" euler="0 {deg} 0" friction="{mu}"/>
     <body pos="0 0 0.1"><freejoint/><geom type="box" size="0.1 0.1 0.1" friction="{mu}"/></body>
     </worldbody></mujoco>"""
-    sim = sinew.Sim(sinew.Model.from_mjcf_string(xml).with_options(friction=friction))
+    sim = sinew.Sim(sinew.Model.from_mjcf_string(xml).with_options(friction=friction, constraint_mode=mode))
     th = math.radians(deg)
     sim.qpos[3:7] = [math.cos(th / 2), 0, math.sin(th / 2), 0]
     sim.qpos[:3] = [0.1 * math.sin(th), 0, 0.1 * math.cos(th)]
@@ -25,20 +25,22 @@ def box_on_slope(deg, mu, dt, friction):
     return sim, downhill
 
 
+@pytest.mark.parametrize("mode", ["acceleration", "velocity"])
 @pytest.mark.parametrize("dt", [0.002, 0.01])
-def test_box_on_a_20_degree_slope_with_mu_1_stays_put(dt):
+def test_box_on_a_20_degree_slope_with_mu_1_stays_put(dt, mode):
     """Pyramid friction only: the seed's single tangent creeps (see README, Known gaps)."""
-    sim, _ = box_on_slope(20, 1.0, dt, "pyramid")
+    sim, _ = box_on_slope(20, 1.0, dt, "pyramid", mode)
     sim.step(int(0.2 / dt))
     start = sim.qpos[:3].copy()
     sim.step(int(5 / dt))
     assert np.linalg.norm(sim.qpos[:3] - start) < 1e-6
 
 
+@pytest.mark.parametrize("mode", ["acceleration", "velocity"])
 @pytest.mark.parametrize("friction", ["seed", "pyramid"])
 @pytest.mark.parametrize("dt", [0.002, 0.01])
-def test_box_slides_down_a_30_degree_slope_at_g_sin_minus_mu_cos(dt, friction):
-    sim, down = box_on_slope(30, 0.3, dt, friction)
+def test_box_slides_down_a_30_degree_slope_at_g_sin_minus_mu_cos(dt, friction, mode):
+    sim, down = box_on_slope(30, 0.3, dt, friction, mode)
     sim.step(int(0.5 / dt))
     t0, v0 = sim.time, sim.qvel[:3] @ down
     sim.step(int(0.5 / dt))
@@ -49,12 +51,13 @@ def test_box_slides_down_a_30_degree_slope_at_g_sin_minus_mu_cos(dt, friction):
     assert sim.constraint_stats["fallback_zero"] == 0
 
 
+@pytest.mark.parametrize("mode", ["acceleration", "velocity"])
 @pytest.mark.parametrize("friction", ["seed", "pyramid"])
 @pytest.mark.parametrize("dt, tol", [(0.002, 0.005), (0.01, 0.02)])
-def test_sliding_box_stops_at_v0_squared_over_2_mu_g(dt, tol, friction):
+def test_sliding_box_stops_at_v0_squared_over_2_mu_g(dt, tol, friction, mode):
     """At dt = 0.01 semi-implicit Euler itself shortens the distance by about v0·h/2 (1.6%), above
     the issue's 0.5%; the bound there is the measured one."""
-    sim, _ = box_on_slope(0, 0.5, dt, friction)
+    sim, _ = box_on_slope(0, 0.5, dt, friction, mode)
     sim.qvel[0] = 3.0
     sim.step(int(1.5 / dt))
     expected = 3.0**2 / (2 * 0.5 * G)
