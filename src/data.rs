@@ -48,6 +48,8 @@ pub struct Data {
     pub tangents: Vec<((usize, usize, usize), DVec3)>,
     /// Tangents being recorded this step.
     pub tangents_next: Vec<((usize, usize, usize), DVec3)>,
+    /// Trajectory feed-forward for motion control: reference velocities then accelerations (2 × nu).
+    pub feedforward: Vec<f64>,
     /// Per-node spatial forces, scratch for `sensors` (njnt).
     pub node_force: Vec<crate::math::Force>,
     /// SplitMix64 state of this world's random tangents.
@@ -75,6 +77,7 @@ impl Data {
             impacts: 0,
             tangents: vec![],
             tangents_next: vec![],
+            feedforward: vec![0.0; 2 * m.nu],
             node_force: vec![crate::math::Force::ZERO; m.njnt],
             rng: 0x5EED,
         }

@@ -7,7 +7,6 @@ use glam::DVec3;
 use crate::data::Data;
 use crate::math::Force;
 use crate::model::{ConstraintMode, Model, WORLD};
-use crate::step::constraint::RowKind;
 use crate::step::kinematics;
 
 /// Output rows of one world.
@@ -82,7 +81,7 @@ pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64]
     for (ci, c) in coll.contacts.iter().enumerate() {
         let mut f = DVec3::ZERO;
         for j in 0..con.len() {
-            if con.source[j] == ci && con.kind[j] != RowKind::Limit {
+            if con.source[j] == ci && con.kind[j].is_contact() {
                 f += con.dir[j] * force[j] * per_force;
             }
         }
@@ -117,7 +116,7 @@ pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64]
         }
     }
     for j in 0..con.len() {
-        if con.kind[j] == RowKind::Limit {
+        if !con.kind[j].is_contact() {
             let (dof, sign) = con.dof[j];
             out.qfrc_constraint[dof] += sign * force[j] * per_force;
         }

@@ -32,7 +32,7 @@ fn jacobian(m: &Model, data: &Data, con: &ConstraintData) -> Vec<Vec<f64>> {
         }
         for j in 0..con.len() {
             rows[j][dof] = match con.kind[j] {
-                RowKind::Limit => if con.dof[j].0 == dof { con.dof[j].1 } else { 0.0 },
+                RowKind::Limit | RowKind::Motion { .. } => if con.dof[j].0 == dof { con.dof[j].1 } else { 0.0 },
                 _ => {
                     let mut acc = DVec3::ZERO;
                     for side in 0..2 {
@@ -91,7 +91,9 @@ fn check(xml: &str, seed: u64) {
         }
     }
     let mut con = ConstraintData::new(&m2);
-    constraint::rows(&m2, &data.kin, &q, &v, &contacts, |_, n, _| n.any_orthonormal_vector(), &mut con);
+    let ctrl = vec![0.0; m2.nu];
+    let ff = vec![0.0; 2 * m2.nu];
+    constraint::rows(&m2, &data.kin, &q, &v, &ctrl, &ff, &contacts, |_, n, _| n.any_orthonormal_vector(), &mut con);
     constraint::assemble(&m2, &data.kin, &data.aba, &qacc, &mut con);
     let nr = con.len();
     assert!(nr >= 6, "rows {nr}");
@@ -129,7 +131,7 @@ fn limit_rows_match_the_inverse_mass_matrix() {
     let mut qacc = vec![0.0; 2];
     aba::forward(&m, &data.kin, &mut data.aba, &mut qacc);
     let mut con = ConstraintData::new(&m);
-    constraint::rows(&m, &data.kin, &q, &v, &[], |_, n, _| n, &mut con);
+    constraint::rows(&m, &data.kin, &q, &v, &[], &[], &[], |_, n, _| n, &mut con);
     assert_eq!(con.len(), 2, "both joints sit at a limit");
     constraint::assemble(&m, &data.kin, &data.aba, &qacc, &mut con);
     let mass = crba(&m, &data.kin);

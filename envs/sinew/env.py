@@ -16,8 +16,11 @@ Actions (keyword ``action_mode``):
   ctrlrange) with ``pd_gains=(kp, kd)`` in control units per rad and per rad/s (default (5, 0.1)),
   so each motor's own torque limit bounds its servo. Reward terms named ``reward_ctrl`` then
   penalise the targets, not torques.
+- ``"trajectory"``: the same joint position targets, followed by the seed's motion-control rows
+  (Kokkevis 2004, §8.3): every physics step the LCP finds the torques that give
+  q̈ = kp (target − q) − kd q̇ together with contacts and limits, each bounded by its motor's
+  gear · max|ctrlrange|; ``trajectory_gains=(kp, kd)`` in 1/s² and 1/s (default (100, 20)).
 
-The seed's constraint-based trajectory following (motion-control rows) is not available yet.
 Non-finite actions raise ``ValueError``; wrong shapes raise ``ValueError``. A world
 whose state becomes non-finite or exceeds 1e10 is reset alone and reported with
 ``info["sim_diverged"]``, ``terminated=True`` and reward 0.
@@ -42,7 +45,8 @@ class BatchTask:
     """A task over N worlds: reset with per-world generators, step with a batch of actions."""
 
     def __init__(self, task: str, num_envs: int, num_threads: int | None = None, xml_file: str | None = None,
-                 friction: str = "pyramid", action_mode: str = "torque", pd_gains: tuple = (5.0, 0.1), **task_kwargs):
+                 friction: str = "pyramid", action_mode: str = "torque", pd_gains: tuple = (5.0, 0.1),
+                 trajectory_gains: tuple = (100.0, 20.0), **task_kwargs):
         if task not in TASKS:
             raise ValueError(f"unknown task {task!r}; known: {sorted(TASKS)}")
         cls = TASKS[task]
@@ -50,8 +54,10 @@ class BatchTask:
         model = Model.from_mjcf(path).with_options(friction=friction)
         if action_mode == "pd":
             model = model.with_options(pd_gains=tuple(pd_gains))
+        elif action_mode == "trajectory":
+            model = model.with_options(trajectory_gains=tuple(trajectory_gains))
         elif action_mode != "torque":
-            raise ValueError(f"action_mode must be 'torque' or 'pd', got {action_mode!r}")
+            raise ValueError(f"action_mode must be 'torque', 'pd' or 'trajectory', got {action_mode!r}")
         self.model = model
         self.task = cls(self.model, **task_kwargs)
         self.num_envs = num_envs
@@ -59,7 +65,7 @@ class BatchTask:
         b = self.batch
         self.view = View(b.qpos, b.qvel, b.ctrl, b.xpos, b.xmat.reshape(num_envs, -1, 3, 3), b.xvel, b.cfrc_ext,
                          b.qfrc_constraint)
-        if action_mode == "pd":
+        if action_mode in ("pd", "trajectory"):
             jnt = [self.model.jnt_dofadr.index(d) for d in self.model.actuator_dofadr]
             unlimited = [np.pi if self.model.joint_types[j] == "hinge" else 1.0 for j in jnt]
             rng = self.model.jnt_range

@@ -52,6 +52,16 @@ pub enum Actuation {
         /// Derivative gain, control units per rad/s (or per m/s).
         kd: f64,
     },
+    /// Trajectory following by motion-control rows (Kokkevis 2004, §8.3): ctrl is each actuated
+    /// joint's position target; the LCP finds the joint torque that gives the acceleration
+    /// q̈_ref + kd (q̇_ref − q̇) + kp (ctrl − q), together with contacts and limits, bounded by
+    /// gear · max|ctrlrange| when the actuator is ctrllimited.
+    Trajectory {
+        /// Position gain (1/s²).
+        kp: f64,
+        /// Velocity gain (1/s).
+        kd: f64,
+    },
 }
 
 /// Simulation options.

@@ -51,7 +51,7 @@ impl PyModel {
     }
 
     /// A copy with some options replaced (the model itself never changes).
-    #[pyo3(signature = (*, timestep=None, integrator=None, gravity=None, restitution=None, contact=None, limit=None, friction=None, pd_gains=None, constraint_mode=None))]
+    #[pyo3(signature = (*, timestep=None, integrator=None, gravity=None, restitution=None, contact=None, limit=None, friction=None, pd_gains=None, constraint_mode=None, trajectory_gains=None))]
     #[allow(clippy::too_many_arguments)]
     fn with_options(
         &self,
@@ -64,6 +64,7 @@ impl PyModel {
         friction: Option<&str>,
         pd_gains: Option<(f64, f64)>,
         constraint_mode: Option<&str>,
+        trajectory_gains: Option<(f64, f64)>,
     ) -> PyResult<Self> {
         let mut m = (*self.inner).clone();
         if let Some(h) = timestep {
@@ -96,6 +97,15 @@ impl PyModel {
         }
         if let Some(l) = limit {
             m.opt.limit = l;
+        }
+        if let Some((kp, kd)) = trajectory_gains {
+            if !(kp.is_finite() && kd.is_finite() && kp >= 0.0 && kd >= 0.0) {
+                return Err(PyValueError::new_err(format!("trajectory_gains must be finite and non-negative, got ({kp}, {kd})")));
+            }
+            if pd_gains.is_some() {
+                return Err(PyValueError::new_err("give pd_gains or trajectory_gains, not both"));
+            }
+            m.opt.actuation = Actuation::Trajectory { kp, kd };
         }
         if let Some(c) = constraint_mode {
             m.opt.constraint_mode = match c {
@@ -185,8 +195,16 @@ impl PyModel {
     #[getter]
     fn pd_gains(&self) -> Option<(f64, f64)> {
         match self.inner.opt.actuation {
-            Actuation::Motor => None,
             Actuation::Pd { kp, kd } => Some((kp, kd)),
+            _ => None,
+        }
+    }
+    /// Trajectory-following gains (kp, kd) when actuators are motion-control rows, else None.
+    #[getter]
+    fn trajectory_gains(&self) -> Option<(f64, f64)> {
+        match self.inner.opt.actuation {
+            Actuation::Trajectory { kp, kd } => Some((kp, kd)),
+            _ => None,
         }
     }
     /// Whether contacts are simulated.

@@ -183,6 +183,17 @@ impl PySim {
         Ok(())
     }
 
+    /// Feed-forward reference velocity and acceleration (nu each) of trajectory following; ctrl is
+    /// the reference position. Ignored unless the model has `trajectory_gains`.
+    fn set_feedforward(&mut self, qvel_ref: Bound<'_, PyAny>, qacc_ref: Bound<'_, PyAny>) -> PyResult<()> {
+        let nu = self.model.nu;
+        let v = checked_values(&qvel_ref, "qvel_ref", &[nu])?;
+        let a = checked_values(&qacc_ref, "qacc_ref", &[nu])?;
+        self.data.feedforward[..nu].copy_from_slice(&v);
+        self.data.feedforward[nu..].copy_from_slice(&a);
+        Ok(())
+    }
+
     /// Back to qpos0, zero velocity, zero control, time 0.
     fn reset(&mut self, py: Python<'_>) -> PyResult<()> {
         self.qpos.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&self.model.qpos0);
@@ -228,7 +239,7 @@ impl PySim {
             let mut fnormal = 0.0;
             let mut ffric = glam::DVec3::ZERO;
             for j in 0..con.len() {
-                if con.source[j] == ci && con.kind[j] != RowKind::Limit {
+                if con.source[j] == ci && con.kind[j].is_contact() {
                     let f = self.data.force.get(j).copied().unwrap_or(0.0) * per_force;
                     match con.kind[j] {
                         RowKind::Normal => fnormal = f,

@@ -6,7 +6,7 @@
 use glam::DVec3;
 
 use crate::math::{Force, Motion};
-use crate::model::{FrictionModel, JointType, Model, WORLD};
+use crate::model::{Actuation, FrictionModel, JointType, Model, WORLD};
 
 use super::aba::AbaData;
 use super::collision::Contact;
@@ -25,6 +25,20 @@ pub enum RowKind {
     },
     /// Joint limit: torque pushes away from the limit.
     Limit,
+    /// Motion control (trajectory following): one of a ± pair of rows on an actuated joint that
+    /// together make its acceleration equal the desired one, the torque bounded by the motor's
+    /// limit when `bounded` (Kokkevis 2004, §8.3).
+    Motion {
+        /// Whether |torque| ≤ the actuator's limit.
+        bounded: bool,
+    },
+}
+
+impl RowKind {
+    /// Contact rows (normal and friction), as opposed to joint rows (limits, motion control).
+    pub fn is_contact(self) -> bool {
+        matches!(self, RowKind::Normal | RowKind::Tangent { .. })
+    }
 }
 
 /// Velocity below which a contact counts as approaching and triggers the impact solve (m/s).
@@ -51,6 +65,10 @@ pub struct ConstraintData {
     pub mu: Vec<f64>,
     /// Relative velocity along the row.
     pub vel: Vec<f64>,
+    /// Desired acceleration along the row (motion-control rows).
+    pub desired: Vec<f64>,
+    /// Largest force of a bounded motion-control row.
+    pub cap: Vec<f64>,
     /// Signed distance (normal and limit rows).
     pub dist: Vec<f64>,
     /// Source contact index (contacts) or joint (limits).
@@ -99,6 +117,8 @@ impl ConstraintData {
         self.dof.clear();
         self.mu.clear();
         self.vel.clear();
+        self.desired.clear();
+        self.cap.clear();
         self.dist.clear();
         self.source.clear();
         self.mirror.clear();
@@ -112,6 +132,8 @@ impl ConstraintData {
         self.dof.push(dof);
         self.mu.push(mu);
         self.vel.push(0.0);
+        self.desired.push(0.0);
+        self.cap.push(f64::INFINITY);
         self.dist.push(0.0);
         self.source.push(source);
         self.mirror.push(usize::MAX);
@@ -127,13 +149,18 @@ fn point_vel(kin: &KinData, n: usize, r: DVec3) -> DVec3 {
     if n == WORLD { DVec3::ZERO } else { kin.node_rot[n] * kin.v[n].point_velocity(r) }
 }
 
-/// Builds the rows for `contacts` and active limits. `tangent_for(i, n, v_t)` picks the friction
+/// Builds the rows for `contacts`, active limits and, when the actuation is trajectory following,
+/// motion control of every actuated joint toward `ctrl` (position targets) with feed-forward
+/// velocity and acceleration `feedforward` (2 × nu). `tangent_for(i, n, v_t)` picks the friction
 /// direction of contact i (the caller handles sliding, persistence and the seeded random choice).
+#[allow(clippy::too_many_arguments)]
 pub fn rows(
     m: &Model,
     kin: &KinData,
     qpos: &[f64],
     qvel: &[f64],
+    ctrl: &[f64],
+    feedforward: &[f64],
     contacts: &[Contact],
     mut tangent_for: impl FnMut(usize, DVec3, DVec3) -> DVec3,
     out: &mut ConstraintData,
@@ -188,6 +215,25 @@ pub fn rows(
             }
         }
     }
+    if let Actuation::Trajectory { kp, kd } = m.opt.actuation {
+        for a in 0..m.nu {
+            let j = m.actuator_jnt[a];
+            let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
+            // q̈^d = q̈_ref + kd (q̇_ref − q̇) + kp (q_ref − q)
+            let ad = feedforward[m.nu + a] + kd * (feedforward[a] - qvel[da]) + kp * (ctrl[a] - qpos[qa]);
+            let limit = m.actuator_ctrllimited[a].then(|| m.actuator_gear[a].abs() * m.actuator_ctrlrange[a][0].abs().max(m.actuator_ctrlrange[a][1].abs()));
+            for sign in [1.0, -1.0] {
+                let r = out.len();
+                out.push(RowKind::Motion { bounded: limit.is_some() }, [WORLD, WORLD], [DVec3::ZERO; 2], DVec3::ZERO, (da, sign), 0.0, a);
+                out.vel[r] = sign * qvel[da];
+                out.desired[r] = sign * ad;
+                out.cap[r] = limit.unwrap_or(f64::INFINITY);
+                if sign < 0.0 {
+                    out.mirror[r] = r - 1;
+                }
+            }
+        }
+    }
 }
 
 /// Fills K (by test forces), Δq̈ per unit force, and b from the ABA outward-pass accelerations
@@ -222,7 +268,7 @@ pub fn assemble(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], out: &mu
         }
         let mut dtau = None;
         match out.kind[k] {
-            RowKind::Limit => dtau = Some(out.dof[k]),
+            RowKind::Limit | RowKind::Motion { .. } => dtau = Some(out.dof[k]),
             _ => {
                 for side in 0..2 {
                     let n = out.node[k][side];
@@ -250,7 +296,7 @@ enum Measure<'a> {
 /// Acceleration of row j: from the actual accelerations (b, with velocity-product and gravity
 /// terms) or from the delta accelerations of column `col` (a K entry).
 fn measure(m: &Model, kin: &KinData, cd: &ConstraintData, j: usize, what: Measure) -> f64 {
-    if cd.kind[j] == RowKind::Limit {
+    if !cd.kind[j].is_contact() {
         let (dof, sign) = cd.dof[j];
         return sign
             * match what {

@@ -42,6 +42,8 @@ pub fn applied(m: &Model, qpos: &[f64], qvel: &[f64], ctrl: &[f64], tau: &mut [f
         let mut u = match m.opt.actuation {
             Actuation::Motor => ctrl[a],
             Actuation::Pd { kp, kd } => kp * (ctrl[a] - qpos[m.jnt_qposadr[m.actuator_jnt[a]]]) - kd * qvel[dof],
+            // the motion-control rows supply the torque
+            Actuation::Trajectory { .. } => continue,
         };
         if m.actuator_ctrllimited[a] {
             let [lo, hi] = m.actuator_ctrlrange[a];

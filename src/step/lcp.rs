@@ -270,7 +270,14 @@ pub enum Role {
         /// Friction coefficient.
         mu: f64,
     },
-    /// The auxiliary λ of eq. (21).
+    /// A force bounded by the constant `cap`, whose slack variable is `lambda`.
+    Bounded {
+        /// The slack variable.
+        lambda: usize,
+        /// Largest force.
+        cap: f64,
+    },
+    /// The auxiliary λ of eq. (21), or the slack of a bounded force.
     Lambda,
 }
 
@@ -294,12 +301,13 @@ fn pgs(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64]) -> bool {
                     let cap = (mu * z[normal] - others).max(0.0);
                     z[i] = (z[i] - w_of(z, i) / d).clamp(0.0, cap);
                 }
+                Role::Bounded { cap, .. } => z[i] = (z[i] - w_of(z, i) / d).clamp(0.0, cap),
                 Role::Lambda => {}
             }
         }
     }
     for i in 0..n {
-        if let Role::Friction { lambda, .. } = role[i] {
+        if let Role::Friction { lambda, .. } | Role::Bounded { lambda, .. } = role[i] {
             z[lambda] = z[lambda].max(-w_of(z, i));
         }
     }

@@ -42,7 +42,7 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
     // 2. contacts of this configuration
     collision::collide(m, &data.kin, &mut data.coll);
     // 3. constraint rows: contacts (normal + friction) and active limits
-    build_rows(m, data, qpos, qvel);
+    build_rows(m, data, qpos, qvel, ctrl);
     if data.con.is_empty() {
         // nothing to constrain: the plain step
         data.force.clear();
@@ -77,7 +77,7 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
         solve_rows(m, data, Level::Velocity);
         apply(m, data, qvel, 1.0);
         evaluate(m, data, qpos, qvel, ctrl, h);
-        build_rows(m, data, qpos, qvel);
+        build_rows(m, data, qpos, qvel, ctrl);
         constraint::assemble(m, &data.kin, &data.aba, &data.qacc, &mut data.con);
     }
     // 7. constraint forces at the acceleration level, added to q̈
@@ -92,14 +92,16 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
     *time += h;
 }
 
-fn build_rows(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) {
-    let Data { kin, coll, con, tangents, tangents_next, rng, .. } = data;
+fn build_rows(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) {
+    let Data { kin, coll, con, tangents, tangents_next, rng, feedforward, .. } = data;
     tangents_next.clear();
     constraint::rows(
         m,
         kin,
         qpos,
         qvel,
+        ctrl,
+        feedforward,
         &coll.contacts,
         |ci, n, vt| {
             let c = &coll.contacts[ci];
@@ -137,7 +139,7 @@ fn random_tangent(state: &mut u64, n: DVec3) -> DVec3 {
 /// needImpact (Kokkevis 2004, §8.1): a contact or limit approaching fast enough to close within this step.
 fn needs_impact(con: &constraint::ConstraintData, h: f64) -> bool {
     (0..con.len()).any(|j| {
-        !matches!(con.kind[j], RowKind::Tangent { .. }) && approaching(con.vel[j], con.dist[j], con.vel[j] + h * con.b[j], h)
+        matches!(con.kind[j], RowKind::Normal | RowKind::Limit) && approaching(con.vel[j], con.dist[j], con.vel[j] + h * con.b[j], h)
     })
 }
 
@@ -162,16 +164,20 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
     let h = m.opt.timestep;
     let con = &data.con;
     let nr = con.len();
-    // one λ per contact with friction rows, shared by them (eq. 21 sums their forces)
+    // one λ per contact with friction rows, shared by them (eq. 21 sums their forces), and one σ
+    // per torque-bounded motion-control row (the same pattern with a constant bound)
     data.lcp_lambda.clear();
     data.lcp_lambda.resize(nr, usize::MAX);
     let mut n = nr;
     for j in 0..nr {
-        if let RowKind::Tangent { normal } = con.kind[j] {
-            if data.lcp_lambda[normal] == usize::MAX {
-                data.lcp_lambda[normal] = n;
-                n += 1;
-            }
+        let owner = match con.kind[j] {
+            RowKind::Tangent { normal } => normal,
+            RowKind::Motion { bounded: true } => j,
+            _ => continue,
+        };
+        if data.lcp_lambda[owner] == usize::MAX {
+            data.lcp_lambda[owner] = n;
+            n += 1;
         }
     }
     data.lcp_m.clear();
@@ -191,6 +197,10 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
         let (vel, dist) = (con.vel[j], con.dist[j]);
         // desired values: acceleration a^d, or velocity change Δv^d for impacts
         let desired = match (con.kind[j], level) {
+            // motion control: the trajectory's acceleration; impacts leave the joint's velocity alone
+            (RowKind::Motion { .. }, Level::Acceleration) => con.desired[j],
+            (RowKind::Motion { .. }, Level::Velocity) => 0.0,
+            (RowKind::Motion { .. }, Level::TimeStep) => h * (con.desired[j] - con.b[j]),
             (RowKind::Tangent { .. }, Level::Acceleration) => -vel / h,
             (RowKind::Tangent { .. }, Level::Velocity) => -vel,
             // time stepping: end-of-step velocity v⁺ (tangents: 0; normals: close the gap or remove
@@ -227,15 +237,30 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
             Level::Acceleration => con.b[j] - desired,
             Level::Velocity | Level::TimeStep => -desired,
         };
-        if let RowKind::Tangent { normal } = con.kind[j] {
-            // (20): (a_t − a_t^d) + λ ≥ 0;  (21): μ f_n − Σ f_t ≥ 0 ⟂ λ ≥ 0
-            let lam = data.lcp_lambda[normal];
-            mm[j * n + lam] = 1.0;
-            mm[lam * n + normal] = con.mu[j];
-            mm[lam * n + j] = -1.0;
-            data.lcp_role[j] = lcp::Role::Friction { normal, lambda: lam, mu: con.mu[j] };
-        } else {
-            data.lcp_role[j] = lcp::Role::Normal;
+        match con.kind[j] {
+            RowKind::Tangent { normal } => {
+                // (20): (a_t − a_t^d) + λ ≥ 0;  (21): μ f_n − Σ f_t ≥ 0 ⟂ λ ≥ 0
+                let lam = data.lcp_lambda[normal];
+                mm[j * n + lam] = 1.0;
+                mm[lam * n + normal] = con.mu[j];
+                mm[lam * n + j] = -1.0;
+                data.lcp_role[j] = lcp::Role::Friction { normal, lambda: lam, mu: con.mu[j] };
+            }
+            RowKind::Motion { bounded: true } => {
+                // (a − a^d) + σ ≥ 0 ⟂ f ≥ 0;  f_max − f ≥ 0 ⟂ σ ≥ 0, f_max a force (an impulse per step
+                // when time stepping, none during an impact)
+                let sigma = data.lcp_lambda[j];
+                let cap = con.cap[j] * match level {
+                    Level::Acceleration => 1.0,
+                    Level::TimeStep => h,
+                    Level::Velocity => 0.0,
+                };
+                mm[j * n + sigma] = 1.0;
+                mm[sigma * n + j] = -1.0;
+                q[sigma] = cap;
+                data.lcp_role[j] = lcp::Role::Bounded { lambda: sigma, cap };
+            }
+            _ => data.lcp_role[j] = lcp::Role::Normal,
         }
     }
     // warm start: the rows are the same contacts, features and limits as last step's
@@ -263,6 +288,7 @@ fn row_key(data: &Data, j: usize) -> (u8, usize, usize, usize, usize) {
     let con = &data.con;
     match con.kind[j] {
         RowKind::Limit => (0, con.source[j], 0, 0, (con.dof[j].1 > 0.0) as usize),
+        RowKind::Motion { .. } => (2, con.source[j], 0, 0, (con.dof[j].1 > 0.0) as usize),
         kind => {
             let c = &data.coll.contacts[con.source[j]];
             let within = match kind {

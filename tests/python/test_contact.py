@@ -138,3 +138,40 @@ def test_painleve_rod_ends_finite_without_gaining_energy(mode, dt):
     assert np.isfinite(sim.get_state()).all()
     assert worst <= 1e-9 * e0
     assert sim.constraint_stats["fallback_zero"] == 0
+
+
+ARM = """<mujoco><option timestep="{dt}"/><worldbody><body><joint name="j" axis="0 1 0"/>
+<geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.05"/><body pos="0.5 0 0"><joint name="k" axis="0 1 0"/>
+<geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.05"/></body></body></worldbody>
+<actuator><motor joint="j" gear="1" ctrlrange="{lim}"/><motor joint="k" gear="1" ctrllimited="false"/></actuator></mujoco>"""
+
+
+@pytest.mark.parametrize("mode", ["acceleration", "velocity"])
+@pytest.mark.parametrize("dt", [0.002, 0.01])
+def test_motion_control_rows_track_a_sinusoid(dt, mode):
+    """Dead-beat gains kp = 1/h², kd = 1/h with the reference one step ahead: semi-implicit Euler
+    lands on the trajectory every step (the row's torque is whatever that takes)."""
+    m = sinew.Model.from_mjcf_string(ARM.format(dt=dt, lim="-1e6 1e6"))
+    m = m.with_options(trajectory_gains=(1 / dt**2, 1 / dt), constraint_mode=mode)
+    sim = sinew.Sim(m)
+    ref = lambda t: np.array([0.5 * np.sin(2 * t), 0.3 * np.sin(3 * t)])  # noqa: E731
+    worst = 0.0
+    for _ in range(int(3 / dt)):
+        sim.ctrl[:] = ref(sim.time + dt)
+        sim.step()
+        worst = max(worst, np.abs(sim.qpos - ref(sim.time)).max())
+    assert worst <= 1e-6
+
+
+def test_torque_bounded_motion_control_saturates_at_the_motor_limit():
+    m = sinew.Model.from_mjcf_string(ARM.format(dt=0.002, lim="-2 2")).with_options(trajectory_gains=(400.0, 40.0))
+    b = sinew.Batch(m, 1)
+    b.ctrl[0] = [1.5, 0.0]  # far target: the first joint's torque must saturate
+    torques = []
+    for _ in range(200):
+        b.step()
+        torques.append(b.qfrc_constraint[0, 0])
+    torques = np.array(torques)
+    assert np.abs(torques).max() <= 2 + 1e-9
+    assert np.isclose(np.abs(torques), 2).any()
+    assert b.qpos[0, 0] < 1.5  # it cannot follow the commanded acceleration

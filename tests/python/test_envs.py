@@ -228,8 +228,9 @@ def test_sb3_adapter_reports_terminal_observations():
     assert seen > 0
 
 
-def test_pd_action_mode_targets_joint_positions():
-    env = gym.make("sinew/Hopper-v0", action_mode="pd")
+@pytest.mark.parametrize("mode", ["pd", "trajectory"])
+def test_position_action_modes_target_joint_positions(mode):
+    env = gym.make("sinew/Hopper-v0", action_mode=mode)
     m = env.unwrapped.model
     np.testing.assert_allclose(env.action_space.low, m.jnt_range[3:, 0].astype(np.float32))
     np.testing.assert_allclose(env.action_space.high, m.jnt_range[3:, 1].astype(np.float32))
