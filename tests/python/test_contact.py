@@ -175,3 +175,19 @@ def test_torque_bounded_motion_control_saturates_at_the_motor_limit():
     assert np.abs(torques).max() <= 2 + 1e-9
     assert np.isclose(np.abs(torques), 2).any()
     assert b.qpos[0, 0] < 1.5  # it cannot follow the commanded acceleration
+
+
+@pytest.mark.parametrize("mode", ["acceleration", "velocity"])
+@pytest.mark.parametrize("boxes", [1, 2, 4])
+def test_redundant_coplanar_contacts_carry_exactly_the_weight(boxes, mode):
+    """4, 8 and 16 coplanar corner contacts under one body: the normal impulse per step is m g h."""
+    geoms = "".join(f'<geom type="box" size="0.1 0.1 0.1" pos="{0.2 * i} 0 0" mass="{1.0 / boxes}"/>' for i in range(boxes))
+    xml = f"""<mujoco><option timestep="0.002"/><worldbody><geom type="plane" size="5 5 .1"/>
+    <body pos="0 0 0.1"><freejoint/>{geoms}</body></worldbody></mujoco>"""
+    sim = sinew.Sim(sinew.Model.from_mjcf_string(xml).with_options(constraint_mode=mode))
+    sim.step(100)
+    assert len(sim.contacts) == 4 * boxes
+    total = sum(c["normal_force"] for c in sim.contacts) * 0.002
+    assert total == pytest.approx(1.0 * 9.81 * 0.002, rel=1e-9)
+    stats = sim.constraint_stats
+    assert stats["fallback_pgs"] == 0 and stats["fallback_zero"] == 0
