@@ -273,6 +273,7 @@ impl PySim {
         d.set_item("pivots", s.pivots)?;
         d.set_item("warm_starts", s.warm_starts)?;
         d.set_item("fallback_pgs", s.fallback_pgs)?;
+        d.set_item("inexact", s.inexact)?;
         d.set_item("fallback_zero", s.fallback_zero)?;
         d.set_item("residual", s.residual)?;
         d.set_item("impacts", self.data.impacts)?;

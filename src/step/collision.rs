@@ -1,9 +1,10 @@
 //! Stage 2 — collision detection: contact points for the current configuration.
 //!
-//! Pairs: plane–{sphere, capsule, box}, sphere–sphere, sphere–capsule, capsule–capsule. Cylinders
-//! collide as capsules of the same radius and half-length, ellipsoids as spheres of their largest
-//! semi-axis (documented approximations). Other pairs (box–box, sphere–box, capsule–box) are not
-//! detected yet. Filtering follows MuJoCo: contype/conaffinity bits, no contact within a body or
+//! Pairs: plane–{sphere, capsule, box}, sphere–sphere, sphere–capsule, capsule–capsule, sphere–box
+//! (exact), capsule–box (the segment's ends and its point nearest the box, as spheres) and box–box
+//! (each box's corners against the other box: face–vertex contacts; edge–edge crossings are not
+//! detected). Cylinders collide as capsules of the same radius and half-length, ellipsoids as
+//! spheres of their largest semi-axis (documented approximations). Filtering follows MuJoCo: contype/conaffinity bits, no contact within a body or
 //! between a body and its parent (unless the parent is the world), `<exclude>` pairs, and a
 //! bounding-sphere broadphase. Friction is the maximum of the pair's, as MuJoCo's default.
 //! Detection is speculative: a pair within its margin plus the distance its geoms can cover in one
@@ -211,8 +212,95 @@ fn pair(m: &Model, cd: &mut CollisionData, i: usize, j: usize, margin: f64) {
                 add(cd, g1, g2, 0, pos, n, d);
             }
         }
+        (Shape::Sphere { c, r }, Shape::Box { c: bc, rot, half }) => {
+            let (n, d) = point_box(c, bc, rot, half, c - bc);
+            add(cd, g1, g2, 0, c - n * (r + 0.5 * (d - r)), n, d - r);
+        }
+        (Shape::Box { c: bc, rot, half }, Shape::Sphere { c, r }) => {
+            let (n, d) = point_box(c, bc, rot, half, c - bc);
+            add(cd, g1, g2, 0, c - n * (r + 0.5 * (d - r)), -n, d - r);
+        }
+        (Shape::Segment { a, b, r }, Shape::Box { c: bc, rot, half }) => {
+            for (k, p) in segment_box_points(a, b, bc, rot, half).into_iter().enumerate().filter(|&(k, p)| k < 2 || (p.distance(a) > 1e-9 && p.distance(b) > 1e-9)) {
+                let (n, d) = point_box(p, bc, rot, half, (a + b) * 0.5 - bc);
+                add(cd, g1, g2, k, p - n * (r + 0.5 * (d - r)), n, d - r);
+            }
+        }
+        (Shape::Box { c: bc, rot, half }, Shape::Segment { a, b, r }) => {
+            for (k, p) in segment_box_points(a, b, bc, rot, half).into_iter().enumerate().filter(|&(k, p)| k < 2 || (p.distance(a) > 1e-9 && p.distance(b) > 1e-9)) {
+                let (n, d) = point_box(p, bc, rot, half, (a + b) * 0.5 - bc);
+                add(cd, g1, g2, k, p - n * (r + 0.5 * (d - r)), -n, d - r);
+            }
+        }
+        (Shape::Box { c: c1, rot: r1, half: h1 }, Shape::Box { c: c2, rot: r2, half: h2 }) => {
+            // corners of box 1 against box 2 push box 1 out (+n); corners of box 2 push it out of box 1
+            for k in 0..8 {
+                let p = corner(c1, r1, h1, k);
+                let (n, d) = point_box(p, c2, r2, h2, c1 - c2);
+                add(cd, g1, g2, k, p - n * (0.5 * d), n, d);
+            }
+            for k in 0..8 {
+                let p = corner(c2, r2, h2, k);
+                let (n, d) = point_box(p, c1, r1, h1, c2 - c1);
+                // equal faces meeting: box 2's corners repeat box 1's, keep one of each
+                let pos = p - n * (0.5 * d);
+                let tol = 1e-9 * (h1.max_element() + h2.max_element());
+                let repeat = cd.contacts.iter().rev().take_while(|c| c.geom1 == g1 && c.geom2 == g2).any(|c| c.pos.distance(pos) <= tol && c.normal.dot(-n) > 1.0 - 1e-12);
+                if !repeat {
+                    add(cd, g1, g2, 8 + k, pos, -n, d);
+                }
+            }
+        }
         _ => {}
     }
+}
+
+/// Corner `k` (bits: x, y, z sign) of a box.
+fn corner(c: DVec3, rot: DMat3, half: DVec3, k: usize) -> DVec3 {
+    let s = |bit: usize| if k & bit == 0 { -1.0 } else { 1.0 };
+    c + rot * DVec3::new(s(1) * half.x, s(2) * half.y, s(4) * half.z)
+}
+
+/// Signed distance of point `p` from a box and the unit normal pointing from the box toward `p`.
+/// Inside (or on) the box it leaves through the face of least penetration; faces tied within
+/// round-off (a corner resting exactly on an edge) are decided by `hint`, a world direction from
+/// the box toward whatever `p` belongs to.
+fn point_box(p: DVec3, c: DVec3, rot: DMat3, half: DVec3, hint: DVec3) -> (DVec3, f64) {
+    let local = rot.transpose() * (p - c);
+    let q = local.abs() - half;
+    let tol = 1e-9 * half.max_element();
+    if q.max_element() > tol {
+        let closest = local.clamp(-half, half);
+        let d = local - closest;
+        let len = d.length();
+        return (rot * (d / len), len);
+    }
+    let h = rot.transpose() * hint;
+    let top = q.max_element();
+    let mut axis = 0;
+    let mut best = f64::NEG_INFINITY;
+    for k in 0..3 {
+        let score = h[k].abs() / half[k];
+        if q[k] >= top - tol && score > best {
+            best = score;
+            axis = k;
+        }
+    }
+    let mut n = DVec3::ZERO;
+    n[axis] = if local[axis] >= 0.0 { 1.0 } else { -1.0 };
+    (rot * n, q[axis].min(0.0))
+}
+
+/// Points of segment [a, b] to test against a box as sphere centres: both ends and the segment
+/// point nearest the box (alternating projections between segment and box).
+fn segment_box_points(a: DVec3, b: DVec3, c: DVec3, rot: DMat3, half: DVec3) -> [DVec3; 3] {
+    let mut p = closest_on_segment(a, b, c);
+    for _ in 0..8 {
+        let local = rot.transpose() * (p - c);
+        let on_box = c + rot * local.clamp(-half, half);
+        p = closest_on_segment(a, b, on_box);
+    }
+    [a, b, p]
 }
 
 /// Contact between two spheres: (point, normal from 2 to 1, signed distance).

@@ -19,6 +19,8 @@ pub struct LcpStats {
     pub warm_starts: u64,
     /// Solves that fell back to projected Gauss–Seidel.
     pub fallback_pgs: u64,
+    /// Solves that kept a Lemke solution failing the check because it beat the fallback.
+    pub inexact: u64,
     /// Solves that fell back to zero force.
     pub fallback_zero: u64,
     /// Largest complementarity/feasibility residual of an accepted solution (last solve).
@@ -166,8 +168,8 @@ pub fn residual(n: usize, m: &[f64], q: &[f64], z: &[f64], w: &mut Vec<f64>) -> 
     if worst.is_nan() { f64::INFINITY } else { worst }
 }
 
-/// Solves with the cascade warm start → Lemke → projected Gauss–Seidel → zero; counts the path
-/// in `stats`. `warm`, when given, is the previous step's active set for the same rows: if solving
+/// Solves with the cascade warm start → Lemke → projected Gauss–Seidel (or Lemke's inexact answer
+/// when that has the smaller residual) → zero; counts the path in `stats`. `warm`, when given, is the previous step's active set for the same rows: if solving
 /// on it directly passes the independent check, no pivoting is needed (resting contacts).
 #[allow(clippy::too_many_arguments)]
 pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
@@ -185,18 +187,35 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]
             }
         }
     }
+    let mut lemke_res = f64::INFINITY;
     if let Some(p) = lemke(n, m, q, z, work) {
         stats.pivots += p as u64;
         polish(n, m, q, z, work);
-        let res = residual(n, m, q, z, &mut work.w);
-        if res <= ACCEPT_RESIDUAL {
-            stats.residual = res;
+        lemke_res = residual(n, m, q, z, &mut work.w);
+        if lemke_res <= ACCEPT_RESIDUAL {
+            stats.residual = lemke_res;
             return;
         }
     }
-    stats.fallback_pgs += 1;
+    // Lemke failed the check: projected Gauss–Seidel, unless Lemke's answer was the closer one
+    work.trial.clear();
+    work.trial.extend_from_slice(&z[..n]);
     if pgs(n, m, q, role, z) {
-        stats.residual = residual(n, m, q, z, &mut work.w);
+        let pgs_res = residual(n, m, q, z, &mut work.w);
+        if pgs_res <= lemke_res {
+            stats.fallback_pgs += 1;
+            stats.residual = pgs_res;
+        } else {
+            z[..n].copy_from_slice(&work.trial);
+            stats.inexact += 1;
+            stats.residual = lemke_res;
+        }
+        return;
+    }
+    if lemke_res.is_finite() {
+        z[..n].copy_from_slice(&work.trial);
+        stats.inexact += 1;
+        stats.residual = lemke_res;
         return;
     }
     stats.fallback_zero += 1;
