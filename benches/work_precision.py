@@ -31,7 +31,7 @@ DTS = [1e-2, 5e-3, 2e-3, 1e-3, 5e-4]
 def chain_xml(n, dt=0.001, integrator="Euler"):
     body = ""
     for i in range(n):
-        axis = "0 1 0" if i % 2 == 0 else "1 0 0"
+        axis = "0 1 0" if i % 2 == 0 else "0 0 1"
         body += f'<body pos="{0 if i == 0 else 0.2} 0 0"><joint type="hinge" axis="{axis}"/>'
         body += '<geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.02"/>'
     body += "</body>" * n
