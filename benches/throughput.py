@@ -1,7 +1,7 @@
 """Env-steps/s of sinew's native vector env beside EnvPool and gymnasium's SyncVectorEnv of the
 MuJoCo twins, random actions, each task at its v5 frame_skip, on this machine.
 
-    python benches/throughput.py [--num-envs 64] [--steps 200] [--out results/throughput.md]
+    python benches/throughput.py [--num-envs 64] [--steps 1000] [--out results/throughput.md]
 
 sinew runs with 1 and 2 threads (scaling efficiency = rate(2) / (2 · rate(1))); EnvPool with 2
 threads (``num_threads=2``, its v4 envs: same models and frame_skip); SyncVectorEnv is one thread.
@@ -46,7 +46,7 @@ def rate_envpool(name, n, steps, rng):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--num-envs", type=int, default=64)
-    ap.add_argument("--steps", type=int, default=200)
+    ap.add_argument("--steps", type=int, default=1000)
     ap.add_argument("--out", default=None)
     args = ap.parse_args()
     n, steps = args.num_envs, args.steps

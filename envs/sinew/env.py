@@ -98,7 +98,7 @@ class BatchTask:
         self.batch.reset(mask, seeds)
         self.batch.qpos[idx] = qpos
         self.batch.qvel[idx] = qvel
-        self.batch.forward_kinematics()
+        self.batch.forward_kinematics(mask)
 
     def observe(self) -> np.ndarray:
         return self.task.observe(self.view)

@@ -173,18 +173,7 @@ impl PyBatch {
     /// and time; `seeds` (one per reset world, in order) re-seeds their random streams.
     #[pyo3(signature = (mask=None, seeds=None))]
     fn reset(&mut self, py: Python<'_>, mask: Option<Bound<'_, PyAny>>, seeds: Option<Vec<u64>>) -> PyResult<()> {
-        let n = self.inner.len();
-        let chosen: Vec<usize> = match mask {
-            None => (0..n).collect(),
-            Some(mk) => {
-                let arr = as_f64(&mk, "mask")?;
-                if arr.shape() != [n] {
-                    return Err(PyValueError::new_err(format!("mask: expected shape [{n}], got {:?}", arr.shape())));
-                }
-                let v = arr.readonly();
-                v.as_slice()?.iter().enumerate().filter(|(_, x)| **x != 0.0).map(|(i, _)| i).collect()
-            }
-        };
+        let chosen = self.chosen(mask)?;
         if let Some(s) = &seeds {
             if s.len() != chosen.len() {
                 return Err(PyValueError::new_err(format!("seeds: expected {} values, got {}", chosen.len(), s.len())));
@@ -207,9 +196,12 @@ impl PyBatch {
         self.refresh(py, &chosen)
     }
 
-    /// Recomputes `xpos`, `xmat`, `xvel` after qpos/qvel were written from Python.
-    fn forward_kinematics(&mut self, py: Python<'_>) -> PyResult<()> {
-        self.refresh_poses(py)
+    /// Recomputes `xpos`, `xmat`, `xvel` after qpos/qvel were written from Python, for the worlds
+    /// where `mask` is true (all when None).
+    #[pyo3(signature = (mask=None))]
+    fn forward_kinematics(&mut self, py: Python<'_>, mask: Option<Bound<'_, PyAny>>) -> PyResult<()> {
+        let which = self.chosen(mask)?;
+        self.refresh(py, &which)
     }
 
     fn __repr__(&self) -> String {
@@ -218,6 +210,22 @@ impl PyBatch {
 }
 
 impl PyBatch {
+    /// World indices selected by a boolean mask of shape (N,), or all of them.
+    fn chosen(&self, mask: Option<Bound<'_, PyAny>>) -> PyResult<Vec<usize>> {
+        let n = self.inner.len();
+        match mask {
+            None => Ok((0..n).collect()),
+            Some(mk) => {
+                let arr = as_f64(&mk, "mask")?;
+                if arr.shape() != [n] {
+                    return Err(PyValueError::new_err(format!("mask: expected shape [{n}], got {:?}", arr.shape())));
+                }
+                let v = arr.readonly();
+                Ok(v.as_slice()?.iter().enumerate().filter(|(_, x)| **x != 0.0).map(|(i, _)| i).collect())
+            }
+        }
+    }
+
     fn refresh_poses(&mut self, py: Python<'_>) -> PyResult<()> {
         let all: Vec<usize> = (0..self.inner.len()).collect();
         self.refresh(py, &all)
