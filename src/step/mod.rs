@@ -41,7 +41,7 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
     kinematics::forward(m, qpos, qvel, &mut data.kin);
     // 2. contacts of this configuration
     collision::collide(m, &data.kin, &mut data.coll);
-    // 3. constraint rows: contacts (normal + friction) and active limits
+    // 3. constraint rows: contacts (normal + friction), active limits, motion control
     build_rows(m, data, qpos, qvel, ctrl);
     if data.con.is_empty() {
         // nothing to constrain: the plain step
