@@ -105,6 +105,8 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         geom_size: vec![],
         geom_pos: vec![],
         geom_quat: vec![],
+        geom_mat: vec![],
+        geom_rbound: vec![],
         geom_friction: vec![],
         geom_contype: vec![],
         geom_conaffinity: vec![],
@@ -202,6 +204,8 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
             m.geom_size.push(g.size);
             m.geom_pos.push(g.pos);
             m.geom_quat.push(g.quat);
+            m.geom_mat.push(DMat3::from_quat(g.quat));
+            m.geom_rbound.push(crate::step::collision::geom_rbound(g.kind, g.size));
             m.geom_friction.push(g.friction);
             m.geom_contype.push(g.contype);
             m.geom_conaffinity.push(g.conaffinity);

@@ -183,6 +183,10 @@ pub struct Model {
     pub geom_pos: Vec<DVec3>,
     /// Orientation in the body frame (ngeom).
     pub geom_quat: Vec<DQuat>,
+    /// [`Model::geom_quat`] as rotation matrices (ngeom).
+    pub geom_mat: Vec<DMat3>,
+    /// Bounding radius about the geom centre; infinite for planes (ngeom).
+    pub geom_rbound: Vec<f64>,
     /// Friction (sliding, torsional, rolling) (ngeom).
     pub geom_friction: Vec<[f64; 3]>,
     /// Contact type bits (ngeom).

@@ -106,7 +106,7 @@ pub fn collide(m: &Model, kin: &KinData, out: &mut CollisionData) {
     }
     for g in 0..m.ngeom {
         let b = m.geom_body[g];
-        out.geom_xmat[g] = kin.xmat[b] * DMat3::from_quat(m.geom_quat[g]);
+        out.geom_xmat[g] = kin.xmat[b] * m.geom_mat[g];
         out.geom_xpos[g] = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
         let n = m.body_node[b];
         out.geom_speed[g] = if n == WORLD || m.geom_type[g] == GeomType::Plane {
@@ -114,7 +114,7 @@ pub fn collide(m: &Model, kin: &KinData, out: &mut CollisionData) {
         } else {
             let v = kin.v[n];
             let centre = kin.node_rot[n].transpose() * (out.geom_xpos[g] - kin.node_pos[n]);
-            v.point_velocity(centre).length() + v.ang.length() * geom_rbound(m.geom_type[g], m.geom_size[g])
+            v.point_velocity(centre).length() + v.ang.length() * m.geom_rbound[g]
         };
     }
     let h = m.opt.timestep;
@@ -124,7 +124,7 @@ pub fn collide(m: &Model, kin: &KinData, out: &mut CollisionData) {
         // (h²|g| covers a body starting to fall from rest)
         let reach = h * (out.geom_speed[i] + out.geom_speed[j]) + h * h * m.opt.gravity.length();
         let margin = m.geom_margin[i].max(m.geom_margin[j]) + reach;
-        let (ri, rj) = (geom_rbound(m.geom_type[i], m.geom_size[i]), geom_rbound(m.geom_type[j], m.geom_size[j]));
+        let (ri, rj) = (m.geom_rbound[i], m.geom_rbound[j]);
         if ri.is_finite() && rj.is_finite() && out.geom_xpos[i].distance(out.geom_xpos[j]) > ri + rj + margin {
             continue;
         }
