@@ -159,8 +159,9 @@ fn pair(m: &Model, cd: &mut CollisionData, i: usize, j: usize, margin: f64) {
     let mu = m.geom_friction[i][0].max(m.geom_friction[j][0]);
     let friction = m.geom_condim[i] > 1 && m.geom_condim[j] > 1;
     let add = |cd: &mut CollisionData, g1: usize, g2: usize, feature: usize, pos: DVec3, normal: DVec3, dist: f64| {
-        if dist <= margin && cd.contacts.len() < MAX_CONTACTS {
-            cd.contacts.push(Contact { geom1: g1, geom2: g2, feature, pos, normal, dist, mu, friction });
+        let c = Contact { geom1: g1, geom2: g2, feature, pos, normal, dist, mu, friction };
+        if dist <= margin && cd.contacts.len() < MAX_CONTACTS && !repeats_joint_contact(m, &cd.contacts, &c) {
+            cd.contacts.push(c);
         }
     };
     // order so that a plane, if any, is geom2 (the normal then points out of the plane)
@@ -253,6 +254,21 @@ fn pair(m: &Model, cd: &mut CollisionData, i: usize, j: usize, margin: f64) {
         }
         _ => {}
     }
+}
+
+/// Whether `c` repeats a contact of the parent or child body at the same point with the same
+/// normal against the same geom, as where two capsules meet at a joint touch the floor together.
+/// The joint's anchor moves with both bodies, so the two rows would be identical and K singular.
+fn repeats_joint_contact(m: &Model, contacts: &[Contact], c: &Contact) -> bool {
+    let b = m.geom_body[c.geom1];
+    let tol = 1e-9 * m.geom_rbound[c.geom1];
+    contacts.iter().any(|o| {
+        let ob = m.geom_body[o.geom1];
+        o.geom2 == c.geom2
+            && (m.body_parent[ob] == b || m.body_parent[b] == ob)
+            && o.pos.distance(c.pos) <= tol
+            && o.normal.dot(c.normal) > 1.0 - 1e-12
+    })
 }
 
 /// Corner `k` (bits: x, y, z sign) of a box.

@@ -57,6 +57,9 @@ pub struct ConstraintData {
     pub node: Vec<[usize; 2]>,
     /// Point of application in each side's node coordinates.
     pub point: Vec<[DVec3; 2]>,
+    /// Jacobian row per side, as the spatial force a unit row force applies to that side's node
+    /// (node coordinates): the row's velocity is Σ v_n · jac and a test force is −jac.
+    pub jac: Vec<[Force; 2]>,
     /// Force direction in world coordinates (contacts).
     pub dir: Vec<DVec3>,
     /// Dof and sign (limits).
@@ -113,6 +116,7 @@ impl ConstraintData {
         self.kind.clear();
         self.node.clear();
         self.point.clear();
+        self.jac.clear();
         self.dir.clear();
         self.dof.clear();
         self.mu.clear();
@@ -128,6 +132,7 @@ impl ConstraintData {
         self.kind.push(kind);
         self.node.push(node);
         self.point.push(point);
+        self.jac.push([Force::ZERO; 2]);
         self.dir.push(dir);
         self.dof.push(dof);
         self.mu.push(mu);
@@ -147,6 +152,20 @@ fn node_of_geom(m: &Model, g: usize) -> usize {
 /// World velocity of the point with node coordinates `r` on node `n`.
 fn point_vel(kin: &KinData, n: usize, r: DVec3) -> DVec3 {
     if n == WORLD { DVec3::ZERO } else { kin.node_rot[n] * kin.v[n].point_velocity(r) }
+}
+
+/// The contact row's spatial forces on its two nodes per unit force along world direction `dir`
+/// (+dir on side 1, −dir on side 2), in node coordinates.
+fn jacobian(kin: &KinData, nodes: [usize; 2], pts: [DVec3; 2], dir: DVec3) -> [Force; 2] {
+    let mut jac = [Force::ZERO; 2];
+    for side in 0..2 {
+        let n = nodes[side];
+        if n != WORLD {
+            let sgn = if side == 0 { 1.0 } else { -1.0 };
+            jac[side] = Force::at_point(pts[side], kin.node_rot[n].transpose() * dir * sgn);
+        }
+    }
+    jac
 }
 
 /// Builds the rows for `contacts`, active limits and, when the actuation is trajectory following,
@@ -175,6 +194,7 @@ pub fn rows(
         let normal_row = out.len();
         out.push(RowKind::Normal, nodes, pts, c.normal, (0, 0.0), c.mu, ci);
         out.vel[normal_row] = c.normal.dot(vrel);
+        out.jac[normal_row] = jacobian(kin, nodes, pts, c.normal);
         out.dist[normal_row] = c.dist;
         if c.friction && c.mu > 0.0 {
             let vt = vrel - c.normal * c.normal.dot(vrel);
@@ -190,6 +210,7 @@ pub fn rows(
                 let r = out.len();
                 out.push(RowKind::Tangent { normal: normal_row }, nodes, pts, d, (0, 0.0), c.mu, ci);
                 out.vel[r] = d.dot(vrel);
+                out.jac[r] = jacobian(kin, nodes, pts, d);
                 if k % 2 == 1 {
                     out.mirror[r] = r - 1;
                 }
@@ -217,10 +238,8 @@ pub fn rows(
     }
     if let Actuation::Trajectory { kp, kd } = m.opt.actuation {
         for a in 0..m.nu {
-            let j = m.actuator_jnt[a];
-            let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
-            // q̈^d = q̈_ref + kd (q̇_ref − q̇) + kp (q_ref − q)
-            let ad = feedforward[m.nu + a] + kd * (feedforward[a] - qvel[da]) + kp * (ctrl[a] - qpos[qa]);
+            let da = m.jnt_dofadr[m.actuator_jnt[a]];
+            let ad = motion_target(m, a, kp, kd, qpos, qvel, ctrl, feedforward);
             let limit = m.actuator_ctrllimited[a].then(|| m.actuator_gear[a].abs() * m.actuator_ctrlrange[a][0].abs().max(m.actuator_ctrlrange[a][1].abs()));
             for sign in [1.0, -1.0] {
                 let r = out.len();
@@ -233,6 +252,35 @@ pub fn rows(
                 }
             }
         }
+    }
+}
+
+/// Desired acceleration of actuator a's joint: q̈^d = q̈_ref + kd (q̇_ref − q̇) + kp (q_ref − q).
+#[allow(clippy::too_many_arguments)]
+fn motion_target(m: &Model, a: usize, kp: f64, kd: f64, qpos: &[f64], qvel: &[f64], ctrl: &[f64], feedforward: &[f64]) -> f64 {
+    let j = m.actuator_jnt[a];
+    let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
+    feedforward[m.nu + a] + kd * (feedforward[a] - qvel[da]) + kp * (ctrl[a] - qpos[qa])
+}
+
+/// After an impulse has changed the velocities but not the configuration: the rows' velocities,
+/// motion-control targets and b at the new velocities, with the ABA of the new state. K and Δq̈
+/// depend on the configuration only and are kept.
+#[allow(clippy::too_many_arguments)]
+pub fn refresh(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f64], ctrl: &[f64], feedforward: &[f64], qacc0: &[f64], out: &mut ConstraintData) {
+    for j in 0..out.len() {
+        out.vel[j] = match out.kind[j] {
+            RowKind::Normal | RowKind::Tangent { .. } => {
+                let [n0, n1] = out.node[j];
+                let side = |n: usize, s: usize| if n == WORLD { 0.0 } else { kin.v[n].dot(&out.jac[j][s]) };
+                side(n0, 0) + side(n1, 1)
+            }
+            RowKind::Limit | RowKind::Motion { .. } => out.dof[j].1 * qvel[out.dof[j].0],
+        };
+        if let (RowKind::Motion { .. }, Actuation::Trajectory { kp, kd }) = (out.kind[j], m.opt.actuation) {
+            out.desired[j] = out.dof[j].1 * motion_target(m, out.source[j], kp, kd, qpos, qvel, ctrl, feedforward);
+        }
+        out.b[j] = measure(m, kin, out, j, Measure::Actual { aba, qacc0 });
     }
 }
 
@@ -272,12 +320,9 @@ pub fn assemble(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], out: &mu
             _ => {
                 for side in 0..2 {
                     let n = out.node[k][side];
-                    if n == WORLD {
-                        continue;
+                    if n != WORLD {
+                        out.dpa[n] -= out.jac[k][side];
                     }
-                    let sgn = if side == 0 { 1.0 } else { -1.0 };
-                    let d = kin.node_rot[n].transpose() * out.dir[k] * sgn;
-                    out.dpa[n] -= Force::at_point(out.point[k][side], d);
                 }
             }
         }
@@ -304,26 +349,32 @@ fn measure(m: &Model, kin: &KinData, cd: &ConstraintData, j: usize, what: Measur
                 Measure::Delta { col } => cd.dqdd[col * m.nv + dof],
             };
     }
+    let aba = match what {
+        // a delta acceleration of the point, projected: Σ_sides δa_n · jac
+        Measure::Delta { .. } => {
+            let [n0, n1] = cd.node[j];
+            let mut acc = 0.0;
+            if n0 != WORLD {
+                acc += cd.da[n0].dot(&cd.jac[j][0]);
+            }
+            if n1 != WORLD {
+                acc += cd.da[n1].dot(&cd.jac[j][1]);
+            }
+            return acc;
+        }
+        Measure::Actual { aba, .. } => aba,
+    };
     let mut acc = DVec3::ZERO;
     for side in 0..2 {
         let n = cd.node[j][side];
         if n == WORLD {
             continue;
         }
+        // classical acceleration of a body point: a_O + α × r + ω × v_r; ABA's accelerations
+        // carry the fictitious −g of the base, added back here
         let r = cd.point[j][side];
-        let local = match what {
-            // classical acceleration of a body point: a_O + α × r + ω × v_r; ABA's accelerations
-            // carry the fictitious −g of the base, added back here
-            Measure::Actual { aba, .. } => {
-                let (a, v) = (aba.a[n], kin.v[n]);
-                a.lin + a.ang.cross(r) + v.ang.cross(v.point_velocity(r))
-            }
-            Measure::Delta { .. } => cd.da[n].lin + cd.da[n].ang.cross(r),
-        };
-        let mut world = kin.node_rot[n] * local;
-        if matches!(what, Measure::Actual { .. }) {
-            world += m.opt.gravity;
-        }
+        let (a, v) = (aba.a[n], kin.v[n]);
+        let world = kin.node_rot[n] * (a.lin + a.ang.cross(r) + v.ang.cross(v.point_velocity(r))) + m.opt.gravity;
         acc += if side == 0 { world } else { -world };
     }
     cd.dir[j].dot(acc)
@@ -343,10 +394,16 @@ pub fn delta_pass(
     da: &mut [Motion],
     dqdd: &mut [f64],
 ) {
-    // inward: δu_i = δτ_i − S_iᵀ δp^A_i;  δp^A_λ += Xᵀ (δp^A_i + U_i D_i⁻¹ δu_i)
+    // inward: δu_i = δτ_i − S_iᵀ δp^A_i;  δp^A_λ += Xᵀ (δp^A_i + U_i D_i⁻¹ δu_i); nodes off the
+    // test force's path to the root have δp^A = 0 and δu = 0
     for i in (0..m.njnt).rev() {
         let k = m.jnt_type[i].nv();
         let d0 = m.jnt_dofadr[i];
+        let torqued = matches!(dtau, Some((dof, _)) if dof >= d0 && dof < d0 + k);
+        if !torqued && dpa[i] == Force::ZERO {
+            du[i] = [0.0; 6];
+            continue;
+        }
         for r in 0..k {
             let t = match dtau {
                 Some((dof, v)) if dof == d0 + r => v,

@@ -49,9 +49,14 @@ pub const ACCEPT_RESIDUAL: f64 = 1e-5;
 /// Pivot cap, as a multiple of the problem size.
 pub const PIVOT_CAP_PER_ROW: usize = 50;
 
-/// Lemke's algorithm. `m` is n × n row-major. Returns the pivot count, or None on ray
-/// termination, pivot cap or non-finite values. `z` receives the solution.
-pub fn lemke(n: usize, m: &[f64], q: &[f64], z: &mut [f64], work: &mut LcpWork) -> Option<usize> {
+/// Lemke's algorithm with covering vector d (d_i = 1, except 0 on rows where `uncovered(i)` and
+/// q_i ≥ 0). `m` is n × n row-major. Returns the pivot count, or None on ray termination, pivot cap
+/// or non-finite values. `z` receives the solution.
+///
+/// The friction λ rows (q = 0) and the slack rows of bounded forces (q = cap ≥ 0) need no
+/// covering; covering them too sends Lemke's path to a secondary ray on contacts whose tangential
+/// demand exceeds what their (zero) normal force allows, which have the solution f = 0, λ > 0.
+pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, z: &mut [f64], work: &mut LcpWork) -> Option<usize> {
     z[..n].fill(0.0);
     let qmin = (0..n).map(|i| q[i]).fold(f64::INFINITY, f64::min);
     if n == 0 || qmin >= 0.0 {
@@ -69,7 +74,7 @@ pub fn lemke(n: usize, m: &[f64], q: &[f64], z: &mut [f64], work: &mut LcpWork) 
         for j in 0..n {
             row[n + j] = -m[i * n + j];
         }
-        row[z0] = -1.0;
+        row[z0] = if uncovered(i) && q[i] >= 0.0 { 0.0 } else { -1.0 };
         row[rhs] = q[i];
         work.basis.push(i);
     }
@@ -188,7 +193,7 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]
         }
     }
     let mut lemke_res = f64::INFINITY;
-    if let Some(p) = lemke(n, m, q, z, work) {
+    if let Some(p) = lemke(n, m, q, |i| role[i] == Role::Lambda, z, work) {
         stats.pivots += p as u64;
         polish(n, m, q, z, work);
         lemke_res = residual(n, m, q, z, &mut work.w);
@@ -301,28 +306,41 @@ pub enum Role {
 }
 
 /// Projected Gauss–Seidel on the same conditions: normals z ≥ 0, each contact's friction forces
-/// summing to at most μ f_n, λ recovered afterwards as the unmet tangential demand.
+/// summing to at most μ f_n, λ recovered afterwards as the unmet tangential demand. Sweeps until
+/// no variable moves by more than 1e-12 of the largest, at most 500 times.
 fn pgs(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64]) -> bool {
     z[..n].fill(0.0);
     let w_of = |z: &[f64], i: usize| q[i] + (0..n).filter(|&j| role[j] != Role::Lambda).map(|j| m[i * n + j] * z[j]).sum::<f64>();
+    // during the sweeps z[λ] of a contact holds the sum of its friction forces
     for _ in 0..500 {
+        let (mut moved, mut largest) = (0.0f64, 0.0f64);
         for i in 0..n {
             let d = m[i * n + i];
             if d <= 0.0 {
                 continue;
             }
+            let old = z[i];
             match role[i] {
-                Role::Normal => z[i] = (z[i] - w_of(z, i) / d).max(0.0),
+                Role::Normal => z[i] = (old - w_of(z, i) / d).max(0.0),
                 Role::Friction { normal, lambda, mu } => {
                     // room left under μ f_n by the contact's other friction rows
-                    let others: f64 =
-                        (0..n).filter(|&j| j != i && matches!(role[j], Role::Friction { lambda: l, .. } if l == lambda)).map(|j| z[j]).sum();
-                    let cap = (mu * z[normal] - others).max(0.0);
-                    z[i] = (z[i] - w_of(z, i) / d).clamp(0.0, cap);
+                    let cap = (mu * z[normal] - (z[lambda] - old)).max(0.0);
+                    z[i] = (old - w_of(z, i) / d).clamp(0.0, cap);
+                    z[lambda] += z[i] - old;
                 }
-                Role::Bounded { cap, .. } => z[i] = (z[i] - w_of(z, i) / d).clamp(0.0, cap),
-                Role::Lambda => {}
+                Role::Bounded { cap, .. } => z[i] = (old - w_of(z, i) / d).clamp(0.0, cap),
+                Role::Lambda => continue,
             }
+            moved = moved.max((z[i] - old).abs());
+            largest = largest.max(z[i].abs());
+        }
+        if !(moved > 1e-12 * largest) {
+            break;
+        }
+    }
+    for i in 0..n {
+        if let Role::Friction { lambda, .. } | Role::Bounded { lambda, .. } = role[i] {
+            z[lambda] = 0.0;
         }
     }
     for i in 0..n {
@@ -343,7 +361,7 @@ mod tests {
         let q = [-1.0, -1.0];
         let mut z = [0.0; 2];
         let mut work = LcpWork::default();
-        lemke(2, &m, &q, &mut z, &mut work).unwrap();
+        lemke(2, &m, &q, |_| false, &mut z, &mut work).unwrap();
         assert!((z[0] - 1.0 / 3.0).abs() < 1e-14 && (z[1] - 1.0 / 3.0).abs() < 1e-14);
         assert!(residual(2, &m, &q, &z, &mut work.w) < 1e-14);
     }
@@ -356,7 +374,7 @@ mod tests {
         let q = [-9.81, -5.0, 0.0];
         let mut z = [0.0; 3];
         let mut work = LcpWork::default();
-        lemke(3, &m, &q, &mut z, &mut work).unwrap();
+        lemke(3, &m, &q, |i| i == 2, &mut z, &mut work).unwrap();
         assert!((z[0] - 9.81).abs() < 1e-12, "{z:?}");
         assert!((z[1] - mu * 9.81).abs() < 1e-12, "friction saturates: {z:?}");
         assert!(residual(3, &m, &q, &z, &mut work.w) < 1e-12);

@@ -76,17 +76,15 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
         data.impacts += 1;
         solve_rows(m, data, Level::Velocity);
         apply(m, data, qvel, 1.0);
+        // same configuration, so the same rows and K; new velocities, b and ABA bias terms
         evaluate(m, data, qpos, qvel, ctrl, h);
-        build_rows(m, data, qpos, qvel, ctrl);
-        constraint::assemble(m, &data.kin, &data.aba, &data.qacc, &mut data.con);
+        constraint::refresh(m, &data.kin, &data.aba, qpos, qvel, ctrl, &data.feedforward, &data.qacc, &mut data.con);
     }
     // 7. constraint forces at the acceleration level, added to q̈
-    if !data.con.is_empty() {
-        solve_rows(m, data, Level::Acceleration);
-        let mut qacc = std::mem::take(&mut data.qacc);
-        apply(m, data, &mut qacc, 1.0);
-        data.qacc = qacc;
-    }
+    solve_rows(m, data, Level::Acceleration);
+    let mut qacc = std::mem::take(&mut data.qacc);
+    apply(m, data, &mut qacc, 1.0);
+    data.qacc = qacc;
     // 8. integrate
     integrate::euler(m, qpos, qvel, &data.qacc, h);
     *time += h;
@@ -149,6 +147,9 @@ fn approaching(vel: f64, dist: f64, vel_end: f64, h: f64) -> bool {
     vel < -constraint::IMPACT_SPEED && dist + h * vel_end.min(vel) < 0.0
 }
 
+/// Rows whose K_jj is below this fraction of the largest are inert: zero force.
+const INERT_ROW: f64 = 1e-12;
+
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Level {
     /// The seed's impact solve.
@@ -189,7 +190,15 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
     data.force.clear();
     data.force.resize(n, 0.0);
     let (mm, q) = (&mut data.lcp_m, &mut data.lcp_q);
+    // a row no force can move (K_jj ≈ 0: the out-of-plane friction of a planar model) carries no
+    // force; left in, it makes the LCP degenerate
+    let k_max = (0..nr).map(|j| con.k[j * nr + j]).fold(0.0, f64::max);
     for j in 0..nr {
+        if con.k[j * nr + j] <= INERT_ROW * k_max {
+            mm[j * n + j] = 1.0;
+            data.lcp_role[j] = lcp::Role::Normal;
+            continue;
+        }
         for k in 0..nr {
             mm[j * n + k] = con.k[j * nr + k];
         }
