@@ -2,9 +2,10 @@
 //!
 //! Pairs: plane–{sphere, capsule, box}, sphere–sphere, sphere–capsule, capsule–capsule, sphere–box
 //! (exact), capsule–box (the segment's ends and its point nearest the box, as spheres) and box–box
-//! (each box's corners against the other box: face–vertex contacts; edge–edge crossings are not
-//! detected). Cylinders collide as capsules of the same radius and half-length, ellipsoids as
-//! spheres of their largest semi-axis (documented approximations). Filtering follows MuJoCo: contype/conaffinity bits, no contact within a body or
+//! (separating axes: face contacts clipped to the overlap of the faces, or one edge–edge point).
+//! Cylinders collide as capsules of the same radius and half-length, ellipsoids as spheres of their
+//! largest semi-axis (documented approximations). Filtering follows MuJoCo: contype/conaffinity
+//! bits, no contact within a body or
 //! between a body and its parent (unless the parent is the world), `<exclude>` pairs, and a
 //! bounding-sphere broadphase. Friction is the maximum of the pair's, as MuJoCo's default.
 //! Detection is speculative: a pair within its margin plus the distance its geoms can cover in one
@@ -24,7 +25,8 @@ pub struct Contact {
     pub geom1: usize,
     /// Second geom.
     pub geom2: usize,
-    /// Feature index within the pair (capsule end, box corner), for identity across steps.
+    /// Feature index within the pair (capsule end, box corner, clipped face vertex, edge pair), for
+    /// identity across steps.
     pub feature: usize,
     /// Contact point in world coordinates (midway between the surfaces).
     pub pos: DVec3,
@@ -234,22 +236,9 @@ fn pair(m: &Model, cd: &mut CollisionData, i: usize, j: usize, margin: f64) {
             }
         }
         (Shape::Box { c: c1, rot: r1, half: h1 }, Shape::Box { c: c2, rot: r2, half: h2 }) => {
-            // corners of box 1 against box 2 push box 1 out (+n); corners of box 2 push it out of box 1
-            for k in 0..8 {
-                let p = corner(c1, r1, h1, k);
-                let (n, d) = point_box(p, c2, r2, h2, c1 - c2);
-                add(cd, g1, g2, k, p - n * (0.5 * d), n, d);
-            }
-            for k in 0..8 {
-                let p = corner(c2, r2, h2, k);
-                let (n, d) = point_box(p, c1, r1, h1, c2 - c1);
-                // equal faces meeting: box 2's corners repeat box 1's, keep one of each
-                let pos = p - n * (0.5 * d);
-                let tol = 1e-9 * (h1.max_element() + h2.max_element());
-                let repeat = cd.contacts.iter().rev().take_while(|c| c.geom1 == g1 && c.geom2 == g2).any(|c| c.pos.distance(pos) <= tol && c.normal.dot(-n) > 1.0 - 1e-12);
-                if !repeat {
-                    add(cd, g1, g2, 8 + k, pos, -n, d);
-                }
+            let (points, count) = box_box(c1, r1, h1, c2, r2, h2, margin);
+            for &(feature, pos, n, d) in &points[..count] {
+                add(cd, g1, g2, feature, pos, n, d);
             }
         }
         _ => {}
@@ -271,10 +260,120 @@ fn repeats_joint_contact(m: &Model, contacts: &[Contact], c: &Contact) -> bool {
     })
 }
 
-/// Corner `k` (bits: x, y, z sign) of a box.
-fn corner(c: DVec3, rot: DMat3, half: DVec3, k: usize) -> DVec3 {
-    let s = |bit: usize| if k & bit == 0 { -1.0 } else { 1.0 };
-    c + rot * DVec3::new(s(1) * half.x, s(2) * half.y, s(4) * half.z)
+/// Box–box contacts by the separating-axis test (Gottschalk, Lin & Manocha, *OBBTree*, 1996), as
+/// ODE's `dBoxBox`: of the 15 candidate axes, the one of least penetration (or widest gap) is the
+/// normal, a face axis preferred unless an edge axis is clearly better. Face axis: the other box's
+/// face most opposed to it is clipped against the reference face's rectangle (Sutherland–Hodgman),
+/// up to 8 points. Edge axis: the closest points of the two supporting edges, one point. Returns
+/// (feature, point, normal from box 2 to box 1, signed distance) for points within `margin`.
+#[allow(clippy::type_complexity)]
+fn box_box(c1: DVec3, r1: DMat3, h1: DVec3, c2: DVec3, r2: DMat3, h2: DVec3, margin: f64) -> ([(usize, DVec3, DVec3, f64); 8], usize) {
+    let mut out = [(0, DVec3::ZERO, DVec3::ZERO, 0.0); 8];
+    let d = c1 - c2;
+    let radius = |axis: DVec3, rot: DMat3, half: DVec3| (0..3).map(|k| half[k] * axis.dot(rot.col(k)).abs()).sum::<f64>();
+    let gap = |axis: DVec3| axis.dot(d).abs() - radius(axis, r1, h1) - radius(axis, r2, h2);
+    // best face axis: (gap, reference box is box 1, axis index)
+    let mut face = (f64::NEG_INFINITY, false, 0);
+    for (on1, rot) in [(true, r1), (false, r2)] {
+        for k in 0..3 {
+            let s = gap(rot.col(k));
+            if s > face.0 {
+                face = (s, on1, k);
+            }
+        }
+    }
+    let mut edge = (f64::NEG_INFINITY, 0, 0, DVec3::ZERO);
+    for i in 0..3 {
+        for j in 0..3 {
+            let axis = r1.col(i).cross(r2.col(j));
+            let len = axis.length();
+            if len > 1e-6 {
+                let s = gap(axis / len);
+                if s > edge.0 {
+                    edge = (s, i, j, axis / len);
+                }
+            }
+        }
+    }
+    let scale = h1.max_element() + h2.max_element();
+    if edge.0 > face.0 + 0.05 * face.0.abs() + 1e-9 * scale {
+        if edge.0 > margin {
+            return (out, 0);
+        }
+        let (_, i, j, axis) = edge;
+        let n = if axis.dot(d) >= 0.0 { axis } else { -axis };
+        // the edge of each box nearest the other
+        let sgn = |x: f64| if x >= 0.0 { 1.0 } else { -1.0 };
+        let mut p1 = c1;
+        let mut p2 = c2;
+        for k in 0..3 {
+            if k != i {
+                p1 -= r1.col(k) * (h1[k] * sgn(n.dot(r1.col(k))));
+            }
+            if k != j {
+                p2 += r2.col(k) * (h2[k] * sgn(n.dot(r2.col(k))));
+            }
+        }
+        let (e1, e2) = (r1.col(i) * h1[i], r2.col(j) * h2[j]);
+        let (q1, q2) = closest_segments(p1 - e1, p1 + e1, p2 - e2, p2 + e2);
+        out[0] = (32 + 3 * i + j, (q1 + q2) * 0.5, n, n.dot(q1 - q2));
+        return (out, 1);
+    }
+    if face.0 > margin {
+        return (out, 0);
+    }
+    // reference box R (whose face gives the normal) and other box O
+    let (_, ref1, a) = face;
+    let ((cr, rr, hr), (co, ro, ho)) = if ref1 { ((c1, r1, h1), (c2, r2, h2)) } else { ((c2, r2, h2), (c1, r1, h1)) };
+    let toward = co - cr;
+    let nf = if rr.col(a).dot(toward) >= 0.0 { rr.col(a) } else { -rr.col(a) };
+    let face_centre = cr + nf * hr[a];
+    // incident face of O: the one most opposed to nf, corners in cyclic order
+    let k = (0..3).max_by(|&x, &y| nf.dot(ro.col(x)).abs().total_cmp(&nf.dot(ro.col(y)).abs())).unwrap();
+    let ni = if ro.col(k).dot(nf) > 0.0 { -ro.col(k) } else { ro.col(k) };
+    let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
+    let (u, v) = (ro.col(k1) * ho[k1], ro.col(k2) * ho[k2]);
+    let centre = co + ni * ho[k];
+    let mut poly = [DVec3::ZERO; 8];
+    let mut len = 4;
+    poly[..4].copy_from_slice(&[centre + u + v, centre - u + v, centre - u - v, centre + u - v]);
+    // clip by the reference face's four side planes: (p − c_R)·e ≤ h
+    let (a1, a2) = ((a + 1) % 3, (a + 2) % 3);
+    for (e, h) in [(rr.col(a1), hr[a1]), (-rr.col(a1), hr[a1]), (rr.col(a2), hr[a2]), (-rr.col(a2), hr[a2])] {
+        let mut next = [DVec3::ZERO; 8];
+        let mut n_next = 0;
+        for idx in 0..len {
+            let (p, q) = (poly[idx], poly[(idx + 1) % len]);
+            let (sp, sq) = ((p - cr).dot(e) - h, (q - cr).dot(e) - h);
+            if sp <= 0.0 && n_next < 8 {
+                next[n_next] = p;
+                n_next += 1;
+            }
+            if ((sp < 0.0 && sq > 0.0) || (sp > 0.0 && sq < 0.0)) && n_next < 8 {
+                next[n_next] = p + (q - p) * (sp / (sp - sq));
+                n_next += 1;
+            }
+        }
+        poly = next;
+        len = n_next;
+        if len == 0 {
+            return (out, 0);
+        }
+    }
+    // normal from box 2 to box 1: nf points from R to O
+    let n = if ref1 { -nf } else { nf };
+    let mut count = 0;
+    let tol = 1e-9 * scale;
+    for (idx, &p) in poly[..len].iter().enumerate() {
+        let depth = nf.dot(p - face_centre);
+        // clipping through a vertex within round-off yields it twice
+        let repeat = out[..count].iter().any(|o| o.1.distance(p - nf * (0.5 * depth)) <= tol);
+        if depth <= margin && !repeat {
+            out[count] = (16 * ref1 as usize + idx, p - nf * (0.5 * depth), n, depth);
+            count += 1;
+        }
+    }
+    (out, count)
 }
 
 /// Signed distance of point `p` from a box and the unit normal pointing from the box toward `p`.
