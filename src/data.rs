@@ -10,6 +10,7 @@ use crate::step::constraint::ConstraintData;
 use crate::step::lcp::{LcpStats, LcpWork};
 use crate::step::integrate::Rk4Scratch;
 use crate::step::kinematics::KinData;
+use crate::step::stabilize::StabilizeData;
 
 /// Derived quantities and scratch of one world.
 #[derive(Clone, Debug, Default)]
@@ -44,6 +45,10 @@ pub struct Data {
     pub stats: LcpStats,
     /// Impact solves run.
     pub impacts: u64,
+    /// Limits whose rows this step must include (2 per joint: lower, upper).
+    pub limit_forced: Vec<bool>,
+    /// Post-stabilisation scratch and counters.
+    pub post: StabilizeData,
     /// Friction tangents of the last step, keyed by (geom1, geom2, feature).
     pub tangents: Vec<((usize, usize, usize), DVec3)>,
     /// Tangents being recorded this step.
@@ -75,6 +80,8 @@ impl Data {
             lcp_work: LcpWork::default(),
             stats: LcpStats::default(),
             impacts: 0,
+            limit_forced: vec![false; 2 * m.njnt],
+            post: StabilizeData::new(m),
             tangents: vec![],
             tangents_next: vec![],
             feedforward: vec![0.0; 2 * m.nu],

@@ -263,7 +263,7 @@ impl PySim {
     }
 
     /// Constraint statistics: rows of the last step, LCP solves, pivots, warm starts, fallbacks,
-    /// residual, impacts.
+    /// residual, impacts, post-stabilisation projections.
     #[getter]
     fn constraint_stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
         let s = &self.data.stats;
@@ -277,6 +277,7 @@ impl PySim {
         d.set_item("fallback_zero", s.fallback_zero)?;
         d.set_item("residual", s.residual)?;
         d.set_item("impacts", self.data.impacts)?;
+        d.set_item("projections", self.data.post.projections)?;
         Ok(d)
     }
 

@@ -15,6 +15,7 @@ use glam::{DMat3, DVec3};
 
 use crate::model::{GeomType, Model, WORLD};
 
+use super::aba::AbaData;
 use super::kinematics::KinData;
 
 /// One contact point. The normal points from geom2 to geom1: pushing body1 along +n and body2
@@ -49,6 +50,8 @@ pub struct CollisionData {
     pub geom_xpos: Vec<DVec3>,
     /// Bound on the speed of any point of each geom (ngeom), for speculative detection.
     pub geom_speed: Vec<f64>,
+    /// Bound on the constraint-free acceleration of any point of each geom (ngeom).
+    pub geom_accel: Vec<f64>,
     /// Contacts of this configuration.
     pub contacts: Vec<Contact>,
 }
@@ -60,6 +63,7 @@ impl CollisionData {
             geom_xmat: vec![DMat3::IDENTITY; m.ngeom],
             geom_xpos: vec![DVec3::ZERO; m.ngeom],
             geom_speed: vec![0.0; m.ngeom],
+            geom_accel: vec![0.0; m.ngeom],
             contacts: Vec::with_capacity(MAX_CONTACTS),
         }
     }
@@ -100,8 +104,9 @@ pub fn can_collide(m: &Model, i: usize, j: usize) -> bool {
     !m.exclude_pairs.contains(&(bi.min(bj), bi.max(bj)))
 }
 
-/// Detects all contacts of the configuration in `kin`.
-pub fn collide(m: &Model, kin: &KinData, out: &mut CollisionData) {
+/// Detects all contacts of the configuration in `kin`, with `aba` holding the constraint-free
+/// accelerations of the same state (for how far a geom can move within the step).
+pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData) {
     out.contacts.clear();
     if !m.opt.contact || m.collision_pairs.is_empty() {
         return;
@@ -111,20 +116,25 @@ pub fn collide(m: &Model, kin: &KinData, out: &mut CollisionData) {
         out.geom_xmat[g] = kin.xmat[b] * m.geom_mat[g];
         out.geom_xpos[g] = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
         let n = m.body_node[b];
-        out.geom_speed[g] = if n == WORLD || m.geom_type[g] == GeomType::Plane {
-            0.0
+        (out.geom_speed[g], out.geom_accel[g]) = if n == WORLD || m.geom_type[g] == GeomType::Plane {
+            (0.0, 0.0)
         } else {
-            let v = kin.v[n];
+            // bounds over the geom's points: centre value + angular part × bounding radius;
+            // ABA's accelerations carry the base's fictitious −g, added back
+            let (v, a) = (kin.v[n], aba.a[n]);
             let centre = kin.node_rot[n].transpose() * (out.geom_xpos[g] - kin.node_pos[n]);
-            v.point_velocity(centre).length() + v.ang.length() * m.geom_rbound[g]
+            let (rb, w) = (m.geom_rbound[g], v.ang.length());
+            let vc = v.point_velocity(centre);
+            let ac = kin.node_rot[n] * (a.point_velocity(centre) + v.ang.cross(vc)) + m.opt.gravity;
+            (vc.length() + w * rb, ac.length() + (a.ang.length() + w * w) * rb)
         };
     }
     let h = m.opt.timestep;
     for &(i, j) in &m.collision_pairs {
-        // speculative: pairs that could close within this step count as contacts, so a fast foot
-        // is stopped at the surface instead of being found inside it one step later
-        // (h²|g| covers a body starting to fall from rest)
-        let reach = h * (out.geom_speed[i] + out.geom_speed[j]) + h * h * m.opt.gravity.length();
+        // speculative: pairs that could close within this step (semi-implicit Euler moves a point
+        // by h v + h² a) count as contacts, so a fast foot is stopped at the surface instead of
+        // being found inside it one step later
+        let reach = h * (out.geom_speed[i] + out.geom_speed[j]) + h * h * (out.geom_accel[i] + out.geom_accel[j]);
         let margin = m.geom_margin[i].max(m.geom_margin[j]) + reach;
         let (ri, rj) = (m.geom_rbound[i], m.geom_rbound[j]);
         if ri.is_finite() && rj.is_finite() && out.geom_xpos[i].distance(out.geom_xpos[j]) > ri + rj + margin {

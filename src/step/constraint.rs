@@ -168,7 +168,8 @@ fn jacobian(kin: &KinData, nodes: [usize; 2], pts: [DVec3; 2], dir: DVec3) -> [F
     jac
 }
 
-/// Builds the rows for `contacts`, active limits and, when the actuation is trajectory following,
+/// Builds the rows for `contacts`, limits active or reachable within the step (`qacc0`: the
+/// constraint-free accelerations) or marked in `forced` (2 per joint: lower, upper) and, when the actuation is trajectory following,
 /// motion control of every actuated joint toward `ctrl` (position targets) with feed-forward
 /// velocity and acceleration `feedforward` (2 × nu). `tangent_for(i, n, v_t)` picks the friction
 /// direction of contact i (the caller handles sliding, persistence and the seeded random choice).
@@ -178,6 +179,8 @@ pub fn rows(
     kin: &KinData,
     qpos: &[f64],
     qvel: &[f64],
+    qacc0: &[f64],
+    forced: &[bool],
     ctrl: &[f64],
     feedforward: &[f64],
     contacts: &[Contact],
@@ -224,10 +227,12 @@ pub fn rows(
             }
             let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
             let [lo, hi] = m.jnt_range[j];
-            for (dist, sign) in [(qpos[qa] - lo, 1.0), (hi - qpos[qa], -1.0)] {
+            for (side, (dist, sign)) in [(qpos[qa] - lo, 1.0), (hi - qpos[qa], -1.0)].into_iter().enumerate() {
                 let v = sign * qvel[da];
-                // active when at the limit or about to reach it within this step
-                if dist + h * v.min(0.0) <= m.jnt_margin[j] {
+                // active when at the limit or able to reach it within this step (semi-implicit
+                // Euler moves the joint by h (v + h q̈₀), q̈₀ constraint-free), or when `forced`
+                let v_end = v + h * sign * qacc0[da];
+                if dist + h * v.min(v_end).min(0.0) <= m.jnt_margin[j] || forced[2 * j + side] {
                     let r = out.len();
                     out.push(RowKind::Limit, [WORLD, WORLD], [DVec3::ZERO; 2], DVec3::ZERO, (da, sign), 0.0, j);
                     out.vel[r] = v;

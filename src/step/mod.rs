@@ -7,11 +7,12 @@ pub mod forces;
 pub mod integrate;
 pub mod kinematics;
 pub mod lcp;
+pub mod stabilize;
 
 use glam::DVec3;
 
 use crate::data::Data;
-use crate::model::{ConstraintMode, Integrator, Model};
+use crate::model::{ConstraintMode, Integrator, JointType, Model};
 use constraint::RowKind;
 
 /// Forward dynamics at (qpos, qvel, ctrl) without constraints: fills `data.qacc` with the true
@@ -37,67 +38,110 @@ fn dynamics(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64]
 /// Advances (qpos, qvel, time) by one time step under `ctrl`.
 pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl: &[f64], time: &mut f64) {
     let h = m.opt.timestep;
+    // Euler treats damping implicitly (MuJoCo's `Euler`); RK4 stages do not
+    let h_damp = match m.opt.integrator {
+        Integrator::Euler => h,
+        Integrator::Rk4 => 0.0,
+    };
     // 1. poses and velocities
     kinematics::forward(m, qpos, qvel, &mut data.kin);
-    // 2. contacts of this configuration
-    collision::collide(m, &data.kin, &mut data.coll);
-    // 3. constraint rows: contacts (normal + friction), active limits, motion control
+    // 2. articulated inertias and the constraint-free accelerations
+    dynamics(m, data, qpos, qvel, ctrl, h_damp);
+    // 3. contacts of this configuration (reach over the step from velocities and accelerations)
+    collision::collide(m, &data.kin, &data.aba, &mut data.coll);
+    // 4. constraint rows: contacts (normal + friction), active limits, motion control
     build_rows(m, data, qpos, qvel, ctrl);
     if data.con.is_empty() {
         // nothing to constrain: the plain step
         data.force.clear();
         match m.opt.integrator {
-            Integrator::Euler => {
-                dynamics(m, data, qpos, qvel, ctrl, h);
-                integrate::euler(m, qpos, qvel, &data.qacc, h);
-            }
+            Integrator::Euler => integrate::euler(m, qpos, qvel, &data.qacc, h),
             Integrator::Rk4 => rk4(m, data, qpos, qvel, ctrl, h),
         }
         *time += h;
         return;
     }
     // with constraints the step is semi-implicit Euler (the seed's scheme), whatever the integrator
-    // 4. articulated inertias and the constraint-free accelerations
-    dynamics(m, data, qpos, qvel, ctrl, h);
-    // 5. K and b by test forces
-    constraint::assemble(m, &data.kin, &data.aba, &data.qacc, &mut data.con);
-    if m.opt.constraint_mode == ConstraintMode::Velocity {
-        // 6'. one impulse solve: q̈ = q̈₀ + Σ p_k Δq̈⁽ᵏ⁾ / h
-        solve_rows(m, data, Level::TimeStep);
+    if h_damp != h {
+        dynamics(m, data, qpos, qvel, ctrl, h);
+    }
+    let mut redo = false;
+    loop {
+        // 5. K and b by test forces
+        constraint::assemble(m, &data.kin, &data.aba, &data.qacc, &mut data.con);
         let mut qacc = std::mem::take(&mut data.qacc);
-        apply(m, data, &mut qacc, 1.0 / h);
+        if m.opt.constraint_mode == ConstraintMode::Velocity {
+            // 6'. one impulse solve: q̈ = q̈₀ + Σ p_k Δq̈⁽ᵏ⁾ / h
+            solve_rows(m, data, Level::TimeStep);
+            apply(m, data, &mut qacc, 1.0 / h);
+        } else {
+            // 6. impacts: a velocity-level solve over all rows when something approaches
+            if !redo && needs_impact(&data.con, h) {
+                data.impacts += 1;
+                solve_rows(m, data, Level::Velocity);
+                apply(m, data, qvel, 1.0);
+                // same configuration, so the same rows and K; new velocities, b and ABA bias terms
+                data.qacc = qacc;
+                evaluate(m, data, qpos, qvel, ctrl, h);
+                constraint::refresh(m, &data.kin, &data.aba, qpos, qvel, ctrl, &data.feedforward, &data.qacc, &mut data.con);
+                qacc = std::mem::take(&mut data.qacc);
+            }
+            // 7. constraint forces at the acceleration level, added to q̈
+            solve_rows(m, data, Level::Acceleration);
+            apply(m, data, &mut qacc, 1.0);
+        }
         data.qacc = qacc;
-        integrate::euler(m, qpos, qvel, &data.qacc, h);
-        *time += h;
-        return;
+        // a limit without a row that the constrained motion would cross (pushed there by contact
+        // forces, say): add its row and solve once more from the constraint-free accelerations
+        if redo || !missed_limits(m, data, qpos, qvel) {
+            break;
+        }
+        redo = true;
+        dynamics(m, data, qpos, qvel, ctrl, h);
+        build_rows(m, data, qpos, qvel, ctrl);
     }
-    // 6. impacts: a velocity-level solve over all rows when something approaches
-    if needs_impact(&data.con, h) {
-        data.impacts += 1;
-        solve_rows(m, data, Level::Velocity);
-        apply(m, data, qvel, 1.0);
-        // same configuration, so the same rows and K; new velocities, b and ABA bias terms
-        evaluate(m, data, qpos, qvel, ctrl, h);
-        constraint::refresh(m, &data.kin, &data.aba, qpos, qvel, ctrl, &data.feedforward, &data.qacc, &mut data.con);
+    if redo {
+        data.limit_forced.fill(false);
     }
-    // 7. constraint forces at the acceleration level, added to q̈
-    solve_rows(m, data, Level::Acceleration);
-    let mut qacc = std::mem::take(&mut data.qacc);
-    apply(m, data, &mut qacc, 1.0);
-    data.qacc = qacc;
     // 8. integrate
     integrate::euler(m, qpos, qvel, &data.qacc, h);
+    // 9. penetration the linearised rows missed
+    stabilize::project(m, data, qpos, qvel);
     *time += h;
 }
 
+/// Marks in `data.limit_forced` each limit without a row that q̇ + h q̈ would cross within the step.
+fn missed_limits(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
+    let h = m.opt.timestep;
+    let mut any = false;
+    for j in (0..m.njnt).filter(|&j| m.jnt_limited[j]) {
+        let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
+        if !matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide) {
+            continue;
+        }
+        let [lo, hi] = m.jnt_range[j];
+        let v_end = qvel[da] + h * data.qacc[da];
+        for (side, (dist, sign)) in [(qpos[qa] - lo, 1.0), (hi - qpos[qa], -1.0)].into_iter().enumerate() {
+            let has_row = (0..data.con.len()).any(|r| data.con.kind[r] == RowKind::Limit && data.con.source[r] == j && data.con.dof[r].1 == sign);
+            if dist + h * sign * v_end < 0.0 && !has_row {
+                data.limit_forced[2 * j + side] = true;
+                any = true;
+            }
+        }
+    }
+    any
+}
+
 fn build_rows(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) {
-    let Data { kin, coll, con, tangents, tangents_next, rng, feedforward, .. } = data;
+    let Data { kin, coll, con, tangents, tangents_next, rng, feedforward, qacc, limit_forced, .. } = data;
     tangents_next.clear();
     constraint::rows(
         m,
         kin,
         qpos,
         qvel,
+        qacc,
+        limit_forced,
         ctrl,
         feedforward,
         &coll.contacts,
@@ -326,8 +370,7 @@ fn apply(m: &Model, data: &Data, target: &mut [f64], scale: f64) {
 fn rk4(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl: &[f64], h: f64) {
     use integrate::{integrate_pos, RK4_A, RK4_B};
     let mut rk = std::mem::take(&mut data.rk4);
-    // stage 1 reuses the step's kinematics
-    dynamics(m, data, qpos, qvel, ctrl, 0.0);
+    // stage 1 is the step's own evaluation (without implicit damping)
     rk.kv[0].copy_from_slice(qvel);
     rk.ka[0].copy_from_slice(&data.qacc);
     for i in 1..4 {
