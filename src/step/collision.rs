@@ -52,6 +52,8 @@ pub struct CollisionData {
     pub geom_speed: Vec<f64>,
     /// Bound on the constraint-free acceleration of any point of each geom (ngeom).
     pub geom_accel: Vec<f64>,
+    /// Bound on the speed of any point of each geom at the end of the step (ngeom).
+    pub geom_speed_end: Vec<f64>,
     /// Contacts of this configuration.
     pub contacts: Vec<Contact>,
 }
@@ -64,6 +66,7 @@ impl CollisionData {
             geom_xpos: vec![DVec3::ZERO; m.ngeom],
             geom_speed: vec![0.0; m.ngeom],
             geom_accel: vec![0.0; m.ngeom],
+            geom_speed_end: vec![0.0; m.ngeom],
             contacts: Vec::with_capacity(MAX_CONTACTS),
         }
     }
@@ -123,25 +126,76 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData)
             // ABA's accelerations carry the base's fictitious −g, added back
             let (v, a) = (kin.v[n], aba.a[n]);
             let centre = kin.node_rot[n].transpose() * (out.geom_xpos[g] - kin.node_pos[n]);
-            let (rb, w) = (m.geom_rbound[g], v.ang.length());
+            let w = v.ang.length();
             let vc = v.point_velocity(centre);
             let ac = kin.node_rot[n] * (a.point_velocity(centre) + v.ang.cross(vc)) + m.opt.gravity;
-            (vc.length() + w * rb, ac.length() + (a.ang.length() + w * w) * rb)
+            (speed_bound(m, kin, g, &v, out.geom_xpos[g]), ac.length() + (a.ang.length() + w * w) * m.geom_rbound[g])
         };
     }
-    let h = m.opt.timestep;
     for &(i, j) in &m.collision_pairs {
         // speculative: pairs that could close within this step (semi-implicit Euler moves a point
         // by h v + h² a) count as contacts, so a fast foot is stopped at the surface instead of
         // being found inside it one step later
-        let reach = h * (out.geom_speed[i] + out.geom_speed[j]) + h * h * (out.geom_accel[i] + out.geom_accel[j]);
-        let margin = m.geom_margin[i].max(m.geom_margin[j]) + reach;
+        let margin = first_margin(m, out, i, j);
         let (ri, rj) = (m.geom_rbound[i], m.geom_rbound[j]);
         if ri.is_finite() && rj.is_finite() && out.geom_xpos[i].distance(out.geom_xpos[j]) > ri + rj + margin {
             continue;
         }
         pair(m, out, i, j, margin);
     }
+}
+
+/// Bound on the speed of any point of geom g under node velocity `v` (node coordinates).
+fn speed_bound(m: &Model, kin: &KinData, g: usize, v: &crate::math::Motion, xpos: DVec3) -> f64 {
+    let n = m.body_node[m.geom_body[g]];
+    let centre = kin.node_rot[n].transpose() * (xpos - kin.node_pos[n]);
+    v.point_velocity(centre).length() + v.ang.length() * m.geom_rbound[g]
+}
+
+/// The margin of the first detection: the pair's own plus its reach over the step.
+fn first_margin(m: &Model, cd: &CollisionData, i: usize, j: usize) -> f64 {
+    let h = m.opt.timestep;
+    let reach = h * (cd.geom_speed[i] + cd.geom_speed[j]) + h * h * (cd.geom_accel[i] + cd.geom_accel[j]);
+    m.geom_margin[i].max(m.geom_margin[j]) + reach
+}
+
+/// After the constraint solve: with the step's final node velocities `v_end`, the pairs whose reach
+/// h·|v_end| now exceeds their first margin are tested again (same configuration) and contacts
+/// not found before are appended. Returns whether there were any: constraint forces (a body
+/// landing on another, say) can carry a geom further than its constraint-free motion.
+pub fn reach_again(m: &Model, kin: &KinData, v_end: &[crate::math::Motion], out: &mut CollisionData) -> bool {
+    if !m.opt.contact || m.collision_pairs.is_empty() {
+        return false;
+    }
+    let h = m.opt.timestep;
+    for g in 0..m.ngeom {
+        let n = m.body_node[m.geom_body[g]];
+        out.geom_speed_end[g] = if n == WORLD || m.geom_type[g] == GeomType::Plane { 0.0 } else { speed_bound(m, kin, g, &v_end[n], out.geom_xpos[g]) };
+    }
+    let mut found = false;
+    for &(i, j) in &m.collision_pairs {
+        let margin = m.geom_margin[i].max(m.geom_margin[j]) + h * (out.geom_speed_end[i] + out.geom_speed_end[j]);
+        if margin <= first_margin(m, out, i, j) {
+            continue;
+        }
+        let (ri, rj) = (m.geom_rbound[i], m.geom_rbound[j]);
+        if ri.is_finite() && rj.is_finite() && out.geom_xpos[i].distance(out.geom_xpos[j]) > ri + rj + margin {
+            continue;
+        }
+        let before = out.contacts.len();
+        pair(m, out, i, j, margin);
+        let mut k = before;
+        while k < out.contacts.len() {
+            let c = out.contacts[k];
+            if out.contacts[..before].iter().any(|o| (o.geom1, o.geom2, o.feature) == (c.geom1, c.geom2, c.feature)) {
+                out.contacts.remove(k);
+            } else {
+                k += 1;
+                found = true;
+            }
+        }
+    }
+    found
 }
 
 #[derive(Clone, Copy)]

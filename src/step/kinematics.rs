@@ -82,3 +82,16 @@ pub fn forward(m: &Model, qpos: &[f64], qvel: &[f64], kin: &mut KinData) {
         kin.xpos[b] = npos + nrot * opos;
     }
 }
+
+/// Spatial velocities alone, for another `qvel` on the configuration already in `kin` (X_up, S).
+pub fn velocities(m: &Model, kin: &KinData, qvel: &[f64], v: &mut [Motion]) {
+    for i in 0..m.njnt {
+        let da = m.jnt_dofadr[i];
+        let p = m.node_parent[i];
+        let mut vi = if p == WORLD { Motion::ZERO } else { kin.x_up[i].apply_motion(&v[p]) };
+        for k in 0..m.jnt_type[i].nv() {
+            vi += kin.s[i][k] * qvel[da + k];
+        }
+        v[i] = vi;
+    }
+}

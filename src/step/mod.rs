@@ -91,9 +91,10 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
             apply(m, data, &mut qacc, 1.0);
         }
         data.qacc = qacc;
-        // a limit without a row that the constrained motion would cross (pushed there by contact
-        // forces, say): add its row and solve once more from the constraint-free accelerations
-        if redo || !missed_limits(m, data, qpos, qvel) {
+        // a limit or contact without a row that the constrained motion would reach (pushed there
+        // by contact forces, say): add its row and solve once more from the constraint-free
+        // accelerations
+        if redo || !(missed_limits(m, data, qpos, qvel) | missed_contacts(m, data, qvel)) {
             break;
         }
         redo = true;
@@ -110,7 +111,20 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
     *time += h;
 }
 
-/// Marks in `data.limit_forced` each limit without a row that q̇ + h q̈ would cross within the step.
+/// Appends to the contacts those the step's final velocities q̇ + h q̈ can reach but the first
+/// detection's margin did not cover.
+fn missed_contacts(m: &Model, data: &mut Data, qvel: &[f64]) -> bool {
+    let h = m.opt.timestep;
+    let Data { kin, coll, post, qacc, .. } = data;
+    for ((e, v), a) in post.vel_end.iter_mut().zip(qvel).zip(qacc.iter()) {
+        *e = v + h * a;
+    }
+    kinematics::velocities(m, kin, &post.vel_end, &mut post.kin.v);
+    collision::reach_again(m, kin, &post.kin.v, coll)
+}
+
+/// Marks in `data.limit_forced` each limit without a row that q̇ + h q̈ would cross within the step
+/// and, if there is one, every limit that has a row (a re-solve keeps them).
 fn missed_limits(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
     let h = m.opt.timestep;
     let mut any = false;
@@ -127,6 +141,13 @@ fn missed_limits(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool
                 data.limit_forced[2 * j + side] = true;
                 any = true;
             }
+        }
+    }
+    if any {
+        // the rows of the first solve stay
+        for r in (0..data.con.len()).filter(|&r| data.con.kind[r] == RowKind::Limit) {
+            let side = (data.con.dof[r].1 < 0.0) as usize;
+            data.limit_forced[2 * data.con.source[r] + side] = true;
         }
     }
     any

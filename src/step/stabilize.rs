@@ -35,6 +35,8 @@ pub struct StabilizeData {
     role: Vec<Role>,
     p: Vec<f64>,
     dq: Vec<f64>,
+    /// End-of-step velocities (nv), scratch for the step's second contact check.
+    pub vel_end: Vec<f64>,
     work: LcpWork,
     /// Projections run.
     pub projections: u64,
@@ -43,7 +45,7 @@ pub struct StabilizeData {
 impl StabilizeData {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
-        StabilizeData { kin: KinData::new(m), dq: vec![0.0; m.nv], ..Default::default() }
+        StabilizeData { kin: KinData::new(m), dq: vec![0.0; m.nv], vel_end: vec![0.0; m.nv], ..Default::default() }
     }
 }
 
