@@ -215,6 +215,18 @@ fn approaching(vel: f64, dist: f64, vel_end: f64, h: f64) -> bool {
 /// Rows whose K_jj is below this fraction of the largest are inert: zero force.
 const INERT_ROW: f64 = 1e-12;
 
+/// End-of-step velocity of a row rebounding with restitution e, on the row as a particle at gap d
+/// with velocity v under its constraint-free acceleration a: semi-implicit Euler keeps
+/// H = −a x + v²/2 + a h v/2 exactly under constant a, so the step's end state is chosen with
+/// H = e² H(d, v) — the energy of a bounce off the surface (not off the gap d, where the impact
+/// step starts), so the ball rises to e² of its drop height whatever h.
+fn rebound(v: f64, d: f64, a: f64, e: f64, h: f64) -> f64 {
+    let energy = (-a * d + 0.5 * v * v + 0.5 * a * h * v).max(0.0);
+    // x_end = d + h w:  −a (d + h w) + w²/2 + a h w/2 = e² H
+    let disc = a * a * h * h + 8.0 * a * d + 8.0 * e * e * energy;
+    0.5 * (a * h + disc.max(0.0).sqrt())
+}
+
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Level {
     /// The seed's impact solve.
@@ -283,8 +295,8 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
             (RowKind::Tangent { .. }, Level::TimeStep) => -(vel + h * con.b[j]),
             (_, Level::TimeStep) => {
                 let mut target = if dist > 0.0 { -dist / h } else { -constraint::POSITION_CORRECTION * dist / h };
-                if -vel > 4.0 * h * m.opt.gravity.length() && dist + h * vel < 0.0 {
-                    target = target.max(-m.opt.restitution * vel);
+                if -vel > 4.0 * h * m.opt.gravity.length() && dist + h * vel < 0.0 && m.opt.restitution > 0.0 {
+                    target = target.max(rebound(vel, dist, con.b[j], m.opt.restitution, h));
                 }
                 target - (vel + h * con.b[j])
             }
@@ -292,16 +304,16 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
                 let target = if dist > 0.0 { -dist / h } else { -constraint::POSITION_CORRECTION * dist / h };
                 (target - vel) / h
             }
-            // end-of-step velocity v⁺ for a row that closes within this step: e|v_p| with
-            // restitution (reversing at the current gap), else −d/h, which just closes the gap
-            // (v_p: velocity predicted at the step's end without constraint forces)
+            // end-of-step velocity v⁺ for a row that closes within this step: the rebound with
+            // restitution, else −d/h, which just closes the gap (v_p: velocity predicted at the
+            // step's end without constraint forces)
             (_, Level::Velocity) => {
                 // no restitution below a few steps' worth of gravity: resting contacts do not jitter
                 let e = if -vel > 4.0 * h * m.opt.gravity.length() { m.opt.restitution } else { 0.0 };
                 let vp = vel + h * con.b[j];
                 let gap = dist.max(0.0) / h;
                 if approaching(vel, dist, vp, h) {
-                    if e > 0.0 { -(1.0 + e) * vp } else { -gap - vp }
+                    if e > 0.0 { rebound(vel, dist, con.b[j], e, h) - vp } else { -gap - vp }
                 } else {
                     (-gap - vp).min(0.0)
                 }

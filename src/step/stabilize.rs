@@ -12,7 +12,7 @@
 use glam::DVec3;
 
 use crate::data::Data;
-use crate::model::{Model, WORLD};
+use crate::model::{JointType, Model, WORLD};
 
 use super::constraint::RowKind;
 use super::integrate::integrate_pos;
@@ -53,10 +53,25 @@ impl StabilizeData {
 /// K and Δq̈ in `data.con` and the kinematics of the step's start in `data.kin`. The projection's
 /// LCP counts in `data.stats`.
 pub fn project(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &[f64]) {
-    let Data { kin, con, post, stats, .. } = data;
-    if !(0..con.len()).any(|j| con.kind[j] == RowKind::Normal) {
+    if !(0..data.con.len()).any(|j| data.con.kind[j] == RowKind::Normal) {
         return;
     }
+    // K is the start of the step's, so a projection can fall short: checked and repeated
+    for _ in 0..PASSES {
+        if !gaps(m, data, qpos, qvel) {
+            return;
+        }
+        solve(m, data, qpos);
+    }
+}
+
+/// Passes of check and projection at most per step.
+const PASSES: usize = 3;
+
+/// The normal rows' gaps at `qpos` into `post.gap` (and the limit rows' after them), or false when
+/// no contact penetrates beyond [`SLOP`].
+fn gaps(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
+    let Data { kin, con, post, .. } = data;
     kinematics::forward(m, qpos, qvel, &mut post.kin);
     let new = &post.kin;
     // the contact point, carried by each side's node: d' = d + n'·(p₁' − p₂'), n' turned with side 2
@@ -79,7 +94,7 @@ pub fn project(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &[f64]) {
         post.gap.push(gap);
     }
     if worst >= -SLOP {
-        return;
+        return false;
     }
     // limit rows take part so the projection cannot push a joint past its limit (nor deeper
     // into a violation it already has)
@@ -90,6 +105,12 @@ pub fn project(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &[f64]) {
         post.rows.push(j);
         post.gap.push((if sign > 0.0 { q - lo } else { hi - q }).max(0.0));
     }
+    true
+}
+
+/// One projection δq = Σ p_k Δq̈⁽ᵏ⁾ from the LCP on the rows and gaps in `post`.
+fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
+    let Data { con, post, stats, .. } = data;
     post.projections += 1;
     let (nr, k) = (con.len(), post.rows.len());
     post.m.clear();
@@ -113,5 +134,17 @@ pub fn project(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &[f64]) {
             }
         }
     }
-    integrate_pos(m, qpos, &post.dq, 1.0);
+    // limits without a row are not in the LCP: shorten the step so that none is crossed
+    let mut alpha = 1.0f64;
+    for j in (0..m.njnt).filter(|&j| m.jnt_limited[j] && matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide)) {
+        let (q, dq) = (qpos[m.jnt_qposadr[j]], post.dq[m.jnt_dofadr[j]]);
+        let sign = if dq < 0.0 { 1.0 } else { -1.0 };
+        let has_row = post.rows.iter().any(|&r| con.kind[r] == RowKind::Limit && con.source[r] == j && con.dof[r].1 == sign);
+        let [lo, hi] = m.jnt_range[j];
+        let room = if dq < 0.0 { q - lo } else { hi - q };
+        if !has_row && dq.abs() > room.max(0.0) {
+            alpha = alpha.min(room.max(0.0) / dq.abs());
+        }
+    }
+    integrate_pos(m, qpos, &post.dq, alpha);
 }
