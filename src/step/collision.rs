@@ -145,6 +145,27 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData)
     }
 }
 
+/// Contacts of the configuration in `kin` that penetrate (dist < 0) — no speculative margin; for
+/// checking a configuration after the step.
+pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
+    out.contacts.clear();
+    if !m.opt.contact || m.collision_pairs.is_empty() {
+        return;
+    }
+    for g in 0..m.ngeom {
+        let b = m.geom_body[g];
+        out.geom_xmat[g] = kin.xmat[b] * m.geom_mat[g];
+        out.geom_xpos[g] = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
+    }
+    for &(i, j) in &m.collision_pairs {
+        let (ri, rj) = (m.geom_rbound[i], m.geom_rbound[j]);
+        if ri.is_finite() && rj.is_finite() && out.geom_xpos[i].distance(out.geom_xpos[j]) > ri + rj {
+            continue;
+        }
+        pair(m, out, i, j, 0.0);
+    }
+}
+
 /// Bound on the speed of any point of geom g under node velocity `v` (node coordinates).
 fn speed_bound(m: &Model, kin: &KinData, g: usize, v: &crate::math::Motion, xpos: DVec3) -> f64 {
     let n = m.body_node[m.geom_body[g]];

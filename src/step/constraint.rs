@@ -159,7 +159,7 @@ fn point_vel(kin: &KinData, n: usize, r: DVec3) -> DVec3 {
 
 /// The contact row's spatial forces on its two nodes per unit force along world direction `dir`
 /// (+dir on side 1, −dir on side 2), in node coordinates.
-fn jacobian(kin: &KinData, nodes: [usize; 2], pts: [DVec3; 2], dir: DVec3) -> [Force; 2] {
+pub fn jacobian(kin: &KinData, nodes: [usize; 2], pts: [DVec3; 2], dir: DVec3) -> [Force; 2] {
     let mut jac = [Force::ZERO; 2];
     for side in 0..2 {
         let n = nodes[side];

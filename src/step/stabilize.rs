@@ -1,40 +1,52 @@
-//! Stage 8 — post-stabilisation of contact penetration (Cline & Pai 2003, *Post-stabilization for
-//! rigid body simulation with contact and constraints*): after the step, the contact points are
-//! carried to the new configuration; if one now penetrates by more than [`SLOP`], the positions
-//! (not the velocities, so no energy is added) move by δq = M⁻¹ Jᵀ p, with p ≥ 0 solving the normal
-//! rows' LCP  K p + d ≥ 0 ⟂ p ≥ 0  on the step's K and Δq̈ columns (K of the start of the step),
-//! the step's limit rows included so that no joint is pushed past its limit.
+//! Stage 9 — post-stabilisation of contact penetration (Cline & Pai 2003, *Post-stabilization for
+//! rigid body simulation with contact and constraints*): after the step the configuration is
+//! checked; if a contact now penetrates by more than [`SLOP`], the positions (not the velocities,
+//! so no energy is added) move by δq = Σ p_k Δq̈⁽ᵏ⁾ with p ≥ 0 solving the LCP
+//! J_j δq + d_j ≥ 0 ⟂ p_j ≥ 0 over the step's contact normals (gaps detected afresh), contacts that penetrate now but had no row (their Δq̈ by a test force through the
+//! step's ABA quantities), and the step's limit rows, so that no joint is pushed past its limit.
 //!
 //! Why: a contact row makes the *linearised* gap close at the step's end, but a point on a body
-//! turning at ω moves on an arc, off the straight line by about h²ω²r/2 — at dt = 0.01 centimetres
-//! for a half-metre limb. Baumgarte terms alone remove it only over several steps.
+//! turning at ω moves on an arc, off the straight line by about h²ω²r/2 — at dt = 0.01 millimetres
+//! to centimetres for a half-metre limb — and the contact forces can turn a body so that a point
+//! without a row reaches the floor. Baumgarte terms alone remove that only over several steps.
 
 use glam::DVec3;
 
 use crate::data::Data;
+use crate::math::{Force, Motion};
 use crate::model::{JointType, Model, WORLD};
 
-use super::constraint::RowKind;
+use super::collision::{self, CollisionData};
+use super::constraint::{self, RowKind};
 use super::integrate::integrate_pos;
 use super::kinematics::{self, KinData};
 use super::lcp::{self, LcpWork, Role};
 
 /// Penetration left to the Baumgarte term (m).
 pub const SLOP: f64 = 1e-4;
+/// Passes of check and projection at most per step (the LCP uses the ABA of the step's start).
+const PASSES: usize = 3;
 
 /// Scratch of the projection, allocated with the world.
 #[derive(Clone, Debug, Default)]
 pub struct StabilizeData {
     /// Kinematics of the configuration after the step.
     pub kin: KinData,
-    /// Normal and limit rows taking part.
-    rows: Vec<usize>,
-    /// Their gaps after the step (limits: not below zero).
+    /// Penetrating contacts of the configuration after the step.
+    coll: CollisionData,
+    /// Projection rows: gap after the step, J (nv each), Δq̈ per unit p (nv each), and the limit
+    /// (joint, sign) of a limit row.
     gap: Vec<f64>,
+    jac: Vec<f64>,
+    dqdd: Vec<f64>,
+    limit: Vec<Option<(usize, f64)>>,
     m: Vec<f64>,
     role: Vec<Role>,
     p: Vec<f64>,
     dq: Vec<f64>,
+    dpa: Vec<Force>,
+    du: Vec<[f64; 6]>,
+    da: Vec<Motion>,
     /// End-of-step velocities (nv), scratch for the step's second contact check.
     pub vel_end: Vec<f64>,
     work: LcpWork,
@@ -45,104 +57,178 @@ pub struct StabilizeData {
 impl StabilizeData {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
-        StabilizeData { kin: KinData::new(m), dq: vec![0.0; m.nv], vel_end: vec![0.0; m.nv], ..Default::default() }
+        StabilizeData {
+            kin: KinData::new(m),
+            coll: CollisionData::new(m),
+            dq: vec![0.0; m.nv],
+            dpa: vec![Force::ZERO; m.njnt],
+            du: vec![[0.0; 6]; m.njnt],
+            da: vec![Motion::ZERO; m.njnt],
+            vel_end: vec![0.0; m.nv],
+            ..Default::default()
+        }
     }
 }
 
-/// Projects `qpos` (after the step, with `qvel` after the step) out of penetration, using the rows,
-/// K and Δq̈ in `data.con` and the kinematics of the step's start in `data.kin`. The projection's
-/// LCP counts in `data.stats`.
+/// Projects `qpos` (after the step, with `qvel` after the step) out of penetration, using the rows
+/// and Δq̈ in `data.con` and the kinematics and ABA quantities of the step's start. The
+/// projection's LCP counts in `data.stats`.
 pub fn project(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &[f64]) {
     if !(0..data.con.len()).any(|j| data.con.kind[j] == RowKind::Normal) {
         return;
     }
-    // K is the start of the step's, so a projection can fall short: checked and repeated
     for _ in 0..PASSES {
-        if !gaps(m, data, qpos, qvel) {
+        if !gather(m, data, qpos, qvel) {
             return;
         }
         solve(m, data, qpos);
     }
 }
 
-/// Passes of check and projection at most per step.
-const PASSES: usize = 3;
-
-/// The normal rows' gaps at `qpos` into `post.gap` (and the limit rows' after them), or false when
-/// no contact penetrates beyond [`SLOP`].
-fn gaps(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
-    let Data { kin, con, post, .. } = data;
+/// Fills the projection rows for the configuration `qpos`; false when no contact penetrates beyond
+/// [`SLOP`].
+fn gather(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
+    let Data { kin, aba, con, coll, post, .. } = data;
+    let nv = m.nv;
     kinematics::forward(m, qpos, qvel, &mut post.kin);
-    let new = &post.kin;
-    // the contact point, carried by each side's node: d' = d + n'·(p₁' − p₂'), n' turned with side 2
-    post.rows.clear();
+    collision::penetrations(m, &post.kin, &mut post.coll);
     post.gap.clear();
+    post.jac.clear();
+    post.dqdd.clear();
+    post.limit.clear();
     let mut worst = 0.0f64;
+    // the step's contact rows, their points carried by each side's node:
+    // d' = d + n'·(p₁' − p₂'), n' turned with side 2 (a first-order estimate)
+    let new = &post.kin;
     for j in (0..con.len()).filter(|&j| con.kind[j] == RowKind::Normal) {
         let moved = |side: usize| {
             let n = con.node[j][side];
-            if n == WORLD { (DVec3::ZERO, con.dir[j]) } else {
+            if n == WORLD {
+                (DVec3::ZERO, con.dir[j])
+            } else {
                 let old = kin.node_rot[n] * con.point[j][side] + kin.node_pos[n];
                 let now = new.node_rot[n] * con.point[j][side] + new.node_pos[n];
                 (now - old, new.node_rot[n] * (kin.node_rot[n].transpose() * con.dir[j]))
             }
         };
         let ((d1, _), (d2, n2)) = (moved(0), moved(1));
-        let gap = con.dist[j] + n2.dot(d1 - d2);
+        // the surfaces' closest points move over them as the bodies turn (a capsule's end rolls),
+        // so a fresh detection of the same feature, where there is one, is the better gap
+        let o = &coll.contacts[con.source[j]];
+        let key = (o.geom1, o.geom2, o.feature);
+        let gap = match post.coll.contacts.iter().find(|c| (c.geom1, c.geom2, c.feature) == key) {
+            Some(c) => c.dist,
+            None => (con.dist[j] + n2.dot(d1 - d2)).max(0.0),
+        };
         worst = worst.min(gap);
-        post.rows.push(j);
         post.gap.push(gap);
+        push_jacobian(m, kin, con.node[j], con.jac[j], &mut post.jac);
+        post.dqdd.extend_from_slice(&con.dqdd[j * nv..(j + 1) * nv]);
+        post.limit.push(None);
+    }
+    // contacts penetrating now that had no row: a test force each
+    for c in post.coll.contacts.iter().filter(|c| c.dist < -SLOP) {
+        let known = (0..con.len()).any(|j| {
+            con.kind[j] == RowKind::Normal && {
+                let o = &coll.contacts[con.source[j]];
+                (o.geom1, o.geom2, o.feature) == (c.geom1, c.geom2, c.feature)
+            }
+        });
+        if known {
+            continue;
+        }
+        worst = worst.min(c.dist);
+        let nodes = [m.body_node[m.geom_body[c.geom1]], m.body_node[m.geom_body[c.geom2]]];
+        let local = |n: usize| if n == WORLD { c.pos } else { new.node_rot[n].transpose() * (c.pos - new.node_pos[n]) };
+        let jac = constraint::jacobian(new, nodes, [local(nodes[0]), local(nodes[1])], c.normal);
+        post.gap.push(c.dist);
+        push_jacobian(m, kin, nodes, jac, &mut post.jac);
+        post.dpa.fill(Force::ZERO);
+        for side in 0..2 {
+            if nodes[side] != WORLD {
+                post.dpa[nodes[side]] -= jac[side];
+            }
+        }
+        let start = post.dqdd.len();
+        post.dqdd.resize(start + nv, 0.0);
+        constraint::delta_pass(m, kin, aba, None, &mut post.dpa, &mut post.du, &mut post.da, &mut post.dqdd[start..]);
+        post.limit.push(None);
     }
     if worst >= -SLOP {
         return false;
     }
-    // limit rows take part so the projection cannot push a joint past its limit (nor deeper
-    // into a violation it already has)
+    // the step's limit rows take part so the projection cannot push a joint past its limit (nor
+    // deeper into a violation it already has)
     for j in (0..con.len()).filter(|&j| con.kind[j] == RowKind::Limit) {
-        let (joint, (_, sign)) = (con.source[j], con.dof[j]);
+        let (joint, (dof, sign)) = (con.source[j], con.dof[j]);
         let q = qpos[m.jnt_qposadr[joint]];
         let [lo, hi] = m.jnt_range[joint];
-        post.rows.push(j);
         post.gap.push((if sign > 0.0 { q - lo } else { hi - q }).max(0.0));
+        let start = post.jac.len();
+        post.jac.resize(start + nv, 0.0);
+        post.jac[start + dof] = sign;
+        post.dqdd.extend_from_slice(&con.dqdd[j * nv..(j + 1) * nv]);
+        post.limit.push(Some((joint, sign)));
     }
     true
 }
 
-/// One projection δq = Σ p_k Δq̈⁽ᵏ⁾ from the LCP on the rows and gaps in `post`.
-fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
-    let Data { con, post, stats, .. } = data;
-    post.projections += 1;
-    let (nr, k) = (con.len(), post.rows.len());
-    post.m.clear();
-    post.role.clear();
-    for (a, &j) in post.rows.iter().enumerate() {
-        for &i in &post.rows {
-            post.m.push(con.k[j * nr + i]);
+/// Appends the row's J (nv) for node forces `jac`: τ = Jᵀ f, carried to the root as RNEA's
+/// inward force pass (Featherstone 2008, Table 5.1).
+fn push_jacobian(m: &Model, kin: &KinData, nodes: [usize; 2], jac: [Force; 2], out: &mut Vec<f64>) {
+    let start = out.len();
+    out.resize(start + m.nv, 0.0);
+    for side in 0..2 {
+        let (mut i, mut f) = (nodes[side], jac[side]);
+        while i != WORLD {
+            for r in 0..m.jnt_type[i].nv() {
+                out[start + m.jnt_dofadr[i] + r] += kin.s[i][r].dot(&f);
+            }
+            f = kin.x_up[i].inv_apply_force(&f);
+            i = m.node_parent[i];
         }
-        post.m[a * k + a] += lcp::REGULARISATION * con.k[j * nr + j].abs().max(1e-300);
+    }
+}
+
+/// One projection δq = Σ p_k Δq̈⁽ᵏ⁾ from the LCP on the rows in `post`, shortened so that no limit
+/// without a row is crossed.
+fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
+    let Data { post, stats, .. } = data;
+    post.projections += 1;
+    let (nv, k) = (m.nv, post.gap.len());
+    // K_ab = J_a · Δq̈_b
+    post.m.clear();
+    for a in 0..k {
+        for b in 0..k {
+            let dot: f64 = post.jac[a * nv..(a + 1) * nv].iter().zip(&post.dqdd[b * nv..(b + 1) * nv]).map(|(x, y)| x * y).sum();
+            post.m.push(dot);
+        }
+    }
+    post.role.clear();
+    for a in 0..k {
+        let d = post.m[a * k + a];
+        post.m[a * k + a] += lcp::REGULARISATION * d.abs().max(1e-300);
         post.role.push(Role::Normal);
     }
     post.p.clear();
     post.p.resize(k, 0.0);
     lcp::solve(k, &post.m, &post.gap, &post.role, None, &mut post.p, &mut post.work, stats);
     post.dq.fill(0.0);
-    for (a, &j) in post.rows.iter().enumerate() {
+    for a in 0..k {
         let p = post.p[a];
         if p != 0.0 {
-            for (d, c) in post.dq.iter_mut().zip(&con.dqdd[j * m.nv..(j + 1) * m.nv]) {
+            for (d, c) in post.dq.iter_mut().zip(&post.dqdd[a * nv..(a + 1) * nv]) {
                 *d += p * c;
             }
         }
     }
-    // limits without a row are not in the LCP: shorten the step so that none is crossed
     let mut alpha = 1.0f64;
     for j in (0..m.njnt).filter(|&j| m.jnt_limited[j] && matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide)) {
         let (q, dq) = (qpos[m.jnt_qposadr[j]], post.dq[m.jnt_dofadr[j]]);
         let sign = if dq < 0.0 { 1.0 } else { -1.0 };
-        let has_row = post.rows.iter().any(|&r| con.kind[r] == RowKind::Limit && con.source[r] == j && con.dof[r].1 == sign);
         let [lo, hi] = m.jnt_range[j];
         let room = if dq < 0.0 { q - lo } else { hi - q };
-        if !has_row && dq.abs() > room.max(0.0) {
+        if !post.limit.contains(&Some((j, sign))) && dq.abs() > room.max(0.0) {
             alpha = alpha.min(room.max(0.0) / dq.abs());
         }
     }
