@@ -110,6 +110,37 @@ pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut Ab
     }
 }
 
+/// The inward pass's bias terms p^A and u alone, for new velocities and forces `tau` on the
+/// configuration whose I^A, U and D⁻¹ are already in `aba` (after an impulse).
+pub fn backward_bias(m: &Model, kin: &KinData, tau: &[f64], aba: &mut AbaData) {
+    for i in 0..m.njnt {
+        let v = kin.v[i];
+        aba.pa[i] = v.cross_force(&m.node_inertia[i].mul_motion(&v));
+    }
+    for i in (0..m.njnt).rev() {
+        let k = m.jnt_type[i].nv();
+        let da = m.jnt_dofadr[i];
+        for r in 0..k {
+            aba.u[i][r] = tau[da + r] - kin.s[i][r].dot(&aba.pa[i]);
+        }
+        let p = m.node_parent[i];
+        if p == WORLD {
+            continue;
+        }
+        // p^a = p^A + I^A c + U D⁻¹ (u − Uᵀ c)
+        let (um, d, c) = (&aba.u_mat[i], &aba.d_inv[i], kin.c[i]);
+        let mut pa = aba.pa[i] + aba.ia[i].mul_motion(&c);
+        for r in 0..k {
+            let mut w = 0.0;
+            for q in 0..k {
+                w += d[r * 6 + q] * (aba.u[i][q] - c.dot(&um[q]));
+            }
+            pa += um[r] * w;
+        }
+        aba.pa[p] += kin.x_up[i].inv_apply_force(&pa);
+    }
+}
+
 /// Pass 3 (outward): accelerations `qacc` (nv) and spatial accelerations, with the fictitious
 /// base acceleration −g standing in for gravity (Featherstone 2008, §5.3).
 pub fn forward(m: &Model, kin: &KinData, aba: &mut AbaData, qacc: &mut [f64]) {

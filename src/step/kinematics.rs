@@ -65,14 +65,8 @@ pub fn forward(m: &Model, qpos: &[f64], qvel: &[f64], kin: &mut KinData) {
         };
         kin.node_rot[i] = prot * lrot;
         kin.node_pos[i] = ppos + prot * lpos;
-        let mut vj = Motion::ZERO;
-        for k in 0..kind.nv() {
-            vj += kin.s[i][k] * qvel[da + k];
-        }
-        let v = xu.apply_motion(&v_parent) + vj;
-        kin.c[i] = joint_bias(kind, &vj) + v.cross_motion(&vj);
-        kin.v[i] = v;
         kin.x_up[i] = xu;
+        velocity(m, kin, i, v_parent, &qvel[da..]);
     }
     for b in 1..m.nbody {
         let (orot, opos) = m.body_offset[b].pose();
@@ -80,6 +74,28 @@ pub fn forward(m: &Model, qpos: &[f64], qvel: &[f64], kin: &mut KinData) {
         let (nrot, npos) = if n == WORLD { (DMat3::IDENTITY, DVec3::ZERO) } else { (kin.node_rot[n], kin.node_pos[n]) };
         kin.xmat[b] = nrot * orot;
         kin.xpos[b] = npos + nrot * opos;
+    }
+}
+
+/// v_i and c_i of node i from its parent's velocity and its joint's velocities `qd`.
+#[inline]
+fn velocity(m: &Model, kin: &mut KinData, i: usize, v_parent: Motion, qd: &[f64]) {
+    let kind = m.jnt_type[i];
+    let mut vj = Motion::ZERO;
+    for k in 0..kind.nv() {
+        vj += kin.s[i][k] * qd[k];
+    }
+    let v = kin.x_up[i].apply_motion(&v_parent) + vj;
+    kin.c[i] = joint_bias(kind, &vj) + v.cross_motion(&vj);
+    kin.v[i] = v;
+}
+
+/// v and c for a new `qvel` on the configuration already in `kin` (after an impulse).
+pub fn forward_velocity(m: &Model, qvel: &[f64], kin: &mut KinData) {
+    for i in 0..m.njnt {
+        let p = m.node_parent[i];
+        let v_parent = if p == WORLD { Motion::ZERO } else { kin.v[p] };
+        velocity(m, kin, i, v_parent, &qvel[m.jnt_dofadr[i]..]);
     }
 }
 

@@ -44,7 +44,7 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
         Integrator::Rk4 => 0.0,
     };
     // 1. poses and velocities
-    kinematics::forward(m, qpos, qvel, &mut data.kin);
+    stabilize::kinematics_of(m, data, qpos, qvel);
     // 2. articulated inertias and the constraint-free accelerations
     dynamics(m, data, qpos, qvel, ctrl, h_damp);
     // 3. contacts of this configuration (reach over the step from velocities and accelerations)
@@ -80,9 +80,13 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
                 data.impacts += 1;
                 solve_rows(m, data, Level::Velocity);
                 apply(m, data, qvel, 1.0);
-                // same configuration, so the same rows and K; new velocities, b and ABA bias terms
+                // same configuration, so the same rows, K and articulated inertias; new
+                // velocities, bias terms and b
                 data.qacc = qacc;
-                evaluate(m, data, qpos, qvel, ctrl, h);
+                kinematics::forward_velocity(m, qvel, &mut data.kin);
+                forces::applied(m, qpos, qvel, ctrl, &mut data.qfrc_applied);
+                aba::backward_bias(m, &data.kin, &data.qfrc_applied, &mut data.aba);
+                aba::forward(m, &data.kin, &mut data.aba, &mut data.qacc);
                 constraint::refresh(m, &data.kin, &data.aba, qpos, qvel, ctrl, &data.feedforward, &data.qacc, &mut data.con);
                 qacc = std::mem::take(&mut data.qacc);
             }

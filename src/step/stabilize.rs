@@ -50,6 +50,10 @@ pub struct StabilizeData {
     /// End-of-step velocities (nv), scratch for the step's second contact check.
     pub vel_end: Vec<f64>,
     work: LcpWork,
+    /// Whether `kin` holds the kinematics of (`qpos`, `qvel`).
+    cached: bool,
+    qpos: Vec<f64>,
+    qvel: Vec<f64>,
     /// Projections run.
     pub projections: u64,
 }
@@ -79,24 +83,46 @@ pub fn project(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &[f64]) {
     }
     for _ in 0..PASSES {
         if !gather(m, data, qpos, qvel) {
+            // post.kin is the kinematics of the next step's state: kept for it
+            let post = &mut data.post;
+            post.cached = true;
+            post.qpos.clear();
+            post.qpos.extend_from_slice(qpos);
+            post.qvel.clear();
+            post.qvel.extend_from_slice(qvel);
             return;
         }
         solve(m, data, qpos);
     }
 }
 
-/// Fills the projection rows for the configuration `qpos`; false when no contact penetrates beyond
-/// [`SLOP`].
+/// Stage 1 of a step: the kinematics of (qpos, qvel) into `data.kin`, taken from the last
+/// projection's check when that was of the same state.
+pub fn kinematics_of(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) {
+    let post = &mut data.post;
+    if post.cached && post.qpos == qpos && post.qvel == qvel {
+        std::mem::swap(&mut data.kin, &mut post.kin);
+    } else {
+        kinematics::forward(m, qpos, qvel, &mut data.kin);
+    }
+    post.cached = false;
+}
+
+/// Checks the configuration `qpos`: false when no contact penetrates beyond [`SLOP`], else true
+/// with the projection rows filled.
 fn gather(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
     let Data { kin, aba, con, coll, post, .. } = data;
     let nv = m.nv;
     kinematics::forward(m, qpos, qvel, &mut post.kin);
     collision::penetrations(m, &post.kin, &mut post.coll);
+    // every row's gap below is a fresh detection's or at least zero
+    if post.coll.contacts.iter().all(|c| c.dist >= -SLOP) {
+        return false;
+    }
     post.gap.clear();
     post.jac.clear();
     post.dqdd.clear();
     post.limit.clear();
-    let mut worst = 0.0f64;
     // the step's contact rows, their points carried by each side's node:
     // d' = d + n'·(p₁' − p₂'), n' turned with side 2 (a first-order estimate)
     let new = &post.kin;
@@ -120,7 +146,6 @@ fn gather(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
             Some(c) => c.dist,
             None => (con.dist[j] + n2.dot(d1 - d2)).max(0.0),
         };
-        worst = worst.min(gap);
         post.gap.push(gap);
         push_jacobian(m, kin, con.node[j], con.jac[j], &mut post.jac);
         post.dqdd.extend_from_slice(&con.dqdd[j * nv..(j + 1) * nv]);
@@ -137,7 +162,6 @@ fn gather(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
         if known {
             continue;
         }
-        worst = worst.min(c.dist);
         let nodes = [m.body_node[m.geom_body[c.geom1]], m.body_node[m.geom_body[c.geom2]]];
         let local = |n: usize| if n == WORLD { c.pos } else { new.node_rot[n].transpose() * (c.pos - new.node_pos[n]) };
         let jac = constraint::jacobian(new, nodes, [local(nodes[0]), local(nodes[1])], c.normal);
@@ -153,9 +177,6 @@ fn gather(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
         post.dqdd.resize(start + nv, 0.0);
         constraint::delta_pass(m, kin, aba, None, &mut post.dpa, &mut post.du, &mut post.da, &mut post.dqdd[start..]);
         post.limit.push(None);
-    }
-    if worst >= -SLOP {
-        return false;
     }
     // the step's limit rows take part so the projection cannot push a joint past its limit (nor
     // deeper into a violation it already has)
