@@ -152,6 +152,16 @@ fn node_of_geom(m: &Model, g: usize) -> usize {
     m.body_node[m.geom_body[g]]
 }
 
+/// World classical acceleration of the point with node coordinates `r` on node `n`, from the
+/// ABA's constraint-free accelerations (which carry the base's fictitious −g, added back).
+fn point_accel(m: &Model, kin: &KinData, aba: &AbaData, n: usize, r: DVec3) -> DVec3 {
+    if n == WORLD {
+        return DVec3::ZERO;
+    }
+    let (a, v) = (aba.a[n], kin.v[n]);
+    kin.node_rot[n] * (a.point_velocity(r) + v.ang.cross(v.point_velocity(r))) + m.opt.gravity
+}
+
 /// World velocity of the point with node coordinates `r` on node `n`.
 fn point_vel(kin: &KinData, n: usize, r: DVec3) -> DVec3 {
     if n == WORLD { DVec3::ZERO } else { kin.node_rot[n] * kin.v[n].point_velocity(r) }
@@ -174,12 +184,14 @@ pub fn jacobian(kin: &KinData, nodes: [usize; 2], pts: [DVec3; 2], dir: DVec3) -
 /// Builds the rows for `contacts`, limits active or reachable within the step (`qacc0`: the
 /// constraint-free accelerations) or marked in `forced` (2 per joint: lower, upper) and, when the actuation is trajectory following,
 /// motion control of every actuated joint toward `ctrl` (position targets) with feed-forward
-/// velocity and acceleration `feedforward` (2 × nu). `tangent_for(i, n, v_t)` picks the friction
-/// direction of contact i (the caller handles sliding, persistence and the seeded random choice).
+/// velocity and acceleration `feedforward` (2 × nu). `tangent_for(i, n, v_t, a_t)` picks the
+/// friction direction of contact i from its tangential velocity and constraint-free tangential
+/// acceleration (the caller handles sliding, persistence and the seeded random choice).
 #[allow(clippy::too_many_arguments)]
 pub fn rows(
     m: &Model,
     kin: &KinData,
+    aba: &AbaData,
     qpos: &[f64],
     qvel: &[f64],
     qacc0: &[f64],
@@ -187,7 +199,7 @@ pub fn rows(
     ctrl: &[f64],
     feedforward: &[f64],
     contacts: &[Contact],
-    mut tangent_for: impl FnMut(usize, DVec3, DVec3) -> DVec3,
+    mut tangent_for: impl FnMut(usize, DVec3, DVec3, DVec3) -> DVec3,
     out: &mut ConstraintData,
 ) {
     out.clear();
@@ -197,6 +209,7 @@ pub fn rows(
         let local = |n: usize| if n == WORLD { c.pos } else { kin.node_rot[n].transpose() * (c.pos - kin.node_pos[n]) };
         let pts = [local(nodes[0]), local(nodes[1])];
         let vrel = point_vel(kin, nodes[0], pts[0]) - point_vel(kin, nodes[1], pts[1]);
+        let arel = point_accel(m, kin, aba, nodes[0], pts[0]) - point_accel(m, kin, aba, nodes[1], pts[1]);
         let normal_row = out.len();
         out.push(RowKind::Normal, nodes, pts, c.normal, (0, 0.0), c.mu, ci);
         out.vel[normal_row] = c.normal.dot(vrel);
@@ -204,7 +217,8 @@ pub fn rows(
         out.dist[normal_row] = c.dist;
         if c.friction && c.mu > 0.0 {
             let vt = vrel - c.normal * c.normal.dot(vrel);
-            let t = tangent_for(ci, c.normal, vt);
+            let at = arel - c.normal * c.normal.dot(arel);
+            let t = tangent_for(ci, c.normal, vt, at);
             let dirs = match m.opt.friction {
                 FrictionModel::OneTangent => [t, DVec3::ZERO, DVec3::ZERO, DVec3::ZERO],
                 FrictionModel::Pyramid => {

@@ -158,11 +158,13 @@ fn missed_limits(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool
 }
 
 fn build_rows(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) {
-    let Data { kin, coll, con, tangents, tangents_next, rng, feedforward, qacc, limit_forced, .. } = data;
+    let Data { kin, aba, coll, con, tangents, tangents_next, rng, feedforward, qacc, limit_forced, .. } = data;
     tangents_next.clear();
+    let h = m.opt.timestep;
     constraint::rows(
         m,
         kin,
+        aba,
         qpos,
         qvel,
         qacc,
@@ -170,14 +172,20 @@ fn build_rows(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f6
         ctrl,
         feedforward,
         &coll.contacts,
-        |ci, n, vt| {
+        |ci, n, vt, at| {
             let c = &coll.contacts[ci];
             let key = (c.geom1, c.geom2, c.feature);
             let speed = vt.length();
-            // dynamic friction opposes sliding; static reuses the last valid tangent of a
-            // persisting contact, or a random one for a new contact (Kokkevis 2004, §8.1)
+            // the slip the step would give the contact without constraint forces
+            let slip = vt + h * at;
+            // dynamic friction opposes sliding (Kokkevis 2004, §8.1); a contact at rest that the
+            // step would set slipping is treated alike (sinew's choice: a fixed tangent across the
+            // slip lets it creep); otherwise static friction reuses the last valid tangent of a
+            // persisting contact, or a random one for a new contact, as the seed does
             let t = if speed > constraint::SLIDING_SPEED {
                 -vt / speed
+            } else if slip.length() > constraint::SLIDING_SPEED {
+                -slip / slip.length()
             } else if let Some((_, t)) = tangents.iter().find(|(k, t)| *k == key && t.dot(n).abs() < 1e-6) {
                 *t
             } else {

@@ -26,10 +26,12 @@ def box_on_slope(deg, mu, dt, friction, mode="acceleration"):
 
 
 @pytest.mark.parametrize("mode", ["acceleration", "velocity"])
+@pytest.mark.parametrize("friction", ["seed", "pyramid"])
 @pytest.mark.parametrize("dt", [0.002, 0.01])
-def test_box_on_a_20_degree_slope_with_mu_1_stays_put(dt, mode):
-    """Pyramid friction only: the seed's single tangent creeps (see README, Known gaps)."""
-    sim, _ = box_on_slope(20, 1.0, dt, "pyramid", mode)
+def test_box_on_a_20_degree_slope_with_mu_1_stays_put(dt, friction, mode):
+    """MuJoCo creeps 4–9 mm here. The seed's single tangent holds because a contact the step would
+    set slipping gets its tangent across that slip (a random one would let it creep sideways)."""
+    sim, _ = box_on_slope(20, 1.0, dt, friction, mode)
     sim.step(int(0.2 / dt))
     start = sim.qpos[:3].copy()
     sim.step(int(5 / dt))
