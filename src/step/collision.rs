@@ -137,8 +137,7 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData)
         // by h v + h² a) count as contacts, so a fast foot is stopped at the surface instead of
         // being found inside it one step later
         let margin = first_margin(m, out, i, j);
-        let (ri, rj) = (m.geom_rbound[i], m.geom_rbound[j]);
-        if ri.is_finite() && rj.is_finite() && out.geom_xpos[i].distance(out.geom_xpos[j]) > ri + rj + margin {
+        if apart(m, out, i, j, margin) {
             continue;
         }
         pair(m, out, i, j, margin);
@@ -158,12 +157,27 @@ pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
         out.geom_xpos[g] = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
     }
     for &(i, j) in &m.collision_pairs {
-        let (ri, rj) = (m.geom_rbound[i], m.geom_rbound[j]);
-        if ri.is_finite() && rj.is_finite() && out.geom_xpos[i].distance(out.geom_xpos[j]) > ri + rj {
+        if apart(m, out, i, j, 0.0) {
             continue;
         }
         pair(m, out, i, j, 0.0);
     }
+}
+
+/// Broadphase: bounding spheres farther apart than `margin`, or a bounding sphere that far above
+/// a plane.
+#[inline]
+fn apart(m: &Model, cd: &CollisionData, i: usize, j: usize, margin: f64) -> bool {
+    let (ri, rj) = (m.geom_rbound[i], m.geom_rbound[j]);
+    if ri.is_finite() && rj.is_finite() {
+        return cd.geom_xpos[i].distance(cd.geom_xpos[j]) > ri + rj + margin;
+    }
+    let (plane, other) = if ri.is_finite() { (j, i) } else { (i, j) };
+    if m.geom_type[plane] != GeomType::Plane || !m.geom_rbound[other].is_finite() {
+        return false;
+    }
+    let normal = cd.geom_xmat[plane].col(2);
+    (cd.geom_xpos[other] - cd.geom_xpos[plane]).dot(normal) > m.geom_rbound[other] + margin
 }
 
 /// Bound on the speed of any point of geom g under node velocity `v` (node coordinates).
@@ -199,8 +213,7 @@ pub fn reach_again(m: &Model, kin: &KinData, v_end: &[crate::math::Motion], out:
         if margin <= first_margin(m, out, i, j) {
             continue;
         }
-        let (ri, rj) = (m.geom_rbound[i], m.geom_rbound[j]);
-        if ri.is_finite() && rj.is_finite() && out.geom_xpos[i].distance(out.geom_xpos[j]) > ri + rj + margin {
+        if apart(m, out, i, j, margin) {
             continue;
         }
         let before = out.contacts.len();

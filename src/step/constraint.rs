@@ -43,9 +43,6 @@ impl RowKind {
 
 /// Velocity below which a contact counts as approaching and triggers the impact solve (m/s).
 pub const IMPACT_SPEED: f64 = 1e-3;
-/// Limits this close (rad or m) get a row even when not reachable within the step, so that the
-/// post-stabilisation projection, which moves joints, knows them.
-pub const LIMIT_LOOKAHEAD: f64 = 0.02;
 /// Baumgarte-style position correction: fraction of the penetration removed per step.
 pub const POSITION_CORRECTION: f64 = 0.2;
 /// Tangential speed above which friction is dynamic (tangent opposite to sliding).
@@ -249,7 +246,7 @@ pub fn rows(
                 // active when at the limit or able to reach it within this step (semi-implicit
                 // Euler moves the joint by h (v + h q̈₀), q̈₀ constraint-free), or when `forced`
                 let v_end = v + h * sign * qacc0[da];
-                if dist + h * v.min(v_end).min(0.0) <= m.jnt_margin[j] + LIMIT_LOOKAHEAD || forced[2 * j + side] {
+                if dist + h * v.min(v_end).min(0.0) <= m.jnt_margin[j] || forced[2 * j + side] {
                     let r = out.len();
                     out.push(RowKind::Limit, [WORLD, WORLD], [DVec3::ZERO; 2], DVec3::ZERO, (da, sign), 0.0, j);
                     out.vel[r] = v;

@@ -102,6 +102,11 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
             break;
         }
         redo = true;
+        // the first solve's limit rows stay (an impulse may have made them look inactive)
+        for r in (0..data.con.len()).filter(|&r| data.con.kind[r] == RowKind::Limit) {
+            let side = (data.con.dof[r].1 < 0.0) as usize;
+            data.limit_forced[2 * data.con.source[r] + side] = true;
+        }
         dynamics(m, data, qpos, qvel, ctrl, h);
         build_rows(m, data, qpos, qvel, ctrl);
     }
@@ -127,8 +132,7 @@ fn missed_contacts(m: &Model, data: &mut Data, qvel: &[f64]) -> bool {
     collision::reach_again(m, kin, &post.kin.v, coll)
 }
 
-/// Marks in `data.limit_forced` each limit without a row that q̇ + h q̈ would cross within the step
-/// and, if there is one, every limit that has a row (a re-solve keeps them).
+/// Marks in `data.limit_forced` each limit without a row that q̇ + h q̈ would cross within the step.
 fn missed_limits(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
     let h = m.opt.timestep;
     let mut any = false;
@@ -145,13 +149,6 @@ fn missed_limits(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool
                 data.limit_forced[2 * j + side] = true;
                 any = true;
             }
-        }
-    }
-    if any {
-        // the rows of the first solve stay
-        for r in (0..data.con.len()).filter(|&r| data.con.kind[r] == RowKind::Limit) {
-            let side = (data.con.dof[r].1 < 0.0) as usize;
-            data.limit_forced[2 * data.con.source[r] + side] = true;
         }
     }
     any

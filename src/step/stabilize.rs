@@ -211,40 +211,69 @@ fn push_jacobian(m: &Model, kin: &KinData, nodes: [usize; 2], jac: [Force; 2], o
     }
 }
 
-/// One projection δq = Σ p_k Δq̈⁽ᵏ⁾ from the LCP on the rows in `post`, shortened so that no limit
-/// without a row is crossed.
+/// One projection δq = Σ p_k Δq̈⁽ᵏ⁾ from the LCP on the rows in `post`. A limit without a row that
+/// δq would cross gets one (Δq̈ by a unit test torque) and the LCP is solved again; if one is still
+/// crossed after that, the step is shortened to stop at it.
 fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
-    let Data { post, stats, .. } = data;
+    let Data { kin, aba, post, stats, .. } = data;
     post.projections += 1;
-    let (nv, k) = (m.nv, post.gap.len());
-    // K_ab = J_a · Δq̈_b
-    post.m.clear();
-    for a in 0..k {
-        for b in 0..k {
-            let dot: f64 = post.jac[a * nv..(a + 1) * nv].iter().zip(&post.dqdd[b * nv..(b + 1) * nv]).map(|(x, y)| x * y).sum();
-            post.m.push(dot);
-        }
-    }
-    post.role.clear();
-    for a in 0..k {
-        let d = post.m[a * k + a];
-        post.m[a * k + a] += lcp::REGULARISATION * d.abs().max(1e-300);
-        post.role.push(Role::Normal);
-    }
-    post.p.clear();
-    post.p.resize(k, 0.0);
-    lcp::solve(k, &post.m, &post.gap, &post.role, None, &mut post.p, &mut post.work, stats);
-    post.dq.fill(0.0);
-    for a in 0..k {
-        let p = post.p[a];
-        if p != 0.0 {
-            for (d, c) in post.dq.iter_mut().zip(&post.dqdd[a * nv..(a + 1) * nv]) {
-                *d += p * c;
+    let nv = m.nv;
+    for attempt in 0..=LIMIT_PASSES {
+        let k = post.gap.len();
+        // K_ab = J_a · Δq̈_b
+        post.m.clear();
+        for a in 0..k {
+            for b in 0..k {
+                let dot: f64 = post.jac[a * nv..(a + 1) * nv].iter().zip(&post.dqdd[b * nv..(b + 1) * nv]).map(|(x, y)| x * y).sum();
+                post.m.push(dot);
             }
+        }
+        post.role.clear();
+        for a in 0..k {
+            let d = post.m[a * k + a];
+            post.m[a * k + a] += lcp::REGULARISATION * d.abs().max(1e-300);
+            post.role.push(Role::Normal);
+        }
+        post.p.clear();
+        post.p.resize(k, 0.0);
+        lcp::solve(k, &post.m, &post.gap, &post.role, None, &mut post.p, &mut post.work, stats);
+        post.dq.fill(0.0);
+        for a in 0..k {
+            let p = post.p[a];
+            if p != 0.0 {
+                for (d, c) in post.dq.iter_mut().zip(&post.dqdd[a * nv..(a + 1) * nv]) {
+                    *d += p * c;
+                }
+            }
+        }
+        if attempt == LIMIT_PASSES {
+            break;
+        }
+        let mut added = false;
+        for j in limited(m) {
+            let (q, dq) = (qpos[m.jnt_qposadr[j]], post.dq[m.jnt_dofadr[j]]);
+            let sign = if dq < 0.0 { 1.0 } else { -1.0 };
+            let [lo, hi] = m.jnt_range[j];
+            let room = if dq < 0.0 { q - lo } else { hi - q };
+            if dq.abs() > room.max(0.0) && !post.limit.contains(&Some((j, sign))) {
+                let dof = m.jnt_dofadr[j];
+                post.gap.push(room.max(0.0));
+                let start = post.jac.len();
+                post.jac.resize(start + nv, 0.0);
+                post.jac[start + dof] = sign;
+                post.dpa.fill(Force::ZERO);
+                post.dqdd.resize(start + nv, 0.0);
+                constraint::delta_pass(m, kin, aba, Some((dof, sign)), &mut post.dpa, &mut post.du, &mut post.da, &mut post.dqdd[start..]);
+                post.limit.push(Some((j, sign)));
+                added = true;
+            }
+        }
+        if !added {
+            break;
         }
     }
     let mut alpha = 1.0f64;
-    for j in (0..m.njnt).filter(|&j| m.jnt_limited[j] && matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide)) {
+    for j in limited(m) {
         let (q, dq) = (qpos[m.jnt_qposadr[j]], post.dq[m.jnt_dofadr[j]]);
         let sign = if dq < 0.0 { 1.0 } else { -1.0 };
         let [lo, hi] = m.jnt_range[j];
@@ -254,4 +283,12 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
         }
     }
     integrate_pos(m, qpos, &post.dq, alpha);
+}
+
+/// Times a projection may add limit rows and solve again.
+const LIMIT_PASSES: usize = 2;
+
+/// Limited hinge and slide joints.
+fn limited(m: &Model) -> impl Iterator<Item = usize> + '_ {
+    (0..m.njnt).filter(|&j| m.jnt_limited[j] && matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide))
 }
