@@ -107,6 +107,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         geom_quat: vec![],
         geom_mat: vec![],
         geom_rbound: vec![],
+        geom_node_pos: vec![],
         geom_friction: vec![],
         geom_contype: vec![],
         geom_conaffinity: vec![],
@@ -206,6 +207,8 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
             m.geom_quat.push(g.quat);
             m.geom_mat.push(DMat3::from_quat(g.quat));
             m.geom_rbound.push(crate::step::collision::geom_rbound(g.kind, g.size));
+            let (rot, pos) = m.body_offset[b].pose();
+            m.geom_node_pos.push(pos + rot * g.pos);
             m.geom_friction.push(g.friction);
             m.geom_contype.push(g.contype);
             m.geom_conaffinity.push(g.conaffinity);

@@ -187,6 +187,8 @@ pub struct Model {
     pub geom_mat: Vec<DMat3>,
     /// Bounding radius about the geom centre; infinite for planes (ngeom).
     pub geom_rbound: Vec<f64>,
+    /// Geom centre in its body's dynamics-node coordinates (ngeom).
+    pub geom_node_pos: Vec<DVec3>,
     /// Friction (sliding, torsional, rolling) (ngeom).
     pub geom_friction: Vec<[f64; 3]>,
     /// Contact type bits (ngeom).

@@ -124,12 +124,11 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData)
         } else {
             // bounds over the geom's points: centre value + angular part × bounding radius;
             // ABA's accelerations carry the base's fictitious −g, added back
-            let (v, a) = (kin.v[n], aba.a[n]);
-            let centre = kin.node_rot[n].transpose() * (out.geom_xpos[g] - kin.node_pos[n]);
+            let (v, a, centre) = (kin.v[n], aba.a[n], m.geom_node_pos[g]);
             let w = v.ang.length();
             let vc = v.point_velocity(centre);
             let ac = kin.node_rot[n] * (a.point_velocity(centre) + v.ang.cross(vc)) + m.opt.gravity;
-            (speed_bound(m, kin, g, &v, out.geom_xpos[g]), ac.length() + (a.ang.length() + w * w) * m.geom_rbound[g])
+            (vc.length() + w * m.geom_rbound[g], ac.length() + (a.ang.length() + w * w) * m.geom_rbound[g])
         };
     }
     for &(i, j) in &m.collision_pairs {
@@ -170,7 +169,8 @@ pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
 fn apart(m: &Model, cd: &CollisionData, i: usize, j: usize, margin: f64) -> bool {
     let (ri, rj) = (m.geom_rbound[i], m.geom_rbound[j]);
     if ri.is_finite() && rj.is_finite() {
-        return cd.geom_xpos[i].distance(cd.geom_xpos[j]) > ri + rj + margin;
+        let reach = ri + rj + margin;
+        return cd.geom_xpos[i].distance_squared(cd.geom_xpos[j]) > reach * reach;
     }
     let (plane, other) = if ri.is_finite() { (j, i) } else { (i, j) };
     if m.geom_type[plane] != GeomType::Plane || !m.geom_rbound[other].is_finite() {
@@ -180,11 +180,9 @@ fn apart(m: &Model, cd: &CollisionData, i: usize, j: usize, margin: f64) -> bool
     (cd.geom_xpos[other] - cd.geom_xpos[plane]).dot(normal) > m.geom_rbound[other] + margin
 }
 
-/// Bound on the speed of any point of geom g under node velocity `v` (node coordinates).
-fn speed_bound(m: &Model, kin: &KinData, g: usize, v: &crate::math::Motion, xpos: DVec3) -> f64 {
-    let n = m.body_node[m.geom_body[g]];
-    let centre = kin.node_rot[n].transpose() * (xpos - kin.node_pos[n]);
-    v.point_velocity(centre).length() + v.ang.length() * m.geom_rbound[g]
+/// Bound on the speed of any point of geom g under its node's velocity `v` (node coordinates).
+fn speed_bound(m: &Model, g: usize, v: &crate::math::Motion) -> f64 {
+    v.point_velocity(m.geom_node_pos[g]).length() + v.ang.length() * m.geom_rbound[g]
 }
 
 /// The margin of the first detection: the pair's own plus its reach over the step.
@@ -198,14 +196,14 @@ fn first_margin(m: &Model, cd: &CollisionData, i: usize, j: usize) -> f64 {
 /// h·|v_end| now exceeds their first margin are tested again (same configuration) and contacts
 /// not found before are appended. Returns whether there were any: constraint forces (a body
 /// landing on another, say) can carry a geom further than its constraint-free motion.
-pub fn reach_again(m: &Model, kin: &KinData, v_end: &[crate::math::Motion], out: &mut CollisionData) -> bool {
+pub fn reach_again(m: &Model, v_end: &[crate::math::Motion], out: &mut CollisionData) -> bool {
     if !m.opt.contact || m.collision_pairs.is_empty() {
         return false;
     }
     let h = m.opt.timestep;
     for g in 0..m.ngeom {
         let n = m.body_node[m.geom_body[g]];
-        out.geom_speed_end[g] = if n == WORLD || m.geom_type[g] == GeomType::Plane { 0.0 } else { speed_bound(m, kin, g, &v_end[n], out.geom_xpos[g]) };
+        out.geom_speed_end[g] = if n == WORLD || m.geom_type[g] == GeomType::Plane { 0.0 } else { speed_bound(m, g, &v_end[n]) };
     }
     let mut found = false;
     for &(i, j) in &m.collision_pairs {

@@ -85,6 +85,8 @@ pub struct ConstraintData {
     pub b: Vec<f64>,
     /// Δq̈ per unit force of each row (m × nv).
     pub dqdd: Vec<f64>,
+    /// Whether `k` and `dqdd` are those of the current rows.
+    pub assembled: bool,
     dpa: Vec<Force>,
     du: Vec<[f64; 6]>,
     da: Vec<Motion>,
@@ -113,6 +115,7 @@ impl ConstraintData {
 
     /// Removes all rows.
     pub fn clear(&mut self) {
+        self.assembled = false;
         self.kind.clear();
         self.node.clear();
         self.point.clear();
@@ -306,17 +309,28 @@ pub fn refresh(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f6
 /// Fills K (by test forces), Δq̈ per unit force, and b from the ABA outward-pass accelerations
 /// `aba.a` and `qacc0` of the same state.
 pub fn assemble(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], out: &mut ConstraintData) {
+    bias(m, kin, aba, qacc0, out);
+    responses(m, kin, aba, out);
+}
+
+/// b alone: each row's acceleration with zero constraint force.
+pub fn bias(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], out: &mut ConstraintData) {
+    out.b.clear();
+    for j in 0..out.len() {
+        let b = measure(m, kin, out, j, Measure::Actual { aba, qacc0 });
+        out.b.push(b);
+    }
+}
+
+/// K and Δq̈ alone, by test forces (they depend on the configuration, not on velocities).
+pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintData) {
     let nr = out.len();
     let nv = m.nv;
     out.k.clear();
     out.k.resize(nr * nr, 0.0);
     out.dqdd.clear();
     out.dqdd.resize(nr * nv, 0.0);
-    out.b.clear();
-    for j in 0..nr {
-        let b = measure(m, kin, out, j, Measure::Actual { aba, qacc0 });
-        out.b.push(b);
-    }
+    out.assembled = true;
     for k in 0..nr {
         let mk = out.mirror[k];
         if mk != usize::MAX {

@@ -67,13 +67,13 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
     }
     let mut redo = false;
     loop {
-        // 5. K and b by test forces
-        constraint::assemble(m, &data.kin, &data.aba, &data.qacc, &mut data.con);
-        let mut qacc = std::mem::take(&mut data.qacc);
+        // 5. b; K by test forces once a solve needs it (rows that the constraint-free motion
+        // already satisfies need no K)
+        constraint::bias(m, &data.kin, &data.aba, &data.qacc, &mut data.con);
         if m.opt.constraint_mode == ConstraintMode::Velocity {
             // 6'. one impulse solve: q̈ = q̈₀ + Σ p_k Δq̈⁽ᵏ⁾ / h
             solve_rows(m, data, Level::TimeStep);
-            apply(m, data, &mut qacc, 1.0 / h);
+            apply_to_qacc(m, data, 1.0 / h);
         } else {
             // 6. impacts: a velocity-level solve over all rows when something approaches
             if !redo && needs_impact(&data.con, h) {
@@ -82,19 +82,16 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
                 apply(m, data, qvel, 1.0);
                 // same configuration, so the same rows, K and articulated inertias; new
                 // velocities, bias terms and b
-                data.qacc = qacc;
                 kinematics::forward_velocity(m, qvel, &mut data.kin);
                 forces::applied(m, qpos, qvel, ctrl, &mut data.qfrc_applied);
                 aba::backward_bias(m, &data.kin, &data.qfrc_applied, &mut data.aba);
                 aba::forward(m, &data.kin, &mut data.aba, &mut data.qacc);
                 constraint::refresh(m, &data.kin, &data.aba, qpos, qvel, ctrl, &data.feedforward, &data.qacc, &mut data.con);
-                qacc = std::mem::take(&mut data.qacc);
             }
             // 7. constraint forces at the acceleration level, added to q̈
             solve_rows(m, data, Level::Acceleration);
-            apply(m, data, &mut qacc, 1.0);
+            apply_to_qacc(m, data, 1.0);
         }
-        data.qacc = qacc;
         // a limit or contact without a row that the constrained motion would reach (pushed there
         // by contact forces, say): add its row and solve once more from the constraint-free
         // accelerations
@@ -123,13 +120,16 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
 /// Appends to the contacts those the step's final velocities q̇ + h q̈ can reach but the first
 /// detection's margin did not cover.
 fn missed_contacts(m: &Model, data: &mut Data, qvel: &[f64]) -> bool {
+    if !m.opt.contact || m.collision_pairs.is_empty() {
+        return false;
+    }
     let h = m.opt.timestep;
     let Data { kin, coll, post, qacc, .. } = data;
     for ((e, v), a) in post.vel_end.iter_mut().zip(qvel).zip(qacc.iter()) {
         *e = v + h * a;
     }
     kinematics::velocities(m, kin, &post.vel_end, &mut post.kin.v);
-    collision::reach_again(m, kin, &post.kin.v, coll)
+    collision::reach_again(m, &post.kin.v, coll)
 }
 
 /// Marks in `data.limit_forced` each limit without a row that q̇ + h q̈ would cross within the step.
@@ -249,15 +249,14 @@ enum Level {
 /// Assembles the LCP over all rows plus one λ per friction row and solves it into `data.force`.
 fn solve_rows(m: &Model, data: &mut Data, level: Level) {
     let h = m.opt.timestep;
-    let con = &data.con;
-    let nr = con.len();
+    let nr = data.con.len();
     // one λ per contact with friction rows, shared by them (eq. 21 sums their forces), and one σ
     // per torque-bounded motion-control row (the same pattern with a constant bound)
     data.lcp_lambda.clear();
     data.lcp_lambda.resize(nr, usize::MAX);
     let mut n = nr;
     for j in 0..nr {
-        let owner = match con.kind[j] {
+        let owner = match data.con.kind[j] {
             RowKind::Tangent { normal } => normal,
             RowKind::Motion { bounded: true } => j,
             _ => continue,
@@ -267,28 +266,13 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
             n += 1;
         }
     }
-    data.lcp_m.clear();
-    data.lcp_m.resize(n * n, 0.0);
     data.lcp_q.clear();
     data.lcp_q.resize(n, 0.0);
-    data.lcp_role.clear();
-    data.lcp_role.resize(n, lcp::Role::Lambda);
     data.force.clear();
     data.force.resize(n, 0.0);
-    let (mm, q) = (&mut data.lcp_m, &mut data.lcp_q);
-    // a row no force can move (K_jj ≈ 0: the out-of-plane friction of a planar model) carries no
-    // force; left in, it makes the LCP degenerate
-    let k_max = (0..nr).map(|j| con.k[j * nr + j]).fold(0.0, f64::max);
+    let con = &data.con;
+    let q = &mut data.lcp_q;
     for j in 0..nr {
-        if con.k[j * nr + j] <= INERT_ROW * k_max {
-            mm[j * n + j] = 1.0;
-            data.lcp_role[j] = lcp::Role::Normal;
-            continue;
-        }
-        for k in 0..nr {
-            mm[j * n + k] = con.k[j * nr + k];
-        }
-        mm[j * n + j] += lcp::REGULARISATION * con.k[j * nr + j].abs().max(1e-300);
         let (vel, dist) = (con.vel[j], con.dist[j]);
         // desired values: acceleration a^d, or velocity change Δv^d for impacts
         let desired = match (con.kind[j], level) {
@@ -332,6 +316,38 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
             Level::Acceleration => con.b[j] - desired,
             Level::Velocity | Level::TimeStep => -desired,
         };
+    }
+    // every row already satisfied without force (a limit at rest, contacts separating): f = 0
+    // solves the LCP (a friction row's λ takes up its demand) and K is not needed
+    if (0..nr).all(|j| q[j] >= 0.0 || matches!(con.kind[j], RowKind::Tangent { .. })) {
+        data.stats.solves += 1;
+        data.stats.residual = 0.0;
+        record_warm(data, level);
+        return;
+    }
+    if !con.assembled {
+        constraint::responses(m, &data.kin, &data.aba, &mut data.con);
+    }
+    let con = &data.con;
+    data.lcp_m.clear();
+    data.lcp_m.resize(n * n, 0.0);
+    data.lcp_role.clear();
+    data.lcp_role.resize(n, lcp::Role::Lambda);
+    let (mm, q) = (&mut data.lcp_m, &mut data.lcp_q);
+    // a row no force can move (K_jj ≈ 0: the out-of-plane friction of a planar model) carries no
+    // force; left in, it makes the LCP degenerate
+    let k_max = (0..nr).map(|j| con.k[j * nr + j]).fold(0.0, f64::max);
+    for j in 0..nr {
+        if con.k[j * nr + j] <= INERT_ROW * k_max {
+            mm[j * n + j] = 1.0;
+            q[j] = 0.0;
+            data.lcp_role[j] = lcp::Role::Normal;
+            continue;
+        }
+        for k in 0..nr {
+            mm[j * n + k] = con.k[j * nr + k];
+        }
+        mm[j * n + j] += lcp::REGULARISATION * con.k[j * nr + j].abs().max(1e-300);
         match con.kind[j] {
             RowKind::Tangent { normal } => {
                 // (20): (a_t − a_t^d) + λ ≥ 0;  (21): μ f_n − Σ f_t ≥ 0 ⟂ λ ≥ 0
@@ -366,11 +382,17 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
     let warm = std::mem::take(&mut data.lcp_work.warm);
     lcp::solve(n, &data.lcp_m, &data.lcp_q, &data.lcp_role, same_rows.then_some(&warm[..]), &mut data.force, &mut data.lcp_work, &mut data.stats);
     data.lcp_work.warm = warm;
+    record_warm(data, level);
+}
+
+/// Keeps the active set of an acceleration-level or time-stepping solve for the next step's
+/// warm start.
+fn record_warm(data: &mut Data, level: Level) {
     if level != Level::Velocity {
         data.lcp_work.warm.clear();
         data.lcp_work.warm.extend(data.force.iter().map(|&f| f > 0.0));
         data.lcp_work.warm_rows.clear();
-        for j in 0..nr {
+        for j in 0..data.con.len() {
             let key = row_key(data, j);
             data.lcp_work.warm_rows.push(key);
         }
@@ -393,6 +415,13 @@ fn row_key(data: &Data, j: usize) -> (u8, usize, usize, usize, usize) {
             (1, c.geom1, c.geom2, c.feature, within)
         }
     }
+}
+
+/// q̈ += scale · Σ_k f_k Δq̈⁽ᵏ⁾.
+fn apply_to_qacc(m: &Model, data: &mut Data, scale: f64) {
+    let mut qacc = std::mem::take(&mut data.qacc);
+    apply(m, data, &mut qacc, scale);
+    data.qacc = qacc;
 }
 
 /// target += scale · Σ_k f_k Δq̈⁽ᵏ⁾ (forces into accelerations, or impulses into velocities).

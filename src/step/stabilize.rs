@@ -119,6 +119,9 @@ fn gather(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
     if post.coll.contacts.iter().all(|c| c.dist >= -SLOP) {
         return false;
     }
+    if !con.assembled {
+        constraint::responses(m, kin, aba, con);
+    }
     post.gap.clear();
     post.jac.clear();
     post.dqdd.clear();
