@@ -59,6 +59,9 @@ pub struct Data {
     pub node_force: Vec<crate::math::Force>,
     /// SplitMix64 state of this world's random tangents.
     pub rng: u64,
+    /// Nanoseconds spent per pipeline stage, in [`crate::step::Stage`] order.
+    #[cfg(feature = "stage-timing")]
+    pub stage_ns: [u64; crate::step::STAGES],
 }
 
 impl Data {
@@ -87,6 +90,8 @@ impl Data {
             feedforward: vec![0.0; 2 * m.nu],
             node_force: vec![crate::math::Force::ZERO; m.njnt],
             rng: 0x5EED,
+            #[cfg(feature = "stage-timing")]
+            stage_ns: [0; crate::step::STAGES],
         }
     }
 }

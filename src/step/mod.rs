@@ -12,6 +12,51 @@ pub mod stabilize;
 use glam::DVec3;
 
 use crate::data::Data;
+
+/// Pipeline stages, for the per-stage cost breakdown (cargo feature `stage-timing`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    /// Poses, velocities, velocity products.
+    Kinematics,
+    /// Applied forces and the ABA's passes.
+    Dynamics,
+    /// Contact detection (both checks).
+    Collision,
+    /// Constraint rows and their b.
+    Rows,
+    /// K and Δq̈ by test forces.
+    Assembly,
+    /// The LCP: vector, matrix, solve.
+    Lcp,
+    /// The velocity update after an impact.
+    Impact,
+    /// Time integration.
+    Integration,
+    /// Post-stabilisation check and projection.
+    Projection,
+}
+
+/// Number of [`Stage`]s.
+pub const STAGES: usize = 9;
+
+/// Stage names, in [`Stage`] order.
+pub const STAGE_NAMES: [&str; STAGES] = ["kinematics", "ABA", "collision", "rows", "K assembly", "LCP", "impact update", "integration", "post-stabilisation"];
+
+/// Runs `$body`, adding its wall time to `$data.stage_ns[$stage]` with the `stage-timing` feature.
+macro_rules! timed {
+    ($data:expr, $stage:expr, $body:expr) => {{
+        #[cfg(feature = "stage-timing")]
+        let start = std::time::Instant::now();
+        let out = $body;
+        #[cfg(feature = "stage-timing")]
+        {
+            $data.stage_ns[$stage as usize] += start.elapsed().as_nanos() as u64;
+        }
+        #[cfg(not(feature = "stage-timing"))]
+        let _ = $stage;
+        out
+    }};
+}
 use crate::model::{ConstraintMode, Integrator, JointType, Model};
 use constraint::RowKind;
 
@@ -44,32 +89,32 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
         Integrator::Rk4 => 0.0,
     };
     // 1. poses and velocities
-    stabilize::kinematics_of(m, data, qpos, qvel);
+    timed!(data, Stage::Kinematics, stabilize::kinematics_of(m, data, qpos, qvel));
     // 2. articulated inertias and the constraint-free accelerations
-    dynamics(m, data, qpos, qvel, ctrl, h_damp);
+    timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, h_damp));
     // 3. contacts of this configuration (reach over the step from velocities and accelerations)
-    collision::collide(m, &data.kin, &data.aba, &mut data.coll);
+    timed!(data, Stage::Collision, collision::collide(m, &data.kin, &data.aba, &mut data.coll));
     // 4. constraint rows: contacts (normal + friction), active limits, motion control
-    build_rows(m, data, qpos, qvel, ctrl);
+    timed!(data, Stage::Rows, build_rows(m, data, qpos, qvel, ctrl));
     if data.con.is_empty() {
         // nothing to constrain: the plain step
         data.force.clear();
         match m.opt.integrator {
-            Integrator::Euler => integrate::euler(m, qpos, qvel, &data.qacc, h),
-            Integrator::Rk4 => rk4(m, data, qpos, qvel, ctrl, h),
+            Integrator::Euler => timed!(data, Stage::Integration, integrate::euler(m, qpos, qvel, &data.qacc, h)),
+            Integrator::Rk4 => timed!(data, Stage::Integration, rk4(m, data, qpos, qvel, ctrl, h)),
         }
         *time += h;
         return;
     }
     // with constraints the step is semi-implicit Euler (the seed's scheme), whatever the integrator
     if h_damp != h {
-        dynamics(m, data, qpos, qvel, ctrl, h);
+        timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, h));
     }
     let mut redo = false;
     loop {
         // 5. b; K by test forces once a solve needs it (rows that the constraint-free motion
         // already satisfies need no K)
-        constraint::bias(m, &data.kin, &data.aba, &data.qacc, &mut data.con);
+        timed!(data, Stage::Rows, constraint::bias(m, &data.kin, &data.aba, &data.qacc, &mut data.con));
         if m.opt.constraint_mode == ConstraintMode::Velocity {
             // 6'. one impulse solve: q̈ = q̈₀ + Σ p_k Δq̈⁽ᵏ⁾ / h
             solve_rows(m, data, Level::TimeStep);
@@ -82,11 +127,13 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
                 apply(m, data, qvel, 1.0);
                 // same configuration, so the same rows, K and articulated inertias; new
                 // velocities, bias terms and b
-                kinematics::forward_velocity(m, qvel, &mut data.kin);
-                forces::applied(m, qpos, qvel, ctrl, &mut data.qfrc_applied);
-                aba::backward_bias(m, &data.kin, &data.qfrc_applied, &mut data.aba);
-                aba::forward(m, &data.kin, &mut data.aba, &mut data.qacc);
-                constraint::refresh(m, &data.kin, &data.aba, qpos, qvel, ctrl, &data.feedforward, &data.qacc, &mut data.con);
+                timed!(data, Stage::Impact, {
+                    kinematics::forward_velocity(m, qvel, &mut data.kin);
+                    forces::applied(m, qpos, qvel, ctrl, &mut data.qfrc_applied);
+                    aba::backward_bias(m, &data.kin, &data.qfrc_applied, &mut data.aba);
+                    aba::forward(m, &data.kin, &mut data.aba, &mut data.qacc);
+                    constraint::refresh(m, &data.kin, &data.aba, qpos, qvel, ctrl, &data.feedforward, &data.qacc, &mut data.con);
+                });
             }
             // 7. constraint forces at the acceleration level, added to q̈
             solve_rows(m, data, Level::Acceleration);
@@ -95,7 +142,8 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
         // a limit or contact without a row that the constrained motion would reach (pushed there
         // by contact forces, say): add its row and solve once more from the constraint-free
         // accelerations
-        if redo || !(missed_limits(m, data, qpos, qvel) | missed_contacts(m, data, qvel)) {
+        let missed = missed_limits(m, data, qpos, qvel) | timed!(data, Stage::Collision, missed_contacts(m, data, qvel));
+        if redo || !missed {
             break;
         }
         redo = true;
@@ -104,16 +152,16 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
             let side = (data.con.dof[r].1 < 0.0) as usize;
             data.limit_forced[2 * data.con.source[r] + side] = true;
         }
-        dynamics(m, data, qpos, qvel, ctrl, h);
-        build_rows(m, data, qpos, qvel, ctrl);
+        timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, h));
+        timed!(data, Stage::Rows, build_rows(m, data, qpos, qvel, ctrl));
     }
     if redo {
         data.limit_forced.fill(false);
     }
     // 8. integrate
-    integrate::euler(m, qpos, qvel, &data.qacc, h);
+    timed!(data, Stage::Integration, integrate::euler(m, qpos, qvel, &data.qacc, h));
     // 9. penetration the linearised rows missed
-    stabilize::project(m, data, qpos, qvel);
+    timed!(data, Stage::Projection, stabilize::project(m, data, qpos, qvel));
     *time += h;
 }
 
@@ -248,6 +296,25 @@ enum Level {
 
 /// Assembles the LCP over all rows plus one λ per friction row and solves it into `data.force`.
 fn solve_rows(m: &Model, data: &mut Data, level: Level) {
+    let n = timed!(data, Stage::Lcp, lcp_vector(m, data, level));
+    let Some(n) = n else {
+        // every row already satisfied without force (a limit at rest, contacts separating):
+        // f = 0 solves the LCP (a friction row's λ takes up its demand) and K is not needed
+        data.stats.solves += 1;
+        data.stats.residual = 0.0;
+        record_warm(data, level);
+        return;
+    };
+    if !data.con.assembled {
+        timed!(data, Stage::Assembly, constraint::responses(m, &data.kin, &data.aba, &mut data.con));
+    }
+    timed!(data, Stage::Lcp, lcp_matrix_and_solve(m, data, level, n));
+}
+
+/// The LCP's variables (rows, then one λ per contact with friction and one σ per bounded
+/// motion-control row) and its vector q, into `data`; their count, or None when q ≥ 0 on every
+/// row but friction rows.
+fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
     let h = m.opt.timestep;
     let nr = data.con.len();
     // one λ per contact with friction rows, shared by them (eq. 21 sums their forces), and one σ
@@ -317,18 +384,16 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
             Level::Velocity | Level::TimeStep => -desired,
         };
     }
-    // every row already satisfied without force (a limit at rest, contacts separating): f = 0
-    // solves the LCP (a friction row's λ takes up its demand) and K is not needed
-    if (0..nr).all(|j| q[j] >= 0.0 || matches!(con.kind[j], RowKind::Tangent { .. })) {
-        data.stats.solves += 1;
-        data.stats.residual = 0.0;
-        record_warm(data, level);
-        return;
-    }
-    if !con.assembled {
-        constraint::responses(m, &data.kin, &data.aba, &mut data.con);
-    }
+    let trivial = (0..nr).all(|j| q[j] >= 0.0 || matches!(con.kind[j], RowKind::Tangent { .. }));
+    (!trivial).then_some(n)
+}
+
+/// M from K and the friction and bound couplings; solves into `data.force` (warm-started when the
+/// rows are last step's).
+fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: usize) {
+    let h = m.opt.timestep;
     let con = &data.con;
+    let nr = con.len();
     data.lcp_m.clear();
     data.lcp_m.resize(n * n, 0.0);
     data.lcp_role.clear();
