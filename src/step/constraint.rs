@@ -43,8 +43,16 @@ impl RowKind {
 
 /// Velocity below which a contact counts as approaching and triggers the impact solve (m/s).
 pub const IMPACT_SPEED: f64 = 1e-3;
-/// Baumgarte-style position correction: fraction of the penetration removed per step.
-pub const POSITION_CORRECTION: f64 = 0.2;
+/// Time over which a violation (penetration, limit overshoot) is removed: the desired velocity is
+/// −d / T. A time, not a fraction per step, so that the motion converges as the step shrinks; at
+/// least 5 steps, so a coarse step does not overshoot. Penetration beyond the post-stabilisation
+/// slop is removed at the step's end instead.
+pub fn correction_velocity(dist: f64, h: f64) -> f64 {
+    -dist / (5.0 * h).max(CORRECTION_TIME)
+}
+
+/// See [`correction_velocity`] (s).
+pub const CORRECTION_TIME: f64 = 0.05;
 /// Tangential speed above which friction is dynamic (tangent opposite to sliding).
 pub const SLIDING_SPEED: f64 = 1e-6;
 

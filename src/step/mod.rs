@@ -354,14 +354,14 @@ fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
             // constraint-free v_p = v + h b
             (RowKind::Tangent { .. }, Level::TimeStep) => -(vel + h * con.b[j]),
             (_, Level::TimeStep) => {
-                let mut target = if dist > 0.0 { -dist / h } else { -constraint::POSITION_CORRECTION * dist / h };
+                let mut target = if dist > 0.0 { -dist / h } else { constraint::correction_velocity(dist, h) };
                 if -vel > 4.0 * h * m.opt.gravity.length() && dist + h * vel < 0.0 && m.opt.restitution > 0.0 {
                     target = target.max(rebound(vel, dist, con.b[j], m.opt.restitution, h));
                 }
                 target - (vel + h * con.b[j])
             }
             (_, Level::Acceleration) => {
-                let target = if dist > 0.0 { -dist / h } else { -constraint::POSITION_CORRECTION * dist / h };
+                let target = if dist > 0.0 { -dist / h } else { constraint::correction_velocity(dist, h) };
                 (target - vel) / h
             }
             // end-of-step velocity v⁺ for a row that closes within this step: the rebound with
