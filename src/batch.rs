@@ -25,6 +25,8 @@ pub struct Batch {
     pub data: Vec<Data>,
     root: Vec<usize>,
     pool: rayon::ThreadPool,
+    /// One zero control per world, for models without actuators (the chunk iterators need a slot).
+    no_ctrl: Vec<f64>,
 }
 
 /// The flat state arrays of a batch, borrowed for one call.
@@ -75,7 +77,8 @@ impl Batch {
             .num_threads(num_threads.unwrap_or(0))
             .build()
             .map_err(|e| crate::Error::Input(format!("cannot start the thread pool: {e}")))?;
-        Ok(Batch { root: sensors::body_root(&model), model, data, pool })
+        let no_ctrl = vec![0.0; if model.nu == 0 { data.len() } else { 0 }];
+        Ok(Batch { root: sensors::body_root(&model), model, data, pool, no_ctrl })
     }
 
     /// Number of worlds.
@@ -105,14 +108,7 @@ impl Batch {
         let root = &self.root[..];
         let (nq, nv, nu, nb) = (m.nq.max(1), m.nv.max(1), m.nu.max(1), m.nbody);
         let data = &mut self.data;
-        // models without actuators still need one slot per world for the chunk iterators
-        let no_ctrl;
-        let ctrl = if m.nu == 0 {
-            no_ctrl = vec![0.0; data.len()];
-            &no_ctrl[..]
-        } else {
-            st.ctrl
-        };
+        let ctrl = if m.nu == 0 { &self.no_ctrl[..] } else { st.ctrl };
         self.pool.install(|| {
             (
                 data.par_iter_mut(),

@@ -107,18 +107,29 @@ pub fn can_collide(m: &Model, i: usize, j: usize) -> bool {
     !m.exclude_pairs.contains(&(bi.min(bj), bi.max(bj)))
 }
 
-/// Detects all contacts of the configuration in `kin`, with `aba` holding the constraint-free
-/// accelerations of the same state (for how far a geom can move within the step).
-pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData) {
+/// Clears the contacts and, when the model has pairs to test, writes the geoms' world poses;
+/// false when there is nothing to test.
+fn geom_poses(m: &Model, kin: &KinData, out: &mut CollisionData) -> bool {
     out.contacts.clear();
     if !m.opt.contact || m.collision_pairs.is_empty() {
-        return;
+        return false;
     }
     for g in 0..m.ngeom {
         let b = m.geom_body[g];
         out.geom_xmat[g] = kin.xmat[b] * m.geom_mat[g];
         out.geom_xpos[g] = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
-        let n = m.body_node[b];
+    }
+    true
+}
+
+/// Detects all contacts of the configuration in `kin`, with `aba` holding the constraint-free
+/// accelerations of the same state (for how far a geom can move within the step).
+pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData) {
+    if !geom_poses(m, kin, out) {
+        return;
+    }
+    for g in 0..m.ngeom {
+        let n = m.body_node[m.geom_body[g]];
         (out.geom_speed[g], out.geom_accel[g]) = if n == WORLD || m.geom_type[g] == GeomType::Plane {
             (0.0, 0.0)
         } else {
@@ -146,14 +157,8 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData)
 /// Contacts of the configuration in `kin` that penetrate (dist < 0) — no speculative margin; for
 /// checking a configuration after the step.
 pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
-    out.contacts.clear();
-    if !m.opt.contact || m.collision_pairs.is_empty() {
+    if !geom_poses(m, kin, out) {
         return;
-    }
-    for g in 0..m.ngeom {
-        let b = m.geom_body[g];
-        out.geom_xmat[g] = kin.xmat[b] * m.geom_mat[g];
-        out.geom_xpos[g] = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
     }
     for &(i, j) in &m.collision_pairs {
         if apart(m, out, i, j, 0.0) {
