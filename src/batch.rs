@@ -65,7 +65,7 @@ impl Batch {
     /// `seeds.len()` worlds; world i draws its random friction tangents from `seeds[i]`.
     /// `num_threads` = None uses all cores.
     pub fn new(model: Arc<Model>, seeds: &[u64], num_threads: Option<usize>) -> crate::Result<Batch> {
-        let data = seeds
+        let data: Vec<Data> = seeds
             .iter()
             .map(|&s| {
                 let mut d = Data::new(&model);
