@@ -39,6 +39,8 @@ pub struct StabilizeData {
     gap: Vec<f64>,
     jac: Vec<f64>,
     dqdd: Vec<f64>,
+    /// Nonzero dof range of each row's J.
+    span: Vec<(usize, usize)>,
     limit: Vec<Option<(usize, f64)>>,
     m: Vec<f64>,
     role: Vec<Role>,
@@ -223,11 +225,21 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
     let nv = m.nv;
     for attempt in 0..=LIMIT_PASSES {
         let k = post.gap.len();
-        // K_ab = J_a · Δq̈_b
+        // K_ab = J_a · Δq̈_b, over the dofs where J_a is not zero (its bodies' paths to the root:
+        // one character of many in a scene)
+        post.span.clear();
+        for a in 0..k {
+            let row = &post.jac[a * nv..(a + 1) * nv];
+            let first = row.iter().position(|&x| x != 0.0).unwrap_or(0);
+            let last = row.iter().rposition(|&x| x != 0.0).map_or(0, |i| i + 1);
+            post.span.push((first, last.max(first)));
+        }
         post.m.clear();
         for a in 0..k {
+            let (lo, hi) = post.span[a];
+            let row = &post.jac[a * nv + lo..a * nv + hi];
             for b in 0..k {
-                let dot: f64 = post.jac[a * nv..(a + 1) * nv].iter().zip(&post.dqdd[b * nv..(b + 1) * nv]).map(|(x, y)| x * y).sum();
+                let dot: f64 = row.iter().zip(&post.dqdd[b * nv + lo..b * nv + hi]).map(|(x, y)| x * y).sum();
                 post.m.push(dot);
             }
         }
