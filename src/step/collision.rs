@@ -72,7 +72,7 @@ impl CollisionData {
     }
 }
 
-/// Contacts kept per step; further ones are dropped (deepest first is not guaranteed).
+/// Contacts kept per step; beyond it, a deeper contact replaces the least deep.
 pub const MAX_CONTACTS: usize = 128;
 
 /// Bounding radius of a geom about its centre (planes: infinite).
@@ -220,6 +220,10 @@ pub fn reach_again(m: &Model, v_end: &[crate::math::Motion], out: &mut Collision
             continue;
         }
         let before = out.contacts.len();
+        if before >= MAX_CONTACTS {
+            // full: a replacement would change contacts the rows already refer to
+            break;
+        }
         pair(m, out, i, j, margin);
         let mut k = before;
         while k < out.contacts.len() {
@@ -263,8 +267,16 @@ fn pair(m: &Model, cd: &mut CollisionData, i: usize, j: usize, margin: f64) {
     let friction = m.geom_condim[i] > 1 && m.geom_condim[j] > 1;
     let add = |cd: &mut CollisionData, g1: usize, g2: usize, feature: usize, pos: DVec3, normal: DVec3, dist: f64| {
         let c = Contact { geom1: g1, geom2: g2, feature, pos, normal, dist, mu, friction };
-        if dist <= margin && cd.contacts.len() < MAX_CONTACTS && !repeats_joint_contact(m, &cd.contacts, &c) {
+        if dist > margin || repeats_joint_contact(m, &cd.contacts, &c) {
+            return;
+        }
+        if cd.contacts.len() < MAX_CONTACTS {
             cd.contacts.push(c);
+        } else if let Some(widest) = (0..MAX_CONTACTS).max_by(|&a, &b| cd.contacts[a].dist.total_cmp(&cd.contacts[b].dist)) {
+            // full: the deepest are kept
+            if cd.contacts[widest].dist > dist {
+                cd.contacts[widest] = c;
+            }
         }
     };
     // order so that a plane, if any, is geom2 (the normal then points out of the plane)

@@ -341,9 +341,6 @@ fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
     let q = &mut data.lcp_q;
     for j in 0..nr {
         let (vel, dist) = (con.vel[j], con.dist[j]);
-        // a contact's penetration beyond the slop is taken out of the positions after the step
-        // (stabilize.rs); a velocity for it as well would make the body pop out
-        let violation = if con.kind[j] == RowKind::Normal { dist.max(-stabilize::SLOP) } else { dist };
         // desired values: acceleration a^d, or velocity change Δv^d for impacts
         let desired = match (con.kind[j], level) {
             // motion control: the trajectory's acceleration; impacts leave the joint's velocity alone
@@ -357,14 +354,14 @@ fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
             // constraint-free v_p = v + h b
             (RowKind::Tangent { .. }, Level::TimeStep) => -(vel + h * con.b[j]),
             (_, Level::TimeStep) => {
-                let mut target = if dist > 0.0 { -dist / h } else { constraint::correction_velocity(violation, h) };
+                let mut target = if dist > 0.0 { -dist / h } else { constraint::correction_velocity(dist, h) };
                 if -vel > 4.0 * h * m.opt.gravity.length() && dist + h * vel < 0.0 && m.opt.restitution > 0.0 {
                     target = target.max(rebound(vel, dist, con.b[j], m.opt.restitution, h));
                 }
                 target - (vel + h * con.b[j])
             }
             (_, Level::Acceleration) => {
-                let target = if dist > 0.0 { -dist / h } else { constraint::correction_velocity(violation, h) };
+                let target = if dist > 0.0 { -dist / h } else { constraint::correction_velocity(dist, h) };
                 (target - vel) / h
             }
             // end-of-step velocity v⁺ for a row that closes within this step: the rebound with
