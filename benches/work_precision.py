@@ -7,6 +7,8 @@ Scenes and error measures:
   damping) from a non-trivial state; error = max |q(1 s) − q_ref(1 s)| against scipy's DOP853 on
   sinew's own ABA (rtol 1e-12), cross-checked with sinew RK4 at dt = 1e-5 (difference printed).
 - slide: a box sliding from 3 m/s with μ = 0.5; error = |stop distance − v0²/(2 μ g)| / (v0²/(2 μ g)).
+- slope30: a box sliding down a 30° slope with μ = 0.3; error = |a − g(sin θ − μ cos θ)| / that.
+- rest: a box resting on the floor; error = how far it sinks in 2 s (exact: 0).
 - creep: a box at rest on a 20° slope with μ = 1; error = distance moved in 2 s (exact: 0).
 - stack: five stacked boxes; error = largest displacement of a box in 2 s (exact: 0).
 - gym:<model>: the gymnasium models on their floors from qpos0 under a fixed open-loop control
@@ -124,14 +126,67 @@ def run_mujoco_slide(dt, integrator, cone, T=1.5):
 SLOPE = """<mujoco><option timestep="{dt}"/><worldbody>
 <geom type="plane" size="50 50 .1" euler="0 20 0" friction="1"/>
 <body pos="0 0 0.1"><freejoint/><geom type="box" size="0.1 0.1 0.1" friction="1"/></body></worldbody></mujoco>"""
+SLOPE30 = SLOPE.replace('euler="0 20 0" friction="1"', 'euler="0 30 0" friction="0.3"').replace('friction="1"', 'friction="0.3"')
+REST = """<mujoco><option timestep="{dt}"/><worldbody><geom type="plane" size="5 5 .1"/>
+<body pos="0 0 0.1"><freejoint/><geom type="box" size="0.1 0.1 0.1"/></body></worldbody></mujoco>"""
 STACK = ('<mujoco><option timestep="{dt}"/><worldbody><geom type="plane" size="5 5 .1"/>'
          + "".join(f'<body pos="0 0 {0.1 + 0.2 * i}"><freejoint/><geom type="box" size="0.1 0.1 0.1"/></body>' for i in range(5))
          + "</worldbody></mujoco>")
 
 
-def slope_state():
-    th = np.radians(20)
+def slope_state(deg=20):
+    th = np.radians(deg)
     return [0.1 * np.sin(th), 0, 0.1 * np.cos(th), np.cos(th / 2), 0, np.sin(th / 2), 0]
+
+
+def sliding_accel(v_end, v_start, t):
+    """Acceleration down the 30° slope from two (vx, vz) samples t apart."""
+    th = np.radians(30)
+    down = lambda vx, vz: vx * np.cos(th) - vz * np.sin(th)  # noqa: E731
+    return (down(*v_end) - down(*v_start)) / t
+
+
+def run_sinew_slope30(dt, mode, friction):
+    sim = sinew.Sim(sinew.Model.from_mjcf_string(SLOPE30.format(dt=dt)).with_options(constraint_mode=mode, friction=friction))
+    sim.qpos[:7] = slope_state(30)
+    sim.step(int(round(0.5 / dt)))
+    v0 = (sim.qvel[0], sim.qvel[2])
+    t = time.perf_counter()
+    sim.step(int(round(0.5 / dt)))
+    cost = (time.perf_counter() - t) / 0.5
+    return sliding_accel((sim.qvel[0], sim.qvel[2]), v0, 0.5), cost
+
+
+def run_mujoco_slope30(dt, integrator, cone):
+    m = mujoco.MjModel.from_xml_string(SLOPE30.format(dt=dt))
+    m.opt.integrator = getattr(mujoco.mjtIntegrator, integrator)
+    m.opt.cone = getattr(mujoco.mjtCone, cone)
+    d = mujoco.MjData(m)
+    d.qpos[:7] = slope_state(30)
+    mujoco.mj_step(m, d, nstep=int(round(0.5 / dt)))
+    v0 = (d.qvel[0], d.qvel[2])
+    t = time.perf_counter()
+    mujoco.mj_step(m, d, nstep=int(round(0.5 / dt)))
+    cost = (time.perf_counter() - t) / 0.5
+    return sliding_accel((d.qvel[0], d.qvel[2]), v0, 0.5), cost
+
+
+def run_sinew_rest(dt, mode, friction, T=2.0):
+    """Sink of a box resting on the floor (m), started exactly touching."""
+    sim = sinew.Sim(sinew.Model.from_mjcf_string(REST.format(dt=dt)).with_options(constraint_mode=mode, friction=friction))
+    t = time.perf_counter()
+    sim.step(int(round(T / dt)))
+    return 0.1 - sim.qpos[2], (time.perf_counter() - t) / T
+
+
+def run_mujoco_rest(dt, integrator, cone, T=2.0):
+    m = mujoco.MjModel.from_xml_string(REST.format(dt=dt))
+    m.opt.integrator = getattr(mujoco.mjtIntegrator, integrator)
+    m.opt.cone = getattr(mujoco.mjtCone, cone)
+    d = mujoco.MjData(m)
+    t = time.perf_counter()
+    mujoco.mj_step(m, d, nstep=int(round(T / dt)))
+    return 0.1 - d.qpos[2], (time.perf_counter() - t) / T
 
 
 def run_sinew_still(xml, dt, mode, friction, qpos=None, T=2.0):
@@ -261,6 +316,20 @@ def main():
             for cone in ("mjCONE_PYRAMIDAL", "mjCONE_ELLIPTIC"):
                 x, cost = run_mujoco_slide(dt, integ, cone)
                 rows.append(dict(scene="slide", engine="mujoco", config=f"{integ[6:]}/{cone[7:]}", dt=dt, cost=cost, error=abs(x - exact) / exact))
+    expected = 9.81 * (np.sin(np.radians(30)) - 0.3 * np.cos(np.radians(30)))
+    for dt in DTS:
+        for mode in ("acceleration", "velocity"):
+            for fr in ("seed", "pyramid"):
+                a, cost = run_sinew_slope30(dt, mode, fr)
+                rows.append(dict(scene="slope30", engine="sinew", config=f"{mode}/{fr}", dt=dt, cost=cost, error=abs(a - expected) / expected))
+                sink, cost = run_sinew_rest(dt, mode, fr)
+                rows.append(dict(scene="rest", engine="sinew", config=f"{mode}/{fr}", dt=dt, cost=cost, error=abs(sink)))
+        for integ in ("mjINT_EULER", "mjINT_IMPLICITFAST"):
+            for cone in ("mjCONE_PYRAMIDAL", "mjCONE_ELLIPTIC"):
+                a, cost = run_mujoco_slope30(dt, integ, cone)
+                rows.append(dict(scene="slope30", engine="mujoco", config=f"{integ[6:]}/{cone[7:]}", dt=dt, cost=cost, error=abs(a - expected) / expected))
+                sink, cost = run_mujoco_rest(dt, integ, cone)
+                rows.append(dict(scene="rest", engine="mujoco", config=f"{integ[6:]}/{cone[7:]}", dt=dt, cost=cost, error=abs(sink)))
     for scene, xml, q0 in (("creep", SLOPE, slope_state()), ("stack", STACK, None)):
         for dt in DTS:
             for mode in ("acceleration", "velocity"):
@@ -298,7 +367,7 @@ def main():
     lines += [f"| {r['scene']} | {r['engine']} | {r['config']} | {r['dt']:g} | {r['cost'] * 1e3:.3f} | {r['error']:.2e} | "
               f"{opt(r['penetration'] * 1e3, '{:.2f}')} | {opt(r['limit'], '{:.4f}')} |" for r in rows]
     lines += ["", "| scene | error both reach | sinew cost / MuJoCo cost at that error |", "|---|---|---|"]
-    scenes = ["chain5", "chain20", "chain50", "slide", "creep", "stack"] + [f"gym:{g}" for g in GYM]
+    scenes = ["chain5", "chain20", "chain50", "slide", "slope30", "rest", "creep", "stack"] + [f"gym:{g}" for g in GYM]
     for scene in scenes:
         target, ratio = headline(rows, scene)
         lines.append(f"| {scene} | {target:.1e} | {ratio:.2f} |" if target is not None else f"| {scene} | — | — |")
@@ -310,7 +379,7 @@ def main():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(2, 6, figsize=(27, 9))
+    fig, axes = plt.subplots(2, 7, figsize=(31, 9))
     for ax, scene in zip(axes.flat, scenes):
         for key in sorted({(r["engine"], r["config"]) for r in rows if r["scene"] == scene}):
             pts = [(r["cost"] * 1e3, max(r["error"], 1e-16)) for r in rows
