@@ -93,7 +93,8 @@ fn check(xml: &str, seed: u64) {
     let mut con = ConstraintData::new(&m2);
     let ctrl = vec![0.0; m2.nu];
     let ff = vec![0.0; 2 * m2.nu];
-    constraint::rows(&m2, &data.kin, &q, &v, &ctrl, &ff, &contacts, |_, n, _| n.any_orthonormal_vector(), &mut con);
+    let forced = vec![false; 2 * m2.njnt];
+    constraint::rows(&m2, &data.kin, &data.aba, &q, &v, &qacc, &forced, &ctrl, &ff, &contacts, |_, n, _, _| n.any_orthonormal_vector(), &mut con);
     constraint::assemble(&m2, &data.kin, &data.aba, &qacc, &mut con);
     let nr = con.len();
     assert!(nr >= 6, "rows {nr}");
@@ -131,7 +132,7 @@ fn limit_rows_match_the_inverse_mass_matrix() {
     let mut qacc = vec![0.0; 2];
     aba::forward(&m, &data.kin, &mut data.aba, &mut qacc);
     let mut con = ConstraintData::new(&m);
-    constraint::rows(&m, &data.kin, &q, &v, &[], &[], &[], |_, n, _| n, &mut con);
+    constraint::rows(&m, &data.kin, &data.aba, &q, &v, &qacc, &[false; 4], &[], &[], &[], |_, n, _, _| n, &mut con);
     assert_eq!(con.len(), 2, "both joints sit at a limit");
     constraint::assemble(&m, &data.kin, &data.aba, &qacc, &mut con);
     let mass = crba(&m, &data.kin);
