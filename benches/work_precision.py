@@ -274,6 +274,22 @@ def run_gym(name, dt, engine, config, T=0.5):
     return qpos().copy(), elapsed / T, pen, lim
 
 
+SINEW_CONTACT = [(mode, fr) for mode in ("acceleration", "velocity") for fr in ("seed", "pyramid")]
+MUJOCO_CONTACT = [(integ, cone) for integ in ("mjINT_EULER", "mjINT_IMPLICITFAST") for cone in ("mjCONE_PYRAMIDAL", "mjCONE_ELLIPTIC")]
+
+
+def sweep(rows, scene, run_sinew, run_mujoco, error):
+    """One contact scene over DTS in every contact configuration of both engines; `error` maps a
+    run's measured value to its error."""
+    for dt in DTS:
+        for mode, fr in SINEW_CONTACT:
+            value, cost = run_sinew(dt, mode, fr)
+            rows.append(dict(scene=scene, engine="sinew", config=f"{mode}/{fr}", dt=dt, cost=cost, error=error(value)))
+        for integ, cone in MUJOCO_CONTACT:
+            value, cost = run_mujoco(dt, integ, cone)
+            rows.append(dict(scene=scene, engine="mujoco", config=f"{integ[6:]}/{cone[7:]}", dt=dt, cost=cost, error=error(value)))
+
+
 def headline(rows, scene):
     """sinew's best cost / MuJoCo's best cost at the largest error both reach."""
     def curve(engine):
@@ -307,39 +323,13 @@ def main():
                 q, cost = run_mujoco_chain(n, dt, integ)
                 rows.append(dict(scene=f"chain{n}", engine="mujoco", config=integ[6:], dt=dt, cost=cost, error=np.abs(q - ref).max()))
     exact = 9.0 / (2 * 0.5 * 9.81)
-    for dt in DTS:
-        for mode in ("acceleration", "velocity"):
-            for fr in ("seed", "pyramid"):
-                x, cost = run_sinew_slide(dt, mode, fr)
-                rows.append(dict(scene="slide", engine="sinew", config=f"{mode}/{fr}", dt=dt, cost=cost, error=abs(x - exact) / exact))
-        for integ in ("mjINT_EULER", "mjINT_IMPLICITFAST"):
-            for cone in ("mjCONE_PYRAMIDAL", "mjCONE_ELLIPTIC"):
-                x, cost = run_mujoco_slide(dt, integ, cone)
-                rows.append(dict(scene="slide", engine="mujoco", config=f"{integ[6:]}/{cone[7:]}", dt=dt, cost=cost, error=abs(x - exact) / exact))
+    sweep(rows, "slide", run_sinew_slide, run_mujoco_slide, lambda x: abs(x - exact) / exact)
     expected = 9.81 * (np.sin(np.radians(30)) - 0.3 * np.cos(np.radians(30)))
-    for dt in DTS:
-        for mode in ("acceleration", "velocity"):
-            for fr in ("seed", "pyramid"):
-                a, cost = run_sinew_slope30(dt, mode, fr)
-                rows.append(dict(scene="slope30", engine="sinew", config=f"{mode}/{fr}", dt=dt, cost=cost, error=abs(a - expected) / expected))
-                sink, cost = run_sinew_rest(dt, mode, fr)
-                rows.append(dict(scene="rest", engine="sinew", config=f"{mode}/{fr}", dt=dt, cost=cost, error=abs(sink)))
-        for integ in ("mjINT_EULER", "mjINT_IMPLICITFAST"):
-            for cone in ("mjCONE_PYRAMIDAL", "mjCONE_ELLIPTIC"):
-                a, cost = run_mujoco_slope30(dt, integ, cone)
-                rows.append(dict(scene="slope30", engine="mujoco", config=f"{integ[6:]}/{cone[7:]}", dt=dt, cost=cost, error=abs(a - expected) / expected))
-                sink, cost = run_mujoco_rest(dt, integ, cone)
-                rows.append(dict(scene="rest", engine="mujoco", config=f"{integ[6:]}/{cone[7:]}", dt=dt, cost=cost, error=abs(sink)))
+    sweep(rows, "slope30", run_sinew_slope30, run_mujoco_slope30, lambda a: abs(a - expected) / expected)
+    sweep(rows, "rest", run_sinew_rest, run_mujoco_rest, abs)
     for scene, xml, q0 in (("creep", SLOPE, slope_state()), ("stack", STACK, None)):
-        for dt in DTS:
-            for mode in ("acceleration", "velocity"):
-                for fr in ("seed", "pyramid"):
-                    err, cost = run_sinew_still(xml, dt, mode, fr, q0)
-                    rows.append(dict(scene=scene, engine="sinew", config=f"{mode}/{fr}", dt=dt, cost=cost, error=err))
-            for integ in ("mjINT_EULER", "mjINT_IMPLICITFAST"):
-                for cone in ("mjCONE_PYRAMIDAL", "mjCONE_ELLIPTIC"):
-                    err, cost = run_mujoco_still(xml, dt, integ, cone, q0)
-                    rows.append(dict(scene=scene, engine="mujoco", config=f"{integ[6:]}/{cone[7:]}", dt=dt, cost=cost, error=err))
+        sweep(rows, scene, lambda dt, mode, fr: run_sinew_still(xml, dt, mode, fr, q0),
+              lambda dt, integ, cone: run_mujoco_still(xml, dt, integ, cone, q0), abs)
         print(scene, "done", flush=True)
     configs = {"sinew": ["acceleration/Euler", "velocity/Euler"], "mujoco": ["EULER/PYRAMIDAL", "IMPLICITFAST/PYRAMIDAL", "RK4/PYRAMIDAL", "EULER/ELLIPTIC"]}
     for name in GYM:
