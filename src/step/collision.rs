@@ -62,8 +62,9 @@ impl CollisionData {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
         CollisionData {
-            geom_xmat: vec![DMat3::IDENTITY; m.ngeom],
-            geom_xpos: vec![DVec3::ZERO; m.ngeom],
+            // world geoms never move: their poses are set here once (the world frame is the identity)
+            geom_xmat: m.geom_mat.clone(),
+            geom_xpos: m.geom_pos.clone(),
             geom_speed: vec![0.0; m.ngeom],
             geom_accel: vec![0.0; m.ngeom],
             geom_speed_end: vec![0.0; m.ngeom],
@@ -116,8 +117,14 @@ fn geom_poses(m: &Model, kin: &KinData, out: &mut CollisionData) -> bool {
     }
     for g in 0..m.ngeom {
         let b = m.geom_body[g];
-        out.geom_xmat[g] = kin.xmat[b] * m.geom_mat[g];
+        if b == 0 {
+            continue;
+        }
         out.geom_xpos[g] = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
+        // a sphere's orientation is never read
+        if !matches!(m.geom_type[g], GeomType::Sphere | GeomType::Ellipsoid) {
+            out.geom_xmat[g] = kin.xmat[b] * m.geom_mat[g];
+        }
     }
     true
 }
