@@ -65,6 +65,18 @@ impl SpatialInertia {
     }
 }
 
+/// `lt * m` for a product known to be symmetric (a congruence Eᵀ S E): the upper triangle formed,
+/// then mirrored.
+#[inline]
+fn sym_congruence(lt: &DMat3, m: &DMat3) -> DMat3 {
+    let row = |i: usize| DVec3::new(lt.x_axis[i], lt.y_axis[i], lt.z_axis[i]);
+    let (r0, r1, r2) = (row(0), row(1), row(2));
+    let (c0, c1, c2) = (m.x_axis, m.y_axis, m.z_axis);
+    let (m00, m01, m02) = (r0.dot(c0), r0.dot(c1), r0.dot(c2));
+    let (m11, m12, m22) = (r1.dot(c1), r1.dot(c2), r2.dot(c2));
+    DMat3::from_cols(DVec3::new(m00, m01, m02), DVec3::new(m01, m11, m12), DVec3::new(m02, m12, m22))
+}
+
 /// Symmetric 6×6 (articulated-body) inertia [[A, B], [Bᵀ, C]] acting on (ω, v) motions.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ArtInertia {
@@ -95,13 +107,19 @@ impl ArtInertia {
     /// Congruence Xᵀ I X: an inertia in child coordinates expressed in the parent's, for
     /// X = ^iX_λ (Featherstone 2008, Table 7.1, I^A_λ += ^iX_λᵀ I^a_i ^iX_λ).
     pub fn to_parent(&self, x: &Xform) -> ArtInertia {
+        // rotate: Eᵀ M E (A and C symmetric, so only their upper triangles are formed)
         let et = x.e.transpose();
-        let a = et * self.a * x.e;
+        let a = sym_congruence(&et, &(self.a * x.e));
         let b = et * self.b * x.e;
-        let c = et * self.c * x.e;
-        let rx = skew(x.r);
-        let rc = rx * c;
-        ArtInertia { a: a - b * rx + rx * b.transpose() - rc * rx, b: b + rc, c }
+        let c = sym_congruence(&et, &(self.c * x.e));
+        // translate by r (r× as cross products): A' = A + P + Pᵀ − r×C r×, B' = B + r×C,
+        // with P = r× Bᵀ
+        let r = x.r;
+        let cross_cols = |m: DMat3| DMat3::from_cols(r.cross(m.x_axis), r.cross(m.y_axis), r.cross(m.z_axis));
+        let p = cross_cols(b.transpose());
+        let rc = cross_cols(c);
+        let rcr = cross_cols(rc.transpose());
+        ArtInertia { a: a + p + p.transpose() + rcr, b: b + rc, c }
     }
 
     /// Subtracts u₁ d u₂ᵀ (with its symmetric counterpart handled by the caller's loop).
