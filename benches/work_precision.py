@@ -5,7 +5,9 @@
 Scenes and error measures:
 - chain5, chain20, chain50: contact-free pendulum chains (hinges about alternating axes, gravity, no
   damping) from a non-trivial state; error = max |q(1 s) − q_ref(1 s)| against scipy's DOP853 on
-  sinew's own ABA (rtol 1e-12), cross-checked with sinew RK4 at dt = 1e-5 (difference printed).
+  sinew's own ABA (rtol 1e-12), cross-checked with sinew RK4 at dt = 1e-5 (difference printed); and
+  the energy drift over 10 s, |E(10 s) − E(0)| / (|V(0)| + T(0)), both engines' states measured
+  by MuJoCo's mj_energyPos/Vel on the same MJCF (a state means the same in both).
 - slide: a box sliding from 3 m/s with μ = 0.5; error = |stop distance − v0²/(2 μ g)| / (v0²/(2 μ g)).
 - slope30: a box sliding down a 30° slope with μ = 0.3; error = |a − g(sin θ − μ cos θ)| / that.
 - rest: a box resting on the floor; error = how far it sinks in 2 s (exact: 0).
@@ -86,6 +88,11 @@ def run_sinew_chain(n, dt, integrator, T=1.0):
     return sim.qpos.copy(), (time.perf_counter() - t) / T
 
 
+def diverged(d):
+    """MuJoCo resets a world whose accelerations blow up (and warns); count that as divergence."""
+    return d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0
+
+
 def run_mujoco_chain(n, dt, integrator, T=1.0):
     m = mujoco.MjModel.from_xml_string(chain_xml(n, dt, "Euler"))
     m.opt.integrator = getattr(mujoco.mjtIntegrator, integrator)
@@ -95,7 +102,48 @@ def run_mujoco_chain(n, dt, integrator, T=1.0):
     steps = int(round(T / dt))
     t = time.perf_counter()
     mujoco.mj_step(m, d, nstep=steps)
-    return d.qpos.copy(), (time.perf_counter() - t) / T
+    cost = (time.perf_counter() - t) / T
+    return (np.full(n, np.inf) if diverged(d) else d.qpos.copy()), cost
+
+
+ENERGY_MODELS = {}
+
+
+def energy(n, qpos, qvel):
+    """(potential, kinetic) energy of chain n at (qpos, qvel), by MuJoCo on the same MJCF."""
+    if n not in ENERGY_MODELS:
+        m = mujoco.MjModel.from_xml_string(chain_xml(n))
+        m.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_ENERGY
+        ENERGY_MODELS[n] = (m, mujoco.MjData(m))
+    m, d = ENERGY_MODELS[n]
+    d.qpos[:], d.qvel[:] = qpos, qvel
+    mujoco.mj_forward(m, d)
+    return d.energy.copy()
+
+
+def energy_drift(n, dt, engine, integrator, T=10.0):
+    """Relative energy drift of chain n over T (inf when the run diverges)."""
+    q0, v0 = initial(n)
+    steps = int(round(T / dt))
+    if engine == "sinew":
+        sim = sinew.Sim(sinew.Model.from_mjcf_string(chain_xml(n, dt, integrator)))
+        sim.qpos[:], sim.qvel[:] = q0, v0
+        try:
+            sim.step(steps)
+        except sinew.SimulationError:
+            return np.inf
+        q, v = sim.qpos, sim.qvel
+    else:
+        m = mujoco.MjModel.from_xml_string(chain_xml(n, dt, "Euler"))
+        m.opt.integrator = getattr(mujoco.mjtIntegrator, integrator)
+        d = mujoco.MjData(m)
+        d.qpos[:], d.qvel[:] = q0, v0
+        mujoco.mj_step(m, d, nstep=steps)
+        q, v = d.qpos, d.qvel
+        if diverged(d):
+            return np.inf
+    (p0, k0), (p1, k1) = energy(n, q0, v0), energy(n, q, v)
+    return abs(p1 + k1 - p0 - k0) / (abs(p0) + k0)
 
 
 SLIDE = """<mujoco><option timestep="{dt}"/><worldbody><geom type="plane" size="50 50 .1" friction="0.5"/>
@@ -318,10 +366,12 @@ def main():
         for dt in DTS:
             for integ in ("Euler", "RK4"):
                 q, cost = run_sinew_chain(n, dt, integ)
-                rows.append(dict(scene=f"chain{n}", engine="sinew", config=integ, dt=dt, cost=cost, error=np.abs(q - ref).max()))
+                rows.append(dict(scene=f"chain{n}", engine="sinew", config=integ, dt=dt, cost=cost, error=np.abs(q - ref).max(),
+                                 drift=energy_drift(n, dt, "sinew", integ)))
             for integ in ("mjINT_EULER", "mjINT_RK4", "mjINT_IMPLICITFAST"):
                 q, cost = run_mujoco_chain(n, dt, integ)
-                rows.append(dict(scene=f"chain{n}", engine="mujoco", config=integ[6:], dt=dt, cost=cost, error=np.abs(q - ref).max()))
+                rows.append(dict(scene=f"chain{n}", engine="mujoco", config=integ[6:], dt=dt, cost=cost, error=np.abs(q - ref).max(),
+                                 drift=energy_drift(n, dt, "mujoco", integ)))
     exact = 9.0 / (2 * 0.5 * 9.81)
     sweep(rows, "slide", run_sinew_slide, run_mujoco_slide, lambda x: abs(x - exact) / exact)
     expected = 9.81 * (np.sin(np.radians(30)) - 0.3 * np.cos(np.radians(30)))
@@ -343,6 +393,7 @@ def main():
                                      error=np.abs(q - ref).max(), penetration=pen, limit=lim))
         print(name, "done", flush=True)
     for r in rows:
+        r.setdefault("drift", float("nan"))
         r.setdefault("penetration", float("nan"))
         r.setdefault("limit", float("nan"))
     os.makedirs(args.out, exist_ok=True)
@@ -351,11 +402,11 @@ def main():
         w.writeheader()
         w.writerows(rows)
     lines = ["<!-- python benches/work_precision.py --out results -->",
-             "| scene | engine | configuration | dt | cost (ms per simulated s) | error | max penetration (mm) | max limit violation (rad) |",
-             "|---|---|---|---|---|---|---|---|"]
+             "| scene | engine | configuration | dt | cost (ms per simulated s) | error | energy drift over 10 s | max penetration (mm) | max limit violation (rad) |",
+             "|---|---|---|---|---|---|---|---|---|"]
     opt = lambda x, f: "" if np.isnan(x) else f.format(x)  # noqa: E731
     lines += [f"| {r['scene']} | {r['engine']} | {r['config']} | {r['dt']:g} | {r['cost'] * 1e3:.3f} | {r['error']:.2e} | "
-              f"{opt(r['penetration'] * 1e3, '{:.2f}')} | {opt(r['limit'], '{:.4f}')} |" for r in rows]
+              f"{opt(r['drift'], '{:.1e}')} | {opt(r['penetration'] * 1e3, '{:.2f}')} | {opt(r['limit'], '{:.4f}')} |" for r in rows]
     lines += ["", "| scene | error both reach | sinew cost / MuJoCo cost at that error |", "|---|---|---|"]
     scenes = ["chain5", "chain20", "chain50", "slide", "slope30", "rest", "creep", "stack"] + [f"gym:{g}" for g in GYM]
     for scene in scenes:
