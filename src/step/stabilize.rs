@@ -2,8 +2,10 @@
 //! rigid body simulation with contact and constraints*): after the step the configuration is
 //! checked; if a contact now penetrates by more than [`SLOP`], the positions (not the velocities,
 //! so no energy is added) move by δq = Σ p_k Δq̈⁽ᵏ⁾ with p ≥ 0 solving the LCP
-//! J_j δq + d_j ≥ 0 ⟂ p_j ≥ 0 over the step's contact normals (gaps detected afresh), contacts that penetrate now but had no row (their Δq̈ by a test force through the
-//! step's ABA quantities), and the step's limit rows, so that no joint is pushed past its limit.
+//! J_j δq + d_j ≥ 0 ⟂ p_j ≥ 0 over the step's contact normals (gaps detected afresh), contacts
+//! that penetrate now but had no row (their Δq̈ by a test force through the step's ABA
+//! quantities), and limit rows (the step's, and any the projection would cross), so that no joint
+//! is pushed past its limit.
 //!
 //! Why: a contact row makes the *linearised* gap close at the step's end, but a point on a body
 //! turning at ω moves on an arc, off the straight line by about h²ω²r/2 — at dt = 0.01 millimetres
