@@ -51,6 +51,10 @@ pub struct BatchState<'a> {
     pub cfrc_ext: &'a mut [f64],
     /// Generalised constraint forces (N × nv).
     pub qfrc_constraint: &'a mut [f64],
+    /// Com-based body inertias (N × nbody × 10), see [`Sensors`].
+    pub cinert: &'a mut [f64],
+    /// Com-based body velocities (N × nbody × 6), see [`Sensors`].
+    pub cvel: &'a mut [f64],
 }
 
 /// SplitMix64 finaliser: a well-mixed 64-bit value from a seed.
@@ -119,9 +123,10 @@ impl Batch {
                 st.diverged.par_iter_mut(),
                 (st.xpos.par_chunks_mut(3 * nb), st.xmat.par_chunks_mut(9 * nb)),
                 (st.xvel.par_chunks_mut(6 * nb), st.cfrc_ext.par_chunks_mut(6 * nb), st.qfrc_constraint.par_chunks_mut(nv)),
+                (st.cinert.par_chunks_mut(10 * nb), st.cvel.par_chunks_mut(6 * nb)),
             )
                 .into_par_iter()
-                .for_each(|(d, qpos, qvel, ctrl, time, div, (xpos, xmat), (xvel, cfrc_ext, qfrc_constraint))| {
+                .for_each(|(d, qpos, qvel, ctrl, time, div, (xpos, xmat), (xvel, cfrc_ext, qfrc_constraint), (cinert, cvel))| {
                     let (qpos, qvel) = (&mut qpos[..m.nq], &mut qvel[..m.nv]);
                     let ctrl = &ctrl[..m.nu];
                     *div = false;
@@ -134,7 +139,7 @@ impl Batch {
                         }
                     }
                     let qfrc_constraint = &mut qfrc_constraint[..m.nv];
-                    sensors::write(m, root, d, qpos, qvel, Sensors { xpos, xmat, xvel, cfrc_ext, qfrc_constraint });
+                    sensors::write(m, root, d, qpos, qvel, Sensors { xpos, xmat, xvel, cfrc_ext, qfrc_constraint, cinert, cvel });
                 });
         });
     }

@@ -55,6 +55,8 @@ pub struct Data {
     pub tangents_next: Vec<((usize, usize, usize), DVec3)>,
     /// Trajectory feed-forward for motion control: reference velocities then accelerations (2 × nu).
     pub feedforward: Vec<f64>,
+    /// Centre of mass and mass of each root's subtree, scratch for `sensors` (nbody).
+    pub root_com: Vec<(DVec3, f64)>,
     /// Per-node spatial forces, scratch for `sensors` (njnt).
     pub node_force: Vec<crate::math::Force>,
     /// SplitMix64 state of this world's random tangents.
@@ -88,6 +90,7 @@ impl Data {
             tangents: vec![],
             tangents_next: vec![],
             feedforward: vec![0.0; 2 * m.nu],
+            root_com: vec![(DVec3::ZERO, 0.0); m.nbody],
             node_force: vec![crate::math::Force::ZERO; m.njnt],
             rng: 0x5EED,
             #[cfg(feature = "stage-timing")]

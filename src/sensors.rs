@@ -1,6 +1,7 @@
 //! Quantities MuJoCo's gymnasium environments observe, computed from sinew's own state and
-//! constraint forces after a step: body velocities, contact forces per body in MuJoCo's com-based
-//! frame (`cfrc_ext`) and the generalised constraint force (`qfrc_constraint`).
+//! constraint forces after a step: body velocities, com-based inertias and velocities (`cinert`,
+//! `cvel`), contact forces per body in MuJoCo's com-based frame (`cfrc_ext`) and the generalised
+//! constraint force (`qfrc_constraint`).
 
 use glam::DVec3;
 
@@ -22,6 +23,12 @@ pub struct Sensors<'a> {
     pub cfrc_ext: &'a mut [f64],
     /// Generalised constraint force of the last step (nv), MuJoCo's `qfrc_constraint`.
     pub qfrc_constraint: &'a mut [f64],
+    /// Body inertia about the centre of mass of the body's root subtree, world axes (nbody × 10:
+    /// xx, yy, zz, xy, xz, yz, mass × offset, mass), MuJoCo's `cinert`.
+    pub cinert: &'a mut [f64],
+    /// Body velocity at the centre of mass of the body's root subtree (nbody × 6: angular, then
+    /// linear), MuJoCo's `cvel`.
+    pub cvel: &'a mut [f64],
 }
 
 /// Root body (child of the world) of every body (nbody); the world is its own root.
@@ -37,7 +44,7 @@ pub fn body_root(m: &Model) -> Vec<usize> {
 /// Fills `out` for the state (qpos, qvel) and the constraint forces of the last step in `d`.
 pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64], out: Sensors<'_>) {
     kinematics::forward(m, qpos, qvel, &mut d.kin);
-    let Data { kin, con, coll, force, node_force: node_f, .. } = d;
+    let Data { kin, con, coll, force, node_force: node_f, root_com, .. } = d;
     // poses and velocities
     for b in 0..m.nbody {
         out.xpos[3 * b..3 * b + 3].copy_from_slice(&kin.xpos[b].to_array());
@@ -58,19 +65,38 @@ pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64]
         out.xvel[6 * b..6 * b + 3].copy_from_slice(&w.to_array());
         out.xvel[6 * b + 3..6 * b + 6].copy_from_slice(&v.to_array());
     }
-    // subtree centres of mass of the roots
+    // centres of mass of the roots' subtrees (MuJoCo's subtree_com[rootid]), indexed by root
+    root_com.fill((DVec3::ZERO, 0.0));
+    for b in 1..m.nbody {
+        let (mc, mass) = &mut root_com[root[b]];
+        *mc += (kin.xpos[b] + kin.xmat[b] * m.body_ipos[b]) * m.body_mass[b];
+        *mass += m.body_mass[b];
+    }
+    for (r, (mc, mass)) in root_com.iter_mut().enumerate() {
+        *mc = if *mass > 0.0 { *mc / *mass } else { kin.xpos[r] };
+    }
+    let com_of_root = |r: usize| root_com[r].0;
+    // cinert and cvel: about and at the root subtree's centre of mass, world axes
+    for b in 0..m.nbody {
+        let (rot, mass) = (kin.xmat[b], m.body_mass[b]);
+        let d = kin.xpos[b] + rot * m.body_ipos[b] - com_of_root(root[b]);
+        let i = rot * m.body_inertia[b] * rot.transpose();
+        let ci = &mut out.cinert[10 * b..10 * b + 10];
+        ci[0] = i.x_axis.x + mass * (d.y * d.y + d.z * d.z);
+        ci[1] = i.y_axis.y + mass * (d.x * d.x + d.z * d.z);
+        ci[2] = i.z_axis.z + mass * (d.x * d.x + d.y * d.y);
+        ci[3] = i.y_axis.x - mass * d.x * d.y;
+        ci[4] = i.z_axis.x - mass * d.x * d.z;
+        ci[5] = i.z_axis.y - mass * d.y * d.z;
+        ci[6..9].copy_from_slice(&(d * mass).to_array());
+        ci[9] = mass;
+        let w = DVec3::from_slice(&out.xvel[6 * b..6 * b + 3]);
+        let v = DVec3::from_slice(&out.xvel[6 * b + 3..6 * b + 6]) + w.cross(com_of_root(root[b]) - kin.xpos[b]);
+        out.cvel[6 * b..6 * b + 3].copy_from_slice(&w.to_array());
+        out.cvel[6 * b + 3..6 * b + 6].copy_from_slice(&v.to_array());
+    }
     out.cfrc_ext.fill(0.0);
     out.qfrc_constraint.fill(0.0);
-    let com_of_root = |r: usize| {
-        let (mut mc, mut mass) = (DVec3::ZERO, 0.0);
-        for b in 1..m.nbody {
-            if root[b] == r {
-                mc += (kin.xpos[b] + kin.xmat[b] * m.body_ipos[b]) * m.body_mass[b];
-                mass += m.body_mass[b];
-            }
-        }
-        if mass > 0.0 { mc / mass } else { kin.xpos[r] }
-    };
     if con.is_empty() || force.len() < con.len() {
         return;
     }

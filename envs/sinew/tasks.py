@@ -30,6 +30,8 @@ class View:
     xvel: np.ndarray  # (N, nbody, 6): world angular velocity, origin linear velocity
     cfrc_ext: np.ndarray  # (N, nbody, 6)
     qfrc_constraint: np.ndarray  # (N, nv)
+    cinert: np.ndarray  # (N, nbody, 10): MuJoCo's cinert
+    cvel: np.ndarray  # (N, nbody, 6): MuJoCo's cvel
 
 
 class Task:
@@ -48,12 +50,6 @@ class Task:
         self.nq, self.nv, self.nu = model.nq, model.nv, model.nu
         self.body_mass = model.body_mass
         self.body_ipos = model.body_ipos
-        self.body_inertia = model.body_inertia_tensor
-        root = list(range(model.nbody))
-        for b in range(1, model.nbody):
-            p = model.body_parent[b]
-            root[b] = b if p == 0 else root[p]
-        self.body_root = np.array(root)
 
     # helpers shared by tasks
     def xipos(self, v: View) -> np.ndarray:
@@ -382,39 +378,6 @@ class Humanoid(Task):
         sizes = (10 * nb, 6 * nb, self.nv - 6, 6 * nb)
         return self.nq - self.skip + self.nv + sum(s for s, on in zip(sizes, self.parts) if on)
 
-    def subtree_com(self, v):
-        """Centre of mass of each body's root subtree (N, nbody, 3), MuJoCo's subtree_com[rootid]."""
-        xi = self.xipos(v)
-        out = np.empty_like(xi)
-        for r in np.unique(self.body_root):
-            members = self.body_root == r
-            m = self.body_mass[members]
-            out[:, members] = (np.einsum("b,nbj->nj", m, xi[:, members]) / max(m.sum(), 1e-300))[:, None]
-        return out
-
-    def cinert(self, v):
-        """MuJoCo's com-based body inertia (N, nbody, 10): I about the root subtree's centre of mass
-        in world axes (xx, yy, zz, xy, xz, yz), mass times offset, mass."""
-        d = self.xipos(v) - self.subtree_com(v)
-        i_world = v.xmat @ self.body_inertia @ np.swapaxes(v.xmat, -1, -2)
-        m = self.body_mass[None, :]
-        dx, dy, dz = d[..., 0], d[..., 1], d[..., 2]
-        return np.stack([
-            i_world[..., 0, 0] + m * (dy**2 + dz**2),
-            i_world[..., 1, 1] + m * (dx**2 + dz**2),
-            i_world[..., 2, 2] + m * (dx**2 + dy**2),
-            i_world[..., 0, 1] - m * dx * dy,
-            i_world[..., 0, 2] - m * dx * dz,
-            i_world[..., 1, 2] - m * dy * dz,
-            m * dx, m * dy, m * dz, np.broadcast_to(m, dx.shape),
-        ], axis=-1)
-
-    def cvel(self, v):
-        """MuJoCo's com-based body velocity (N, nbody, 6): angular, then the linear velocity of the
-        body point at the root subtree's centre of mass."""
-        w, vo = v.xvel[..., :3], v.xvel[..., 3:]
-        return np.concatenate([w, vo + np.cross(w, self.subtree_com(v) - v.xpos)], axis=-1)
-
     def qfrc_actuator(self, v):
         ctrl = np.where(self.limited, np.clip(v.ctrl, self.ctrlrange[:, 0], self.ctrlrange[:, 1]), v.ctrl)
         out = np.zeros((len(ctrl), self.nv))
@@ -424,7 +387,7 @@ class Humanoid(Task):
     def observe(self, v):
         n = len(v.qpos)
         parts = [v.qpos[:, self.skip:], v.qvel]
-        extra = (lambda: self.cinert(v)[:, 1:].reshape(n, -1), lambda: self.cvel(v)[:, 1:].reshape(n, -1),
+        extra = (lambda: v.cinert[:, 1:].reshape(n, -1), lambda: v.cvel[:, 1:].reshape(n, -1),
                  lambda: self.qfrc_actuator(v)[:, 6:], lambda: v.cfrc_ext[:, 1:].reshape(n, -1))
         parts += [f() for f, on in zip(extra, self.parts) if on]
         return np.concatenate(parts, axis=1)

@@ -25,6 +25,8 @@ pub struct PyBatch {
     xvel: Py<PyArray3<f64>>,
     cfrc_ext: Py<PyArray3<f64>>,
     qfrc_constraint: Py<PyArray2<f64>>,
+    cinert: Py<PyArray3<f64>>,
+    cvel: Py<PyArray3<f64>>,
 }
 
 #[pymethods]
@@ -61,6 +63,8 @@ impl PyBatch {
             xvel: PyArray3::zeros(py, [num_envs, m.nbody, 6], false).unbind(),
             cfrc_ext: PyArray3::zeros(py, [num_envs, m.nbody, 6], false).unbind(),
             qfrc_constraint: PyArray2::zeros(py, [num_envs, m.nv], false).unbind(),
+            cinert: PyArray3::zeros(py, [num_envs, m.nbody, 10], false).unbind(),
+            cvel: PyArray3::zeros(py, [num_envs, m.nbody, 6], false).unbind(),
         };
         b.refresh_poses(py)?;
         Ok(b)
@@ -128,6 +132,21 @@ impl PyBatch {
     fn cfrc_ext(&self, py: Python<'_>) -> Py<PyArray3<f64>> {
         self.cfrc_ext.clone_ref(py)
     }
+
+    /// Com-based body inertias after the last step (N, nbody, 10): xx, yy, zz, xy, xz, yz about
+    /// the centre of mass of the body's root subtree in world axes, mass × offset, mass
+    /// (MuJoCo's `cinert`).
+    #[getter]
+    fn cinert(&self, py: Python<'_>) -> Py<PyArray3<f64>> {
+        self.cinert.clone_ref(py)
+    }
+
+    /// Com-based body velocities after the last step (N, nbody, 6): angular, then the linear
+    /// velocity of the body point at the root subtree's centre of mass (MuJoCo's `cvel`).
+    #[getter]
+    fn cvel(&self, py: Python<'_>) -> Py<PyArray3<f64>> {
+        self.cvel.clone_ref(py)
+    }
     /// Generalised constraint force of the last step (N, nv) (MuJoCo's `qfrc_constraint`).
     #[getter]
     fn qfrc_constraint(&self, py: Python<'_>) -> Py<PyArray2<f64>> {
@@ -152,6 +171,7 @@ impl PyBatch {
         let (mut xpos, mut xmat) = (self.xpos.bind(py).readwrite(), self.xmat.bind(py).readwrite());
         let (mut xvel, mut cfrc, mut qfc) =
             (self.xvel.bind(py).readwrite(), self.cfrc_ext.bind(py).readwrite(), self.qfrc_constraint.bind(py).readwrite());
+        let (mut cinert, mut cvel) = (self.cinert.bind(py).readwrite(), self.cvel.bind(py).readwrite());
         let st = BatchState {
             qpos: qpos.as_slice_mut()?,
             qvel: qvel.as_slice_mut()?,
@@ -163,6 +183,8 @@ impl PyBatch {
             xvel: xvel.as_slice_mut()?,
             cfrc_ext: cfrc.as_slice_mut()?,
             qfrc_constraint: qfc.as_slice_mut()?,
+            cinert: cinert.as_slice_mut()?,
+            cvel: cvel.as_slice_mut()?,
         };
         let inner = &mut self.inner;
         py.detach(|| inner.step(st, n));
@@ -238,9 +260,11 @@ impl PyBatch {
         let (mut xpos, mut xmat) = (self.xpos.bind(py).readwrite(), self.xmat.bind(py).readwrite());
         let (mut xvel, mut cfrc, mut qfc) =
             (self.xvel.bind(py).readwrite(), self.cfrc_ext.bind(py).readwrite(), self.qfrc_constraint.bind(py).readwrite());
+        let (mut cinert, mut cvel) = (self.cinert.bind(py).readwrite(), self.cvel.bind(py).readwrite());
         let (qp, qv) = (qpos.as_slice()?, qvel.as_slice()?);
         let (xp, xm, xv, cf, qc) =
             (xpos.as_slice_mut()?, xmat.as_slice_mut()?, xvel.as_slice_mut()?, cfrc.as_slice_mut()?, qfc.as_slice_mut()?);
+        let (ci, cv) = (cinert.as_slice_mut()?, cvel.as_slice_mut()?);
         let nb = m.nbody;
         for &i in which {
             self.inner.sense(
@@ -253,6 +277,8 @@ impl PyBatch {
                     xvel: &mut xv[i * 6 * nb..(i + 1) * 6 * nb],
                     cfrc_ext: &mut cf[i * 6 * nb..(i + 1) * 6 * nb],
                     qfrc_constraint: &mut qc[i * m.nv..(i + 1) * m.nv],
+                    cinert: &mut ci[i * 10 * nb..(i + 1) * 10 * nb],
+                    cvel: &mut cv[i * 6 * nb..(i + 1) * 6 * nb],
                 },
             );
         }
