@@ -405,20 +405,8 @@ fn measure(m: &Model, kin: &KinData, cd: &ConstraintData, j: usize, what: Measur
         }
         Measure::Actual { aba, .. } => aba,
     };
-    let mut acc = DVec3::ZERO;
-    for side in 0..2 {
-        let n = cd.node[j][side];
-        if n == WORLD {
-            continue;
-        }
-        // classical acceleration of a body point: a_O + α × r + ω × v_r; ABA's accelerations
-        // carry the fictitious −g of the base, added back here
-        let r = cd.point[j][side];
-        let (a, v) = (aba.a[n], kin.v[n]);
-        let world = kin.node_rot[n] * (a.lin + a.ang.cross(r) + v.ang.cross(v.point_velocity(r))) + m.opt.gravity;
-        acc += if side == 0 { world } else { -world };
-    }
-    cd.dir[j].dot(acc)
+    let ([n0, n1], [p0, p1]) = (cd.node[j], cd.point[j]);
+    cd.dir[j].dot(point_accel(m, kin, aba, n0, p0) - point_accel(m, kin, aba, n1, p1))
 }
 
 /// Response of the articulated system to the test forces in `dpa` (node coordinates) or the unit
