@@ -41,20 +41,8 @@ pub struct BatchState<'a> {
     pub time: &'a mut [f64],
     /// Set for worlds that diverged and were reset during the call (N).
     pub diverged: &'a mut [bool],
-    /// Body positions after the call (N × nbody × 3).
-    pub xpos: &'a mut [f64],
-    /// Body rotation matrices, row-major (N × nbody × 9).
-    pub xmat: &'a mut [f64],
-    /// Body velocities (N × nbody × 6), see [`Sensors`].
-    pub xvel: &'a mut [f64],
-    /// Contact wrenches per body (N × nbody × 6), see [`Sensors`].
-    pub cfrc_ext: &'a mut [f64],
-    /// Generalised constraint forces (N × nv).
-    pub qfrc_constraint: &'a mut [f64],
-    /// Com-based body inertias (N × nbody × 10), see [`Sensors`].
-    pub cinert: &'a mut [f64],
-    /// Com-based body velocities (N × nbody × 6), see [`Sensors`].
-    pub cvel: &'a mut [f64],
+    /// Sensor outputs after the call, every world's rows one after another ([`Sensors`] × N).
+    pub out: Sensors<'a>,
 }
 
 /// SplitMix64 finaliser: a well-mixed 64-bit value from a seed.
@@ -121,9 +109,9 @@ impl Batch {
                 ctrl.par_chunks(nu),
                 st.time.par_iter_mut(),
                 st.diverged.par_iter_mut(),
-                (st.xpos.par_chunks_mut(3 * nb), st.xmat.par_chunks_mut(9 * nb)),
-                (st.xvel.par_chunks_mut(6 * nb), st.cfrc_ext.par_chunks_mut(6 * nb), st.qfrc_constraint.par_chunks_mut(nv)),
-                (st.cinert.par_chunks_mut(10 * nb), st.cvel.par_chunks_mut(6 * nb)),
+                (st.out.xpos.par_chunks_mut(3 * nb), st.out.xmat.par_chunks_mut(9 * nb)),
+                (st.out.xvel.par_chunks_mut(6 * nb), st.out.cfrc_ext.par_chunks_mut(6 * nb), st.out.qfrc_constraint.par_chunks_mut(nv)),
+                (st.out.cinert.par_chunks_mut(10 * nb), st.out.cvel.par_chunks_mut(6 * nb)),
             )
                 .into_par_iter()
                 .for_each(|(d, qpos, qvel, ctrl, time, div, (xpos, xmat), (xvel, cfrc_ext, qfrc_constraint), (cinert, cvel))| {

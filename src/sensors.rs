@@ -31,6 +31,21 @@ pub struct Sensors<'a> {
     pub cvel: &'a mut [f64],
 }
 
+impl Sensors<'_> {
+    /// World `i`'s rows of outputs that hold every world's rows one after another.
+    pub fn world(&mut self, i: usize, nbody: usize, nv: usize) -> Sensors<'_> {
+        Sensors {
+            xpos: &mut self.xpos[i * 3 * nbody..(i + 1) * 3 * nbody],
+            xmat: &mut self.xmat[i * 9 * nbody..(i + 1) * 9 * nbody],
+            xvel: &mut self.xvel[i * 6 * nbody..(i + 1) * 6 * nbody],
+            cfrc_ext: &mut self.cfrc_ext[i * 6 * nbody..(i + 1) * 6 * nbody],
+            qfrc_constraint: &mut self.qfrc_constraint[i * nv..(i + 1) * nv],
+            cinert: &mut self.cinert[i * 10 * nbody..(i + 1) * 10 * nbody],
+            cvel: &mut self.cvel[i * 6 * nbody..(i + 1) * 6 * nbody],
+        }
+    }
+}
+
 /// Root body (child of the world) of every body (nbody); the world is its own root.
 pub fn body_root(m: &Model) -> Vec<usize> {
     let mut root = vec![0; m.nbody];

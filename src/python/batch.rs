@@ -1,7 +1,7 @@
 //! `sinew.Batch`: N worlds sharing one model; state arrays are NumPy arrays stepped in place by
 //! rayon with the GIL released.
 
-use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadwriteArray2, PyReadwriteArray3, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -168,23 +168,14 @@ impl PyBatch {
         }
         let (mut qpos, mut qvel, ctrl) = (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readonly());
         let (mut time, mut div) = (self.time.bind(py).readwrite(), self.diverged.bind(py).readwrite());
-        let (mut xpos, mut xmat) = (self.xpos.bind(py).readwrite(), self.xmat.bind(py).readwrite());
-        let (mut xvel, mut cfrc, mut qfc) =
-            (self.xvel.bind(py).readwrite(), self.cfrc_ext.bind(py).readwrite(), self.qfrc_constraint.bind(py).readwrite());
-        let (mut cinert, mut cvel) = (self.cinert.bind(py).readwrite(), self.cvel.bind(py).readwrite());
+        let mut out = self.sensor_arrays(py);
         let st = BatchState {
             qpos: qpos.as_slice_mut()?,
             qvel: qvel.as_slice_mut()?,
             ctrl: ctrl.as_slice()?,
             time: time.as_slice_mut()?,
             diverged: div.as_slice_mut()?,
-            xpos: xpos.as_slice_mut()?,
-            xmat: xmat.as_slice_mut()?,
-            xvel: xvel.as_slice_mut()?,
-            cfrc_ext: cfrc.as_slice_mut()?,
-            qfrc_constraint: qfc.as_slice_mut()?,
-            cinert: cinert.as_slice_mut()?,
-            cvel: cvel.as_slice_mut()?,
+            out: out.slices()?,
         };
         let inner = &mut self.inner;
         py.detach(|| inner.step(st, n));
@@ -253,35 +244,55 @@ impl PyBatch {
         self.refresh(py, &all)
     }
 
+    /// The sensor output arrays, borrowed for writing.
+    fn sensor_arrays<'py>(&self, py: Python<'py>) -> SensorArrays<'py> {
+        SensorArrays {
+            xpos: self.xpos.bind(py).readwrite(),
+            xmat: self.xmat.bind(py).readwrite(),
+            xvel: self.xvel.bind(py).readwrite(),
+            cfrc_ext: self.cfrc_ext.bind(py).readwrite(),
+            qfrc_constraint: self.qfrc_constraint.bind(py).readwrite(),
+            cinert: self.cinert.bind(py).readwrite(),
+            cvel: self.cvel.bind(py).readwrite(),
+        }
+    }
+
     /// Sensor outputs of the worlds `which` for their current state.
     fn refresh(&mut self, py: Python<'_>, which: &[usize]) -> PyResult<()> {
         let m = self.inner.model.clone();
         let (qpos, qvel) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly());
-        let (mut xpos, mut xmat) = (self.xpos.bind(py).readwrite(), self.xmat.bind(py).readwrite());
-        let (mut xvel, mut cfrc, mut qfc) =
-            (self.xvel.bind(py).readwrite(), self.cfrc_ext.bind(py).readwrite(), self.qfrc_constraint.bind(py).readwrite());
-        let (mut cinert, mut cvel) = (self.cinert.bind(py).readwrite(), self.cvel.bind(py).readwrite());
+        let mut arrays = self.sensor_arrays(py);
+        let mut out = arrays.slices()?;
         let (qp, qv) = (qpos.as_slice()?, qvel.as_slice()?);
-        let (xp, xm, xv, cf, qc) =
-            (xpos.as_slice_mut()?, xmat.as_slice_mut()?, xvel.as_slice_mut()?, cfrc.as_slice_mut()?, qfc.as_slice_mut()?);
-        let (ci, cv) = (cinert.as_slice_mut()?, cvel.as_slice_mut()?);
-        let nb = m.nbody;
         for &i in which {
-            self.inner.sense(
-                i,
-                &qp[i * m.nq..(i + 1) * m.nq],
-                &qv[i * m.nv..(i + 1) * m.nv],
-                Sensors {
-                    xpos: &mut xp[i * 3 * nb..(i + 1) * 3 * nb],
-                    xmat: &mut xm[i * 9 * nb..(i + 1) * 9 * nb],
-                    xvel: &mut xv[i * 6 * nb..(i + 1) * 6 * nb],
-                    cfrc_ext: &mut cf[i * 6 * nb..(i + 1) * 6 * nb],
-                    qfrc_constraint: &mut qc[i * m.nv..(i + 1) * m.nv],
-                    cinert: &mut ci[i * 10 * nb..(i + 1) * 10 * nb],
-                    cvel: &mut cv[i * 6 * nb..(i + 1) * 6 * nb],
-                },
-            );
+            self.inner.sense(i, &qp[i * m.nq..(i + 1) * m.nq], &qv[i * m.nv..(i + 1) * m.nv], out.world(i, m.nbody, m.nv));
         }
         Ok(())
+    }
+}
+
+/// Write borrows of a batch's sensor arrays.
+struct SensorArrays<'py> {
+    xpos: PyReadwriteArray3<'py, f64>,
+    xmat: PyReadwriteArray3<'py, f64>,
+    xvel: PyReadwriteArray3<'py, f64>,
+    cfrc_ext: PyReadwriteArray3<'py, f64>,
+    qfrc_constraint: PyReadwriteArray2<'py, f64>,
+    cinert: PyReadwriteArray3<'py, f64>,
+    cvel: PyReadwriteArray3<'py, f64>,
+}
+
+impl SensorArrays<'_> {
+    /// Every world's outputs as one [`Sensors`].
+    fn slices(&mut self) -> PyResult<Sensors<'_>> {
+        Ok(Sensors {
+            xpos: self.xpos.as_slice_mut()?,
+            xmat: self.xmat.as_slice_mut()?,
+            xvel: self.xvel.as_slice_mut()?,
+            cfrc_ext: self.cfrc_ext.as_slice_mut()?,
+            qfrc_constraint: self.qfrc_constraint.as_slice_mut()?,
+            cinert: self.cinert.as_slice_mut()?,
+            cvel: self.cvel.as_slice_mut()?,
+        })
     }
 }
