@@ -16,7 +16,7 @@ import numpy as np
 import sinew
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests", "python"))
-from test_contact import BALL  # noqa: E402
+from test_contact import bounce_peak, stack_drift  # noqa: E402
 from test_friction import box_on_slope  # noqa: E402
 
 G = 9.81
@@ -49,25 +49,12 @@ def stop(dt, fr, mode):
 
 
 def bounce(dt, fr, mode):
-    sim = sinew.Sim(sinew.Model.from_mjcf_string(BALL.format(dt=dt)).with_options(constraint_mode=mode, friction=fr))
-    peak, rising = 0.0, False
-    for _ in range(int(1.5 / dt)):
-        sim.step()
-        rising = rising or sim.qvel[2] > 0
-        if rising:
-            peak = max(peak, sim.qpos[2] - 0.1)
+    peak, sim = bounce_peak(dt, mode, fr)
     return (peak - 0.225) / 0.225, sim.constraint_stats
 
 
 def stack(dt, fr, mode):
-    bodies = "".join(f'<body pos="0 0 {0.1 + 0.2 * i}"><freejoint/><geom type="box" size="0.1 0.1 0.1"/></body>' for i in range(5))
-    xml = f'<mujoco><option timestep="{dt}"/><worldbody><geom type="plane" size="5 5 .1"/>{bodies}</worldbody></mujoco>'
-    sim = sinew.Sim(sinew.Model.from_mjcf_string(xml).with_options(constraint_mode=mode, friction=fr))
-    start = sim.qpos.reshape(5, 7)[:, :3].copy()
-    worst = 0.0
-    for _ in range(int(10 / dt)):
-        sim.step()
-        worst = max(worst, np.abs(sim.qpos.reshape(5, 7)[:, :3] - start).max())
+    worst, sim = stack_drift(dt, mode, fr)
     return worst, sim.constraint_stats
 
 

@@ -30,6 +30,7 @@ those whose error is at most (within 1%) the smallest error both engines reach.
 import argparse
 import csv
 import os
+import sys
 import time
 
 import mujoco
@@ -38,6 +39,9 @@ from scipy.integrate import solve_ivp
 
 import sinew
 from sinew.tasks import ASSETS
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests", "python"))
+from test_contact import STACK  # noqa: E402
 
 DTS = [1e-2, 5e-3, 2e-3, 1e-3, 5e-4]
 
@@ -189,9 +193,6 @@ SLOPE = """<mujoco><option timestep="{dt}"/><worldbody>
 SLOPE30 = SLOPE.replace('euler="0 20 0" friction="1"', 'euler="0 30 0" friction="0.3"').replace('friction="1"', 'friction="0.3"')
 REST = """<mujoco><option timestep="{dt}"/><worldbody><geom type="plane" size="5 5 .1"/>
 <body pos="0 0 0.1"><freejoint/><geom type="box" size="0.1 0.1 0.1"/></body></worldbody></mujoco>"""
-STACK = ('<mujoco><option timestep="{dt}"/><worldbody><geom type="plane" size="5 5 .1"/>'
-         + "".join(f'<body pos="0 0 {0.1 + 0.2 * i}"><freejoint/><geom type="box" size="0.1 0.1 0.1"/></body>' for i in range(5))
-         + "</worldbody></mujoco>")
 
 
 def slope_state(deg=20):

@@ -20,6 +20,33 @@ BALL = """<mujoco><option timestep="{dt}"/><custom><numeric name="sinew/restitut
 <worldbody><geom type="plane" size="5 5 .1"/><body pos="0 0 1"><freejoint/><geom type="sphere" size="0.1"/></body>
 </worldbody></mujoco>"""
 
+STACK = ('<mujoco><option timestep="{dt}"/><worldbody><geom type="plane" size="5 5 .1"/>'
+         + "".join(f'<body pos="0 0 {0.1 + 0.2 * i}"><freejoint/><geom type="box" size="0.1 0.1 0.1"/></body>' for i in range(5))
+         + "</worldbody></mujoco>")
+
+
+def bounce_peak(dt, mode, friction="seed"):
+    """Highest point of the ball's gap over the floor after its first rebound (1.5 s), and the Sim."""
+    sim = sinew.Sim(sinew.Model.from_mjcf_string(BALL.format(dt=dt)).with_options(constraint_mode=mode, friction=friction))
+    peak, rising = 0.0, False
+    for _ in range(round(1.5 / dt)):
+        sim.step()
+        rising = rising or sim.qvel[2] > 0
+        if rising:
+            peak = max(peak, sim.qpos[2] - 0.1)
+    return peak, sim
+
+
+def stack_drift(dt, mode, friction, seconds=10.0):
+    """Largest displacement of any of five stacked boxes over `seconds`, and the Sim."""
+    sim = sinew.Sim(sinew.Model.from_mjcf_string(STACK.format(dt=dt)).with_options(constraint_mode=mode, friction=friction))
+    start = sim.qpos.reshape(5, 7)[:, :3].copy()
+    worst = 0.0
+    for _ in range(round(seconds / dt)):
+        sim.step()
+        worst = max(worst, np.abs(sim.qpos.reshape(5, 7)[:, :3] - start).max())
+    return worst, sim
+
 
 @pytest.mark.parametrize("mode", ["acceleration", "velocity"])
 @pytest.mark.parametrize("dt", [0.002, 0.01])
@@ -50,14 +77,8 @@ def test_joint_driven_into_its_limit_stops_and_stays(dt, mode):
 @pytest.mark.parametrize("mode", ["acceleration", "velocity"])
 @pytest.mark.parametrize("dt", [0.002, 0.01])
 def test_ball_rebounds_to_e_squared_of_its_drop_height(dt, mode):
-    sim = sinew.Sim(sinew.Model.from_mjcf_string(BALL.format(dt=dt)).with_options(constraint_mode=mode))
+    peak, sim = bounce_peak(dt, mode)
     assert sim.model.restitution == 0.5
-    peak, rising = 0.0, False
-    for _ in range(round(1.5 / dt)):
-        sim.step()
-        rising = rising or sim.qvel[2] > 0
-        if rising:
-            peak = max(peak, sim.qpos[2] - 0.1)
     expected = 0.25 * 0.9
     assert abs(peak - expected) / expected <= 0.02
     assert sim.constraint_stats["impacts"] >= (1 if mode == "acceleration" else 0)
@@ -205,14 +226,7 @@ def test_redundant_coplanar_contacts_carry_exactly_the_weight(boxes, mode):
 @pytest.mark.parametrize("dt", [0.002, 0.01])
 def test_five_stacked_boxes_stay_stacked(dt, mode, friction):
     """10 s, drift < 1 mm (measured: about 1e-9 m), without a solver fallback."""
-    bodies = "".join(f'<body pos="0 0 {0.1 + 0.2 * i}"><freejoint/><geom type="box" size="0.1 0.1 0.1"/></body>' for i in range(5))
-    xml = f'<mujoco><option timestep="{dt}"/><worldbody><geom type="plane" size="5 5 .1"/>{bodies}</worldbody></mujoco>'
-    sim = sinew.Sim(sinew.Model.from_mjcf_string(xml).with_options(constraint_mode=mode, friction=friction))
-    start = sim.qpos.reshape(5, 7)[:, :3].copy()
-    worst = 0.0
-    for _ in range(round(10 / dt)):
-        sim.step()
-        worst = max(worst, np.abs(sim.qpos.reshape(5, 7)[:, :3] - start).max())
+    worst, sim = stack_drift(dt, mode, friction)
     assert worst < 1e-3
     stats = sim.constraint_stats
     assert stats["fallback_pgs"] == 0 and stats["inexact"] == 0 and stats["fallback_zero"] == 0
