@@ -52,6 +52,12 @@ class Task:
         self.body_ipos = model.body_ipos
 
     # helpers shared by tasks
+    @staticmethod
+    def planar_info(v: View) -> dict:
+        """Where a free-floating body's root is in the ground plane (Ant's and Humanoid's info)."""
+        return {"x_position": v.qpos[:, 0].copy(), "y_position": v.qpos[:, 1].copy(),
+                "distance_from_origin": np.linalg.norm(v.qpos[:, :2], axis=1)}
+
     def xipos(self, v: View) -> np.ndarray:
         """Body centres of mass in world (N, nbody, 3), MuJoCo's ``xipos``."""
         return v.xpos + np.einsum("nbij,bj->nbi", v.xmat, self.body_ipos)
@@ -336,9 +342,7 @@ class Ant(Task):
         ctrl = self.wc * np.square(action).sum(axis=1)
         contact = self.wk * np.square(self.contact_forces(v)).sum(axis=(1, 2))
         info = {
-            "x_position": v.qpos[:, 0].copy(),
-            "y_position": v.qpos[:, 1].copy(),
-            "distance_from_origin": np.linalg.norm(v.qpos[:, :2], axis=1),
+            **self.planar_info(v),
             "x_velocity": vel[:, 0],
             "y_velocity": vel[:, 1],
             "reward_forward": forward,
@@ -349,8 +353,7 @@ class Ant(Task):
         return forward + survive - ctrl - contact, (~healthy) & self.terminate, info
 
     def reset_info(self, v):
-        return {"x_position": v.qpos[:, 0].copy(), "y_position": v.qpos[:, 1].copy(),
-                "distance_from_origin": np.linalg.norm(v.qpos[:, :2], axis=1)}
+        return self.planar_info(v)
 
 
 class Humanoid(Task):
@@ -410,9 +413,7 @@ class Humanoid(Task):
         ctrl = self.wc * np.square(v.ctrl).sum(axis=1)
         contact = np.clip(self.wk * np.square(v.cfrc_ext).sum(axis=(1, 2)), *self.cost_range)
         info = {
-            "x_position": v.qpos[:, 0].copy(),
-            "y_position": v.qpos[:, 1].copy(),
-            "distance_from_origin": np.linalg.norm(v.qpos[:, :2], axis=1),
+            **self.planar_info(v),
             "x_velocity": vel[:, 0],
             "y_velocity": vel[:, 1],
             "reward_survive": survive,
@@ -423,8 +424,7 @@ class Humanoid(Task):
         return forward + survive - ctrl - contact, (~healthy) & self.terminate, info
 
     def reset_info(self, v):
-        return {"x_position": v.qpos[:, 0].copy(), "y_position": v.qpos[:, 1].copy(),
-                "distance_from_origin": np.linalg.norm(v.qpos[:, :2], axis=1)}
+        return self.planar_info(v)
 
 
 TASKS = {
