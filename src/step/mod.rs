@@ -180,6 +180,7 @@ fn missed_contacts(m: &Model, data: &mut Data, qvel: &[f64]) -> bool {
     for ((e, v), a) in post.vel_end.iter_mut().zip(qvel).zip(qacc.iter()) {
         *e = v + h * a;
     }
+    // post.kin is free until the post-stabilisation check, which recomputes it
     kinematics::velocities(m, kin, &post.vel_end, &mut post.kin.v);
     collision::reach_again(m, &post.kin.v, coll)
 }

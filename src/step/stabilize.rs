@@ -268,13 +268,9 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
         }
         let mut added = false;
         for j in limited(m) {
-            let (q, dq) = (qpos[m.jnt_qposadr[j]], post.dq[m.jnt_dofadr[j]]);
-            let sign = if dq < 0.0 { 1.0 } else { -1.0 };
-            let [lo, hi] = m.jnt_range[j];
-            let room = if dq < 0.0 { q - lo } else { hi - q };
-            if dq.abs() > room.max(0.0) && !post.limit.contains(&Some((j, sign))) {
+            if let Some((sign, room, _)) = crossing(m, qpos, &post.dq, &post.limit, j) {
                 let dof = m.jnt_dofadr[j];
-                post.gap.push(room.max(0.0));
+                post.gap.push(room);
                 let start = post.jac.len();
                 post.jac.resize(start + nv, 0.0);
                 post.jac[start + dof] = sign;
@@ -291,15 +287,20 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
     }
     let mut alpha = 1.0f64;
     for j in limited(m) {
-        let (q, dq) = (qpos[m.jnt_qposadr[j]], post.dq[m.jnt_dofadr[j]]);
-        let sign = if dq < 0.0 { 1.0 } else { -1.0 };
-        let [lo, hi] = m.jnt_range[j];
-        let room = if dq < 0.0 { q - lo } else { hi - q };
-        if !post.limit.contains(&Some((j, sign))) && dq.abs() > room.max(0.0) {
-            alpha = alpha.min(room.max(0.0) / dq.abs());
+        if let Some((_, room, step)) = crossing(m, qpos, &post.dq, &post.limit, j) {
+            alpha = alpha.min(room / step);
         }
     }
     integrate_pos(m, qpos, &post.dq, alpha);
+}
+
+/// Whether the projection `dq` carries joint j past a limit that has no row among `rows`: that
+/// limit's row sign, the room left before it (not below zero) and the joint's step |dq|.
+fn crossing(m: &Model, qpos: &[f64], dq: &[f64], rows: &[Option<(usize, f64)>], j: usize) -> Option<(f64, f64, f64)> {
+    let (q, dq) = (qpos[m.jnt_qposadr[j]], dq[m.jnt_dofadr[j]]);
+    let [lo, hi] = m.jnt_range[j];
+    let (sign, room) = if dq < 0.0 { (1.0, q - lo) } else { (-1.0, hi - q) };
+    (dq.abs() > room.max(0.0) && !rows.contains(&Some((j, sign)))).then_some((sign, room.max(0.0), dq.abs()))
 }
 
 /// Times a projection may add limit rows and solve again.
