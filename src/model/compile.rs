@@ -124,6 +124,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         actuator_forcerange: vec![],
         actuator_forcelimited: vec![],
         collision_pairs: vec![],
+        motion_plane: None,
         exclude_pairs: vec![],
         warnings: spec.warnings.clone(),
     };
@@ -256,7 +257,23 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         }
     }
     check_solvable(&m)?;
+    m.motion_plane = motion_plane(&m);
     Ok(m)
+}
+
+/// The normal every hinge axis is parallel to and every slide axis perpendicular to, in world at
+/// the reference configuration (rotations about that normal keep it so), or None.
+fn motion_plane(m: &Model) -> Option<DVec3> {
+    let mut kin = crate::step::kinematics::KinData::new(m);
+    crate::step::kinematics::forward(m, &m.qpos0, &vec![0.0; m.nv], &mut kin);
+    let world_axis = |j: usize| kin.node_rot[j] * m.jnt_axis[j].normalize();
+    let normal = world_axis((0..m.njnt).find(|&j| m.jnt_type[j] == JointType::Hinge)?);
+    let planar = (0..m.njnt).all(|j| match m.jnt_type[j] {
+        JointType::Hinge => world_axis(j).cross(normal).length() < 1e-9,
+        JointType::Slide => world_axis(j).dot(normal).abs() < 1e-9,
+        _ => false,
+    });
+    planar.then_some(normal)
 }
 
 /// Every joint must move some mass: the articulated inertia seen by each dof at the reference

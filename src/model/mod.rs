@@ -224,6 +224,9 @@ pub struct Model {
 
     /// Geom pairs that pass the configuration-independent collision filters.
     pub collision_pairs: Vec<(usize, usize)>,
+    /// Normal of the plane all motion stays in, when every joint is a hinge about it or a slide
+    /// along it (hopper, walker, half-cheetah): friction out of that plane can do nothing there.
+    pub motion_plane: Option<DVec3>,
     /// Body-pair contact exclusions (sorted pairs).
     pub exclude_pairs: Vec<(usize, usize)>,
     /// What the model file asks for that sinew does not model.

@@ -44,8 +44,11 @@ pub struct Contact {
 /// World poses of all geoms, and the contact list.
 #[derive(Clone, Debug, Default)]
 pub struct CollisionData {
-    /// Geom axes in world (ngeom).
+    /// Geom axes in world (ngeom); a moving geom's are current only where `axes_posed` says so.
     pub geom_xmat: Vec<DMat3>,
+    /// Whether `geom_xmat[g]` is that of this configuration: the narrowphase poses the axes of
+    /// the geoms it tests, so pairs the broadphase rejects cost no rotation.
+    pub axes_posed: Vec<bool>,
     /// Geom centre in world (ngeom).
     pub geom_xpos: Vec<DVec3>,
     /// Bound on the speed of any point of each geom (ngeom), for speculative detection.
@@ -64,6 +67,7 @@ impl CollisionData {
         CollisionData {
             // world geoms never move: their poses are set here once (the world frame is the identity)
             geom_xmat: m.geom_mat.clone(),
+            axes_posed: (0..m.ngeom).map(|g| m.geom_body[g] == 0).collect(),
             geom_xpos: m.geom_pos.clone(),
             geom_speed: vec![0.0; m.ngeom],
             geom_accel: vec![0.0; m.ngeom],
@@ -121,12 +125,23 @@ fn geom_poses(m: &Model, kin: &KinData, out: &mut CollisionData) -> bool {
             continue;
         }
         out.geom_xpos[g] = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
-        // a sphere's orientation is never read
-        if !matches!(m.geom_type[g], GeomType::Sphere | GeomType::Ellipsoid) {
+        // the broadphase reads a plane's normal; other axes are posed when a pair needs them
+        let plane = m.geom_type[g] == GeomType::Plane;
+        if plane {
             out.geom_xmat[g] = kin.xmat[b] * m.geom_mat[g];
         }
+        out.axes_posed[g] = plane;
     }
     true
+}
+
+/// Poses the world axes of geom g for the configuration in `kin`, unless already done (a
+/// sphere's orientation is never read).
+fn pose_axes(m: &Model, kin: &KinData, cd: &mut CollisionData, g: usize) {
+    if !cd.axes_posed[g] && !matches!(m.geom_type[g], GeomType::Sphere | GeomType::Ellipsoid) {
+        cd.geom_xmat[g] = kin.xmat[m.geom_body[g]] * m.geom_mat[g];
+        cd.axes_posed[g] = true;
+    }
 }
 
 /// Detects all contacts of the configuration in `kin`, with `aba` holding the constraint-free
@@ -157,7 +172,7 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData)
         if apart(m, out, i, j, margin) {
             continue;
         }
-        pair(m, out, i, j, margin);
+        pair(m, kin, out, i, j, margin);
     }
 }
 
@@ -171,7 +186,7 @@ pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
         if apart(m, out, i, j, 0.0) {
             continue;
         }
-        pair(m, out, i, j, 0.0);
+        pair(m, kin, out, i, j, 0.0);
     }
 }
 
@@ -208,7 +223,7 @@ fn first_margin(m: &Model, cd: &CollisionData, i: usize, j: usize) -> f64 {
 /// h·|v_end| now exceeds their first margin are tested again (same configuration) and contacts
 /// not found before are appended. Returns whether there were any: constraint forces (a body
 /// landing on another, say) can carry a geom further than its constraint-free motion.
-pub fn reach_again(m: &Model, v_end: &[crate::math::Motion], out: &mut CollisionData) -> bool {
+pub fn reach_again(m: &Model, kin: &KinData, v_end: &[crate::math::Motion], out: &mut CollisionData) -> bool {
     if !m.opt.contact || m.collision_pairs.is_empty() {
         return false;
     }
@@ -231,7 +246,7 @@ pub fn reach_again(m: &Model, v_end: &[crate::math::Motion], out: &mut Collision
             // full: a replacement would change contacts the rows already refer to
             break;
         }
-        pair(m, out, i, j, margin);
+        pair(m, kin, out, i, j, margin);
         let mut k = before;
         while k < out.contacts.len() {
             let c = out.contacts[k];
@@ -268,7 +283,9 @@ fn shape(m: &Model, cd: &CollisionData, g: usize) -> Shape {
     }
 }
 
-fn pair(m: &Model, cd: &mut CollisionData, i: usize, j: usize, margin: f64) {
+fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, i: usize, j: usize, margin: f64) {
+    pose_axes(m, kin, cd, i);
+    pose_axes(m, kin, cd, j);
     let (si, sj) = (shape(m, cd, i), shape(m, cd, j));
     let mu = m.geom_friction[i][0].max(m.geom_friction[j][0]);
     let friction = m.geom_condim[i] > 1 && m.geom_condim[j] > 1;

@@ -227,9 +227,19 @@ pub fn rows(
             let vt = vrel - c.normal * c.normal.dot(vrel);
             let at = arel - c.normal * c.normal.dot(arel);
             let t = tangent_for(ci, c.normal, vt, at);
-            let dirs = match m.opt.friction {
-                FrictionModel::OneTangent => [t, DVec3::ZERO, DVec3::ZERO, DVec3::ZERO],
-                FrictionModel::Pyramid => {
+            // in a planar model a normal in the plane leaves one tangent line that motion can
+            // use: the tangent is turned onto it, and the pyramid's rows across the plane, which
+            // no force could move, are not built
+            let line = m.motion_plane.filter(|p| p.dot(c.normal).abs() < 1e-9).map(|p| p.cross(c.normal).normalize());
+            let t = match line {
+                Some(e) if t.dot(e) < 0.0 => -e,
+                Some(e) => e,
+                None => t,
+            };
+            let dirs = match (m.opt.friction, line) {
+                (FrictionModel::OneTangent, _) => [t, DVec3::ZERO, DVec3::ZERO, DVec3::ZERO],
+                (FrictionModel::Pyramid, Some(_)) => [t, -t, DVec3::ZERO, DVec3::ZERO],
+                (FrictionModel::Pyramid, None) => {
                     let t2 = c.normal.cross(t);
                     [t, -t, t2, -t2]
                 }

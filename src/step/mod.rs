@@ -182,7 +182,7 @@ fn missed_contacts(m: &Model, data: &mut Data, qvel: &[f64]) -> bool {
     }
     // post.kin is free until the post-stabilisation check, which recomputes it
     kinematics::velocities(m, kin, &post.vel_end, &mut post.kin.v);
-    collision::reach_again(m, &post.kin.v, coll)
+    collision::reach_again(m, kin, &post.kin.v, coll)
 }
 
 /// Marks in `data.limit_forced` each limit without a row that q̇ + h q̈ would cross within the step.

@@ -65,3 +65,26 @@ def test_sliding_box_stops_at_v0_squared_over_2_mu_g(dt, tol, friction, mode):
     expected = 3.0**2 / (2 * 0.5 * G)
     assert abs(sim.qpos[0] - expected) / expected <= tol
     assert abs(sim.qvel[0]) < 1e-9
+
+
+@pytest.mark.parametrize("dt", [0.002, 0.01])
+def test_planar_model_gets_in_plane_friction_rows_only(dt):
+    """A model whose joints all move in one plane (slides in it, hinges across it: hopper, walker,
+    half-cheetah) has one usable tangent per contact: pyramid friction builds ±t along it and no
+    rows across the plane, and still holds a box on a 20° slope with μ = 1."""
+    th = math.radians(20)
+    xml = f"""<mujoco><option timestep="{dt}"/><worldbody>
+    <geom type="plane" size="50 50 .1" euler="0 20 0" friction="1"/>
+    <body pos="{0.1 * math.sin(th)} 0 {0.1 * math.cos(th)}" euler="0 20 0">
+      <joint name="x" type="slide" axis="1 0 0"/><joint name="z" type="slide" axis="0 0 1"/>
+      <joint name="r" type="hinge" axis="0 1 0"/><geom type="box" size="0.1 0.1 0.1" friction="1"/>
+    </body></worldbody></mujoco>"""
+    sim = sinew.Sim(sinew.Model.from_mjcf_string(xml).with_options(friction="pyramid"))
+    sim.step(int(0.2 / dt))
+    start = sim.qpos.copy()
+    sim.step(int(5 / dt))
+    contacts = sim.contacts
+    assert len(contacts) == 4
+    assert sim.constraint_stats["rows"] == 3 * len(contacts)
+    assert np.abs(sim.qpos - start).max() < 1e-6
+    assert all(abs(c["friction_force"][1]) < 1e-12 for c in contacts)
