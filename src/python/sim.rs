@@ -262,7 +262,8 @@ impl PySim {
         Ok(out)
     }
 
-    /// Constraint statistics: rows of the last step, LCP solves, pivots, warm starts, fallbacks,
+    /// Constraint statistics: rows of the last step, LCP solves, pivots, warm starts, regularised
+    /// retries, fallbacks,
     /// residual, impacts, post-stabilisation projections.
     #[getter]
     fn constraint_stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
@@ -272,6 +273,7 @@ impl PySim {
         d.set_item("solves", s.solves)?;
         d.set_item("pivots", s.pivots)?;
         d.set_item("warm_starts", s.warm_starts)?;
+        d.set_item("retries", s.retries)?;
         d.set_item("fallback_pgs", s.fallback_pgs)?;
         d.set_item("inexact", s.inexact)?;
         d.set_item("fallback_zero", s.fallback_zero)?;

@@ -41,8 +41,17 @@ impl RowKind {
     }
 }
 
-/// Velocity below which a contact counts as approaching and triggers the impact solve (m/s).
+/// Least approach speed of an impact (m/s); see [`impact_speed`].
 pub const IMPACT_SPEED: f64 = 1e-3;
+
+/// Approach speed above which a contact or limit closing within the step triggers the impact solve
+/// (needImpact, Kokkevis 2004, §8.1) and gets restitution: a few steps' worth of gravity (4 h g),
+/// at least [`IMPACT_SPEED`]. Slower approaches, such as a resting contact's jitter, are stopped
+/// at the surface by the acceleration-level solve itself, whose desired acceleration
+/// (−d/h − v)/h ends the step at the gap: the same plastic outcome, one LCP instead of two.
+pub fn impact_speed(h: f64, gravity: f64) -> f64 {
+    (4.0 * h * gravity).max(IMPACT_SPEED)
+}
 /// Time over which a violation (penetration, limit overshoot) is removed: the desired velocity is
 /// −d / T. A time, not a fraction per step, so that the motion converges as the step shrinks; at
 /// least 5 steps, so a coarse step does not overshoot. Penetration beyond the post-stabilisation

@@ -6,7 +6,9 @@
 //! (Cottle, Pang & Stone, *The Linear Complementarity Problem*, 1992, §4.4). Redundant rows (four
 //! coplanar box corners) make K singular; a tiny diagonal regulariser keeps pivots finite. Every
 //! accepted solution is checked independently (w = M z + q recomputed); on failure the cascade
-//! falls back to projected Gauss–Seidel on the same conditions, then to zero force.
+//! retries Lemke with a 100× regulariser (redundant contacts sharing a tangential demand can end
+//! the first path on a ray), its answer checked against the unregularised problem, then falls
+//! back to projected Gauss–Seidel on the same conditions, then to zero force.
 
 /// Counters Python can read.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -17,6 +19,8 @@ pub struct LcpStats {
     pub pivots: u64,
     /// Solves settled by the previous step's active set, without pivoting.
     pub warm_starts: u64,
+    /// Solves settled by the second, more strongly regularised Lemke attempt.
+    pub retries: u64,
     /// Solves that fell back to projected Gauss–Seidel.
     pub fallback_pgs: u64,
     /// Solves that kept a Lemke solution failing the check because it beat the fallback.
@@ -39,10 +43,13 @@ pub struct LcpWork {
     w: Vec<f64>,
     active: Vec<usize>,
     trial: Vec<f64>,
+    stiff: Vec<f64>,
 }
 
 /// Relative regulariser added to the diagonal of the force rows.
 pub const REGULARISATION: f64 = 1e-8;
+/// Relative regulariser of the second Lemke attempt on a degenerate problem.
+pub const RETRY_REGULARISATION: f64 = 1e-6;
 /// Largest scaled residual of an accepted solution (tableau round-off on degenerate problems,
 /// such as four coplanar corners, stays around 1e-6).
 pub const ACCEPT_RESIDUAL: f64 = 1e-5;
@@ -173,7 +180,7 @@ pub fn residual(n: usize, m: &[f64], q: &[f64], z: &[f64], w: &mut Vec<f64>) -> 
     if worst.is_nan() { f64::INFINITY } else { worst }
 }
 
-/// Solves with the cascade warm start → Lemke → projected Gauss–Seidel (or Lemke's inexact answer
+/// Solves with the cascade warm start → Lemke → Lemke more strongly regularised → projected Gauss–Seidel (or Lemke's inexact answer
 /// when that has the smaller residual) → zero; counts the path in `stats`. `warm`, when given, is the previous step's active set for the same rows: if solving
 /// on it directly passes the independent check, no pivoting is needed (resting contacts).
 #[allow(clippy::too_many_arguments)]
@@ -202,6 +209,28 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]
             return;
         }
     }
+    // degenerate (redundant contacts sharing their demand): once more with a stronger regulariser,
+    // its answer checked against the problem as posed
+    let mut stiff = std::mem::take(&mut work.stiff);
+    stiff.clear();
+    stiff.extend_from_slice(&m[..n * n]);
+    for i in (0..n).filter(|&i| role[i] != Role::Lambda) {
+        stiff[i * n + i] += RETRY_REGULARISATION * m[i * n + i].abs();
+    }
+    work.trial.clear();
+    work.trial.extend_from_slice(&z[..n]);
+    if let Some(p) = lemke(n, &stiff, q, |i| role[i] == Role::Lambda, z, work) {
+        stats.pivots += p as u64;
+        let res = residual(n, m, q, z, &mut work.w);
+        if res <= ACCEPT_RESIDUAL {
+            work.stiff = stiff;
+            stats.retries += 1;
+            stats.residual = res;
+            return;
+        }
+    }
+    work.stiff = stiff;
+    z[..n].copy_from_slice(&work.trial);
     // Lemke failed the check: projected Gauss–Seidel, unless Lemke's answer was the closer one
     work.trial.clear();
     work.trial.extend_from_slice(&z[..n]);

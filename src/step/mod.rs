@@ -121,7 +121,7 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
             apply_to_qacc(m, data, 1.0 / h);
         } else {
             // 6. impacts: a velocity-level solve over all rows when something approaches
-            if !redo && needs_impact(&data.con, h) {
+            if !redo && needs_impact(&data.con, h, constraint::impact_speed(h, m.opt.gravity.length())) {
                 impacted = true;
                 data.impacts += 1;
                 solve_rows(m, data, Level::Velocity);
@@ -262,16 +262,16 @@ fn random_tangent(state: &mut u64, n: DVec3) -> DVec3 {
 }
 
 /// needImpact (Kokkevis 2004, §8.1): a contact or limit approaching fast enough to close within this step.
-fn needs_impact(con: &constraint::ConstraintData, h: f64) -> bool {
+fn needs_impact(con: &constraint::ConstraintData, h: f64, speed: f64) -> bool {
     (0..con.len()).any(|j| {
-        matches!(con.kind[j], RowKind::Normal | RowKind::Limit) && approaching(con.vel[j], con.dist[j], con.vel[j] + h * con.b[j], h)
+        matches!(con.kind[j], RowKind::Normal | RowKind::Limit) && approaching(con.vel[j], con.dist[j], con.vel[j] + h * con.b[j], h, speed)
     })
 }
 
-/// A row moving into its constraint faster than [`constraint::IMPACT_SPEED`] that would close
-/// within this step, given its velocity now and predicted at the step's end.
-fn approaching(vel: f64, dist: f64, vel_end: f64, h: f64) -> bool {
-    vel < -constraint::IMPACT_SPEED && dist + h * vel_end.min(vel) < 0.0
+/// A row moving into its constraint faster than `speed` (see [`constraint::impact_speed`]) that
+/// would close within this step, given its velocity now and predicted at the step's end.
+fn approaching(vel: f64, dist: f64, vel_end: f64, h: f64, speed: f64) -> bool {
+    vel < -speed && dist + h * vel_end.min(vel) < 0.0
 }
 
 /// Rows whose K_jj is below this fraction of the largest are inert: zero force.
@@ -321,6 +321,8 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
 /// row but friction rows.
 fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
     let h = m.opt.timestep;
+    // slower approaches are not impacts and get no restitution: resting contacts do not jitter
+    let impact = constraint::impact_speed(h, m.opt.gravity.length());
     let nr = data.con.len();
     // one λ per contact with friction rows, shared by them (eq. 21 sums their forces), and one σ
     // per torque-bounded motion-control row (the same pattern with a constant bound)
@@ -360,7 +362,7 @@ fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
             (RowKind::Tangent { .. }, Level::TimeStep) => -(vel + h * con.b[j]),
             (_, Level::TimeStep) => {
                 let mut target = if dist > 0.0 { -dist / h } else { constraint::correction_velocity(dist, h) };
-                if -vel > 4.0 * h * m.opt.gravity.length() && dist + h * vel < 0.0 && m.opt.restitution > 0.0 {
+                if -vel > impact && dist + h * vel < 0.0 && m.opt.restitution > 0.0 {
                     target = target.max(rebound(vel, dist, con.b[j], m.opt.restitution, h));
                 }
                 target - (vel + h * con.b[j])
@@ -373,11 +375,10 @@ fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
             // restitution, else −d/h, which just closes the gap (v_p: velocity predicted at the
             // step's end without constraint forces)
             (_, Level::Velocity) => {
-                // no restitution below a few steps' worth of gravity: resting contacts do not jitter
-                let e = if -vel > 4.0 * h * m.opt.gravity.length() { m.opt.restitution } else { 0.0 };
+                let e = if -vel > impact { m.opt.restitution } else { 0.0 };
                 let vp = vel + h * con.b[j];
                 let gap = dist.max(0.0) / h;
-                if approaching(vel, dist, vp, h) {
+                if approaching(vel, dist, vp, h, impact) {
                     if e > 0.0 { rebound(vel, dist, con.b[j], e, h) - vp } else { -gap - vp }
                 } else {
                     (-gap - vp).min(0.0)
