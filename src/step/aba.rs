@@ -6,11 +6,11 @@
 //! | `ia[i]`   | I^A_i             | articulated-body inertia of the subtree at node i  |
 //! | `pa[i]`   | p^A_i             | articulated bias force                             |
 //! | `u_mat[i]`| U_i = I^A_i S_i   | 6 × n_i                                            |
-//! | `d_inv[i]`| D_i⁻¹             | (S_iᵀ U_i + armature)⁻¹, n_i × n_i                 |
+//! | `d_fac[i]`| D_i = L Lᵀ        | D_i = S_iᵀ U_i + armature, factorised (1 dof: D⁻¹) |
 //! | `u[i]`    | u_i               | τ_i − S_iᵀ p^A_i                                   |
 //! | `a[i]`    | a_i               | spatial acceleration, with gravity as −g at the base |
 //!
-//! I^A, U and D⁻¹ depend on the configuration only, so they serve every test force of the step.
+//! I^A, U and D's factor depend on the configuration only, so they serve every test force of the step.
 
 use crate::math::{ArtInertia, Force, Motion};
 use crate::model::{Model, WORLD};
@@ -26,8 +26,9 @@ pub struct AbaData {
     pub pa: Vec<Force>,
     /// U_i columns (njnt × 6).
     pub u_mat: Vec<[Force; 6]>,
-    /// D_i⁻¹, row-major n_i × n_i in a 6 × 6 block (njnt).
-    pub d_inv: Vec<[f64; 36]>,
+    /// D_i for [`solve_d`]: 1/D_i for one dof, else the Cholesky factor L (D_i = L Lᵀ, lower
+    /// triangle row-major in a 6 × 6 block) (njnt).
+    pub d_fac: Vec<[f64; 36]>,
     /// u_i (njnt × 6).
     pub u: Vec<[f64; 6]>,
     /// Spatial accelerations a_i in node coordinates (njnt).
@@ -43,7 +44,7 @@ impl AbaData {
             ia: vec![ArtInertia::ZERO; m.njnt],
             pa: vec![Force::ZERO; m.njnt],
             u_mat: vec![[Force::ZERO; 6]; m.njnt],
-            d_inv: vec![[0.0; 36]; m.njnt],
+            d_fac: vec![[0.0; 36]; m.njnt],
             u: vec![[0.0; 6]; m.njnt],
             a: vec![Motion::ZERO; m.njnt],
             singular_joint: None,
@@ -51,7 +52,7 @@ impl AbaData {
     }
 }
 
-/// Passes 1–2 (inward): I^A, p^A, U, D⁻¹, u for applied joint forces `tau`.
+/// Passes 1–2 (inward): I^A, p^A, U, D (factorised), u for applied joint forces `tau`.
 /// `h_damp` adds h·damping to D (implicit damping of semi-implicit Euler, as MuJoCo's `Euler`).
 pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut AbaData) {
     // pass 1: rigid inertias and velocity-product bias forces v ×* I v
@@ -61,57 +62,65 @@ pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut Ab
         aba.pa[i] = v.cross_force(&m.node_inertia[i].mul_motion(&v));
     }
     aba.singular_joint = None;
+    let AbaData { ia: ia_all, pa: pa_all, u_mat, d_fac, u, singular_joint, .. } = aba;
     // pass 2: leaves to root
     for i in (0..m.njnt).rev() {
         let k = m.jnt_type[i].nv();
         let da = m.jnt_dofadr[i];
         let s = &kin.s[i];
-        let ia = aba.ia[i];
-        let mut d = [0.0; 36];
+        let ia = &ia_all[i];
+        let (um, d, ui) = (&mut u_mat[i], &mut d_fac[i], &mut u[i]);
         for c in 0..k {
-            aba.u_mat[i][c] = ia.mul_motion(&s[c]);
+            um[c] = ia.mul_motion(&s[c]);
         }
         for r in 0..k {
             for c in 0..k {
-                d[r * 6 + c] = s[r].dot(&aba.u_mat[i][c]);
+                d[r * 6 + c] = s[r].dot(&um[c]);
             }
             d[r * 6 + r] += m.dof_armature[da + r] + h_damp * m.dof_damping[da + r];
-            aba.u[i][r] = tau[da + r] - s[r].dot(&aba.pa[i]);
+            ui[r] = tau[da + r] - s[r].dot(&pa_all[i]);
         }
-        if !spd_inverse(k, &mut d) {
-            aba.singular_joint.get_or_insert(i);
+        if !factorise(k, d) {
+            singular_joint.get_or_insert(i);
         }
-        aba.d_inv[i] = d;
         let p = m.node_parent[i];
         if p == WORLD {
             continue;
         }
-        // I^a = I^A − U D⁻¹ Uᵀ;  p^a = p^A + I^A c + U D⁻¹ (u − Uᵀ c)
-        let um = &aba.u_mat[i];
+        // I^a = I^A − U D⁻¹ Uᵀ (= I^A − V Vᵀ with V = U L⁻ᵀ);  p^a = p^A + I^A c + U D⁻¹ (u − Uᵀ c)
         let c = kin.c[i];
-        let mut ia_small = ia;
+        let mut ia_small = *ia;
+        if k == 1 {
+            ia_small.sub_outer(&um[0], &um[0], d[0]);
+        } else {
+            let mut v = [Force::ZERO; 6];
+            for r in 0..k {
+                let mut col = um[r];
+                for q in 0..r {
+                    col -= v[q] * d[r * 6 + q];
+                }
+                v[r] = col * (1.0 / d[r * 6 + r]);
+                ia_small.sub_outer(&v[r], &v[r], 1.0);
+            }
+        }
         let mut w = [0.0; 6];
         for r in 0..k {
-            let mut acc = 0.0;
-            for q in 0..k {
-                ia_small.sub_outer(&um[r], &um[q], d[r * 6 + q]);
-                acc += d[r * 6 + q] * (aba.u[i][q] - c.dot(&um[q]));
-            }
-            w[r] = acc;
+            w[r] = ui[r] - c.dot(&um[r]);
         }
-        let mut pa = aba.pa[i] + ia.mul_motion(&c);
+        solve_d(k, d, &mut w);
+        let mut pa = pa_all[i] + ia.mul_motion(&c);
         for r in 0..k {
             pa += um[r] * w[r];
         }
         let x = kin.x_up[i];
         let moved = ia_small.to_parent(&x);
-        aba.ia[p].add(&moved);
-        aba.pa[p] += x.inv_apply_force(&pa);
+        ia_all[p].add(&moved);
+        pa_all[p] += x.inv_apply_force(&pa);
     }
 }
 
 /// The inward pass's bias terms p^A and u alone, for new velocities and forces `tau` on the
-/// configuration whose I^A, U and D⁻¹ are already in `aba` (after an impulse).
+/// configuration whose I^A, U and D's factor are already in `aba` (after an impulse).
 pub fn backward_bias(m: &Model, kin: &KinData, tau: &[f64], aba: &mut AbaData) {
     for i in 0..m.njnt {
         let v = kin.v[i];
@@ -128,14 +137,15 @@ pub fn backward_bias(m: &Model, kin: &KinData, tau: &[f64], aba: &mut AbaData) {
             continue;
         }
         // p^a = p^A + I^A c + U D⁻¹ (u − Uᵀ c)
-        let (um, d, c) = (&aba.u_mat[i], &aba.d_inv[i], kin.c[i]);
+        let (um, c) = (&aba.u_mat[i], kin.c[i]);
+        let mut w = [0.0; 6];
+        for r in 0..k {
+            w[r] = aba.u[i][r] - c.dot(&um[r]);
+        }
+        solve_d(k, &aba.d_fac[i], &mut w);
         let mut pa = aba.pa[i] + aba.ia[i].mul_motion(&c);
         for r in 0..k {
-            let mut w = 0.0;
-            for q in 0..k {
-                w += d[r * 6 + q] * (aba.u[i][q] - c.dot(&um[q]));
-            }
-            pa += um[r] * w;
+            pa += um[r] * w[r];
         }
         aba.pa[p] += kin.x_up[i].inv_apply_force(&pa);
     }
@@ -163,68 +173,66 @@ pub fn joint_accel(m: &Model, kin: &KinData, aba: &AbaData, i: usize, u: &[f64; 
     for r in 0..k {
         rhs[r] = u[r] - a_prime.dot(&aba.u_mat[i][r]);
     }
-    let d = &aba.d_inv[i];
+    solve_d(k, &aba.d_fac[i], &mut rhs);
     let mut a = a_prime;
     for r in 0..k {
-        let mut x = 0.0;
-        for q in 0..k {
-            x += d[r * 6 + q] * rhs[q];
-        }
-        qacc[da + r] = x;
-        a += kin.s[i][r] * x;
+        qacc[da + r] = rhs[r];
+        a += kin.s[i][r] * rhs[r];
     }
     a
 }
 
-/// In-place inverse of a symmetric positive-definite k × k matrix (row-major in a 6 × 6 block) by
-/// Cholesky factorisation. Returns false, leaving zeros, when it is not positive definite.
-pub fn spd_inverse(k: usize, d: &mut [f64; 36]) -> bool {
+/// Factorises a symmetric positive-definite k × k matrix D (row-major in a 6 × 6 block) in place
+/// for [`solve_d`]: 1/D for k = 1, else its Cholesky factor L (D = L Lᵀ). Returns false, leaving
+/// zeros, when D is not positive definite.
+pub fn factorise(k: usize, d: &mut [f64; 36]) -> bool {
     if k == 1 {
         let ok = d[0] > 1e-300 && d[0].is_finite();
         d[0] = if ok { 1.0 / d[0] } else { 0.0 };
         return ok;
     }
-    // L Lᵀ = D
-    let mut l = [0.0; 36];
     let scale = (0..k).map(|i| d[i * 6 + i].abs()).fold(0.0, f64::max);
     for j in 0..k {
         let mut s = d[j * 6 + j];
         for q in 0..j {
-            s -= l[j * 6 + q] * l[j * 6 + q];
+            s -= d[j * 6 + q] * d[j * 6 + q];
         }
         if !(s > 1e-14 * scale) || scale == 0.0 {
             *d = [0.0; 36];
             return false;
         }
         let ljj = s.sqrt();
-        l[j * 6 + j] = ljj;
+        d[j * 6 + j] = ljj;
         for i in j + 1..k {
             let mut s = d[i * 6 + j];
             for q in 0..j {
-                s -= l[i * 6 + q] * l[j * 6 + q];
+                s -= d[i * 6 + q] * d[j * 6 + q];
             }
-            l[i * 6 + j] = s / ljj;
+            d[i * 6 + j] = s / ljj;
         }
     }
-    // D⁻¹ = L⁻ᵀ L⁻¹, column by column
-    let mut inv = [0.0; 36];
-    for c in 0..k {
-        let mut y = [0.0; 6];
-        for i in 0..k {
-            let mut s = if i == c { 1.0 } else { 0.0 };
-            for q in 0..i {
-                s -= l[i * 6 + q] * y[q];
-            }
-            y[i] = s / l[i * 6 + i];
-        }
-        for i in (0..k).rev() {
-            let mut s = y[i];
-            for q in i + 1..k {
-                s -= l[q * 6 + i] * inv[q * 6 + c];
-            }
-            inv[i * 6 + c] = s / l[i * 6 + i];
-        }
-    }
-    *d = inv;
     true
+}
+
+/// x ← D⁻¹ x on the first k entries, D as [`factorise`] left it (two triangular solves for k > 1).
+#[inline]
+pub fn solve_d(k: usize, d: &[f64; 36], x: &mut [f64; 6]) {
+    if k == 1 {
+        x[0] *= d[0];
+        return;
+    }
+    for i in 0..k {
+        let mut s = x[i];
+        for q in 0..i {
+            s -= d[i * 6 + q] * x[q];
+        }
+        x[i] = s / d[i * 6 + i];
+    }
+    for i in (0..k).rev() {
+        let mut s = x[i];
+        for q in i + 1..k {
+            s -= d[q * 6 + i] * x[q];
+        }
+        x[i] = s / d[i * 6 + i];
+    }
 }

@@ -1,7 +1,8 @@
 //! Stage 3 — constraint rows `a = K f + b` (Kokkevis 2004): contact normals (unilateral), friction in
 //! the seed's one-tangent λ form (eqs. 19–21), and joint limits. Column k of K is measured by pushing
-//! a unit test force of row k through the ABA quantities kept from the inward pass (I^A, U, D⁻¹): a
-//! delta inward pass and a delta outward pass, no 6×6 work, O(n) per column, O(mn + m²) in all.
+//! a unit test force of row k through the ABA quantities kept from the inward pass (I^A, U and D's
+//! factor): a delta inward pass and a delta outward pass, no 6×6 work, O(n) per column, O(mn + m²)
+//! in all.
 
 use glam::DVec3;
 
@@ -464,13 +465,10 @@ pub fn delta_pass(
             continue;
         }
         let mut pa = dpa[i];
-        let d = &aba.d_inv[i];
+        let mut w = du[i];
+        super::aba::solve_d(k, &aba.d_fac[i], &mut w);
         for r in 0..k {
-            let mut w = 0.0;
-            for q in 0..k {
-                w += d[r * 6 + q] * du[i][q];
-            }
-            pa += aba.u_mat[i][r] * w;
+            pa += aba.u_mat[i][r] * w[r];
         }
         let moved = kin.x_up[i].inv_apply_force(&pa);
         dpa[p] += moved;
