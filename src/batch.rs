@@ -120,7 +120,7 @@ impl Batch {
                     *div = false;
                     for _ in 0..n {
                         step(m, d, qpos, qvel, ctrl, time);
-                        if qpos.iter().chain(qvel.iter()).any(|x| !(x.abs() <= MAX_STATE)) {
+                        if qpos.iter().chain(qvel.iter()).any(|x| x.is_nan() || x.abs() > MAX_STATE) {
                             reset_world(m, d, qpos, qvel);
                             *div = true;
                             break;

@@ -3,9 +3,11 @@
 //!
 //! Data flow, in module order:
 //! MJCF text → [`mjcf::parse`] → [`mjcf::ModelSpec`] → [`Model`] (compiled, immutable) →
-//! [`Data`] + qpos/qvel/ctrl (one world) → [`step::step`]:
-//! kinematics → applied forces → ABA inward pass → ABA outward pass → integration.
+//! [`Data`] + qpos/qvel/ctrl (one world) → [`step::step`]: kinematics → ABA → collision →
+//! constraint rows → impact and acceleration LCPs → integration → post-stabilisation.
 #![warn(missing_docs)]
+// index loops follow the papers' notation (row j, column k, dof i) across several arrays at once
+#![allow(clippy::needless_range_loop)]
 
 pub mod error;
 pub mod math;

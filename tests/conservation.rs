@@ -1,5 +1,6 @@
 //! Invariants of the constraint-free dynamics: momentum of free systems in zero gravity, the
 //! analytic torque-free asymmetric top, bounded energy of an undamped chain, unit quaternions.
+#![allow(clippy::needless_range_loop)] // index loops follow the math's notation
 
 mod common;
 

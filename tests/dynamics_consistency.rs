@@ -1,5 +1,6 @@
 //! ABA against CRBA + dense solve and against RNEA on random trees with every joint type
 //! (Featherstone 2008: ABA Table 7.1, CRBA Table 6.2, RNEA Table 5.1).
+#![allow(clippy::needless_range_loop)] // index loops follow the math's notation
 
 mod common;
 

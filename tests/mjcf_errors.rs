@@ -1,5 +1,6 @@
 //! Malformed and unsupported MJCF give errors naming element, attribute and line; accepted but
 //! unmodelled features give warnings.
+#![allow(clippy::needless_range_loop)] // index loops follow the math's notation
 
 use sinew::{Error, Model};
 

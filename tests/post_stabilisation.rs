@@ -1,5 +1,6 @@
 //! Post-stabilisation (Cline & Pai 2003): penetration beyond the slop is taken out of the
 //! positions at the end of the step; the velocity keeps only the correction term's d / T.
+#![allow(clippy::needless_range_loop)] // index loops follow the math's notation
 
 use sinew::step::stabilize::SLOP;
 use sinew::{Model, State};

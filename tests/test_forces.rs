@@ -1,6 +1,7 @@
 //! K built by pushing unit test forces through the ABA quantities (Kokkevis 2004) equals
 //! J M⁻¹ Jᵀ from CRBA + Cholesky, on random trees with every joint type and on gymnasium-like
 //! rows (contact normals, tangents, two-body contacts and joint limits).
+#![allow(clippy::needless_range_loop)] // index loops follow the math's notation
 
 mod common;
 

@@ -208,7 +208,7 @@ impl<'a, 'd> El<'a, 'd> {
                 continue;
             }
             if WARN_NONZERO.contains(&n) {
-                if a.value().split_whitespace().any(|t| t.parse::<f64>().map_or(true, |x| x != 0.0)) {
+                if a.value().split_whitespace().any(|t| !t.parse::<f64>().is_ok_and(|x| x == 0.0)) {
                     warnings.borrow_mut().push(format!(
                         "<{}> '{}' at line {}: {n}={} is not modelled by sinew and is ignored",
                         self.tag(),
@@ -487,10 +487,10 @@ impl<'d> Parser<'d> {
             return Err(e.err("mocap", "mocap bodies are not supported"));
         }
         let cc = n.attribute("childclass").or(childclass).map(str::to_string);
-        if let Some(c) = &cc {
-            if !self.classes.contains_key(c) {
-                return Err(e.err("childclass", format!("unknown default class '{c}'")));
-            }
+        if let Some(c) = &cc
+            && !self.classes.contains_key(c)
+        {
+            return Err(e.err("childclass", format!("unknown default class '{c}'")));
         }
         let id = self.spec.bodies.len();
         let name = n.attribute("name").map_or_else(|| format!("body{id}"), str::to_string);

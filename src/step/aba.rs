@@ -197,7 +197,7 @@ pub fn factorise(k: usize, d: &mut [f64; 36]) -> bool {
         for q in 0..j {
             s -= d[j * 6 + q] * d[j * 6 + q];
         }
-        if !(s > 1e-14 * scale) || scale == 0.0 {
+        if s.is_nan() || s <= 1e-14 * scale || scale == 0.0 {
             *d = [0.0; 36];
             return false;
         }

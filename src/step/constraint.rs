@@ -149,6 +149,7 @@ impl ConstraintData {
         self.mirror.clear();
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn push(&mut self, kind: RowKind, node: [usize; 2], point: [DVec3; 2], dir: DVec3, dof: (usize, f64), mu: f64, source: usize) {
         self.kind.push(kind);
         self.node.push(node);

@@ -363,7 +363,7 @@ fn pgs(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64]) -> bool {
             moved = moved.max((z[i] - old).abs());
             largest = largest.max(z[i].abs());
         }
-        if !(moved > 1e-12 * largest) {
+        if moved.is_nan() || moved <= 1e-12 * largest {
             break;
         }
     }
