@@ -41,7 +41,8 @@ class Model:
         pd_gains: Optional[tuple[float, float]] = None,
         constraint_mode: Optional[str] = None,
         trajectory_gains: Optional[tuple[float, float]] = None,
-    ) -> Model: ...
+    ) -> Model:
+        """A copy with some options replaced; ``integrator``: "Euler", "RK4" or "leapfrog"."""
     @property
     def trajectory_gains(self) -> Optional[tuple[float, float]]: ...
     @property

@@ -21,6 +21,13 @@ pub enum Integrator {
     Euler,
     /// Classical 4th-order Runge–Kutta, as MuJoCo's `RK4`.
     Rk4,
+    /// Position Verlet (drift–kick–drift, sinew's own; no MJCF spelling): the step's forces,
+    /// contacts and constraints are those of the midpoint configuration q + (h/2) q̇ at the step's
+    /// initial velocity; then q̇ += h q̈ and q ← q_mid ⊕ (h/2) q̇. Exact under constant
+    /// acceleration (free flight, sliding under friction), where Euler's positions lag by
+    /// h² q̈ / 2 per step; second order for accelerations that depend on the configuration alone,
+    /// first order (like Euler) through velocity-dependent terms such as a chain's Coriolis forces.
+    Leapfrog,
 }
 
 /// Joint kinds (MuJoCo's `mjtJoint`).

@@ -87,6 +87,19 @@ pub struct Options {
     pub constraint_mode: ConstraintMode,
 }
 
+impl Options {
+    /// How far the step's final velocity carries a position from the configuration the step's
+    /// dynamics and constraints are evaluated at: h (semi-implicit Euler; RK4 when constrained),
+    /// h/2 (leapfrog, evaluated at the midpoint). Every end-of-step prediction (speculative
+    /// contacts, limits within reach, the velocity that closes a gap) uses it.
+    pub fn lever(&self) -> f64 {
+        match self.integrator {
+            Integrator::Leapfrog => 0.5 * self.timestep,
+            Integrator::Euler | Integrator::Rk4 => self.timestep,
+        }
+    }
+}
+
 /// A compiled model. Build it with [`Model::from_mjcf`].
 #[derive(Clone, Debug)]
 pub struct Model {

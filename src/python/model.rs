@@ -29,6 +29,7 @@ fn integrator_name(i: Integrator) -> &'static str {
     match i {
         Integrator::Euler => "Euler",
         Integrator::Rk4 => "RK4",
+        Integrator::Leapfrog => "leapfrog",
     }
 }
 
@@ -50,7 +51,8 @@ impl PyModel {
         Ok(PyModel { inner: Arc::new(m) })
     }
 
-    /// A copy with some options replaced (the model itself never changes).
+    /// A copy with some options replaced (the model itself never changes); `integrator` is
+    /// "Euler", "RK4" or "leapfrog".
     #[pyo3(signature = (*, timestep=None, integrator=None, gravity=None, restitution=None, contact=None, limit=None, friction=None, pd_gains=None, constraint_mode=None, trajectory_gains=None))]
     #[allow(clippy::too_many_arguments)]
     fn with_options(
@@ -77,7 +79,8 @@ impl PyModel {
             m.opt.integrator = match i {
                 "Euler" => Integrator::Euler,
                 "RK4" => Integrator::Rk4,
-                _ => return Err(PyValueError::new_err(format!("integrator must be 'Euler' or 'RK4', got '{i}'"))),
+                "leapfrog" => Integrator::Leapfrog,
+                _ => return Err(PyValueError::new_err(format!("integrator must be 'Euler', 'RK4' or 'leapfrog', got '{i}'"))),
             };
         }
         if let Some(g) = gravity {
@@ -165,7 +168,7 @@ impl PyModel {
     fn timestep(&self) -> f64 {
         self.inner.opt.timestep
     }
-    /// Integrator name: "Euler" or "RK4".
+    /// Integrator name: "Euler", "RK4" or "leapfrog".
     #[getter]
     fn integrator(&self) -> &'static str {
         integrator_name(self.inner.opt.integrator)

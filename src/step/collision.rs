@@ -165,8 +165,8 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData)
         };
     }
     for &(i, j) in &m.collision_pairs {
-        // speculative: pairs that could close within this step (semi-implicit Euler moves a point
-        // by h v + h² a) count as contacts, so a fast foot is stopped at the surface instead of
+        // speculative: pairs that could close within this step (which moves a point by
+        // lever × (v + h a), lever = h for semi-implicit Euler) count as contacts, so a fast foot is stopped at the surface instead of
         // being found inside it one step later
         let margin = first_margin(m, out, i, j);
         if apart(m, out, i, j, margin) {
@@ -214,8 +214,9 @@ fn speed_bound(m: &Model, g: usize, v: &crate::math::Motion) -> f64 {
 
 /// The margin of the first detection: the pair's own plus its reach over the step.
 fn first_margin(m: &Model, cd: &CollisionData, i: usize, j: usize) -> f64 {
-    let h = m.opt.timestep;
-    let reach = h * (cd.geom_speed[i] + cd.geom_speed[j]) + h * h * (cd.geom_accel[i] + cd.geom_accel[j]);
+    // the step's end velocity is at most v + h a, and carries a point by lever × it
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
+    let reach = lever * (cd.geom_speed[i] + cd.geom_speed[j] + h * (cd.geom_accel[i] + cd.geom_accel[j]));
     m.geom_margin[i].max(m.geom_margin[j]) + reach
 }
 
@@ -227,14 +228,14 @@ pub fn reach_again(m: &Model, kin: &KinData, v_end: &[crate::math::Motion], out:
     if !m.opt.contact || m.collision_pairs.is_empty() {
         return false;
     }
-    let h = m.opt.timestep;
+    let lever = m.opt.lever();
     for g in 0..m.ngeom {
         let n = m.body_node[m.geom_body[g]];
         out.geom_speed_end[g] = if n == WORLD || m.geom_type[g] == GeomType::Plane { 0.0 } else { speed_bound(m, g, &v_end[n]) };
     }
     let mut found = false;
     for &(i, j) in &m.collision_pairs {
-        let margin = m.geom_margin[i].max(m.geom_margin[j]) + h * (out.geom_speed_end[i] + out.geom_speed_end[j]);
+        let margin = m.geom_margin[i].max(m.geom_margin[j]) + lever * (out.geom_speed_end[i] + out.geom_speed_end[j]);
         if margin <= first_margin(m, out, i, j) {
             continue;
         }

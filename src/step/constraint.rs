@@ -222,7 +222,7 @@ pub fn rows(
     out: &mut ConstraintData,
 ) {
     out.clear();
-    let h = m.opt.timestep;
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
     for (ci, c) in contacts.iter().enumerate() {
         let nodes = [node_of_geom(m, c.geom1), node_of_geom(m, c.geom2)];
         let local = |n: usize| if n == WORLD { c.pos } else { kin.node_rot[n].transpose() * (c.pos - kin.node_pos[n]) };
@@ -275,10 +275,10 @@ pub fn rows(
             let [lo, hi] = m.jnt_range[j];
             for (side, (dist, sign)) in [(qpos[qa] - lo, 1.0), (hi - qpos[qa], -1.0)].into_iter().enumerate() {
                 let v = sign * qvel[da];
-                // active when at the limit or able to reach it within this step (semi-implicit
-                // Euler moves the joint by h (v + h q̈₀), q̈₀ constraint-free), or when `forced`
+                // active when at the limit or able to reach it within this step (which moves the
+                // joint by lever × (v + h q̈₀), q̈₀ constraint-free), or when `forced`
                 let v_end = v + h * sign * qacc0[da];
-                if dist + h * v.min(v_end).min(0.0) <= m.jnt_margin[j] || forced[2 * j + side] {
+                if dist + lever * v.min(v_end).min(0.0) <= m.jnt_margin[j] || forced[2 * j + side] {
                     let r = out.len();
                     out.push(RowKind::Limit, [WORLD, WORLD], [DVec3::ZERO; 2], DVec3::ZERO, (da, sign), 0.0, j);
                     out.vel[r] = v;

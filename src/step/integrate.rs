@@ -1,5 +1,6 @@
-//! Last stage — time integration: semi-implicit Euler (MuJoCo's `Euler`) and classical RK4
-//! (MuJoCo's `RK4`, same tableau). Quaternions move on the manifold and stay unit.
+//! Last stage — time integration: semi-implicit Euler (MuJoCo's `Euler`), leapfrog (position
+//! Verlet) and classical RK4 (MuJoCo's `RK4`, same tableau). Quaternions move on the manifold and
+//! stay unit.
 
 use crate::math::{quat_integrate, quat_wxyz, DVec3};
 use crate::model::{JointType, Model};
@@ -26,12 +27,13 @@ fn write_quat(q: &mut [f64], h: f64, omega: DVec3) {
     q.copy_from_slice(&[n.w, n.x, n.y, n.z]);
 }
 
-/// Semi-implicit Euler: qvel += h·qacc, then qpos ← qpos ⊕ h·qvel.
-pub fn euler(m: &Model, qpos: &mut [f64], qvel: &mut [f64], qacc: &[f64], h: f64) {
+/// qvel += h·qacc, then qpos ← qpos ⊕ lever·qvel: semi-implicit Euler with lever = h, the
+/// closing kick and drift of leapfrog with lever = h/2.
+pub fn kick_drift(m: &Model, qpos: &mut [f64], qvel: &mut [f64], qacc: &[f64], h: f64, lever: f64) {
     for (v, a) in qvel.iter_mut().zip(qacc) {
         *v += h * a;
     }
-    integrate_pos(m, qpos, qvel, h);
+    integrate_pos(m, qpos, qvel, lever);
 }
 
 /// Scratch for RK4: the stage velocities and accelerations and the stage state.

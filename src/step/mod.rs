@@ -82,12 +82,16 @@ fn dynamics(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64]
 
 /// Advances (qpos, qvel, time) by one time step under `ctrl`.
 pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl: &[f64], time: &mut f64) {
-    let h = m.opt.timestep;
-    // Euler treats damping implicitly (MuJoCo's `Euler`); RK4 stages do not
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
+    // Euler and leapfrog treat damping implicitly (MuJoCo's `Euler`); RK4 stages do not
     let h_damp = match m.opt.integrator {
-        Integrator::Euler => h,
+        Integrator::Euler | Integrator::Leapfrog => h,
         Integrator::Rk4 => 0.0,
     };
+    // leapfrog: the step's dynamics are the midpoint configuration's
+    if m.opt.integrator == Integrator::Leapfrog {
+        timed!(data, Stage::Integration, integrate::integrate_pos(m, qpos, qvel, 0.5 * h));
+    }
     // 1. poses and velocities
     timed!(data, Stage::Kinematics, stabilize::kinematics_of(m, data, qpos, qvel));
     // 2. articulated inertias and the constraint-free accelerations
@@ -100,13 +104,13 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
         // nothing to constrain: the plain step
         data.force.clear();
         match m.opt.integrator {
-            Integrator::Euler => timed!(data, Stage::Integration, integrate::euler(m, qpos, qvel, &data.qacc, h)),
+            Integrator::Euler | Integrator::Leapfrog => timed!(data, Stage::Integration, integrate::kick_drift(m, qpos, qvel, &data.qacc, h, lever)),
             Integrator::Rk4 => timed!(data, Stage::Integration, rk4(m, data, qpos, qvel, ctrl, h)),
         }
         *time += h;
         return;
     }
-    // with constraints the step is semi-implicit Euler (the seed's scheme), whatever the integrator
+    // with constraints the step is semi-implicit Euler (the seed's scheme) unless leapfrog, RK4's too
     if h_damp != h {
         timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, h));
     }
@@ -121,7 +125,7 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
             apply_to_qacc(m, data, 1.0 / h);
         } else {
             // 6. impacts: a velocity-level solve over all rows when something approaches
-            if !redo && needs_impact(&data.con, h, constraint::impact_speed(h, m.opt.gravity.length())) {
+            if !redo && needs_impact(&data.con, h, lever, constraint::impact_speed(h, m.opt.gravity.length())) {
                 impacted = true;
                 data.impacts += 1;
                 solve_rows(m, data, Level::Velocity);
@@ -163,7 +167,7 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
         data.limit_forced.fill(false);
     }
     // 8. integrate
-    timed!(data, Stage::Integration, integrate::euler(m, qpos, qvel, &data.qacc, h));
+    timed!(data, Stage::Integration, integrate::kick_drift(m, qpos, qvel, &data.qacc, h, lever));
     // 9. penetration the linearised rows missed
     timed!(data, Stage::Projection, stabilize::project(m, data, qpos, qvel));
     *time += h;
@@ -187,7 +191,7 @@ fn missed_contacts(m: &Model, data: &mut Data, qvel: &[f64]) -> bool {
 
 /// Marks in `data.limit_forced` each limit without a row that q̇ + h q̈ would cross within the step.
 fn missed_limits(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
-    let h = m.opt.timestep;
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
     let mut any = false;
     for j in (0..m.njnt).filter(|&j| m.jnt_limited[j]) {
         let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
@@ -198,7 +202,7 @@ fn missed_limits(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool
         let v_end = qvel[da] + h * data.qacc[da];
         for (side, (dist, sign)) in [(qpos[qa] - lo, 1.0), (hi - qpos[qa], -1.0)].into_iter().enumerate() {
             let has_row = (0..data.con.len()).any(|r| data.con.kind[r] == RowKind::Limit && data.con.source[r] == j && data.con.dof[r].1 == sign);
-            if dist + h * sign * v_end < 0.0 && !has_row {
+            if dist + lever * sign * v_end < 0.0 && !has_row {
                 data.limit_forced[2 * j + side] = true;
                 any = true;
             }
@@ -262,16 +266,17 @@ fn random_tangent(state: &mut u64, n: DVec3) -> DVec3 {
 }
 
 /// needImpact (Kokkevis 2004, §8.1): a contact or limit approaching fast enough to close within this step.
-fn needs_impact(con: &constraint::ConstraintData, h: f64, speed: f64) -> bool {
+fn needs_impact(con: &constraint::ConstraintData, h: f64, lever: f64, speed: f64) -> bool {
     (0..con.len()).any(|j| {
-        matches!(con.kind[j], RowKind::Normal | RowKind::Limit) && approaching(con.vel[j], con.dist[j], con.vel[j] + h * con.b[j], h, speed)
+        matches!(con.kind[j], RowKind::Normal | RowKind::Limit) && approaching(con.vel[j], con.dist[j], con.vel[j] + h * con.b[j], lever, speed)
     })
 }
 
 /// A row moving into its constraint faster than `speed` (see [`constraint::impact_speed`]) that
-/// would close within this step, given its velocity now and predicted at the step's end.
-fn approaching(vel: f64, dist: f64, vel_end: f64, h: f64, speed: f64) -> bool {
-    vel < -speed && dist + h * vel_end.min(vel) < 0.0
+/// would close within this step, given its velocity now and predicted at the step's end
+/// (`lever`: [`crate::model::Options::lever`]).
+fn approaching(vel: f64, dist: f64, vel_end: f64, lever: f64, speed: f64) -> bool {
+    vel < -speed && dist + lever * vel_end.min(vel) < 0.0
 }
 
 /// Rows whose K_jj is below this fraction of the largest are inert: zero force.
@@ -281,7 +286,9 @@ const INERT_ROW: f64 = 1e-12;
 /// with velocity v under its constraint-free acceleration a: semi-implicit Euler keeps
 /// H = −a x + v²/2 + a h v/2 exactly under constant a, so the step's end state is chosen with
 /// H = e² H(d, v) — the energy of a bounce off the surface (not off the gap d, where the impact
-/// step starts), so the ball rises to e² of its drop height whatever h.
+/// step starts), so the ball rises to e² of its drop height whatever h. Leapfrog keeps the same
+/// H with d the gap at the step's midpoint configuration (x_end = d + h w / 2), so the same
+/// rebound serves it.
 fn rebound(v: f64, d: f64, a: f64, e: f64, h: f64) -> f64 {
     let energy = (-a * d + 0.5 * v * v + 0.5 * a * h * v).max(0.0);
     // x_end = d + h w:  −a (d + h w) + w²/2 + a h w/2 = e² H
@@ -320,7 +327,7 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
 /// motion-control row) and its vector q, into `data`; their count, or None when q ≥ 0 on every
 /// row but friction rows.
 fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
-    let h = m.opt.timestep;
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
     // slower approaches are not impacts and get no restitution: resting contacts do not jitter
     let impact = constraint::impact_speed(h, m.opt.gravity.length());
     let nr = data.con.len();
@@ -361,14 +368,14 @@ fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
             // constraint-free v_p = v + h b
             (RowKind::Tangent { .. }, Level::TimeStep) => -(vel + h * con.b[j]),
             (_, Level::TimeStep) => {
-                let mut target = if dist > 0.0 { -dist / h } else { constraint::correction_velocity(dist, h) };
-                if -vel > impact && dist + h * vel < 0.0 && m.opt.restitution > 0.0 {
+                let mut target = if dist > 0.0 { -dist / lever } else { constraint::correction_velocity(dist, h) };
+                if -vel > impact && dist + lever * vel < 0.0 && m.opt.restitution > 0.0 {
                     target = target.max(rebound(vel, dist, con.b[j], m.opt.restitution, h));
                 }
                 target - (vel + h * con.b[j])
             }
             (_, Level::Acceleration) => {
-                let target = if dist > 0.0 { -dist / h } else { constraint::correction_velocity(dist, h) };
+                let target = if dist > 0.0 { -dist / lever } else { constraint::correction_velocity(dist, h) };
                 (target - vel) / h
             }
             // end-of-step velocity v⁺ for a row that closes within this step: the rebound with
@@ -377,8 +384,8 @@ fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
             (_, Level::Velocity) => {
                 let e = if -vel > impact { m.opt.restitution } else { 0.0 };
                 let vp = vel + h * con.b[j];
-                let gap = dist.max(0.0) / h;
-                if approaching(vel, dist, vp, h, impact) {
+                let gap = dist.max(0.0) / lever;
+                if approaching(vel, dist, vp, lever, impact) {
                     if e > 0.0 { rebound(vel, dist, con.b[j], e, h) - vp } else { -gap - vp }
                 } else {
                     (-gap - vp).min(0.0)

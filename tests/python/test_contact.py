@@ -25,9 +25,10 @@ STACK = ('<mujoco><option timestep="{dt}"/><worldbody><geom type="plane" size="5
          + "</worldbody></mujoco>")
 
 
-def bounce_peak(dt, mode, friction="seed"):
+def bounce_peak(dt, mode, friction="seed", integrator="Euler"):
     """Highest point of the ball's gap over the floor after its first rebound (1.5 s), and the Sim."""
-    sim = sinew.Sim(sinew.Model.from_mjcf_string(BALL.format(dt=dt)).with_options(constraint_mode=mode, friction=friction))
+    m = sinew.Model.from_mjcf_string(BALL.format(dt=dt))
+    sim = sinew.Sim(m.with_options(constraint_mode=mode, friction=friction, integrator=integrator))
     peak, rising = 0.0, False
     for _ in range(round(1.5 / dt)):
         sim.step()
@@ -37,9 +38,10 @@ def bounce_peak(dt, mode, friction="seed"):
     return peak, sim
 
 
-def stack_drift(dt, mode, friction, seconds=10.0):
+def stack_drift(dt, mode, friction, seconds=10.0, integrator="Euler"):
     """Largest displacement of any of five stacked boxes over `seconds`, and the Sim."""
-    sim = sinew.Sim(sinew.Model.from_mjcf_string(STACK.format(dt=dt)).with_options(constraint_mode=mode, friction=friction))
+    m = sinew.Model.from_mjcf_string(STACK.format(dt=dt))
+    sim = sinew.Sim(m.with_options(constraint_mode=mode, friction=friction, integrator=integrator))
     start = sim.qpos.reshape(5, 7)[:, :3].copy()
     worst = 0.0
     for _ in range(round(seconds / dt)):
@@ -74,10 +76,12 @@ def test_joint_driven_into_its_limit_stops_and_stays(dt, mode):
     assert abs(sim.qpos[0] - np.radians(30)) <= 1e-4
 
 
+@pytest.mark.parametrize("integrator", ["Euler", "leapfrog"])
 @pytest.mark.parametrize("mode", ["acceleration", "velocity"])
 @pytest.mark.parametrize("dt", [0.002, 0.01])
-def test_ball_rebounds_to_e_squared_of_its_drop_height(dt, mode):
-    peak, sim = bounce_peak(dt, mode)
+def test_ball_rebounds_to_e_squared_of_its_drop_height(dt, mode, integrator):
+    """The rebound keeps the discrete energy of both integrators (see `rebound` in src/step/mod.rs)."""
+    peak, sim = bounce_peak(dt, mode, integrator=integrator)
     assert sim.model.restitution == 0.5
     expected = 0.25 * 0.9
     assert abs(peak - expected) / expected <= 0.02
@@ -221,12 +225,13 @@ def test_redundant_coplanar_contacts_carry_exactly_the_weight(boxes, mode):
     assert stats["fallback_pgs"] == 0 and stats["fallback_zero"] == 0
 
 
+@pytest.mark.parametrize("integrator", ["Euler", "leapfrog"])
 @pytest.mark.parametrize("friction", ["seed", "pyramid"])
 @pytest.mark.parametrize("mode", ["acceleration", "velocity"])
 @pytest.mark.parametrize("dt", [0.002, 0.01])
-def test_five_stacked_boxes_stay_stacked(dt, mode, friction):
+def test_five_stacked_boxes_stay_stacked(dt, mode, friction, integrator):
     """10 s, drift < 1 mm (measured: about 1e-9 m), without a solver fallback."""
-    worst, sim = stack_drift(dt, mode, friction)
+    worst, sim = stack_drift(dt, mode, friction, integrator=integrator)
     assert worst < 1e-3
     stats = sim.constraint_stats
     assert stats["fallback_pgs"] == 0 and stats["inexact"] == 0 and stats["fallback_zero"] == 0

@@ -12,12 +12,13 @@ import sinew
 G = 9.81
 
 
-def box_on_slope(deg, mu, dt, friction, mode="acceleration"):
+def box_on_slope(deg, mu, dt, friction, mode="acceleration", integrator="Euler"):
     xml = f"""<mujoco><option timestep="{dt}"/><worldbody>
     <geom type="plane" size="50 50 .1" euler="0 {deg} 0" friction="{mu}"/>
     <body pos="0 0 0.1"><freejoint/><geom type="box" size="0.1 0.1 0.1" friction="{mu}"/></body>
     </worldbody></mujoco>"""
-    sim = sinew.Sim(sinew.Model.from_mjcf_string(xml).with_options(friction=friction, constraint_mode=mode))
+    m = sinew.Model.from_mjcf_string(xml).with_options(friction=friction, constraint_mode=mode, integrator=integrator)
+    sim = sinew.Sim(m)
     th = math.radians(deg)
     sim.qpos[3:7] = [math.cos(th / 2), 0, math.sin(th / 2), 0]
     sim.qpos[:3] = [0.1 * math.sin(th), 0, 0.1 * math.cos(th)]
@@ -55,11 +56,13 @@ def test_box_slides_down_a_30_degree_slope_at_g_sin_minus_mu_cos(dt, friction, m
 
 @pytest.mark.parametrize("mode", ["acceleration", "velocity"])
 @pytest.mark.parametrize("friction", ["seed", "pyramid"])
-@pytest.mark.parametrize("dt, tol", [(0.002, 0.005), (0.01, 0.02)])
-def test_sliding_box_stops_at_v0_squared_over_2_mu_g(dt, tol, friction, mode):
-    """At dt = 0.01 semi-implicit Euler itself shortens the distance by about v0·h/2 (1.6%), above
-    the issue's 0.5%; the bound there is the measured one."""
-    sim, _ = box_on_slope(0, 0.5, dt, friction, mode)
+@pytest.mark.parametrize("integrator, dt, tol", [("Euler", 0.002, 0.005), ("Euler", 0.01, 0.02),
+                                                 ("leapfrog", 0.002, 0.005), ("leapfrog", 0.01, 0.005)])
+def test_sliding_box_stops_at_v0_squared_over_2_mu_g(integrator, dt, tol, friction, mode):
+    """Semi-implicit Euler shortens the distance by μ g h / v0 of itself (1.6% at dt = 0.01, above
+    the issue's 0.5%; the bound there is the measured one); leapfrog, exact under the constant
+    friction deceleration, is within 0.5% at both steps."""
+    sim, _ = box_on_slope(0, 0.5, dt, friction, mode, integrator)
     sim.qvel[0] = 3.0
     sim.step(int(1.5 / dt))
     expected = 3.0**2 / (2 * 0.5 * G)
