@@ -19,8 +19,8 @@ Scenes and error measures:
   engine at dt/16 (self-convergence), at dt = the model's, /2 and /4; the table also gives the
   largest penetration and hinge-limit violation seen at the control updates.
 Cost is single-thread wall time per simulated second, stepping inside native code. Configurations:
-sinew Euler and RK4 (chains), sinew acceleration/velocity modes with seed/pyramid friction
-(contact scenes); MuJoCo Euler, RK4 and implicitfast, and pyramidal/elliptic cones (contact scenes).
+sinew Euler, leapfrog and RK4 (chains), sinew acceleration/velocity modes with seed/pyramid friction
+(semi-implicit Euler), and both modes with pyramid friction under leapfrog (contact scenes); MuJoCo Euler, RK4 and implicitfast, and pyramidal/elliptic cones (contact scenes).
 The ball bouncing with e = 0.5 is not here: MuJoCo has no restitution coefficient to set alike
 (sinew's bounce error is in results/contact_accuracy.md).
 The headline per scene is the cost of sinew's cheapest run divided by MuJoCo's cheapest run among
@@ -80,8 +80,13 @@ def reference(n, T=1.0):
     return ref, np.abs(fine.qpos - ref).max()
 
 
+def sinew_model(xml, integrator="Euler", **options):
+    """A sinew model of MJCF text with its integrator (leapfrog has no MJCF spelling) and options."""
+    return sinew.Model.from_mjcf_string(xml).with_options(integrator=integrator, **options)
+
+
 def run_sinew_chain(n, dt, integrator, T=1.0):
-    sim = sinew.Sim(sinew.Model.from_mjcf_string(chain_xml(n, dt, integrator)))
+    sim = sinew.Sim(sinew_model(chain_xml(n, dt), integrator))
     q0, v0 = initial(n)
     sim.qpos[:], sim.qvel[:] = q0, v0
     steps = int(round(T / dt))
@@ -132,7 +137,7 @@ def energy_drift(n, dt, engine, integrator, T=10.0, samples=10):
     q0, v0 = initial(n)
     per = int(round(T / samples / dt))
     if engine == "sinew":
-        sim = sinew.Sim(sinew.Model.from_mjcf_string(chain_xml(n, dt, integrator)))
+        sim = sinew.Sim(sinew_model(chain_xml(n, dt), integrator))
         sim.qpos[:], sim.qvel[:] = q0, v0
         state = lambda: (sim.qpos, sim.qvel)  # noqa: E731
 
@@ -166,8 +171,8 @@ SLIDE = """<mujoco><option timestep="{dt}"/><worldbody><geom type="plane" size="
 <body pos="0 0 0.1"><freejoint/><geom type="box" size="0.1 0.1 0.1" friction="0.5"/></body></worldbody></mujoco>"""
 
 
-def run_sinew_slide(dt, mode, friction, T=1.5):
-    sim = sinew.Sim(sinew.Model.from_mjcf_string(SLIDE.format(dt=dt)).with_options(constraint_mode=mode, friction=friction))
+def run_sinew_slide(dt, mode, friction, integ, T=1.5):
+    sim = sinew.Sim(sinew_model(SLIDE.format(dt=dt), integ, constraint_mode=mode, friction=friction))
     sim.qvel[0] = 3.0
     t = time.perf_counter()
     sim.step(int(round(T / dt)))
@@ -207,8 +212,8 @@ def sliding_accel(v_end, v_start, t):
     return (down(*v_end) - down(*v_start)) / t
 
 
-def run_sinew_slope30(dt, mode, friction):
-    sim = sinew.Sim(sinew.Model.from_mjcf_string(SLOPE30.format(dt=dt)).with_options(constraint_mode=mode, friction=friction))
+def run_sinew_slope30(dt, mode, friction, integ):
+    sim = sinew.Sim(sinew_model(SLOPE30.format(dt=dt), integ, constraint_mode=mode, friction=friction))
     sim.qpos[:7] = slope_state(30)
     sim.step(int(round(0.5 / dt)))
     v0 = (sim.qvel[0], sim.qvel[2])
@@ -232,9 +237,9 @@ def run_mujoco_slope30(dt, integrator, cone):
     return sliding_accel((d.qvel[0], d.qvel[2]), v0, 0.5), cost
 
 
-def run_sinew_rest(dt, mode, friction, T=2.0):
+def run_sinew_rest(dt, mode, friction, integ, T=2.0):
     """Sink of a box resting on the floor (m), started exactly touching."""
-    sim = sinew.Sim(sinew.Model.from_mjcf_string(REST.format(dt=dt)).with_options(constraint_mode=mode, friction=friction))
+    sim = sinew.Sim(sinew_model(REST.format(dt=dt), integ, constraint_mode=mode, friction=friction))
     t = time.perf_counter()
     sim.step(int(round(T / dt)))
     return 0.1 - sim.qpos[2], (time.perf_counter() - t) / T
@@ -250,9 +255,9 @@ def run_mujoco_rest(dt, integrator, cone, T=2.0):
     return 0.1 - d.qpos[2], (time.perf_counter() - t) / T
 
 
-def run_sinew_still(xml, dt, mode, friction, qpos=None, T=2.0):
+def run_sinew_still(xml, dt, mode, friction, integ, qpos=None, T=2.0):
     """Largest displacement of any body from where it was after 0.2 s of settling."""
-    sim = sinew.Sim(sinew.Model.from_mjcf_string(xml.format(dt=dt)).with_options(constraint_mode=mode, friction=friction))
+    sim = sinew.Sim(sinew_model(xml.format(dt=dt), integ, constraint_mode=mode, friction=friction))
     if qpos is not None:
         sim.qpos[:7] = qpos
     sim.step(int(round(0.2 / dt)))
@@ -335,7 +340,8 @@ def run_gym(name, dt, engine, config, T=0.5):
     return qpos().copy(), elapsed / T, pen, lim
 
 
-SINEW_CONTACT = [(mode, fr) for mode in ("acceleration", "velocity") for fr in ("seed", "pyramid")]
+SINEW_CONTACT = ([(mode, fr, "Euler") for mode in ("acceleration", "velocity") for fr in ("seed", "pyramid")]
+                 + [(mode, "pyramid", "leapfrog") for mode in ("acceleration", "velocity")])
 MUJOCO_CONTACT = [(integ, cone) for integ in ("mjINT_EULER", "mjINT_IMPLICITFAST") for cone in ("mjCONE_PYRAMIDAL", "mjCONE_ELLIPTIC")]
 
 
@@ -343,9 +349,10 @@ def sweep(rows, scene, run_sinew, run_mujoco, error):
     """One contact scene over DTS in every contact configuration of both engines; `error` maps a
     run's measured value to its error."""
     for dt in DTS:
-        for mode, fr in SINEW_CONTACT:
-            value, cost = run_sinew(dt, mode, fr)
-            rows.append(dict(scene=scene, engine="sinew", config=f"{mode}/{fr}", dt=dt, cost=cost, error=error(value)))
+        for mode, fr, integ in SINEW_CONTACT:
+            value, cost = run_sinew(dt, mode, fr, integ)
+            config = f"{mode}/{fr}" + ("" if integ == "Euler" else f"/{integ}")
+            rows.append(dict(scene=scene, engine="sinew", config=config, dt=dt, cost=cost, error=error(value)))
         for integ, cone in MUJOCO_CONTACT:
             value, cost = run_mujoco(dt, integ, cone)
             rows.append(dict(scene=scene, engine="mujoco", config=f"{integ[6:]}/{cone[7:]}", dt=dt, cost=cost, error=error(value)))
@@ -377,7 +384,7 @@ def main():
         ref, check = reference(n)
         print(f"chain{n}: DOP853 vs sinew RK4 at dt=1e-5: {check:.1e}", flush=True)
         for dt in DTS:
-            for integ in ("Euler", "RK4"):
+            for integ in ("Euler", "leapfrog", "RK4"):
                 q, cost = run_sinew_chain(n, dt, integ)
                 rows.append(dict(scene=f"chain{n}", engine="sinew", config=integ, dt=dt, cost=cost, error=np.abs(q - ref).max(),
                                  drift=energy_drift(n, dt, "sinew", integ)))
@@ -391,10 +398,10 @@ def main():
     sweep(rows, "slope30", run_sinew_slope30, run_mujoco_slope30, lambda a: abs(a - expected) / expected)
     sweep(rows, "rest", run_sinew_rest, run_mujoco_rest, abs)
     for scene, xml, q0 in (("creep", SLOPE, slope_state()), ("stack", STACK, None)):
-        sweep(rows, scene, lambda dt, mode, fr: run_sinew_still(xml, dt, mode, fr, q0),
+        sweep(rows, scene, lambda dt, mode, fr, integ: run_sinew_still(xml, dt, mode, fr, integ, q0),
               lambda dt, integ, cone: run_mujoco_still(xml, dt, integ, cone, q0), abs)
         print(scene, "done", flush=True)
-    configs = {"sinew": ["acceleration/Euler", "velocity/Euler"], "mujoco": ["EULER/PYRAMIDAL", "IMPLICITFAST/PYRAMIDAL", "RK4/PYRAMIDAL", "EULER/ELLIPTIC"]}
+    configs = {"sinew": ["acceleration/Euler", "velocity/Euler", "acceleration/leapfrog"], "mujoco": ["EULER/PYRAMIDAL", "IMPLICITFAST/PYRAMIDAL", "RK4/PYRAMIDAL", "EULER/ELLIPTIC"]}
     for name in GYM:
         dt0 = mujoco.MjModel.from_xml_path(os.path.join(ASSETS, name + ".xml")).opt.timestep
         for engine, confs in configs.items():

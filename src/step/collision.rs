@@ -51,10 +51,9 @@ pub struct CollisionData {
     pub axes_posed: Vec<bool>,
     /// Geom centre in world (ngeom).
     pub geom_xpos: Vec<DVec3>,
-    /// Bound on the speed of any point of each geom (ngeom), for speculative detection.
-    pub geom_speed: Vec<f64>,
-    /// Bound on the constraint-free acceleration of any point of each geom (ngeom).
-    pub geom_accel: Vec<f64>,
+    /// Bound on how far any point of each geom can move within the step, from its speed and
+    /// constraint-free acceleration (ngeom), for speculative detection.
+    pub geom_reach: Vec<f64>,
     /// Bound on the speed of any point of each geom at the end of the step (ngeom).
     pub geom_speed_end: Vec<f64>,
     /// Contacts of this configuration.
@@ -69,8 +68,7 @@ impl CollisionData {
             geom_xmat: m.geom_mat.clone(),
             axes_posed: (0..m.ngeom).map(|g| m.geom_body[g] == 0).collect(),
             geom_xpos: m.geom_pos.clone(),
-            geom_speed: vec![0.0; m.ngeom],
-            geom_accel: vec![0.0; m.ngeom],
+            geom_reach: vec![0.0; m.ngeom],
             geom_speed_end: vec![0.0; m.ngeom],
             contacts: Vec::with_capacity(MAX_CONTACTS),
         }
@@ -150,10 +148,12 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData)
     if !geom_poses(m, kin, out) {
         return;
     }
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
     for g in 0..m.ngeom {
         let n = m.body_node[m.geom_body[g]];
-        (out.geom_speed[g], out.geom_accel[g]) = if n == WORLD || m.geom_type[g] == GeomType::Plane {
-            (0.0, 0.0)
+        // the step's end velocity is at most v + h a, and carries a point by lever × it
+        out.geom_reach[g] = if n == WORLD || m.geom_type[g] == GeomType::Plane {
+            0.0
         } else {
             // bounds over the geom's points: centre value + angular part × bounding radius;
             // ABA's accelerations carry the base's fictitious −g, added back
@@ -161,7 +161,8 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData)
             let w = v.ang.length();
             let vc = v.point_velocity(centre);
             let ac = kin.node_rot[n] * (a.point_velocity(centre) + v.ang.cross(vc)) + m.opt.gravity;
-            (vc.length() + w * m.geom_rbound[g], ac.length() + (a.ang.length() + w * w) * m.geom_rbound[g])
+            let (speed, accel) = (vc.length() + w * m.geom_rbound[g], ac.length() + (a.ang.length() + w * w) * m.geom_rbound[g]);
+            lever * (speed + h * accel)
         };
     }
     for &(i, j) in &m.collision_pairs {
@@ -192,7 +193,7 @@ pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
 
 /// Broadphase: bounding spheres farther apart than `margin`, or a bounding sphere that far above
 /// a plane.
-#[inline]
+#[inline(always)]
 fn apart(m: &Model, cd: &CollisionData, i: usize, j: usize, margin: f64) -> bool {
     let (ri, rj) = (m.geom_rbound[i], m.geom_rbound[j]);
     if ri.is_finite() && rj.is_finite() {
@@ -213,11 +214,9 @@ fn speed_bound(m: &Model, g: usize, v: &crate::math::Motion) -> f64 {
 }
 
 /// The margin of the first detection: the pair's own plus its reach over the step.
+#[inline(always)]
 fn first_margin(m: &Model, cd: &CollisionData, i: usize, j: usize) -> f64 {
-    // the step's end velocity is at most v + h a, and carries a point by lever × it
-    let (h, lever) = (m.opt.timestep, m.opt.lever());
-    let reach = lever * (cd.geom_speed[i] + cd.geom_speed[j] + h * (cd.geom_accel[i] + cd.geom_accel[j]));
-    m.geom_margin[i].max(m.geom_margin[j]) + reach
+    m.geom_margin[i].max(m.geom_margin[j]) + cd.geom_reach[i] + cd.geom_reach[j]
 }
 
 /// After the constraint solve: with the step's final node velocities `v_end`, the pairs whose reach
