@@ -3,7 +3,7 @@
 //! anchor `pos`; ball and free joints use (w, x, y, z) quaternions; free-joint qvel is world linear
 //! velocity followed by body-frame angular velocity.
 
-use glam::{DMat3, DQuat, DVec3};
+use glam::{DMat3, DVec3};
 
 use crate::math::{quat_wxyz, Motion, Xform};
 use crate::mjcf::JointType;
@@ -14,7 +14,7 @@ use crate::mjcf::JointType;
 pub fn joint_pose(kind: JointType, anchor: DVec3, axis: DVec3, reference: f64, q: &[f64]) -> (DMat3, DVec3) {
     match kind {
         JointType::Hinge => {
-            let r = DMat3::from_quat(DQuat::from_axis_angle(axis, q[0] - reference));
+            let r = DMat3::from_axis_angle(axis, q[0] - reference);
             (r, anchor - r * anchor)
         }
         JointType::Slide => (DMat3::IDENTITY, axis * (q[0] - reference)),

@@ -69,11 +69,16 @@ pub fn forward(m: &Model, qpos: &[f64], qvel: &[f64], kin: &mut KinData) {
         velocity(m, kin, i, v_parent, &qvel[da..]);
     }
     for b in 1..m.nbody {
-        let (orot, opos) = m.body_offset[b].pose();
         let n = m.body_node[b];
         let (nrot, npos) = if n == WORLD { (DMat3::IDENTITY, DVec3::ZERO) } else { (kin.node_rot[n], kin.node_pos[n]) };
-        kin.xmat[b] = nrot * orot;
-        kin.xpos[b] = npos + nrot * opos;
+        // a body with joints is its node's frame; a welded one sits at an offset in it
+        if m.body_offset[b] == Xform::IDENTITY {
+            (kin.xmat[b], kin.xpos[b]) = (nrot, npos);
+        } else {
+            let (orot, opos) = m.body_offset[b].pose();
+            kin.xmat[b] = nrot * orot;
+            kin.xpos[b] = npos + nrot * opos;
+        }
     }
 }
 
