@@ -89,7 +89,9 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
         Integrator::Rk4 => 0.0,
     };
     // leapfrog: the step's dynamics are the midpoint configuration's
-    if m.opt.integrator == Integrator::Leapfrog {
+    let leapfrog = m.opt.integrator == Integrator::Leapfrog;
+    if leapfrog {
+        data.post.qpos_start.copy_from_slice(qpos);
         timed!(data, Stage::Integration, integrate::integrate_pos(m, qpos, qvel, 0.5 * h));
     }
     // 1. poses and velocities
@@ -168,7 +170,10 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
     }
     // 8. integrate
     timed!(data, Stage::Integration, integrate::kick_drift(m, qpos, qvel, &data.qacc, h, lever));
-    // 9. penetration the linearised rows missed
+    // 9. limits leapfrog's drift crossed, penetration the linearised rows missed
+    if leapfrog {
+        timed!(data, Stage::Projection, stabilize::hold_limits(m, &data.post, qpos));
+    }
     timed!(data, Stage::Projection, stabilize::project(m, data, qpos, qvel));
     *time += h;
 }

@@ -53,6 +53,8 @@ pub struct StabilizeData {
     da: Vec<Motion>,
     /// End-of-step velocities (nv), scratch for the step's second contact check.
     pub vel_end: Vec<f64>,
+    /// qpos at the start of a leapfrog step, before its opening drift (nq).
+    pub qpos_start: Vec<f64>,
     work: LcpWork,
     /// Whether `kin` holds the kinematics of (`qpos`, `qvel`).
     cached: bool,
@@ -73,6 +75,7 @@ impl StabilizeData {
             du: vec![[0.0; 6]; m.njnt],
             da: vec![Motion::ZERO; m.njnt],
             vel_end: vec![0.0; m.nv],
+            qpos_start: vec![0.0; m.nq],
             ..Default::default()
         }
     }
@@ -97,6 +100,22 @@ pub fn project(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &[f64]) {
             return;
         }
         solve(m, data, qpos);
+    }
+}
+
+/// Leapfrog's opening drift can carry a joint past its limit before any row acts (the rows see
+/// the midpoint, where the limit is already crossed, and correct it over `CORRECTION_TIME`): a
+/// violation the step created is removed from the positions, velocities kept, and one the step
+/// began with is not deepened — each limited joint ends within [min(q_start, lo), max(q_start, hi)].
+pub fn hold_limits(m: &Model, post: &StabilizeData, qpos: &mut [f64]) {
+    if !m.opt.limit {
+        return;
+    }
+    for j in limited(m) {
+        let a = m.jnt_qposadr[j];
+        let [lo, hi] = m.jnt_range[j];
+        let start = post.qpos_start[a];
+        qpos[a] = qpos[a].clamp(start.min(lo), start.max(hi));
     }
 }
 
