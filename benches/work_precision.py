@@ -17,7 +17,8 @@ Scenes and error measures:
 - gym:<model>: the gymnasium models on their floors from qpos0 under a fixed open-loop control
   (sinusoids, held for 4 model steps); error = max |qpos(0.5 s) − qpos_ref| against the same
   engine at dt/16 (self-convergence), at dt = the model's, /2 and /4; the table also gives the
-  largest penetration and hinge-limit violation seen at the control updates.
+  largest penetration and hinge-limit violation of the states at the control updates (penetration
+  by MuJoCo's collision on the same MJCF, for both engines).
 Cost is single-thread wall time per simulated second, stepping inside native code. Configurations:
 sinew Euler, leapfrog and RK4 (chains), sinew acceleration/velocity modes with seed/pyramid friction
 (semi-implicit Euler), and both modes with pyramid friction under leapfrog (contact scenes); MuJoCo Euler, RK4 and implicitfast, and pyramidal/elliptic cones (contact scenes).
@@ -308,7 +309,6 @@ def run_gym(name, dt, engine, config, T=0.5):
         ranges = np.array([m.jnt_range[j] for j in hinges])
         adr = np.array([m.jnt_qposadr[j] for j in hinges])
         qpos, ctrl, step = (lambda: sim.qpos), (lambda u: sim.ctrl.__setitem__(slice(None), u)), sim.step
-        dist = lambda: min((c["dist"] for c in sim.contacts), default=0.0)  # noqa: E731
     else:
         m = mujoco.MjModel.from_xml_path(path)
         dt0 = m.opt.timestep
@@ -324,7 +324,18 @@ def run_gym(name, dt, engine, config, T=0.5):
         qpos = lambda: d.qpos  # noqa: E731
         ctrl = lambda u: d.ctrl.__setitem__(slice(None), u)  # noqa: E731
         step = lambda n: mujoco.mj_step(m, d, nstep=n)  # noqa: E731
-        dist = lambda: min(d.contact.dist[: d.ncon], default=0.0)  # noqa: E731
+    # penetration of the state each control update ends in, by MuJoCo's collision on the same MJCF
+    # for both engines (the contacts a step reports are those of the configuration it started
+    # from; leapfrog's, of its midpoint)
+    probe_m = mujoco.MjModel.from_xml_path(path)
+    probe = mujoco.MjData(probe_m)
+
+    def dist():
+        probe.qpos[:] = qpos()
+        mujoco.mj_kinematics(probe_m, probe)
+        mujoco.mj_collision(probe_m, probe)
+        return min(probe.contact.dist[: probe.ncon], default=0.0)
+
     per = int(round(4 * dt0 / dt))
     chunks = int(round(T / (4 * dt0)))
     pen = lim = 0.0
@@ -409,6 +420,8 @@ def main():
                 ref = run_gym(name, dt0 / 16, engine, conf)[0]
                 for k in (1, 2, 4):
                     q, cost, pen, lim = run_gym(name, dt0 / k, engine, conf)
+                    # runs are deterministic: two more timings of the same run, the best kept
+                    cost = min([cost] + [run_gym(name, dt0 / k, engine, conf)[1] for _ in range(2)])
                     rows.append(dict(scene=f"gym:{name}", engine=engine, config=conf, dt=dt0 / k, cost=cost,
                                      error=np.abs(q - ref).max(), penetration=pen, limit=lim))
         print(name, "done", flush=True)
