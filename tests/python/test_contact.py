@@ -114,14 +114,13 @@ def test_contacts_and_limits_can_be_switched_off():
     assert sim.qpos[0] > np.radians(30)
 
 
-@pytest.mark.parametrize("mode", ["acceleration", "velocity"])
-@pytest.mark.parametrize("name", ["hopper", "walker2d_v5", "half_cheetah", "ant", "humanoid"])
-def test_gym_models_with_floors_hold_contacts_and_limits_under_random_actions(name, mode):
-    """10 s of random controls at the model's own dt: finite, penetration below 1 mm, hinge limits
-    held after the first second (ant and humanoid start outside some ranges at qpos0)."""
+def random_floor_run(name, seconds, penetration, **options):
+    """`seconds` of random controls (a new one every 5 steps) on a gymnasium model with its floor:
+    the Sim, the deepest penetration `penetration(sim)` reports after any step, and the worst
+    hinge-limit violation after the first second (ant and humanoid start outside some ranges)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        m = sinew.Model.from_mjcf(gym_model_path(name)).with_options(constraint_mode=mode)
+        m = sinew.Model.from_mjcf(gym_model_path(name)).with_options(**options)
     sim = sinew.Sim(m)
     rng = np.random.default_rng(0)
     lo, hi = m.actuator_ctrlrange.T
@@ -129,14 +128,23 @@ def test_gym_models_with_floors_hold_contacts_and_limits_under_random_actions(na
     adr = np.array([m.jnt_qposadr[j] for j in hinges])
     rlo, rhi = np.array([m.jnt_range[j] for j in hinges]).T
     pen = lim = 0.0
-    for k in range(int(10 / m.timestep)):
+    for k in range(int(seconds / m.timestep)):
         if k % 5 == 0:
             sim.ctrl[:] = rng.uniform(lo, hi)
         sim.step()
-        pen = max([pen] + [-c["dist"] for c in sim.contacts])
+        pen = max(pen, penetration(sim))
         if k * m.timestep >= 1.0:
             q = sim.qpos[adr]
             lim = max(lim, (rlo - q).max(), (q - rhi).max())
+    return sim, pen, lim
+
+
+@pytest.mark.parametrize("mode", ["acceleration", "velocity"])
+@pytest.mark.parametrize("name", ["hopper", "walker2d_v5", "half_cheetah", "ant", "humanoid"])
+def test_gym_models_with_floors_hold_contacts_and_limits_under_random_actions(name, mode):
+    """10 s of random controls at the model's own dt: finite, penetration below 1 mm (the contacts
+    each step found), hinge limits held after the first second."""
+    sim, pen, lim = random_floor_run(name, 10.0, lambda s: max([0.0] + [-c["dist"] for c in s.contacts]), constraint_mode=mode)
     assert np.isfinite(sim.get_state()).all()
     assert sim.constraint_stats["fallback_zero"] == 0
     assert pen < 1e-3
@@ -290,29 +298,16 @@ def test_gym_models_under_leapfrog_end_each_step_clear_of_floor_and_limits(name)
     """Leapfrog evaluates a step at its midpoint, which an impact can carry into the floor or past
     a limit; the state each step ends in is what must be clean. Penetration is measured there by
     MuJoCo's collision on the same MJCF (its geometry for these shapes is sinew's)."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        m = sinew.Model.from_mjcf(gym_model_path(name)).with_options(integrator="leapfrog")
     mj = mujoco.MjModel.from_xml_path(gym_model_path(name))
     d = mujoco.MjData(mj)
-    sim = sinew.Sim(m)
-    rng = np.random.default_rng(0)
-    lo, hi = m.actuator_ctrlrange.T
-    hinges = [j for j in range(m.njnt) if m.jnt_limited[j] and m.joint_types[j] == "hinge"]
-    adr = np.array([m.jnt_qposadr[j] for j in hinges])
-    rlo, rhi = np.array([m.jnt_range[j] for j in hinges]).T
-    pen = lim = 0.0
-    for k in range(int(5 / m.timestep)):
-        if k % 5 == 0:
-            sim.ctrl[:] = rng.uniform(lo, hi)
-        sim.step()
+
+    def end_state_penetration(sim):
         d.qpos[:] = sim.qpos
         mujoco.mj_kinematics(mj, d)
         mujoco.mj_collision(mj, d)
-        pen = max([pen] + [-d.contact[i].dist for i in range(d.ncon)])
-        if k * m.timestep >= 1.0:
-            q = sim.qpos[adr]
-            lim = max(lim, (rlo - q).max(), (q - rhi).max())
+        return max([0.0] + [-d.contact[i].dist for i in range(d.ncon)])
+
+    sim, pen, lim = random_floor_run(name, 5.0, end_state_penetration, integrator="leapfrog")
     assert np.isfinite(sim.get_state()).all()
     assert pen < 1e-3
     assert lim < 1e-4
