@@ -11,7 +11,7 @@ use sinew::math::{DVec3, Motion};
 use sinew::model::{Model, WORLD};
 use sinew::step::collision::Contact;
 use sinew::step::constraint::{self, ConstraintData, RowKind};
-use sinew::step::{aba, kinematics};
+use sinew::step::{aba, integrate, kinematics};
 use sinew::Data;
 
 /// Row j of J: the row's acceleration per unit q̈ of each dof, without velocity terms.
@@ -111,6 +111,29 @@ fn check(xml: &str, seed: u64) {
         }
     }
     assert!(worst <= 1e-9, "K vs J M⁻¹ Jᵀ: rel err {worst:e} (seed {seed})");
+    check_arc(&m, &q, &v, &con, seed);
+}
+
+/// The arc term J̇ q̇ · n of each contact normal row equals the second derivative of its gap, the
+/// row's body-fixed points moved along the constant-velocity path q ⊕ t q̇ (central differences).
+fn check_arc(m: &Model, q: &[f64], v: &[f64], con: &ConstraintData, seed: u64) {
+    let gap_at = |t: f64, j: usize| {
+        let mut qt = q.to_vec();
+        integrate::integrate_pos(m, &mut qt, v, t);
+        let mut kin = kinematics::KinData::new(m);
+        kinematics::forward(m, &qt, v, &mut kin);
+        let point = |side: usize| {
+            let (n, p) = (con.node[j][side], con.point[j][side]);
+            if n == WORLD { p } else { kin.node_rot[n] * p + kin.node_pos[n] }
+        };
+        con.dir[j].dot(point(0) - point(1))
+    };
+    let eps = 1e-4;
+    for j in (0..con.len()).filter(|&j| con.kind[j] == RowKind::Normal) {
+        let second = (gap_at(eps, j) - 2.0 * gap_at(0.0, j) + gap_at(-eps, j)) / (eps * eps);
+        let scale = 1.0 + con.arc[j].abs();
+        assert!((second - con.arc[j]).abs() <= 1e-5 * scale, "arc {} vs finite differences {second} (seed {seed})", con.arc[j]);
+    }
 }
 
 #[test]

@@ -92,6 +92,10 @@ pub struct ConstraintData {
     pub cap: Vec<f64>,
     /// Signed distance (normal and limit rows).
     pub dist: Vec<f64>,
+    /// Normal component of the contact points' relative velocity-product acceleration J̇ q̇
+    /// (normal rows; zero for the others): the step's q ← q ⊕ lever q̇⁺ moves the points on arcs,
+    /// whose second-order part is half what the row's linear prediction counts.
+    pub arc: Vec<f64>,
     /// Source contact index (contacts) or joint (limits).
     pub source: Vec<usize>,
     /// Row whose force direction is the negation of this one's (pyramid ±t), or usize::MAX: its
@@ -108,6 +112,8 @@ pub struct ConstraintData {
     dpa: Vec<Force>,
     du: Vec<[f64; 6]>,
     da: Vec<Motion>,
+    /// Per node: spatial acceleration with q̈ = 0 and no gravity (velocity products alone).
+    a_vp: Vec<Motion>,
 }
 
 impl ConstraintData {
@@ -117,6 +123,7 @@ impl ConstraintData {
             dpa: vec![Force::ZERO; m.njnt],
             du: vec![[0.0; 6]; m.njnt],
             da: vec![Motion::ZERO; m.njnt],
+            a_vp: vec![Motion::ZERO; m.njnt],
             ..Default::default()
         }
     }
@@ -145,6 +152,7 @@ impl ConstraintData {
         self.desired.clear();
         self.cap.clear();
         self.dist.clear();
+        self.arc.clear();
         self.source.clear();
         self.mirror.clear();
     }
@@ -162,6 +170,7 @@ impl ConstraintData {
         self.desired.push(0.0);
         self.cap.push(f64::INFINITY);
         self.dist.push(0.0);
+        self.arc.push(0.0);
         self.source.push(source);
         self.mirror.push(usize::MAX);
     }
@@ -179,6 +188,16 @@ fn point_accel(m: &Model, kin: &KinData, aba: &AbaData, n: usize, r: DVec3) -> D
     }
     let (a, v) = (aba.a[n], kin.v[n]);
     kin.node_rot[n] * (a.point_velocity(r) + v.ang.cross(v.point_velocity(r))) + m.opt.gravity
+}
+
+/// World classical acceleration J̇ q̇ of the point with node coordinates `r` on node `n` from the
+/// velocity-product accelerations `a_vp` (q̈ = 0, no gravity).
+fn point_velocity_product(kin: &KinData, a_vp: &[Motion], n: usize, r: DVec3) -> DVec3 {
+    if n == WORLD {
+        return DVec3::ZERO;
+    }
+    let v = kin.v[n];
+    kin.node_rot[n] * (a_vp[n].point_velocity(r) + v.ang.cross(v.point_velocity(r)))
 }
 
 /// World velocity of the point with node coordinates `r` on node `n`.
@@ -223,17 +242,27 @@ pub fn rows(
 ) {
     out.clear();
     let (h, lever) = (m.opt.timestep, m.opt.lever());
+    if !contacts.is_empty() {
+        // velocity-product accelerations: a_i = X a_λ + c_i with q̈ = 0 and no gravity
+        for i in 0..m.njnt {
+            let p = m.node_parent[i];
+            let a_parent = if p == WORLD { Motion::ZERO } else { out.a_vp[p] };
+            out.a_vp[i] = kin.x_up[i].apply_motion(&a_parent) + kin.c[i];
+        }
+    }
     for (ci, c) in contacts.iter().enumerate() {
         let nodes = [node_of_geom(m, c.geom1), node_of_geom(m, c.geom2)];
         let local = |n: usize| if n == WORLD { c.pos } else { kin.node_rot[n].transpose() * (c.pos - kin.node_pos[n]) };
         let pts = [local(nodes[0]), local(nodes[1])];
         let vrel = point_vel(kin, nodes[0], pts[0]) - point_vel(kin, nodes[1], pts[1]);
         let arel = point_accel(m, kin, aba, nodes[0], pts[0]) - point_accel(m, kin, aba, nodes[1], pts[1]);
+        let arc = c.normal.dot(point_velocity_product(kin, &out.a_vp, nodes[0], pts[0]) - point_velocity_product(kin, &out.a_vp, nodes[1], pts[1]));
         let normal_row = out.len();
         out.push(RowKind::Normal, nodes, pts, c.normal, (0, 0.0), c.mu, ci);
         out.vel[normal_row] = c.normal.dot(vrel);
         out.jac[normal_row] = jacobian(kin, nodes, pts, c.normal);
         out.dist[normal_row] = c.dist;
+        out.arc[normal_row] = arc;
         if c.friction && c.mu > 0.0 {
             let vt = vrel - c.normal * c.normal.dot(vrel);
             let at = arel - c.normal * c.normal.dot(arel);

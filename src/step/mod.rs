@@ -358,6 +358,10 @@ fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
     data.force.resize(n, 0.0);
     let con = &data.con;
     let q = &mut data.lcp_q;
+    // a contact point moves on an arc: its gap after q ← q ⊕ lever q̇⁺ is the row's linear
+    // prediction minus (h lever − lever²/2) J̇q̇·n, which the end-of-step target makes up where the
+    // arc dips toward the surface (the h²ω²r/2 that post-stabilisation would otherwise remove)
+    let arc_lift = |j: usize| (h - 0.5 * lever) * con.arc[j].max(0.0);
     for j in 0..nr {
         let (vel, dist) = (con.vel[j], con.dist[j]);
         // desired values: acceleration a^d, or velocity change Δv^d for impacts
@@ -373,14 +377,14 @@ fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
             // constraint-free v_p = v + h b
             (RowKind::Tangent { .. }, Level::TimeStep) => -(vel + h * con.b[j]),
             (_, Level::TimeStep) => {
-                let mut target = if dist > 0.0 { -dist / lever } else { constraint::correction_velocity(dist, h) };
+                let mut target = if dist > 0.0 { -dist / lever } else { constraint::correction_velocity(dist, h) } + arc_lift(j);
                 if -vel > impact && dist + lever * vel < 0.0 && m.opt.restitution > 0.0 {
                     target = target.max(rebound(vel, dist, con.b[j], m.opt.restitution, h));
                 }
                 target - (vel + h * con.b[j])
             }
             (_, Level::Acceleration) => {
-                let target = if dist > 0.0 { -dist / lever } else { constraint::correction_velocity(dist, h) };
+                let target = if dist > 0.0 { -dist / lever } else { constraint::correction_velocity(dist, h) } + arc_lift(j);
                 (target - vel) / h
             }
             // end-of-step velocity v⁺ for a row that closes within this step: the rebound with

@@ -7,10 +7,11 @@
 //! quantities), and limit rows (the step's, and any the projection would cross), so that no joint
 //! is pushed past its limit.
 //!
-//! Why: a contact row makes the *linearised* gap close at the step's end, but a point on a body
-//! turning at ω moves on an arc, off the straight line by about h²ω²r/2 — at dt = 0.01 millimetres
-//! to centimetres for a half-metre limb — and the contact forces can turn a body so that a point
-//! without a row reaches the floor. Baumgarte terms alone remove that only over several steps.
+//! Why: a contact row makes its predicted gap close at the step's end, and the prediction carries
+//! the arc a turning body's point moves on to second order (`ConstraintData::arc`), but not
+//! beyond, nor a rolling surface's contact point moving over it; and the contact forces can turn a
+//! body so that a point without a row reaches the floor. Baumgarte terms alone remove that only
+//! over several steps.
 
 use glam::DVec3;
 
