@@ -47,6 +47,13 @@ impl KinData {
 
 /// Computes all of [`KinData`] for (`qpos`, `qvel`).
 pub fn forward(m: &Model, qpos: &[f64], qvel: &[f64], kin: &mut KinData) {
+    forward_nodes(m, qpos, qvel, kin);
+    body_poses(m, kin);
+}
+
+/// The nodes' part of [`KinData`] (X_up, poses, S, v, c): everything the dynamics reads, without
+/// the bodies' world poses (RK4's inner stages).
+pub fn forward_nodes(m: &Model, qpos: &[f64], qvel: &[f64], kin: &mut KinData) {
     for i in 0..m.njnt {
         let kind = m.jnt_type[i];
         let (qa, da) = (m.jnt_qposadr[i], m.jnt_dofadr[i]);
@@ -68,6 +75,10 @@ pub fn forward(m: &Model, qpos: &[f64], qvel: &[f64], kin: &mut KinData) {
         kin.x_up[i] = xu;
         velocity(m, kin, i, v_parent, &qvel[da..]);
     }
+}
+
+/// Bodies' world poses from their nodes'.
+fn body_poses(m: &Model, kin: &mut KinData) {
     for b in 1..m.nbody {
         let n = m.body_node[b];
         let (nrot, npos) = if n == WORLD { (DMat3::IDENTITY, DVec3::ZERO) } else { (kin.node_rot[n], kin.node_pos[n]) };

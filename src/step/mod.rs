@@ -63,17 +63,12 @@ use constraint::RowKind;
 /// Forward dynamics at (qpos, qvel, ctrl) without constraints: fills `data.qacc` with the true
 /// accelerations (no implicit damping), as MuJoCo's `mj_forward` with constraints disabled.
 pub fn forward(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) {
-    evaluate(m, data, qpos, qvel, ctrl, 0.0);
-}
-
-/// Kinematics, applied forces and both ABA passes for one state; `h_damp` > 0 treats joint
-/// damping implicitly over that step.
-fn evaluate(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64], h_damp: f64) {
     kinematics::forward(m, qpos, qvel, &mut data.kin);
-    dynamics(m, data, qpos, qvel, ctrl, h_damp);
+    dynamics(m, data, qpos, qvel, ctrl, 0.0);
 }
 
-/// Applied forces and both ABA passes, on the kinematics already in `data.kin`.
+/// Applied forces and both ABA passes, on the kinematics already in `data.kin`; `h_damp` > 0
+/// treats joint damping implicitly over that step.
 fn dynamics(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64], h_damp: f64) {
     forces::applied(m, qpos, qvel, ctrl, &mut data.qfrc_applied);
     aba::backward(m, &data.kin, &data.qfrc_applied, h_damp, &mut data.aba);
@@ -547,7 +542,9 @@ fn rk4(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl: &[f
             }
         }
         integrate_pos(m, &mut rk.qpos, &rk.dv, h);
-        evaluate(m, data, &rk.qpos, &rk.qvel, ctrl, 0.0);
+        // the dynamics need the nodes only (the next step recomputes the kinematics)
+        kinematics::forward_nodes(m, &rk.qpos, &rk.qvel, &mut data.kin);
+        dynamics(m, data, &rk.qpos, &rk.qvel, ctrl, 0.0);
         rk.kv[i].copy_from_slice(&rk.qvel);
         rk.ka[i].copy_from_slice(&data.qacc);
     }
