@@ -265,6 +265,12 @@ impl Model {
         self.jnt_type[j].nv()
     }
 
+    /// Hinge and slide joints with a range: the joints limits act on (ball and free joints' ranges
+    /// are not enforced).
+    pub fn limited_joints(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..self.njnt).filter(|&j| self.jnt_limited[j] && matches!(self.jnt_type[j], JointType::Hinge | JointType::Slide))
+    }
+
     /// Index of the body named `name`.
     pub fn body_id(&self, name: &str) -> Option<usize> {
         self.body_name.iter().position(|n| n == name)

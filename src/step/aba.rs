@@ -56,11 +56,8 @@ impl AbaData {
 /// `h_damp` adds h·damping to D (implicit damping of semi-implicit Euler, as MuJoCo's `Euler`).
 pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut AbaData) {
     // pass 1: rigid inertias and velocity-product bias forces v ×* I v
-    for i in 0..m.njnt {
-        aba.ia[i] = m.node_art[i];
-        let v = kin.v[i];
-        aba.pa[i] = v.cross_force(&m.node_inertia[i].mul_motion(&v));
-    }
+    aba.ia.copy_from_slice(&m.node_art);
+    rigid_bias(m, kin, &mut aba.pa);
     aba.singular_joint = None;
     let AbaData { ia: ia_all, pa: pa_all, u_mat, d_fac, u, singular_joint, .. } = aba;
     // pass 2: leaves to root
@@ -87,8 +84,7 @@ pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut Ab
         if p == WORLD {
             continue;
         }
-        // I^a = I^A − U D⁻¹ Uᵀ (= I^A − V Vᵀ with V = U L⁻ᵀ);  p^a = p^A + I^A c + U D⁻¹ (u − Uᵀ c)
-        let c = kin.c[i];
+        // I^a = I^A − U D⁻¹ Uᵀ (= I^A − V Vᵀ with V = U L⁻ᵀ)
         let mut ia_small = *ia;
         if k == 1 {
             ia_small.sub_outer(&um[0], &um[0], d[0]);
@@ -103,15 +99,7 @@ pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut Ab
                 ia_small.sub_outer(&v[r], &v[r], 1.0);
             }
         }
-        let mut w = [0.0; 6];
-        for r in 0..k {
-            w[r] = ui[r] - c.dot(&um[r]);
-        }
-        solve_d(k, d, &mut w);
-        let mut pa = pa_all[i] + ia.mul_motion(&c);
-        for r in 0..k {
-            pa += um[r] * w[r];
-        }
+        let pa = articulated_bias(k, ia, um, d, ui, &kin.c[i], &pa_all[i]);
         let x = kin.x_up[i];
         let moved = ia_small.to_parent(&x);
         ia_all[p].add(&moved);
@@ -122,10 +110,7 @@ pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut Ab
 /// The inward pass's bias terms p^A and u alone, for new velocities and forces `tau` on the
 /// configuration whose I^A, U and D's factor are already in `aba` (after an impulse).
 pub fn backward_bias(m: &Model, kin: &KinData, tau: &[f64], aba: &mut AbaData) {
-    for i in 0..m.njnt {
-        let v = kin.v[i];
-        aba.pa[i] = v.cross_force(&m.node_inertia[i].mul_motion(&v));
-    }
+    rigid_bias(m, kin, &mut aba.pa);
     for i in (0..m.njnt).rev() {
         let k = m.jnt_type[i].nv();
         let da = m.jnt_dofadr[i];
@@ -136,19 +121,32 @@ pub fn backward_bias(m: &Model, kin: &KinData, tau: &[f64], aba: &mut AbaData) {
         if p == WORLD {
             continue;
         }
-        // p^a = p^A + I^A c + U D⁻¹ (u − Uᵀ c)
-        let (um, c) = (&aba.u_mat[i], kin.c[i]);
-        let mut w = [0.0; 6];
-        for r in 0..k {
-            w[r] = aba.u[i][r] - c.dot(&um[r]);
-        }
-        solve_d(k, &aba.d_fac[i], &mut w);
-        let mut pa = aba.pa[i] + aba.ia[i].mul_motion(&c);
-        for r in 0..k {
-            pa += um[r] * w[r];
-        }
+        let pa = articulated_bias(k, &aba.ia[i], &aba.u_mat[i], &aba.d_fac[i], &aba.u[i], &kin.c[i], &aba.pa[i]);
         aba.pa[p] += kin.x_up[i].inv_apply_force(&pa);
     }
+}
+
+/// Pass 1's velocity-product bias forces v_i ×* I_i v_i of the rigid bodies.
+fn rigid_bias(m: &Model, kin: &KinData, pa: &mut [Force]) {
+    for ((p, v), inertia) in pa.iter_mut().zip(&kin.v).zip(&m.node_inertia) {
+        *p = v.cross_force(&inertia.mul_motion(v));
+    }
+}
+
+/// The bias force node i hands its parent (before the transform):
+/// p^a = p^A + I^A c + U D⁻¹ (u − Uᵀ c) (Featherstone 2008, Table 7.1).
+#[inline(always)]
+fn articulated_bias(k: usize, ia: &ArtInertia, um: &[Force; 6], d: &[f64; 36], u: &[f64; 6], c: &Motion, pa: &Force) -> Force {
+    let mut w = [0.0; 6];
+    for r in 0..k {
+        w[r] = u[r] - c.dot(&um[r]);
+    }
+    solve_d(k, d, &mut w);
+    let mut out = *pa + ia.mul_motion(c);
+    for r in 0..k {
+        out += um[r] * w[r];
+    }
+    out
 }
 
 /// Pass 3 (outward): accelerations `qacc` (nv) and spatial accelerations, with the fictitious

@@ -159,16 +159,15 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData)
             // ABA's accelerations carry the base's fictitious −g, added back
             let (v, a, centre) = (kin.v[n], aba.a[n], m.geom_node_pos[g]);
             let w = v.ang.length();
-            let vc = v.point_velocity(centre);
-            let ac = kin.node_rot[n] * (a.point_velocity(centre) + v.ang.cross(vc)) + m.opt.gravity;
-            let (speed, accel) = (vc.length() + w * m.geom_rbound[g], ac.length() + (a.ang.length() + w * w) * m.geom_rbound[g]);
-            lever * (speed + h * accel)
+            let ac = kin.node_rot[n] * (a.point_velocity(centre) + v.ang.cross(v.point_velocity(centre))) + m.opt.gravity;
+            let accel = ac.length() + (a.ang.length() + w * w) * m.geom_rbound[g];
+            lever * (speed_bound(m, g, &v) + h * accel)
         };
     }
     for &(i, j) in &m.collision_pairs {
         // speculative: pairs that could close within this step (which moves a point by
-        // lever × (v + h a), lever = h for semi-implicit Euler) count as contacts, so a fast foot is stopped at the surface instead of
-        // being found inside it one step later
+        // lever × (v + h a), lever = h for semi-implicit Euler) count as contacts, so a fast foot
+        // is stopped at the surface instead of being found inside it one step later
         let margin = first_margin(m, out, i, j);
         if apart(m, out, i, j, margin) {
             continue;
@@ -209,6 +208,7 @@ fn apart(m: &Model, cd: &CollisionData, i: usize, j: usize, margin: f64) -> bool
 }
 
 /// Bound on the speed of any point of geom g under its node's velocity `v` (node coordinates).
+#[inline]
 fn speed_bound(m: &Model, g: usize, v: &crate::math::Motion) -> f64 {
     v.point_velocity(m.geom_node_pos[g]).length() + v.ang.length() * m.geom_rbound[g]
 }
@@ -220,7 +220,7 @@ fn first_margin(m: &Model, cd: &CollisionData, i: usize, j: usize) -> f64 {
 }
 
 /// After the constraint solve: with the step's final node velocities `v_end`, the pairs whose reach
-/// h·|v_end| now exceeds their first margin are tested again (same configuration) and contacts
+/// lever·|v_end| now exceeds their first margin are tested again (same configuration) and contacts
 /// not found before are appended. Returns whether there were any: constraint forces (a body
 /// landing on another, say) can carry a geom further than its constraint-free motion.
 pub fn reach_again(m: &Model, kin: &KinData, v_end: &[crate::math::Motion], out: &mut CollisionData) -> bool {

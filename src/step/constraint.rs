@@ -7,7 +7,7 @@
 use glam::DVec3;
 
 use crate::math::{Force, Motion};
-use crate::model::{Actuation, FrictionModel, JointType, Model, WORLD};
+use crate::model::{Actuation, FrictionModel, Model, WORLD};
 
 use super::aba::AbaData;
 use super::collision::Contact;
@@ -181,23 +181,14 @@ fn node_of_geom(m: &Model, g: usize) -> usize {
 }
 
 /// World classical acceleration of the point with node coordinates `r` on node `n`, from the
-/// ABA's constraint-free accelerations (which carry the base's fictitious −g, added back).
-fn point_accel(m: &Model, kin: &KinData, aba: &AbaData, n: usize, r: DVec3) -> DVec3 {
-    if n == WORLD {
-        return DVec3::ZERO;
-    }
-    let (a, v) = (aba.a[n], kin.v[n]);
-    kin.node_rot[n] * (a.point_velocity(r) + v.ang.cross(v.point_velocity(r))) + m.opt.gravity
-}
-
-/// World classical acceleration J̇ q̇ of the point with node coordinates `r` on node `n` from the
-/// velocity-product accelerations `a_vp` (q̈ = 0, no gravity).
-fn point_velocity_product(kin: &KinData, a_vp: &[Motion], n: usize, r: DVec3) -> DVec3 {
+/// nodes' spatial accelerations `a`, plus `g` (the ABA's accelerations carry the base's fictitious
+/// −g, which `g` adds back; the velocity products alone, J̇ q̇, take none).
+fn point_accel(kin: &KinData, a: &[Motion], g: DVec3, n: usize, r: DVec3) -> DVec3 {
     if n == WORLD {
         return DVec3::ZERO;
     }
     let v = kin.v[n];
-    kin.node_rot[n] * (a_vp[n].point_velocity(r) + v.ang.cross(v.point_velocity(r)))
+    kin.node_rot[n] * (a[n].point_velocity(r) + v.ang.cross(v.point_velocity(r))) + g
 }
 
 /// World velocity of the point with node coordinates `r` on node `n`.
@@ -255,8 +246,9 @@ pub fn rows(
         let local = |n: usize| if n == WORLD { c.pos } else { kin.node_rot[n].transpose() * (c.pos - kin.node_pos[n]) };
         let pts = [local(nodes[0]), local(nodes[1])];
         let vrel = point_vel(kin, nodes[0], pts[0]) - point_vel(kin, nodes[1], pts[1]);
-        let arel = point_accel(m, kin, aba, nodes[0], pts[0]) - point_accel(m, kin, aba, nodes[1], pts[1]);
-        let arc = c.normal.dot(point_velocity_product(kin, &out.a_vp, nodes[0], pts[0]) - point_velocity_product(kin, &out.a_vp, nodes[1], pts[1]));
+        let g = m.opt.gravity;
+        let arel = point_accel(kin, &aba.a, g, nodes[0], pts[0]) - point_accel(kin, &aba.a, g, nodes[1], pts[1]);
+        let arc = c.normal.dot(point_accel(kin, &out.a_vp, DVec3::ZERO, nodes[0], pts[0]) - point_accel(kin, &out.a_vp, DVec3::ZERO, nodes[1], pts[1]));
         let normal_row = out.len();
         out.push(RowKind::Normal, nodes, pts, c.normal, (0, 0.0), c.mu, ci);
         out.vel[normal_row] = c.normal.dot(vrel);
@@ -296,10 +288,7 @@ pub fn rows(
         }
     }
     if m.opt.limit {
-        for j in 0..m.njnt {
-            if !m.jnt_limited[j] || !matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide) {
-                continue;
-            }
+        for j in m.limited_joints() {
             let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
             let [lo, hi] = m.jnt_range[j];
             for (side, (dist, sign)) in [(qpos[qa] - lo, 1.0), (hi - qpos[qa], -1.0)].into_iter().enumerate() {
@@ -456,7 +445,8 @@ fn measure(m: &Model, kin: &KinData, cd: &ConstraintData, j: usize, what: Measur
         Measure::Actual { aba, .. } => aba,
     };
     let ([n0, n1], [p0, p1]) = (cd.node[j], cd.point[j]);
-    cd.dir[j].dot(point_accel(m, kin, aba, n0, p0) - point_accel(m, kin, aba, n1, p1))
+    let g = m.opt.gravity;
+    cd.dir[j].dot(point_accel(kin, &aba.a, g, n0, p0) - point_accel(kin, &aba.a, g, n1, p1))
 }
 
 /// Response of the articulated system to the test forces in `dpa` (node coordinates) or the unit

@@ -44,6 +44,7 @@ pub struct LcpWork {
     active: Vec<usize>,
     trial: Vec<f64>,
     stiff: Vec<f64>,
+    best: Vec<f64>,
 }
 
 /// Relative regulariser added to the diagonal of the force rows.
@@ -180,9 +181,10 @@ pub fn residual(n: usize, m: &[f64], q: &[f64], z: &[f64], w: &mut Vec<f64>) -> 
     if worst.is_nan() { f64::INFINITY } else { worst }
 }
 
-/// Solves with the cascade warm start → Lemke → Lemke more strongly regularised → projected Gauss–Seidel (or Lemke's inexact answer
-/// when that has the smaller residual) → zero; counts the path in `stats`. `warm`, when given, is the previous step's active set for the same rows: if solving
-/// on it directly passes the independent check, no pivoting is needed (resting contacts).
+/// Solves with the cascade warm start → Lemke → Lemke more strongly regularised → projected
+/// Gauss–Seidel (or Lemke's inexact answer when that has the smaller residual) → zero; counts the
+/// path in `stats`. `warm`, when given, is the previous step's active set for the same rows: if
+/// solving on it directly passes the independent check, no pivoting is needed (resting contacts).
 #[allow(clippy::too_many_arguments)]
 pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
     stats.solves += 1;
@@ -199,55 +201,53 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]
             }
         }
     }
+    // Lemke; once more with a stronger regulariser when its answer fails the check (redundant
+    // contacts sharing their demand can end the path on a ray), each answer polished and checked
+    // against the problem as posed; the better failing answer is kept in `best`
+    let mut stiff = std::mem::take(&mut work.stiff);
     let mut lemke_res = f64::INFINITY;
-    if let Some(p) = lemke(n, m, q, |i| role[i] == Role::Lambda, z, work) {
+    for retry in [false, true] {
+        if retry {
+            stiff.clear();
+            stiff.extend_from_slice(&m[..n * n]);
+            for i in (0..n).filter(|&i| role[i] != Role::Lambda) {
+                stiff[i * n + i] += RETRY_REGULARISATION * m[i * n + i].abs();
+            }
+        }
+        let Some(p) = lemke(n, if retry { &stiff } else { m }, q, |i| role[i] == Role::Lambda, z, work) else {
+            continue;
+        };
         stats.pivots += p as u64;
         polish(n, m, q, z, work);
-        lemke_res = residual(n, m, q, z, &mut work.w);
-        if lemke_res <= ACCEPT_RESIDUAL {
-            stats.residual = lemke_res;
-            return;
-        }
-    }
-    // degenerate (redundant contacts sharing their demand): once more with a stronger regulariser,
-    // its answer checked against the problem as posed
-    let mut stiff = std::mem::take(&mut work.stiff);
-    stiff.clear();
-    stiff.extend_from_slice(&m[..n * n]);
-    for i in (0..n).filter(|&i| role[i] != Role::Lambda) {
-        stiff[i * n + i] += RETRY_REGULARISATION * m[i * n + i].abs();
-    }
-    work.trial.clear();
-    work.trial.extend_from_slice(&z[..n]);
-    if let Some(p) = lemke(n, &stiff, q, |i| role[i] == Role::Lambda, z, work) {
-        stats.pivots += p as u64;
         let res = residual(n, m, q, z, &mut work.w);
         if res <= ACCEPT_RESIDUAL {
             work.stiff = stiff;
-            stats.retries += 1;
+            stats.retries += retry as u64;
             stats.residual = res;
             return;
         }
+        if res < lemke_res {
+            lemke_res = res;
+            work.best.clear();
+            work.best.extend_from_slice(&z[..n]);
+        }
     }
     work.stiff = stiff;
-    z[..n].copy_from_slice(&work.trial);
     // Lemke failed the check: projected Gauss–Seidel, unless Lemke's answer was the closer one
-    work.trial.clear();
-    work.trial.extend_from_slice(&z[..n]);
     if pgs(n, m, q, role, z) {
         let pgs_res = residual(n, m, q, z, &mut work.w);
         if pgs_res <= lemke_res {
             stats.fallback_pgs += 1;
             stats.residual = pgs_res;
         } else {
-            z[..n].copy_from_slice(&work.trial);
+            z[..n].copy_from_slice(&work.best);
             stats.inexact += 1;
             stats.residual = lemke_res;
         }
         return;
     }
     if lemke_res.is_finite() {
-        z[..n].copy_from_slice(&work.trial);
+        z[..n].copy_from_slice(&work.best);
         stats.inexact += 1;
         stats.residual = lemke_res;
         return;

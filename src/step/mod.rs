@@ -57,7 +57,7 @@ macro_rules! timed {
         out
     }};
 }
-use crate::model::{ConstraintMode, Integrator, JointType, Model};
+use crate::model::{ConstraintMode, Integrator, Model};
 use constraint::RowKind;
 
 /// Forward dynamics at (qpos, qvel, ctrl) without constraints: fills `data.qacc` with the true
@@ -193,11 +193,8 @@ fn missed_contacts(m: &Model, data: &mut Data, qvel: &[f64]) -> bool {
 fn missed_limits(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
     let (h, lever) = (m.opt.timestep, m.opt.lever());
     let mut any = false;
-    for j in (0..m.njnt).filter(|&j| m.jnt_limited[j]) {
+    for j in m.limited_joints() {
         let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
-        if !matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide) {
-            continue;
-        }
         let [lo, hi] = m.jnt_range[j];
         let v_end = qvel[da] + h * data.qacc[da];
         for (side, (dist, sign)) in [(qpos[qa] - lo, 1.0), (hi - qpos[qa], -1.0)].into_iter().enumerate() {

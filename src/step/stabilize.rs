@@ -17,7 +17,7 @@ use glam::DVec3;
 
 use crate::data::Data;
 use crate::math::{Force, Motion};
-use crate::model::{JointType, Model, WORLD};
+use crate::model::{Model, WORLD};
 
 use super::collision::{self, CollisionData};
 use super::constraint::{self, RowKind};
@@ -112,7 +112,7 @@ pub fn hold_limits(m: &Model, post: &StabilizeData, qpos: &mut [f64]) {
     if !m.opt.limit {
         return;
     }
-    for j in limited(m) {
+    for j in m.limited_joints() {
         let a = m.jnt_qposadr[j];
         let [lo, hi] = m.jnt_range[j];
         let start = post.qpos_start[a];
@@ -287,7 +287,7 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
             break;
         }
         let mut added = false;
-        for j in limited(m) {
+        for j in m.limited_joints() {
             if let Some((sign, room, _)) = crossing(m, qpos, &post.dq, &post.limit, j) {
                 let dof = m.jnt_dofadr[j];
                 post.gap.push(room);
@@ -306,7 +306,7 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
         }
     }
     let mut alpha = 1.0f64;
-    for j in limited(m) {
+    for j in m.limited_joints() {
         if let Some((_, room, step)) = crossing(m, qpos, &post.dq, &post.limit, j) {
             alpha = alpha.min(room / step);
         }
@@ -326,7 +326,3 @@ fn crossing(m: &Model, qpos: &[f64], dq: &[f64], rows: &[Option<(usize, f64)>], 
 /// Times a projection may add limit rows and solve again.
 const LIMIT_PASSES: usize = 2;
 
-/// Limited hinge and slide joints.
-fn limited(m: &Model) -> impl Iterator<Item = usize> + '_ {
-    (0..m.njnt).filter(|&j| m.jnt_limited[j] && matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide))
-}
