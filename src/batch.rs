@@ -17,6 +17,12 @@ use crate::step::step;
 /// Largest magnitude a state entry may reach before the world counts as diverged (MuJoCo's mjMAXVAL).
 pub const MAX_STATE: f64 = 1e10;
 
+/// Whether a state entry is NaN or beyond [`MAX_STATE`] (±inf included).
+#[inline]
+pub fn out_of_range(x: f64) -> bool {
+    x.is_nan() || x.abs() > MAX_STATE
+}
+
 /// Scratch of N worlds and the thread pool that steps them.
 pub struct Batch {
     /// The shared model.
@@ -120,7 +126,7 @@ impl Batch {
                     *div = false;
                     for _ in 0..n {
                         step(m, d, qpos, qvel, ctrl, time);
-                        if qpos.iter().chain(qvel.iter()).any(|x| x.is_nan() || x.abs() > MAX_STATE) {
+                        if qpos.iter().chain(qvel.iter()).any(|&x| out_of_range(x)) {
                             reset_world(m, d, qpos, qvel);
                             *div = true;
                             break;

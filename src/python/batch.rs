@@ -187,10 +187,10 @@ impl PyBatch {
     #[pyo3(signature = (mask=None, seeds=None))]
     fn reset(&mut self, py: Python<'_>, mask: Option<Bound<'_, PyAny>>, seeds: Option<Vec<u64>>) -> PyResult<()> {
         let chosen = self.chosen(mask)?;
-        if let Some(s) = &seeds {
-            if s.len() != chosen.len() {
-                return Err(PyValueError::new_err(format!("seeds: expected {} values, got {}", chosen.len(), s.len())));
-            }
+        if let Some(s) = &seeds
+            && s.len() != chosen.len()
+        {
+            return Err(PyValueError::new_err(format!("seeds: expected {} values, got {}", chosen.len(), s.len())));
         }
         let m = self.inner.model.clone();
         {

@@ -60,7 +60,7 @@ pub fn checked_values(obj: &Bound<'_, PyAny>, what: &str, shape: &[usize]) -> Py
         return Err(PyValueError::new_err(format!("{what}: expected shape {shape:?}, got {:?}", arr.shape())));
     }
     let v = arr.readonly().as_slice()?.to_vec();
-    if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+    if let Some(i) = first_nonfinite(&v) {
         return Err(PyValueError::new_err(format!("{what}: element {i} is {} (must be finite)", v[i])));
     }
     Ok(v)

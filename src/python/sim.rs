@@ -12,7 +12,7 @@ use crate::model::Model;
 use crate::step::kinematics;
 use crate::Data;
 
-use crate::batch::MAX_STATE;
+use crate::batch::out_of_range;
 
 /// One simulated world.
 #[pyclass(name = "Sim", module = "sinew._core")]
@@ -27,10 +27,10 @@ pub struct PySim {
     time: f64,
 }
 
-/// First state entry that is non-finite or beyond [`MAX_STATE`], as (array name, index, value).
+/// First state entry that is non-finite or beyond `MAX_STATE`, as (array name, index, value).
 fn bad_entry(qpos: &[f64], qvel: &[f64]) -> Option<(&'static str, usize, f64)> {
     for (name, v) in [("qpos", qpos), ("qvel", qvel)] {
-        if let Some(i) = v.iter().position(|x| !(x.abs() <= MAX_STATE)) {
+        if let Some(i) = v.iter().position(|&x| out_of_range(x)) {
             return Some((name, i, v[i]));
         }
     }
@@ -121,7 +121,7 @@ impl PySim {
     fn xpos<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         self.kinematics(py)?;
         let flat: Vec<f64> = self.data.kin.xpos.iter().flat_map(|v| v.to_array()).collect();
-        Ok(PyArray1::from_vec(py, flat).reshape([self.model.nbody, 3])?)
+        PyArray1::from_vec(py, flat).reshape([self.model.nbody, 3])
     }
     /// Body orientations in world as rotation matrices (nbody, 3, 3) for the current qpos.
     #[getter]
@@ -134,7 +134,7 @@ impl PySim {
             .iter()
             .flat_map(|m| (0..3).flat_map(move |r| (0..3).map(move |c| m.col(c)[r])))
             .collect();
-        Ok(PyArray1::from_vec(py, flat).reshape([self.model.nbody, 3, 3])?)
+        PyArray1::from_vec(py, flat).reshape([self.model.nbody, 3, 3])
     }
 
     /// Computes qacc for the current state without advancing time.
