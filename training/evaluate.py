@@ -1,9 +1,14 @@
-"""Evaluate a saved model: python training/evaluate.py runs/sinew_Hopper-v0/ppo_0 [--episodes 10]"""
+"""Evaluate a saved model: python training/evaluate.py runs/sinew_Hopper-v0/ppo_0 [--episodes 10]
+
+Prints the mean return of deterministic episodes, then each episode's length, return and, for
+tasks that report it, its final x_position (how far the agent went)."""
 
 import argparse
 import json
 import os
 import sys
+
+import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
@@ -22,8 +27,19 @@ def main():
     algo = {"ppo": PPO, "sac": SAC}[result["algo"]]
     model = algo.load(os.path.join(args.run_dir, "model"), device="cpu")
     env = make_env(result["env"], 1, result["seed"] + 2000)
-    mean, std = evaluate_policy(model, env, n_eval_episodes=args.episodes, deterministic=True)
-    print(f"{result['env']} {result['algo'].upper()}: return {mean:.1f} ± {std:.1f} over {args.episodes} episodes")
+    returns, lengths = evaluate_policy(model, env, n_eval_episodes=args.episodes, deterministic=True, return_episode_rewards=True)
+    print(f"{result['env']} {result['algo'].upper()}: return {np.mean(returns):.1f} ± {np.std(returns):.1f} over {args.episodes} episodes")
+    # the same episodes again (same seed), one line each, with where the agent ended up
+    env = make_env(result["env"], 1, result["seed"] + 2000)
+    obs = env.reset()
+    for k in range(args.episodes):
+        done, steps, ret, x = False, 0, 0.0, float("nan")
+        while not done:
+            action, _ = model.predict(obs, deterministic=True)
+            obs, reward, dones, infos = env.step(action)
+            steps, ret, done = steps + 1, ret + float(reward[0]), bool(dones[0])
+            x = infos[0].get("x_position", x)
+        print(f"  episode {k}: {steps} steps, return {ret:.1f}, final x_position {x:.2f}")
 
 
 if __name__ == "__main__":
