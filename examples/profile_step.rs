@@ -1,15 +1,17 @@
 //! Steps a model 200 000 times with random controls (pyramid friction, Euler): a workload for `perf`.
 //! `cargo build --profile profiling --example profile_step && perf record target/profiling/examples/profile_step model.xml`
 //! A second argument `zero-gravity` switches gravity off (with a far floor: the cost of collision
-//! that finds nothing).
+//! that finds nothing); `free` switches contacts and limits off (the bare step).
 fn main() {
     let path = std::env::args().nth(1).unwrap();
     let m = sinew::Model::from_mjcf_file(std::path::Path::new(&path)).unwrap();
     let mut m = m;
     m.opt.friction = sinew::model::FrictionModel::Pyramid;
     m.opt.integrator = sinew::model::Integrator::Euler;
-    if std::env::args().nth(2).as_deref() == Some("zero-gravity") {
-        m.opt.gravity = glam::DVec3::ZERO;
+    match std::env::args().nth(2).as_deref() {
+        Some("zero-gravity") => m.opt.gravity = glam::DVec3::ZERO,
+        Some("free") => (m.opt.contact, m.opt.limit) = (false, false),
+        _ => {}
     }
     let mut s = sinew::State::new(&m);
     let mut x: u64 = 1;

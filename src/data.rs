@@ -57,7 +57,7 @@ pub struct Data {
     pub feedforward: Vec<f64>,
     /// Centre of mass and mass of each root's subtree, scratch for `sensors` (nbody).
     pub root_com: Vec<(DVec3, f64)>,
-    /// Per-node spatial forces, scratch for `sensors` (njnt).
+    /// Per-node spatial forces, scratch for `sensors` (nnode).
     pub node_force: Vec<crate::math::Force>,
     /// SplitMix64 state of this world's random tangents.
     pub rng: u64,
@@ -91,7 +91,7 @@ impl Data {
             tangents_next: vec![],
             feedforward: vec![0.0; 2 * m.nu],
             root_com: vec![(DVec3::ZERO, 0.0); m.nbody],
-            node_force: vec![crate::math::Force::ZERO; m.njnt],
+            node_force: vec![crate::math::Force::ZERO; m.nnode],
             rng: 0x5EED,
             #[cfg(feature = "stage-timing")]
             stage_ns: [0; crate::step::STAGES],

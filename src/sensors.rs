@@ -146,9 +146,9 @@ pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64]
         }
     }
     // τ = Jᵀ f: leaves to root, as RNEA's second pass (Featherstone 2008, Table 5.1)
-    for i in (0..m.njnt).rev() {
-        for r in 0..m.jnt_type[i].nv() {
-            out.qfrc_constraint[m.jnt_dofadr[i] + r] += kin.s[i][r].dot(&node_f[i]);
+    for i in (0..m.nnode).rev() {
+        for r in 0..m.node_nv[i] {
+            out.qfrc_constraint[m.node_dofadr[i] + r] += kin.s[i][r].dot(&node_f[i]);
         }
         let p = m.node_parent[i];
         if p != WORLD {

@@ -100,3 +100,42 @@ fn velocity_update_after_an_impulse_equals_a_fresh_aba() {
         assert!(e <= 1e-12, "velocity update vs fresh ABA: rel err {e:e} (seed={seed})");
     }
 }
+
+/// One body with several joints is one multi-dof node (a 6-dof cap splits it); the same joints in
+/// nested bodies at the same pose, the outer ones massless, are one node each. Both must give the
+/// same motion, with velocity products (the node's c) included. (Ten dofs on one rigid body are
+/// redundant: armature keeps them solvable.)
+#[test]
+fn joints_sharing_a_body_move_as_nested_massless_bodies() {
+    let joints = [
+        r#"<joint name="a" type="hinge" axis="0.3 1 0.2" pos="0.1 0 0.05" armature="0.1"/>"#,
+        r#"<joint name="b" type="slide" axis="1 0.2 -0.4" armature="0.1"/>"#,
+        r#"<joint name="c" type="ball" pos="0 0.1 0" armature="0.1"/>"#,
+        r#"<joint name="d" type="ball" pos="0.05 0 0" armature="0.1"/>"#,
+        r#"<joint name="e" type="hinge" axis="0 0 1" pos="0 -0.1 0" ref="0.3" armature="0.1"/>"#,
+    ];
+    let geom = r#"<geom type="box" size="0.1 0.2 0.3" pos="0.1 0.05 0"/><body pos="0.2 0 0"><joint type="hinge" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.05"/></body>"#;
+    let shared = format!(r#"<mujoco><worldbody><body pos="0 0 1" euler="10 20 30">{}{geom}</body></worldbody></mujoco>"#, joints.concat());
+    let mut nested = geom.to_string();
+    for (k, j) in joints.iter().enumerate().rev() {
+        let pose = if k == 0 { r#"pos="0 0 1" euler="10 20 30""# } else { "" };
+        nested = format!("<body {pose}>{j}{nested}</body>");
+    }
+    let nested = format!("<mujoco><worldbody>{nested}</worldbody></mujoco>");
+    let (ms, mn) = (Model::from_mjcf(&shared).unwrap(), Model::from_mjcf(&nested).unwrap());
+    assert_eq!((ms.nnode, mn.nnode), (3, 6), "ten dofs in one body make a 6-dof and a 4-dof node");
+    let mut r = Rng(11);
+    let (mut ds, mut dn) = (Data::new(&ms), Data::new(&mn));
+    for _ in 0..5 {
+        let (q, v) = random_state(&ms, &mut r);
+        let tau: Vec<f64> = (0..ms.nv).map(|_| r.uniform(-5.0, 5.0)).collect();
+        let mut acc = [vec![0.0; ms.nv], vec![0.0; ms.nv]];
+        for ((m, d), a) in [(&ms, &mut ds), (&mn, &mut dn)].into_iter().zip(&mut acc) {
+            sinew::step::kinematics::forward(m, &q, &v, &mut d.kin);
+            sinew::step::aba::backward(m, &d.kin, &tau, 0.0, &mut d.aba);
+            sinew::step::aba::forward(m, &d.kin, &mut d.aba, a);
+        }
+        let e = rel_err(&acc[0], &acc[1]);
+        assert!(e <= 1e-10, "shared-body vs nested qacc: rel err {e:e}");
+    }
+}

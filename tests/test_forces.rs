@@ -20,12 +20,12 @@ fn jacobian(m: &Model, data: &Data, con: &ConstraintData) -> Vec<Vec<f64>> {
     let mut rows = vec![vec![0.0; m.nv]; con.len()];
     for dof in 0..m.nv {
         // spatial accelerations of every node for q̈ = e_dof
-        let mut a = vec![Motion::ZERO; m.njnt];
-        for i in 0..m.njnt {
+        let mut a = vec![Motion::ZERO; m.nnode];
+        for i in 0..m.nnode {
             let p = m.node_parent[i];
             let mut ai = if p == WORLD { Motion::ZERO } else { kin.x_up[i].apply_motion(&a[p]) };
-            for r in 0..m.jnt_type[i].nv() {
-                if m.jnt_dofadr[i] + r == dof {
+            for r in 0..m.node_nv[i] {
+                if m.node_dofadr[i] + r == dof {
                     ai += kin.s[i][r];
                 }
             }

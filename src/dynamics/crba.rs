@@ -9,7 +9,7 @@ use crate::step::kinematics::KinData;
 pub fn crba(m: &Model, kin: &KinData) -> Vec<f64> {
     let nv = m.nv;
     let mut ic = m.node_art.clone();
-    for i in (0..m.njnt).rev() {
+    for i in (0..m.nnode).rev() {
         let p = m.node_parent[i];
         if p != WORLD {
             let moved = ic[i].to_parent(&kin.x_up[i]);
@@ -17,14 +17,14 @@ pub fn crba(m: &Model, kin: &KinData) -> Vec<f64> {
         }
     }
     let mut mm = vec![0.0; nv * nv];
-    for i in 0..m.njnt {
-        let di = m.jnt_dofadr[i];
-        for r in 0..m.jnt_type[i].nv() {
+    for i in 0..m.nnode {
+        let di = m.node_dofadr[i];
+        for r in 0..m.node_nv[i] {
             let mut f: Force = ic[i].mul_motion(&kin.s[i][r]);
             let mut j = i;
             loop {
-                let dj = m.jnt_dofadr[j];
-                for c in 0..m.jnt_type[j].nv() {
+                let dj = m.node_dofadr[j];
+                for c in 0..m.node_nv[j] {
                     let x = kin.s[j][c].dot(&f);
                     mm[(di + r) * nv + dj + c] = x;
                     mm[(dj + c) * nv + di + r] = x;

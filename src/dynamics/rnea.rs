@@ -7,7 +7,7 @@ use crate::step::kinematics::KinData;
 /// τ = ID(q, q̇, q̈) for the rigid bodies (armature and passive forces excluded), gravity as the
 /// fictitious base acceleration −g. `kin` must hold the kinematics of (q, q̇).
 pub fn rnea(m: &Model, kin: &KinData, qacc: &[f64]) -> Vec<f64> {
-    let n = m.njnt;
+    let n = m.nnode;
     let mut a = vec![Motion::ZERO; n];
     let mut f = vec![Force::ZERO; n];
     let a0 = Motion::new(glam::DVec3::ZERO, -m.opt.gravity);
@@ -16,8 +16,8 @@ pub fn rnea(m: &Model, kin: &KinData, qacc: &[f64]) -> Vec<f64> {
         let p = m.node_parent[i];
         let ap = if p == WORLD { a0 } else { a[p] };
         let mut ai = kin.x_up[i].apply_motion(&ap) + kin.c[i];
-        for k in 0..m.jnt_type[i].nv() {
-            ai += kin.s[i][k] * qacc[m.jnt_dofadr[i] + k];
+        for k in 0..m.node_nv[i] {
+            ai += kin.s[i][k] * qacc[m.node_dofadr[i] + k];
         }
         a[i] = ai;
         let inertia = &m.node_inertia[i];
@@ -26,8 +26,8 @@ pub fn rnea(m: &Model, kin: &KinData, qacc: &[f64]) -> Vec<f64> {
     // pass 2: joint forces, leaves to root
     let mut tau = vec![0.0; m.nv];
     for i in (0..n).rev() {
-        for k in 0..m.jnt_type[i].nv() {
-            tau[m.jnt_dofadr[i] + k] = kin.s[i][k].dot(&f[i]);
+        for k in 0..m.node_nv[i] {
+            tau[m.node_dofadr[i] + k] = kin.s[i][k].dot(&f[i]);
         }
         let p = m.node_parent[i];
         if p != WORLD {

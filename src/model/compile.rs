@@ -68,6 +68,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         nu: spec.actuators.len(),
         nbody,
         njnt: 0,
+        nnode: 0,
         ngeom: 0,
         qpos0: vec![],
         qpos_spring: vec![],
@@ -95,6 +96,11 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         dof_armature: vec![],
         dof_jnt: vec![],
         node_parent: vec![],
+        node_jntadr: vec![],
+        node_jntnum: vec![],
+        jnt_node: vec![],
+        node_dofadr: vec![],
+        node_nv: vec![],
         node_xtree: vec![],
         node_inertia: vec![],
         node_art: vec![],
@@ -139,7 +145,8 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
             m.body_offset[b] = from_parent_node;
             continue;
         }
-        for (k, j) in body.joints.iter().enumerate() {
+        let first_node = m.node_parent.len();
+        for j in &body.joints {
             if j.kind == JointType::Free && (parent != 0 || m.body_node[parent] != WORLD || body.joints.len() != 1) {
                 return Err(Error::model("joint", None, j.line, "a free joint must be the only joint of a child of the world"));
             }
@@ -175,15 +182,32 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
                 m.dof_armature.push(j.armature);
                 m.dof_jnt.push(id);
             }
+            // a body's joints share a node while their dofs fit in six (a free joint is alone)
+            let n = m.node_parent.len();
+            let joins = n > first_node && m.node_nv[n - 1] + j.kind.nv() <= 6;
+            let s = constant_subspace(j.kind, j.pos, j.axis);
+            if joins {
+                let col = m.node_nv[n - 1];
+                m.node_s[n - 1][col..col + j.kind.nv()].copy_from_slice(&s[..j.kind.nv()]);
+                m.node_jntnum[n - 1] += 1;
+                m.node_nv[n - 1] += j.kind.nv();
+            } else {
+                m.node_parent.push(if n == first_node { m.body_node[parent] } else { n - 1 });
+                m.node_jntadr.push(id);
+                m.node_jntnum.push(1);
+                m.node_dofadr.push(m.nv);
+                m.node_nv.push(j.kind.nv());
+                m.node_xtree.push(if n == first_node { from_parent_node } else { Xform::IDENTITY });
+                m.node_inertia.push(SpatialInertia::ZERO);
+                m.node_s.push(s);
+            }
+            m.jnt_node.push(m.node_parent.len() - 1);
             m.nv += j.kind.nv();
-            m.node_parent.push(if k == 0 { m.body_node[parent] } else { id - 1 });
-            m.node_xtree.push(if k == 0 { from_parent_node } else { Xform::IDENTITY });
-            m.node_inertia.push(SpatialInertia::ZERO);
-            m.node_s.push(constant_subspace(j.kind, j.pos, j.axis));
         }
-        m.body_node[b] = m.jnt_type.len() - 1;
+        m.body_node[b] = m.node_parent.len() - 1;
     }
     m.njnt = m.jnt_type.len();
+    m.nnode = m.node_parent.len();
 
     // node inertias: each body's inertia moved into its node frame
     for b in 1..nbody {
@@ -266,7 +290,12 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
 fn motion_plane(m: &Model) -> Option<DVec3> {
     let mut kin = crate::step::kinematics::KinData::new(m);
     crate::step::kinematics::forward(m, &m.qpos0, &vec![0.0; m.nv], &mut kin);
-    let world_axis = |j: usize| kin.node_rot[j] * m.jnt_axis[j].normalize();
+    // a hinge's or slide's axis in world: its subspace column, from node coordinates
+    let world_axis = |j: usize| {
+        let n = m.jnt_node[j];
+        let s = kin.s[n][m.jnt_dofadr[j] - m.node_dofadr[n]];
+        kin.node_rot[n] * if m.jnt_type[j] == JointType::Hinge { s.ang } else { s.lin }.normalize()
+    };
     let normal = world_axis((0..m.njnt).find(|&j| m.jnt_type[j] == JointType::Hinge)?);
     let planar = (0..m.njnt).all(|j| match m.jnt_type[j] {
         JointType::Hinge => world_axis(j).cross(normal).length() < 1e-9,
@@ -283,10 +312,14 @@ fn check_solvable(m: &Model) -> Result<()> {
     let qvel = vec![0.0; m.nv];
     let ctrl = vec![0.0; m.nu];
     crate::step::forward(m, &mut data, &m.qpos0, &qvel, &ctrl);
-    if let Some(j) = data.aba.singular_joint {
+    if let Some(n) = data.aba.singular_node {
+        let j0 = m.node_jntadr[n];
+        let names: Vec<String> = m.jnt_name[j0..j0 + m.node_jntnum[n]].iter().map(|s| format!("'{s}'")).collect();
+        let (noun, verb) = if names.len() == 1 { ("joint", "moves") } else { ("joints", "move") };
         return Err(Error::Compile(format!(
-            "joint '{}' (body '{}') moves no mass or inertia: give its body geoms or an <inertial>",
-            m.jnt_name[j], m.body_name[m.jnt_body[j]]
+            "{noun} {} (body '{}') {verb} no mass or inertia: give its body geoms or an <inertial>",
+            names.join(", "),
+            m.body_name[m.jnt_body[j0]]
         )));
     }
     Ok(())

@@ -115,8 +115,11 @@ pub struct Model {
     pub nu: usize,
     /// Number of bodies, world included.
     pub nbody: usize,
-    /// Number of joints (= dynamics nodes).
+    /// Number of joints.
     pub njnt: usize,
+    /// Number of dynamics nodes: a node is one joint, or several consecutive non-free joints of
+    /// one body (≤ 6 dofs together) treated as one multi-dof joint.
+    pub nnode: usize,
     /// Number of geoms.
     pub ngeom: usize,
     /// Reference configuration (nq).
@@ -173,15 +176,26 @@ pub struct Model {
     /// Joint of each dof (nv).
     pub dof_jnt: Vec<usize>,
 
-    /// Parent node or [`WORLD`] (njnt).
+    /// Parent node or [`WORLD`] (nnode).
     pub node_parent: Vec<usize>,
-    /// ^{pred}X_{parent}: parent node frame to this joint's predecessor frame (njnt).
+    /// First joint of the node (nnode); its joints are consecutive.
+    pub node_jntadr: Vec<usize>,
+    /// Number of joints in the node (nnode).
+    pub node_jntnum: Vec<usize>,
+    /// Node of each joint (njnt).
+    pub jnt_node: Vec<usize>,
+    /// First dof of the node (nnode); its dofs are consecutive.
+    pub node_dofadr: Vec<usize>,
+    /// Number of dofs of the node (nnode).
+    pub node_nv: Vec<usize>,
+    /// ^{pred}X_{parent}: parent node frame to the frame its first joint moves from (nnode).
     pub node_xtree: Vec<Xform>,
-    /// Rigid inertia carried by the node frame (its body plus welded descendants) (njnt).
+    /// Rigid inertia carried by the node frame (its body plus welded descendants) (nnode).
     pub node_inertia: Vec<SpatialInertia>,
-    /// [`Model::node_inertia`] as 6×6 (njnt).
+    /// [`Model::node_inertia`] as 6×6 (nnode).
     pub node_art: Vec<ArtInertia>,
-    /// Constant motion subspace columns in node coordinates (free joints: filled per step) (njnt).
+    /// Each joint's constant motion-subspace columns in the frame that joint moves to, joint after
+    /// joint; for a one-joint node these are S itself (free joints: filled per step) (nnode).
     pub node_s: Vec<[Motion; 6]>,
 
     /// Geom names (ngeom).

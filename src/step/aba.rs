@@ -20,34 +20,34 @@ use super::kinematics::KinData;
 /// Quantities of the inward pass, kept for the outward pass and for test forces.
 #[derive(Clone, Debug, Default)]
 pub struct AbaData {
-    /// I^A_i (njnt).
+    /// I^A_i (nnode).
     pub ia: Vec<ArtInertia>,
-    /// p^A_i (njnt).
+    /// p^A_i (nnode).
     pub pa: Vec<Force>,
-    /// U_i columns (njnt × 6).
+    /// U_i columns (nnode × 6).
     pub u_mat: Vec<[Force; 6]>,
     /// D_i for [`solve_d`]: 1/D_i for one dof, else the Cholesky factor L (D_i = L Lᵀ, lower
-    /// triangle row-major in a 6 × 6 block) (njnt).
+    /// triangle row-major in a 6 × 6 block) (nnode).
     pub d_fac: Vec<[f64; 36]>,
-    /// u_i (njnt × 6).
+    /// u_i (nnode × 6).
     pub u: Vec<[f64; 6]>,
-    /// Spatial accelerations a_i in node coordinates (njnt).
+    /// Spatial accelerations a_i in node coordinates (nnode).
     pub a: Vec<Motion>,
     /// A joint whose D_i was not positive definite in the last inward pass.
-    pub singular_joint: Option<usize>,
+    pub singular_node: Option<usize>,
 }
 
 impl AbaData {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
         AbaData {
-            ia: vec![ArtInertia::ZERO; m.njnt],
-            pa: vec![Force::ZERO; m.njnt],
-            u_mat: vec![[Force::ZERO; 6]; m.njnt],
-            d_fac: vec![[0.0; 36]; m.njnt],
-            u: vec![[0.0; 6]; m.njnt],
-            a: vec![Motion::ZERO; m.njnt],
-            singular_joint: None,
+            ia: vec![ArtInertia::ZERO; m.nnode],
+            pa: vec![Force::ZERO; m.nnode],
+            u_mat: vec![[Force::ZERO; 6]; m.nnode],
+            d_fac: vec![[0.0; 36]; m.nnode],
+            u: vec![[0.0; 6]; m.nnode],
+            a: vec![Motion::ZERO; m.nnode],
+            singular_node: None,
         }
     }
 }
@@ -58,12 +58,12 @@ pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut Ab
     // pass 1: rigid inertias and velocity-product bias forces v ×* I v
     aba.ia.copy_from_slice(&m.node_art);
     rigid_bias(m, kin, &mut aba.pa);
-    aba.singular_joint = None;
-    let AbaData { ia: ia_all, pa: pa_all, u_mat, d_fac, u, singular_joint, .. } = aba;
+    aba.singular_node = None;
+    let AbaData { ia: ia_all, pa: pa_all, u_mat, d_fac, u, singular_node, .. } = aba;
     // pass 2: leaves to root
-    for i in (0..m.njnt).rev() {
-        let k = m.jnt_type[i].nv();
-        let da = m.jnt_dofadr[i];
+    for i in (0..m.nnode).rev() {
+        let k = m.node_nv[i];
+        let da = m.node_dofadr[i];
         let s = &kin.s[i];
         let ia = &ia_all[i];
         let (um, d, ui) = (&mut u_mat[i], &mut d_fac[i], &mut u[i]);
@@ -78,7 +78,7 @@ pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut Ab
             ui[r] = tau[da + r] - s[r].dot(&pa_all[i]);
         }
         if !factorise(k, d) {
-            singular_joint.get_or_insert(i);
+            singular_node.get_or_insert(i);
         }
         let p = m.node_parent[i];
         if p == WORLD {
@@ -111,9 +111,9 @@ pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut Ab
 /// configuration whose I^A, U and D's factor are already in `aba` (after an impulse).
 pub fn backward_bias(m: &Model, kin: &KinData, tau: &[f64], aba: &mut AbaData) {
     rigid_bias(m, kin, &mut aba.pa);
-    for i in (0..m.njnt).rev() {
-        let k = m.jnt_type[i].nv();
-        let da = m.jnt_dofadr[i];
+    for i in (0..m.nnode).rev() {
+        let k = m.node_nv[i];
+        let da = m.node_dofadr[i];
         for r in 0..k {
             aba.u[i][r] = tau[da + r] - kin.s[i][r].dot(&aba.pa[i]);
         }
@@ -153,7 +153,7 @@ fn articulated_bias(k: usize, ia: &ArtInertia, um: &[Force; 6], d: &[f64; 36], u
 /// base acceleration −g standing in for gravity (Featherstone 2008, §5.3).
 pub fn forward(m: &Model, kin: &KinData, aba: &mut AbaData, qacc: &mut [f64]) {
     let a0 = Motion::new(glam::DVec3::ZERO, -m.opt.gravity);
-    for i in 0..m.njnt {
+    for i in 0..m.nnode {
         let p = m.node_parent[i];
         let a_parent = if p == WORLD { a0 } else { aba.a[p] };
         let a = kin.x_up[i].apply_motion(&a_parent) + kin.c[i];
@@ -165,8 +165,8 @@ pub fn forward(m: &Model, kin: &KinData, aba: &mut AbaData, qacc: &mut [f64]) {
 /// a_i = a'_i + S_i q̈_i. Shared by the main pass and the test-force delta pass.
 #[inline]
 pub fn joint_accel(m: &Model, kin: &KinData, aba: &AbaData, i: usize, u: &[f64; 6], a_prime: Motion, qacc: &mut [f64]) -> Motion {
-    let k = m.jnt_type[i].nv();
-    let da = m.jnt_dofadr[i];
+    let k = m.node_nv[i];
+    let da = m.node_dofadr[i];
     let mut rhs = [0.0; 6];
     for r in 0..k {
         rhs[r] = u[r] - a_prime.dot(&aba.u_mat[i][r]);

@@ -120,10 +120,10 @@ impl ConstraintData {
     /// Empty rows, scratch sized for `m`.
     pub fn new(m: &Model) -> Self {
         ConstraintData {
-            dpa: vec![Force::ZERO; m.njnt],
-            du: vec![[0.0; 6]; m.njnt],
-            da: vec![Motion::ZERO; m.njnt],
-            a_vp: vec![Motion::ZERO; m.njnt],
+            dpa: vec![Force::ZERO; m.nnode],
+            du: vec![[0.0; 6]; m.nnode],
+            da: vec![Motion::ZERO; m.nnode],
+            a_vp: vec![Motion::ZERO; m.nnode],
             ..Default::default()
         }
     }
@@ -235,7 +235,7 @@ pub fn rows(
     let (h, lever) = (m.opt.timestep, m.opt.lever());
     if !contacts.is_empty() {
         // velocity-product accelerations: a_i = X a_λ + c_i with q̈ = 0 and no gravity
-        for i in 0..m.njnt {
+        for i in 0..m.nnode {
             let p = m.node_parent[i];
             let a_parent = if p == WORLD { Motion::ZERO } else { out.a_vp[p] };
             out.a_vp[i] = kin.x_up[i].apply_motion(&a_parent) + kin.c[i];
@@ -465,9 +465,9 @@ pub fn delta_pass(
 ) {
     // inward: δu_i = δτ_i − S_iᵀ δp^A_i;  δp^A_λ += Xᵀ (δp^A_i + U_i D_i⁻¹ δu_i); nodes off the
     // test force's path to the root have δp^A = 0 and δu = 0
-    for i in (0..m.njnt).rev() {
-        let k = m.jnt_type[i].nv();
-        let d0 = m.jnt_dofadr[i];
+    for i in (0..m.nnode).rev() {
+        let k = m.node_nv[i];
+        let d0 = m.node_dofadr[i];
         let torqued = matches!(dtau, Some((dof, _)) if dof >= d0 && dof < d0 + k);
         if !torqued && dpa[i] == Force::ZERO {
             du[i] = [0.0; 6];
@@ -494,7 +494,7 @@ pub fn delta_pass(
         dpa[p] += moved;
     }
     // outward: δa'_i = X δa_λ;  δq̈_i = D⁻¹(δu_i − Uᵀ δa'_i);  δa_i = δa'_i + S δq̈_i
-    for i in 0..m.njnt {
+    for i in 0..m.nnode {
         let p = m.node_parent[i];
         let a = if p == WORLD { Motion::ZERO } else { kin.x_up[i].apply_motion(&da[p]) };
         da[i] = super::aba::joint_accel(m, kin, aba, i, &du[i], a, dqdd);

@@ -72,9 +72,9 @@ impl StabilizeData {
             kin: KinData::new(m),
             coll: CollisionData::new(m),
             dq: vec![0.0; m.nv],
-            dpa: vec![Force::ZERO; m.njnt],
-            du: vec![[0.0; 6]; m.njnt],
-            da: vec![Motion::ZERO; m.njnt],
+            dpa: vec![Force::ZERO; m.nnode],
+            du: vec![[0.0; 6]; m.nnode],
+            da: vec![Motion::ZERO; m.nnode],
             vel_end: vec![0.0; m.nv],
             qpos_start: vec![0.0; m.nq],
             ..Default::default()
@@ -229,8 +229,8 @@ fn push_jacobian(m: &Model, kin: &KinData, nodes: [usize; 2], jac: [Force; 2], o
     for side in 0..2 {
         let (mut i, mut f) = (nodes[side], jac[side]);
         while i != WORLD {
-            for r in 0..m.jnt_type[i].nv() {
-                out[start + m.jnt_dofadr[i] + r] += kin.s[i][r].dot(&f);
+            for r in 0..m.node_nv[i] {
+                out[start + m.node_dofadr[i] + r] += kin.s[i][r].dot(&f);
             }
             f = kin.x_up[i].inv_apply_force(&f);
             i = m.node_parent[i];

@@ -29,7 +29,7 @@ impl Rng {
 }
 
 /// A random kinematic tree in MJCF with every joint type: `n` bodies, a free or hinged root, some
-/// bodies carrying two joints, random geoms (box, capsule, sphere, ellipsoid, cylinder) at random
+/// bodies carrying two or three joints, random geoms (box, capsule, sphere, ellipsoid, cylinder) at random
 /// poses, random armature and damping.
 pub fn random_tree_mjcf(n: usize, free_root: bool, seed: u64) -> String {
     random_tree_mjcf_with(n, free_root, seed, true)
@@ -48,7 +48,12 @@ pub fn random_tree_mjcf_with(n: usize, free_root: bool, seed: u64, passive: bool
         if i == 0 && free_root {
             s += "<freejoint/>";
         } else {
-            let nj = if r.below(4) == 0 { 2 } else { 1 };
+            // several joints in one body share a dynamics node (up to six dofs, then a new one)
+            let nj = match r.below(8) {
+                0 => 3,
+                1 | 2 => 2,
+                _ => 1,
+            };
             for k in 0..nj {
                 let kind = ["hinge", "slide", "ball", "hinge"][r.below(4)];
                 s += &format!(
@@ -118,7 +123,7 @@ pub fn rel_err(a: &[f64], b: &[f64]) -> f64 {
 /// Total spatial momentum in world coordinates about the world origin: (angular, linear).
 pub fn world_momentum(m: &Model, kin: &KinData) -> (DVec3, DVec3) {
     let (mut ang, mut lin) = (DVec3::ZERO, DVec3::ZERO);
-    for i in 0..m.njnt {
+    for i in 0..m.nnode {
         let h: Force = m.node_inertia[i].mul_motion(&kin.v[i]);
         let (rot, pos) = (kin.node_rot[i], kin.node_pos[i]);
         let l = rot * h.lin;
@@ -130,13 +135,13 @@ pub fn world_momentum(m: &Model, kin: &KinData) -> (DVec3, DVec3) {
 
 /// Kinetic energy ½ Σ vᵢᵀ Iᵢ vᵢ.
 pub fn kinetic_energy(m: &Model, kin: &KinData) -> f64 {
-    (0..m.njnt).map(|i| 0.5 * kin.v[i].dot(&m.node_inertia[i].mul_motion(&kin.v[i]))).sum()
+    (0..m.nnode).map(|i| 0.5 * kin.v[i].dot(&m.node_inertia[i].mul_motion(&kin.v[i]))).sum()
 }
 
 /// Gravitational potential energy −Σ m g·c.
 pub fn potential_energy(m: &Model, kin: &KinData) -> f64 {
     let mut e = 0.0;
-    for i in 0..m.njnt {
+    for i in 0..m.nnode {
         let c = kin.node_pos[i] + kin.node_rot[i] * m.node_inertia[i].com;
         e -= m.node_inertia[i].mass * m.opt.gravity.dot(c);
     }
