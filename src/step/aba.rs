@@ -27,7 +27,7 @@ pub struct AbaData {
     /// U_i columns (nnode × 6).
     pub u_mat: Vec<[Force; 6]>,
     /// D_i for [`solve_d`]: 1/D_i for one dof, else the Cholesky factor L (D_i = L Lᵀ, lower
-    /// triangle row-major in a 6 × 6 block) (nnode).
+    /// triangle row-major in a 6 × 6 block, diagonal stored as 1/L_jj) (nnode).
     pub d_fac: Vec<[f64; 36]>,
     /// u_i (nnode × 6).
     pub u: Vec<[f64; 6]>,
@@ -95,7 +95,7 @@ pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut Ab
                 for q in 0..r {
                     col -= v[q] * d[r * 6 + q];
                 }
-                v[r] = col * (1.0 / d[r * 6 + r]);
+                v[r] = col * d[r * 6 + r];
                 ia_small.sub_outer(&v[r], &v[r], 1.0);
             }
         }
@@ -181,8 +181,8 @@ pub fn joint_accel(m: &Model, kin: &KinData, aba: &AbaData, i: usize, u: &[f64; 
 }
 
 /// Factorises a symmetric positive-definite k × k matrix D (row-major in a 6 × 6 block) in place
-/// for [`solve_d`]: 1/D for k = 1, else its Cholesky factor L (D = L Lᵀ). Returns false, leaving
-/// zeros, when D is not positive definite.
+/// for [`solve_d`]: 1/D for k = 1, else its Cholesky factor L (D = L Lᵀ) with 1/L_jj on the
+/// diagonal, so solves multiply. Returns false, leaving zeros, when D is not positive definite.
 pub fn factorise(k: usize, d: &mut [f64; 36]) -> bool {
     if k == 1 {
         let ok = d[0] > 1e-300 && d[0].is_finite();
@@ -199,14 +199,14 @@ pub fn factorise(k: usize, d: &mut [f64; 36]) -> bool {
             *d = [0.0; 36];
             return false;
         }
-        let ljj = s.sqrt();
-        d[j * 6 + j] = ljj;
+        let inv = 1.0 / s.sqrt();
+        d[j * 6 + j] = inv;
         for i in j + 1..k {
             let mut s = d[i * 6 + j];
             for q in 0..j {
                 s -= d[i * 6 + q] * d[j * 6 + q];
             }
-            d[i * 6 + j] = s / ljj;
+            d[i * 6 + j] = s * inv;
         }
     }
     true
@@ -224,13 +224,13 @@ pub fn solve_d(k: usize, d: &[f64; 36], x: &mut [f64; 6]) {
         for q in 0..i {
             s -= d[i * 6 + q] * x[q];
         }
-        x[i] = s / d[i * 6 + i];
+        x[i] = s * d[i * 6 + i];
     }
     for i in (0..k).rev() {
         let mut s = x[i];
         for q in i + 1..k {
             s -= d[q * 6 + i] * x[q];
         }
-        x[i] = s / d[i * 6 + i];
+        x[i] = s * d[i * 6 + i];
     }
 }
