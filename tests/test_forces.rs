@@ -8,7 +8,7 @@ mod common;
 use common::{random_state, random_tree_mjcf, Rng};
 use sinew::dynamics::crba::{cholesky_solve, crba};
 use sinew::math::{DVec3, Motion};
-use sinew::model::{Model, WORLD};
+use sinew::model::{GeomType, Model, WORLD};
 use sinew::step::collision::Contact;
 use sinew::step::constraint::{self, ConstraintData, RowKind};
 use sinew::step::{aba, integrate, kinematics};
@@ -85,6 +85,8 @@ fn check(xml: &str, seed: u64) {
     // a world geom to stand for the ground: index past the end maps to the world below
     let mut m2 = m.clone();
     m2.geom_body.push(0);
+    m2.geom_type.push(GeomType::Plane);
+    m2.geom_size.push([1.0; 3]);
     m2.ngeom += 1;
     for c in &mut contacts {
         if c.geom2 == usize::MAX {
@@ -111,28 +113,32 @@ fn check(xml: &str, seed: u64) {
         }
     }
     assert!(worst <= 1e-9, "K vs J M⁻¹ Jᵀ: rel err {worst:e} (seed {seed})");
-    check_arc(&m, &q, &v, &con, seed);
+    check_arc(&m, &data.kin, &q, &v, &con, seed);
 }
 
-/// The arc term J̇ q̇ · n of each contact normal row equals the second derivative of its gap, the
-/// row's body-fixed points moved along the constant-velocity path q ⊕ t q̇ (central differences).
-fn check_arc(m: &Model, q: &[f64], v: &[f64], con: &ConstraintData, seed: u64) {
-    let gap_at = |t: f64, j: usize| {
+/// The arc terms J̇ q̇ · n of each contact normal row, of its contact points and of its centres,
+/// equal the second derivative of the gap between those body-fixed points moved along the
+/// constant-velocity path q ⊕ t q̇ (central differences).
+fn check_arc(m: &Model, kin0: &kinematics::KinData, q: &[f64], v: &[f64], con: &ConstraintData, seed: u64) {
+    let gap_at = |t: f64, j: usize, pts: [DVec3; 2]| {
         let mut qt = q.to_vec();
         integrate::integrate_pos(m, &mut qt, v, t);
         let mut kin = kinematics::KinData::new(m);
         kinematics::forward(m, &qt, v, &mut kin);
         let point = |side: usize| {
-            let (n, p) = (con.node[j][side], con.point[j][side]);
+            let (n, p) = (con.node[j][side], pts[side]);
             if n == WORLD { p } else { kin.node_rot[n] * p + kin.node_pos[n] }
         };
         con.dir[j].dot(point(0) - point(1))
     };
     let eps = 1e-4;
     for j in (0..con.len()).filter(|&j| con.kind[j] == RowKind::Normal) {
-        let second = (gap_at(eps, j) - 2.0 * gap_at(0.0, j) + gap_at(-eps, j)) / (eps * eps);
-        let scale = 1.0 + con.arc[j].abs();
-        assert!((second - con.arc[j]).abs() <= 1e-5 * scale, "arc {} vs finite differences {second} (seed {seed})", con.arc[j]);
+        let arcs = constraint::arcs(kin0, con, j);
+        for (arc, pts) in arcs.into_iter().zip([con.point[j], con.centre[j]]) {
+            let second = (gap_at(eps, j, pts) - 2.0 * gap_at(0.0, j, pts) + gap_at(-eps, j, pts)) / (eps * eps);
+            let scale = 1.0 + arc.abs();
+            assert!((second - arc).abs() <= 1e-5 * scale, "arc {arc} vs finite differences {second} (seed {seed})");
+        }
     }
 }
 

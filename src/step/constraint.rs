@@ -7,7 +7,7 @@
 use glam::DVec3;
 
 use crate::math::{Force, Motion};
-use crate::model::{Actuation, FrictionModel, Model, WORLD};
+use crate::model::{Actuation, FrictionModel, GeomType, Model, WORLD};
 
 use super::aba::AbaData;
 use super::collision::Contact;
@@ -92,10 +92,12 @@ pub struct ConstraintData {
     pub cap: Vec<f64>,
     /// Signed distance (normal and limit rows).
     pub dist: Vec<f64>,
-    /// Normal component of the contact points' relative velocity-product acceleration J̇ q̇
-    /// (normal rows; zero for the others): the step's q ← q ⊕ lever q̇⁺ moves the points on arcs,
-    /// whose second-order part is half what the row's linear prediction counts.
-    pub arc: Vec<f64>,
+    /// Velocity added to a normal row's end-of-step target (zero for the other rows) so that the
+    /// gap after q ← q ⊕ lever q̇⁺ is at least the row's linear prediction (`arc_lift`).
+    pub lift: Vec<f64>,
+    /// Per side, the point whose motion the gap follows, in node coordinates (normal rows): a
+    /// sphere's or capsule's centre of curvature, else the contact point itself.
+    pub centre: Vec<[DVec3; 2]>,
     /// Source contact index (contacts) or joint (limits).
     pub source: Vec<usize>,
     /// Row whose force direction is the negation of this one's (pyramid ±t), or usize::MAX: its
@@ -152,7 +154,8 @@ impl ConstraintData {
         self.desired.clear();
         self.cap.clear();
         self.dist.clear();
-        self.arc.clear();
+        self.lift.clear();
+        self.centre.clear();
         self.source.clear();
         self.mirror.clear();
     }
@@ -170,7 +173,8 @@ impl ConstraintData {
         self.desired.push(0.0);
         self.cap.push(f64::INFINITY);
         self.dist.push(0.0);
-        self.arc.push(0.0);
+        self.lift.push(0.0);
+        self.centre.push(point);
         self.source.push(source);
         self.mirror.push(usize::MAX);
     }
@@ -194,6 +198,33 @@ fn point_accel(kin: &KinData, a: &[Motion], g: DVec3, n: usize, r: DVec3) -> DVe
 /// World velocity of the point with node coordinates `r` on node `n`.
 fn point_vel(kin: &KinData, n: usize, r: DVec3) -> DVec3 {
     if n == WORLD { DVec3::ZERO } else { kin.node_rot[n] * kin.v[n].point_velocity(r) }
+}
+
+/// Velocity-product accelerations a_i = X a_λ + c_i (q̈ = 0, no gravity): J̇ q̇ of any point.
+fn velocity_products(m: &Model, kin: &KinData, a_vp: &mut [Motion]) {
+    for i in 0..m.nnode {
+        let p = m.node_parent[i];
+        let a_parent = if p == WORLD { Motion::ZERO } else { a_vp[p] };
+        a_vp[i] = kin.x_up[i].apply_motion(&a_parent) + kin.c[i];
+    }
+}
+
+/// The end-of-step target's lift of normal row j. The row predicts the gap after
+/// q ← q ⊕ lever q̇⁺ linearly, counting the contact point's velocity-product acceleration J̇_p q̇·n
+/// for a time h; the gap follows the centres (`ConstraintData::centre`), which move on arcs of
+/// second order ½ lever² J̇_c q̇·n. The difference, h J̇_p q̇·n − ½ lever J̇_c q̇·n as a velocity, is
+/// added to the target where positive (a point on a turning sphere, whose centripetal
+/// acceleration J̇_p adds to the centre's, would otherwise let the sphere sink by ½ h² r ω²).
+fn arc_lift(kin: &KinData, out: &ConstraintData, j: usize, h: f64, lever: f64) -> f64 {
+    let [arc_point, arc_centre] = arcs(kin, out, j);
+    (h * arc_point - 0.5 * lever * arc_centre).max(0.0)
+}
+
+/// J̇ q̇ · n of normal row j's contact points and of its centres, relative (side 1 − side 2).
+pub fn arcs(kin: &KinData, out: &ConstraintData, j: usize) -> [f64; 2] {
+    let n = out.node[j];
+    let vp = |side: usize, r: DVec3| point_accel(kin, &out.a_vp, DVec3::ZERO, n[side], r);
+    [out.point[j], out.centre[j]].map(|p| out.dir[j].dot(vp(0, p[0]) - vp(1, p[1])))
 }
 
 /// The contact row's spatial forces on its two nodes per unit force along world direction `dir`
@@ -234,12 +265,7 @@ pub fn rows(
     out.clear();
     let (h, lever) = (m.opt.timestep, m.opt.lever());
     if !contacts.is_empty() {
-        // velocity-product accelerations: a_i = X a_λ + c_i with q̈ = 0 and no gravity
-        for i in 0..m.nnode {
-            let p = m.node_parent[i];
-            let a_parent = if p == WORLD { Motion::ZERO } else { out.a_vp[p] };
-            out.a_vp[i] = kin.x_up[i].apply_motion(&a_parent) + kin.c[i];
-        }
+        velocity_products(m, kin, &mut out.a_vp);
     }
     for (ci, c) in contacts.iter().enumerate() {
         let nodes = [node_of_geom(m, c.geom1), node_of_geom(m, c.geom2)];
@@ -248,13 +274,21 @@ pub fn rows(
         let vrel = point_vel(kin, nodes[0], pts[0]) - point_vel(kin, nodes[1], pts[1]);
         let g = m.opt.gravity;
         let arel = point_accel(kin, &aba.a, g, nodes[0], pts[0]) - point_accel(kin, &aba.a, g, nodes[1], pts[1]);
-        let arc = c.normal.dot(point_accel(kin, &out.a_vp, DVec3::ZERO, nodes[0], pts[0]) - point_accel(kin, &out.a_vp, DVec3::ZERO, nodes[1], pts[1]));
         let normal_row = out.len();
         out.push(RowKind::Normal, nodes, pts, c.normal, (0, 0.0), c.mu, ci);
         out.vel[normal_row] = c.normal.dot(vrel);
         out.jac[normal_row] = jacobian(kin, nodes, pts, c.normal);
         out.dist[normal_row] = c.dist;
-        out.arc[normal_row] = arc;
+        // a sphere's or capsule's surface is a radius from its centre along the normal (+n points
+        // into geom1; `pos` lies midway between the surfaces)
+        let centre = |g: usize, sign: f64, n: usize, p: DVec3| match m.geom_type[g] {
+            GeomType::Sphere | GeomType::Capsule if n != WORLD => {
+                p + kin.node_rot[n].transpose() * c.normal * (sign * (m.geom_size[g][0] + 0.5 * c.dist))
+            }
+            _ => p,
+        };
+        out.centre[normal_row] = [centre(c.geom1, 1.0, nodes[0], pts[0]), centre(c.geom2, -1.0, nodes[1], pts[1])];
+        out.lift[normal_row] = arc_lift(kin, out, normal_row, h, lever);
         if c.friction && c.mu > 0.0 {
             let vt = vrel - c.normal * c.normal.dot(vrel);
             let at = arel - c.normal * c.normal.dot(arel);
@@ -337,7 +371,13 @@ fn motion_target(m: &Model, a: usize, kp: f64, kd: f64, qpos: &[f64], qvel: &[f6
 /// depend on the configuration only and are kept.
 #[allow(clippy::too_many_arguments)]
 pub fn refresh(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f64], ctrl: &[f64], feedforward: &[f64], qacc0: &[f64], out: &mut ConstraintData) {
+    if out.kind.contains(&RowKind::Normal) {
+        velocity_products(m, kin, &mut out.a_vp);
+    }
     for j in 0..out.len() {
+        if out.kind[j] == RowKind::Normal {
+            out.lift[j] = arc_lift(kin, out, j, m.opt.timestep, m.opt.lever());
+        }
         out.vel[j] = match out.kind[j] {
             RowKind::Normal | RowKind::Tangent { .. } => {
                 let [n0, n1] = out.node[j];

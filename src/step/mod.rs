@@ -350,10 +350,9 @@ fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
     data.force.resize(n, 0.0);
     let con = &data.con;
     let q = &mut data.lcp_q;
-    // a contact point moves on an arc: its gap after q ← q ⊕ lever q̇⁺ is the row's linear
-    // prediction minus (h lever − lever²/2) J̇q̇·n, which the end-of-step target makes up where the
-    // arc dips toward the surface (the h²ω²r/2 that post-stabilisation would otherwise remove)
-    let arc_lift = |j: usize| (h - 0.5 * lever) * con.arc[j].max(0.0);
+    // contact points and centres move on arcs the rows' linear prediction leaves out
+    // (`constraint::arc_lift`): the end-of-step targets make up for it
+    let arc_lift = |j: usize| con.lift[j];
     for j in 0..nr {
         let (vel, dist) = (con.vel[j], con.dist[j]);
         // desired values: acceleration a^d, or velocity change Δv^d for impacts

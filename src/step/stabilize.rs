@@ -8,10 +8,10 @@
 //! is pushed past its limit.
 //!
 //! Why: a contact row makes its predicted gap close at the step's end, and the prediction carries
-//! the arc a turning body's point moves on to second order (`ConstraintData::arc`), but not
-//! beyond, nor a rolling surface's contact point moving over it; and the contact forces can turn a
-//! body so that a point without a row reaches the floor. Baumgarte terms alone remove that only
-//! over several steps.
+//! the arcs a turning body's point and a sphere's or capsule's centre move on to second order
+//! (`ConstraintData::lift`), but not beyond, nor a box face's contact point sliding over it; and
+//! the contact forces can turn a body so that a point without a row reaches the floor. Baumgarte
+//! terms alone remove that only over several steps.
 
 use glam::DVec3;
 
