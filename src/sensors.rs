@@ -74,8 +74,7 @@ pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64]
             (DVec3::ZERO, DVec3::ZERO)
         } else {
             let vn = kin.v[n];
-            let rot = kin.node_rot[n];
-            (rot * vn.ang, rot * vn.point_velocity(m.body_offset[b].r))
+            (vn.ang, vn.point_velocity(kin.xpos[b] - kin.origin))
         };
         out.xvel[6 * b..6 * b + 3].copy_from_slice(&w.to_array());
         out.xvel[6 * b + 3..6 * b + 6].copy_from_slice(&v.to_array());
@@ -117,7 +116,7 @@ pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64]
     }
     // velocity-level time stepping solves for impulses over the step
     let per_force = if m.opt.constraint_mode == ConstraintMode::Velocity { 1.0 / m.opt.timestep } else { 1.0 };
-    // spatial constraint forces per node, node coordinates, for J^T f
+    // spatial constraint forces per node (world coordinates about the kinematics' origin), for Jᵀ f
     node_f.fill(Force::ZERO);
     for (ci, c) in coll.contacts.iter().enumerate() {
         let mut f = DVec3::ZERO;
@@ -140,8 +139,7 @@ pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64]
             }
             let n = m.body_node[b];
             if n != WORLD {
-                let rt = kin.node_rot[n].transpose();
-                node_f[n] += Force::at_point(rt * (c.pos - kin.node_pos[n]), rt * fs);
+                node_f[n] += Force::at_point(c.pos - kin.origin, fs);
             }
         }
     }
@@ -152,7 +150,7 @@ pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64]
         }
         let p = m.node_parent[i];
         if p != WORLD {
-            let fp = kin.x_up[i].inv_apply_force(&node_f[i]);
+            let fp = node_f[i];
             node_f[p] += fp;
         }
     }

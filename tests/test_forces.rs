@@ -23,7 +23,7 @@ fn jacobian(m: &Model, data: &Data, con: &ConstraintData) -> Vec<Vec<f64>> {
         let mut a = vec![Motion::ZERO; m.nnode];
         for i in 0..m.nnode {
             let p = m.node_parent[i];
-            let mut ai = if p == WORLD { Motion::ZERO } else { kin.x_up[i].apply_motion(&a[p]) };
+            let mut ai = if p == WORLD { Motion::ZERO } else { a[p] };
             for r in 0..m.node_nv[i] {
                 if m.node_dofadr[i] + r == dof {
                     ai += kin.s[i][r];
@@ -41,8 +41,8 @@ fn jacobian(m: &Model, data: &Data, con: &ConstraintData) -> Vec<Vec<f64>> {
                         if n == WORLD {
                             continue;
                         }
-                        let r = con.point[j][side];
-                        let w = kin.node_rot[n] * (a[n].lin + a[n].ang.cross(r));
+                        let r = kin.rel(n, con.point[j][side]);
+                        let w = a[n].lin + a[n].ang.cross(r);
                         acc += if side == 0 { w } else { -w };
                     }
                     con.dir[j].dot(acc)

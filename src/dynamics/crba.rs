@@ -8,11 +8,12 @@ use crate::step::kinematics::KinData;
 /// Dense joint-space inertia M(q) (nv × nv, row-major), armature included.
 pub fn crba(m: &Model, kin: &KinData) -> Vec<f64> {
     let nv = m.nv;
-    let mut ic = m.node_art.clone();
+    // composite inertias, all in the kinematics' world coordinates (no transforms)
+    let mut ic: Vec<_> = kin.inertia.iter().map(|i| i.to_art()).collect();
     for i in (0..m.nnode).rev() {
         let p = m.node_parent[i];
         if p != WORLD {
-            let moved = ic[i].to_parent(&kin.x_up[i]);
+            let moved = ic[i];
             ic[p].add(&moved);
         }
     }
@@ -20,7 +21,7 @@ pub fn crba(m: &Model, kin: &KinData) -> Vec<f64> {
     for i in 0..m.nnode {
         let di = m.node_dofadr[i];
         for r in 0..m.node_nv[i] {
-            let mut f: Force = ic[i].mul_motion(&kin.s[i][r]);
+            let f: Force = ic[i].mul_motion(&kin.s[i][r]);
             let mut j = i;
             loop {
                 let dj = m.node_dofadr[j];
@@ -33,7 +34,6 @@ pub fn crba(m: &Model, kin: &KinData) -> Vec<f64> {
                 if p == WORLD {
                     break;
                 }
-                f = kin.x_up[j].inv_apply_force(&f);
                 j = p;
             }
         }

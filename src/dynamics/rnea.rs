@@ -5,7 +5,8 @@ use crate::model::{Model, WORLD};
 use crate::step::kinematics::KinData;
 
 /// τ = ID(q, q̇, q̈) for the rigid bodies (armature and passive forces excluded), gravity as the
-/// fictitious base acceleration −g. `kin` must hold the kinematics of (q, q̇).
+/// fictitious base acceleration −g. `kin` must hold the kinematics of (q, q̇); in its world
+/// coordinates every ^iX_λ is the identity.
 pub fn rnea(m: &Model, kin: &KinData, qacc: &[f64]) -> Vec<f64> {
     let n = m.nnode;
     let mut a = vec![Motion::ZERO; n];
@@ -15,12 +16,12 @@ pub fn rnea(m: &Model, kin: &KinData, qacc: &[f64]) -> Vec<f64> {
     for i in 0..n {
         let p = m.node_parent[i];
         let ap = if p == WORLD { a0 } else { a[p] };
-        let mut ai = kin.x_up[i].apply_motion(&ap) + kin.c[i];
+        let mut ai = ap + kin.c[i];
         for k in 0..m.node_nv[i] {
             ai += kin.s[i][k] * qacc[m.node_dofadr[i] + k];
         }
         a[i] = ai;
-        let inertia = &m.node_inertia[i];
+        let inertia = &kin.inertia[i];
         f[i] = inertia.mul_motion(&ai) + kin.v[i].cross_force(&inertia.mul_motion(&kin.v[i]));
     }
     // pass 2: joint forces, leaves to root
@@ -31,7 +32,7 @@ pub fn rnea(m: &Model, kin: &KinData, qacc: &[f64]) -> Vec<f64> {
         }
         let p = m.node_parent[i];
         if p != WORLD {
-            let fp = kin.x_up[i].inv_apply_force(&f[i]);
+            let fp = f[i];
             f[p] += fp;
         }
     }

@@ -2,7 +2,7 @@
 
 use glam::{DMat3, DVec3};
 
-use super::{outer, skew, Force, Motion, Xform};
+use super::{outer, skew, Force, Motion};
 
 /// Rigid-body inertia: mass m, centre of mass c and rotational inertia I_c about the centre of mass,
 /// all in the body frame (Featherstone 2008, eq. 2.63).
@@ -65,18 +65,6 @@ impl SpatialInertia {
     }
 }
 
-/// `lt * m` for a product known to be symmetric (a congruence Eᵀ S E): the upper triangle formed,
-/// then mirrored.
-#[inline]
-fn sym_congruence(lt: &DMat3, m: &DMat3) -> DMat3 {
-    let row = |i: usize| DVec3::new(lt.x_axis[i], lt.y_axis[i], lt.z_axis[i]);
-    let (r0, r1, r2) = (row(0), row(1), row(2));
-    let (c0, c1, c2) = (m.x_axis, m.y_axis, m.z_axis);
-    let (m00, m01, m02) = (r0.dot(c0), r0.dot(c1), r0.dot(c2));
-    let (m11, m12, m22) = (r1.dot(c1), r1.dot(c2), r2.dot(c2));
-    DMat3::from_cols(DVec3::new(m00, m01, m02), DVec3::new(m01, m11, m12), DVec3::new(m02, m12, m22))
-}
-
 /// Symmetric 6×6 (articulated-body) inertia [[A, B], [Bᵀ, C]] acting on (ω, v) motions.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ArtInertia {
@@ -104,24 +92,6 @@ impl ArtInertia {
         Force { ang: self.a * m.ang + self.b * m.lin, lin: self.b.transpose() * m.ang + self.c * m.lin }
     }
 
-    /// Congruence Xᵀ I X: an inertia in child coordinates expressed in the parent's, for
-    /// X = ^iX_λ (Featherstone 2008, Table 7.1, I^A_λ += ^iX_λᵀ I^a_i ^iX_λ).
-    pub fn to_parent(&self, x: &Xform) -> ArtInertia {
-        // rotate: Eᵀ M E (A and C symmetric, so only their upper triangles are formed)
-        let et = x.e.transpose();
-        let a = sym_congruence(&et, &(self.a * x.e));
-        let b = et * self.b * x.e;
-        let c = sym_congruence(&et, &(self.c * x.e));
-        // translate by r (r× as cross products): A' = A + P + Pᵀ − r×C r×, B' = B + r×C,
-        // with P = r× Bᵀ
-        let r = x.r;
-        let cross_cols = |m: DMat3| DMat3::from_cols(r.cross(m.x_axis), r.cross(m.y_axis), r.cross(m.z_axis));
-        let p = cross_cols(b.transpose());
-        let rc = cross_cols(c);
-        let rcr = cross_cols(rc.transpose());
-        ArtInertia { a: a + p + p.transpose() + rcr, b: b + rc, c }
-    }
-
     /// Subtracts u₁ d u₂ᵀ (with its symmetric counterpart handled by the caller's loop).
     #[inline]
     pub fn sub_outer(&mut self, u1: &Force, u2: &Force, d: f64) {
@@ -142,6 +112,7 @@ impl ArtInertia {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::Xform;
     use glam::DQuat;
 
     #[test]
@@ -153,14 +124,12 @@ mod tests {
     }
 
     #[test]
-    fn congruence_matches_xt_i_x() {
+    fn rigid_inertia_moves_as_xt_i_x() {
         let i = SpatialInertia::new(2.5, DVec3::new(0.1, -0.2, 0.3), DMat3::from_diagonal(DVec3::new(0.4, 0.5, 0.6)));
         let x = Xform::from_pose_quat(DQuat::from_rotation_y(0.8) * DQuat::from_rotation_x(-0.3), DVec3::new(0.5, 1.0, -2.0));
         let m = Motion::new(DVec3::new(1.0, -2.0, 0.5), DVec3::new(0.3, 0.1, -0.7));
-        let direct = x.inv_apply_force(&i.to_art().mul_motion(&x.apply_motion(&m)));
-        let moved = i.to_art().to_parent(&x).mul_motion(&m);
-        assert!((direct.ang - moved.ang).length() < 1e-13 && (direct.lin - moved.lin).length() < 1e-13);
-        // the rigid-body form moved to the parent is the same inertia
+        // Xᵀ I X m, against the inertia moved to the parent frame
+        let direct = x.inv_apply_force(&i.mul_motion(&x.apply_motion(&m)));
         let (rot, pos) = x.pose();
         let rigid = i.to_parent(rot, pos).mul_motion(&m);
         assert!((direct.ang - rigid.ang).length() < 1e-13 && (direct.lin - rigid.lin).length() < 1e-13);

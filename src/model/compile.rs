@@ -103,7 +103,6 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         node_nv: vec![],
         node_xtree: vec![],
         node_inertia: vec![],
-        node_art: vec![],
         node_s: vec![],
         geom_name: vec![],
         geom_type: vec![],
@@ -113,7 +112,6 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         geom_quat: vec![],
         geom_mat: vec![],
         geom_rbound: vec![],
-        geom_node_pos: vec![],
         geom_friction: vec![],
         geom_contype: vec![],
         geom_conaffinity: vec![],
@@ -219,7 +217,6 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         let moved = inertia[b].to_parent(rot, pos);
         m.node_inertia[n] = m.node_inertia[n].combine(&moved);
     }
-    m.node_art = m.node_inertia.iter().map(SpatialInertia::to_art).collect();
 
     // geoms and sites
     for (b, body) in spec.bodies.iter().enumerate() {
@@ -232,8 +229,6 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
             m.geom_quat.push(g.quat);
             m.geom_mat.push(DMat3::from_quat(g.quat));
             m.geom_rbound.push(crate::step::collision::geom_rbound(g.kind, g.size));
-            let (rot, pos) = m.body_offset[b].pose();
-            m.geom_node_pos.push(pos + rot * g.pos);
             m.geom_friction.push(g.friction);
             m.geom_contype.push(g.contype);
             m.geom_conaffinity.push(g.conaffinity);

@@ -57,16 +57,6 @@ pub fn free_subspace(rot: DMat3, s: &mut [Motion; 6]) {
     }
 }
 
-/// Velocity-product term c_J = Ṡ q̇ in node coordinates: non-zero only for free joints, where
-/// d/dt(Rᵀ) v_world = −ω × v_body.
-#[inline]
-pub fn joint_bias(kind: JointType, v_joint: &Motion) -> Motion {
-    match kind {
-        JointType::Free => Motion::new(DVec3::ZERO, -v_joint.ang.cross(v_joint.lin)),
-        _ => Motion::ZERO,
-    }
-}
-
 /// `X_up` from the parent node frame to the node frame: the fixed tree transform, then the joint.
 #[inline]
 pub fn x_up(kind: JointType, xtree: &Xform, rot: DMat3, pos: DVec3) -> Xform {

@@ -12,7 +12,7 @@ pub mod joint;
 use glam::{DMat3, DQuat, DVec3};
 
 pub use crate::mjcf::{GeomType, Integrator, JointType};
-use crate::math::{ArtInertia, Motion, SpatialInertia, Xform};
+use crate::math::{Motion, SpatialInertia, Xform};
 
 /// Parent index of nodes attached to the world.
 pub const WORLD: usize = usize::MAX;
@@ -192,8 +192,6 @@ pub struct Model {
     pub node_xtree: Vec<Xform>,
     /// Rigid inertia carried by the node frame (its body plus welded descendants) (nnode).
     pub node_inertia: Vec<SpatialInertia>,
-    /// [`Model::node_inertia`] as 6×6 (nnode).
-    pub node_art: Vec<ArtInertia>,
     /// Each joint's constant motion-subspace columns in the frame that joint moves to, joint after
     /// joint; for a one-joint node these are S itself (free joints: filled per step) (nnode).
     pub node_s: Vec<[Motion; 6]>,
@@ -214,8 +212,6 @@ pub struct Model {
     pub geom_mat: Vec<DMat3>,
     /// Bounding radius about the geom centre; infinite for planes (ngeom).
     pub geom_rbound: Vec<f64>,
-    /// Geom centre in its body's dynamics-node coordinates (ngeom).
-    pub geom_node_pos: Vec<DVec3>,
     /// Friction (sliding, torsional, rolling) (ngeom).
     pub geom_friction: Vec<[f64; 3]>,
     /// Contact type bits (ngeom).

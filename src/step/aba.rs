@@ -1,5 +1,8 @@
 //! Featherstone's articulated-body algorithm (Featherstone 2008, §7.3, Table 7.1), split in two so
-//! the constraint stage can reuse the articulated inertias between the passes.
+//! the constraint stage can reuse the articulated inertias between the passes. Everything is in
+//! the world coordinates of [`KinData`] (about its `origin`), so every ^iX_λ of the table is the
+//! identity: a child's I^a and p^a add to its parent's as they are, and a parent's acceleration is
+//! its child's a'.
 //!
 //! | here      | Featherstone 2008 | meaning                                            |
 //! |-----------|-------------------|----------------------------------------------------|
@@ -31,7 +34,7 @@ pub struct AbaData {
     pub d_fac: Vec<[f64; 36]>,
     /// u_i (nnode × 6).
     pub u: Vec<[f64; 6]>,
-    /// Spatial accelerations a_i in node coordinates (nnode).
+    /// Spatial accelerations a_i (nnode).
     pub a: Vec<Motion>,
     /// A joint whose D_i was not positive definite in the last inward pass.
     pub singular_node: Option<usize>,
@@ -56,8 +59,10 @@ impl AbaData {
 /// `h_damp` adds h·damping to D (implicit damping of semi-implicit Euler, as MuJoCo's `Euler`).
 pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut AbaData) {
     // pass 1: rigid inertias and velocity-product bias forces v ×* I v
-    aba.ia.copy_from_slice(&m.node_art);
-    rigid_bias(m, kin, &mut aba.pa);
+    for (ia, inertia) in aba.ia.iter_mut().zip(&kin.inertia) {
+        *ia = inertia.to_art();
+    }
+    rigid_bias(kin, &mut aba.pa);
     aba.singular_node = None;
     let AbaData { ia: ia_all, pa: pa_all, u_mat, d_fac, u, singular_node, .. } = aba;
     // pass 2: leaves to root
@@ -100,17 +105,15 @@ pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut Ab
             }
         }
         let pa = articulated_bias(k, ia, um, d, ui, &kin.c[i], &pa_all[i]);
-        let x = kin.x_up[i];
-        let moved = ia_small.to_parent(&x);
-        ia_all[p].add(&moved);
-        pa_all[p] += x.inv_apply_force(&pa);
+        ia_all[p].add(&ia_small);
+        pa_all[p] += pa;
     }
 }
 
 /// The inward pass's bias terms p^A and u alone, for new velocities and forces `tau` on the
 /// configuration whose I^A, U and D's factor are already in `aba` (after an impulse).
 pub fn backward_bias(m: &Model, kin: &KinData, tau: &[f64], aba: &mut AbaData) {
-    rigid_bias(m, kin, &mut aba.pa);
+    rigid_bias(kin, &mut aba.pa);
     for i in (0..m.nnode).rev() {
         let k = m.node_nv[i];
         let da = m.node_dofadr[i];
@@ -122,13 +125,13 @@ pub fn backward_bias(m: &Model, kin: &KinData, tau: &[f64], aba: &mut AbaData) {
             continue;
         }
         let pa = articulated_bias(k, &aba.ia[i], &aba.u_mat[i], &aba.d_fac[i], &aba.u[i], &kin.c[i], &aba.pa[i]);
-        aba.pa[p] += kin.x_up[i].inv_apply_force(&pa);
+        aba.pa[p] += pa;
     }
 }
 
 /// Pass 1's velocity-product bias forces v_i ×* I_i v_i of the rigid bodies.
-fn rigid_bias(m: &Model, kin: &KinData, pa: &mut [Force]) {
-    for ((p, v), inertia) in pa.iter_mut().zip(&kin.v).zip(&m.node_inertia) {
+fn rigid_bias(kin: &KinData, pa: &mut [Force]) {
+    for ((p, v), inertia) in pa.iter_mut().zip(&kin.v).zip(&kin.inertia) {
         *p = v.cross_force(&inertia.mul_motion(v));
     }
 }
@@ -156,7 +159,7 @@ pub fn forward(m: &Model, kin: &KinData, aba: &mut AbaData, qacc: &mut [f64]) {
     for i in 0..m.nnode {
         let p = m.node_parent[i];
         let a_parent = if p == WORLD { a0 } else { aba.a[p] };
-        let a = kin.x_up[i].apply_motion(&a_parent) + kin.c[i];
+        let a = a_parent + kin.c[i];
         aba.a[i] = joint_accel(m, kin, aba, i, &aba.u[i], a, qacc);
     }
 }

@@ -157,11 +157,11 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData)
         } else {
             // bounds over the geom's points: centre value + angular part × bounding radius;
             // ABA's accelerations carry the base's fictitious −g, added back
-            let (v, a, centre) = (kin.v[n], aba.a[n], m.geom_node_pos[g]);
+            let (v, a, centre) = (kin.v[n], aba.a[n], out.geom_xpos[g] - kin.origin);
             let w = v.ang.length();
-            let ac = kin.node_rot[n] * (a.point_velocity(centre) + v.ang.cross(v.point_velocity(centre))) + m.opt.gravity;
+            let ac = a.point_velocity(centre) + v.ang.cross(v.point_velocity(centre)) + m.opt.gravity;
             let accel = ac.length() + (a.ang.length() + w * w) * m.geom_rbound[g];
-            lever * (speed_bound(m, g, &v) + h * accel)
+            lever * (speed_bound(m, g, &v, centre) + h * accel)
         };
     }
     for &(i, j) in &m.collision_pairs {
@@ -207,10 +207,11 @@ fn apart(m: &Model, cd: &CollisionData, i: usize, j: usize, margin: f64) -> bool
     (cd.geom_xpos[other] - cd.geom_xpos[plane]).dot(normal) > m.geom_rbound[other] + margin
 }
 
-/// Bound on the speed of any point of geom g under its node's velocity `v` (node coordinates).
+/// Bound on the speed of any point of geom g, whose centre is at `centre` (relative to the
+/// kinematics' origin), under its node's velocity `v`.
 #[inline]
-fn speed_bound(m: &Model, g: usize, v: &crate::math::Motion) -> f64 {
-    v.point_velocity(m.geom_node_pos[g]).length() + v.ang.length() * m.geom_rbound[g]
+fn speed_bound(m: &Model, g: usize, v: &crate::math::Motion, centre: DVec3) -> f64 {
+    v.point_velocity(centre).length() + v.ang.length() * m.geom_rbound[g]
 }
 
 /// The margin of the first detection: the pair's own plus its reach over the step.
@@ -230,7 +231,11 @@ pub fn reach_again(m: &Model, kin: &KinData, v_end: &[crate::math::Motion], out:
     let lever = m.opt.lever();
     for g in 0..m.ngeom {
         let n = m.body_node[m.geom_body[g]];
-        out.geom_speed_end[g] = if n == WORLD || m.geom_type[g] == GeomType::Plane { 0.0 } else { speed_bound(m, g, &v_end[n]) };
+        out.geom_speed_end[g] = if n == WORLD || m.geom_type[g] == GeomType::Plane {
+            0.0
+        } else {
+            speed_bound(m, g, &v_end[n], out.geom_xpos[g] - kin.origin)
+        };
     }
     let mut found = false;
     for &(i, j) in &m.collision_pairs {

@@ -76,7 +76,7 @@ pub struct ConstraintData {
     /// Point of application in each side's node coordinates.
     pub point: Vec<[DVec3; 2]>,
     /// Jacobian row per side, as the spatial force a unit row force applies to that side's node
-    /// (node coordinates): the row's velocity is Σ v_n · jac and a test force is −jac.
+    /// (world coordinates about `KinData::origin`): the row's velocity is Σ v_n · jac and a test force is −jac.
     pub jac: Vec<[Force; 2]>,
     /// Force direction in world coordinates (contacts).
     pub dir: Vec<DVec3>,
@@ -192,20 +192,21 @@ fn point_accel(kin: &KinData, a: &[Motion], g: DVec3, n: usize, r: DVec3) -> DVe
         return DVec3::ZERO;
     }
     let v = kin.v[n];
-    kin.node_rot[n] * (a[n].point_velocity(r) + v.ang.cross(v.point_velocity(r))) + g
+    let r = kin.rel(n, r);
+    a[n].point_velocity(r) + v.ang.cross(v.point_velocity(r)) + g
 }
 
 /// World velocity of the point with node coordinates `r` on node `n`.
 fn point_vel(kin: &KinData, n: usize, r: DVec3) -> DVec3 {
-    if n == WORLD { DVec3::ZERO } else { kin.node_rot[n] * kin.v[n].point_velocity(r) }
+    if n == WORLD { DVec3::ZERO } else { kin.v[n].point_velocity(kin.rel(n, r)) }
 }
 
-/// Velocity-product accelerations a_i = X a_λ + c_i (q̈ = 0, no gravity): J̇ q̇ of any point.
+/// Velocity-product accelerations a_i = a_λ + c_i (q̈ = 0, no gravity): J̇ q̇ of any point.
 fn velocity_products(m: &Model, kin: &KinData, a_vp: &mut [Motion]) {
     for i in 0..m.nnode {
         let p = m.node_parent[i];
         let a_parent = if p == WORLD { Motion::ZERO } else { a_vp[p] };
-        a_vp[i] = kin.x_up[i].apply_motion(&a_parent) + kin.c[i];
+        a_vp[i] = a_parent + kin.c[i];
     }
 }
 
@@ -228,14 +229,14 @@ pub fn arcs(kin: &KinData, out: &ConstraintData, j: usize) -> [f64; 2] {
 }
 
 /// The contact row's spatial forces on its two nodes per unit force along world direction `dir`
-/// (+dir on side 1, −dir on side 2), in node coordinates.
+/// (+dir on side 1, −dir on side 2), world coordinates about `kin.origin`.
 pub fn jacobian(kin: &KinData, nodes: [usize; 2], pts: [DVec3; 2], dir: DVec3) -> [Force; 2] {
     let mut jac = [Force::ZERO; 2];
     for side in 0..2 {
         let n = nodes[side];
         if n != WORLD {
             let sgn = if side == 0 { 1.0 } else { -1.0 };
-            jac[side] = Force::at_point(pts[side], kin.node_rot[n].transpose() * dir * sgn);
+            jac[side] = Force::at_point(kin.rel(n, pts[side]), dir * sgn);
         }
     }
     jac
@@ -489,7 +490,7 @@ fn measure(m: &Model, kin: &KinData, cd: &ConstraintData, j: usize, what: Measur
     cd.dir[j].dot(point_accel(kin, &aba.a, g, n0, p0) - point_accel(kin, &aba.a, g, n1, p1))
 }
 
-/// Response of the articulated system to the test forces in `dpa` (node coordinates) or the unit
+/// Response of the articulated system to the test forces in `dpa` (world coordinates) or the unit
 /// joint torque `dtau` = (dof, value): a delta ABA with the inertias of the main pass (velocity
 /// terms cancel). Writes Δq̈ into `dqdd` and spatial Δa into `da`; leaves `dpa` modified.
 #[allow(clippy::too_many_arguments)]
@@ -503,7 +504,7 @@ pub fn delta_pass(
     da: &mut [Motion],
     dqdd: &mut [f64],
 ) {
-    // inward: δu_i = δτ_i − S_iᵀ δp^A_i;  δp^A_λ += Xᵀ (δp^A_i + U_i D_i⁻¹ δu_i); nodes off the
+    // inward: δu_i = δτ_i − S_iᵀ δp^A_i;  δp^A_λ += δp^A_i + U_i D_i⁻¹ δu_i; nodes off the
     // test force's path to the root have δp^A = 0 and δu = 0
     for i in (0..m.nnode).rev() {
         let k = m.node_nv[i];
@@ -530,13 +531,12 @@ pub fn delta_pass(
         for r in 0..k {
             pa += aba.u_mat[i][r] * w[r];
         }
-        let moved = kin.x_up[i].inv_apply_force(&pa);
-        dpa[p] += moved;
+        dpa[p] += pa;
     }
-    // outward: δa'_i = X δa_λ;  δq̈_i = D⁻¹(δu_i − Uᵀ δa'_i);  δa_i = δa'_i + S δq̈_i
+    // outward: δa'_i = δa_λ;  δq̈_i = D⁻¹(δu_i − Uᵀ δa'_i);  δa_i = δa'_i + S δq̈_i
     for i in 0..m.nnode {
         let p = m.node_parent[i];
-        let a = if p == WORLD { Motion::ZERO } else { kin.x_up[i].apply_motion(&da[p]) };
+        let a = if p == WORLD { Motion::ZERO } else { da[p] };
         da[i] = super::aba::joint_accel(m, kin, aba, i, &du[i], a, dqdd);
     }
 }

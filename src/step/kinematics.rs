@@ -1,28 +1,34 @@
 //! Stage 1 — forward kinematics and velocities (Featherstone 2008, Table 7.1, pass 1 without the
-//! inertia terms). Reads qpos, qvel; writes node transforms X_up, world poses, motion subspaces S,
-//! spatial velocities v and velocity-product accelerations c, and body world poses.
+//! inertia terms), in world coordinates: every spatial quantity is expressed in world axes about
+//! one reference point per evaluation, `origin` (the first node's origin, so the numbers stay of
+//! the model's size wherever it is), as MuJoCo evaluates its recursions; with all transforms
+//! between nodes the identity, the dynamics passes carry nothing from node to node. Reads qpos,
+//! qvel; writes node world poses, motion subspaces S, spatial velocities v, velocity-product
+//! accelerations c, rigid inertias, and body world poses.
 
 use glam::{DMat3, DVec3};
 
-use crate::math::{Motion, Xform};
-use crate::model::joint::{free_subspace, joint_bias, joint_pose, x_up};
+use crate::math::{Motion, SpatialInertia, Xform};
+use crate::model::joint::{free_subspace, joint_pose, x_up};
 use crate::model::{JointType, Model, WORLD};
 
 /// Kinematic quantities of one configuration and velocity.
 #[derive(Clone, Debug, Default)]
 pub struct KinData {
-    /// ^iX_λ(i): parent node frame → node frame (nnode).
-    pub x_up: Vec<Xform>,
+    /// Reference point of the spatial quantities below, world coordinates.
+    pub origin: DVec3,
     /// Node frame axes in world (nnode).
     pub node_rot: Vec<DMat3>,
     /// Node frame origin in world (nnode).
     pub node_pos: Vec<DVec3>,
-    /// Motion subspace columns S_i in node coordinates (nnode).
+    /// Motion subspace columns S_i (nnode).
     pub s: Vec<[Motion; 6]>,
-    /// Spatial velocity v_i in node coordinates (nnode).
+    /// Spatial velocity v_i (nnode).
     pub v: Vec<Motion>,
-    /// Velocity-product acceleration c_i = c_J + v_i ×m S_i q̇_i (nnode).
+    /// Velocity-product acceleration c_i = Ṡ_i q̇_i (nnode).
     pub c: Vec<Motion>,
+    /// Rigid inertia carried by each node (nnode).
+    pub inertia: Vec<SpatialInertia>,
     /// Body frame axes in world (nbody), as MuJoCo's `xmat`.
     pub xmat: Vec<DMat3>,
     /// Body frame origin in world (nbody), as MuJoCo's `xpos`.
@@ -33,15 +39,23 @@ impl KinData {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
         KinData {
-            x_up: vec![Xform::IDENTITY; m.nnode],
+            origin: DVec3::ZERO,
             node_rot: vec![DMat3::IDENTITY; m.nnode],
             node_pos: vec![DVec3::ZERO; m.nnode],
-            s: m.node_s.clone(),
+            s: vec![[Motion::ZERO; 6]; m.nnode],
             v: vec![Motion::ZERO; m.nnode],
             c: vec![Motion::ZERO; m.nnode],
+            inertia: vec![SpatialInertia::ZERO; m.nnode],
             xmat: vec![DMat3::IDENTITY; m.nbody],
             xpos: vec![DVec3::ZERO; m.nbody],
         }
+    }
+
+    /// Position relative to `origin` of the point with node coordinates `p` on node `n` (world
+    /// coordinates for [`WORLD`]).
+    #[inline]
+    pub fn rel(&self, n: usize, p: DVec3) -> DVec3 {
+        if n == WORLD { p - self.origin } else { self.node_rot[n] * p + self.node_pos[n] - self.origin }
     }
 }
 
@@ -51,29 +65,36 @@ pub fn forward(m: &Model, qpos: &[f64], qvel: &[f64], kin: &mut KinData) {
     body_poses(m, kin);
 }
 
-/// The nodes' part of [`KinData`] (X_up, poses, S, v, c): everything the dynamics reads, without
-/// the bodies' world poses (RK4's inner stages).
+/// The nodes' part of [`KinData`] (poses, S, v, c, inertias): everything the dynamics reads,
+/// without the bodies' world poses (RK4's inner stages).
 pub fn forward_nodes(m: &Model, qpos: &[f64], qvel: &[f64], kin: &mut KinData) {
+    let mut s_local = [Motion::ZERO; 6];
     for i in 0..m.nnode {
-        let xu = node_transform(m, i, qpos, &mut kin.s[i]);
-        // world pose and velocity, from the parent's
+        let xu = node_transform(m, i, qpos, &mut s_local);
+        // world pose, from the parent's
         let (lrot, lpos) = xu.pose();
         let p = m.node_parent[i];
-        let (v_parent, (prot, ppos)) = if p == WORLD {
-            (Motion::ZERO, (DMat3::IDENTITY, DVec3::ZERO))
-        } else {
-            (kin.v[p], (kin.node_rot[p], kin.node_pos[p]))
-        };
-        kin.node_rot[i] = prot * lrot;
-        kin.node_pos[i] = ppos + prot * lpos;
-        kin.x_up[i] = xu;
+        let (prot, ppos) = if p == WORLD { (DMat3::IDENTITY, DVec3::ZERO) } else { (kin.node_rot[p], kin.node_pos[p]) };
+        let (rot, pos) = (prot * lrot, ppos + prot * lpos);
+        if i == 0 {
+            kin.origin = pos;
+        }
+        (kin.node_rot[i], kin.node_pos[i]) = (rot, pos);
+        // S and the rigid inertia from node coordinates to world about the origin
+        let r = pos - kin.origin;
+        for (sw, sl) in kin.s[i].iter_mut().zip(&s_local).take(m.node_nv[i]) {
+            let ang = rot * sl.ang;
+            *sw = Motion::new(ang, rot * sl.lin + r.cross(ang));
+        }
+        kin.inertia[i] = m.node_inertia[i].to_parent(rot, r);
+        let v_parent = if p == WORLD { Motion::ZERO } else { kin.v[p] };
         velocity(m, kin, i, v_parent, &qvel[m.node_dofadr[i]..]);
     }
 }
 
-/// X_up of node i, writing its q-dependent subspace columns into `s`. A node of several joints
-/// composes them in order (Featherstone 2008, §4.2): each earlier column is carried into the frame
-/// the later joint moves to, so S ends in node coordinates.
+/// X_up of node i (node coordinates), writing its subspace columns in node coordinates into `s`.
+/// A node of several joints composes them in order (Featherstone 2008, §4.2): each earlier column
+/// is carried into the frame the later joint moves to, so S ends in node coordinates.
 #[inline]
 fn node_transform(m: &Model, i: usize, qpos: &[f64], s: &mut [Motion; 6]) -> Xform {
     let j0 = m.node_jntadr[i];
@@ -83,6 +104,8 @@ fn node_transform(m: &Model, i: usize, qpos: &[f64], s: &mut [Motion; 6]) -> Xfo
         let (rot, pos) = joint_pose(kind, m.jnt_pos[j0], m.jnt_axis[j0], m.qpos0[qa], &qpos[qa..]);
         if kind == JointType::Free {
             free_subspace(rot, s);
+        } else {
+            s[..kind.nv()].copy_from_slice(&m.node_s[i][..kind.nv()]);
         }
         return x_up(kind, &m.node_xtree[i], rot, pos);
     }
@@ -102,6 +125,7 @@ fn node_transform(m: &Model, i: usize, qpos: &[f64], s: &mut [Motion; 6]) -> Xfo
     }
     xu
 }
+
 /// Bodies' world poses from their nodes'.
 fn body_poses(m: &Model, kin: &mut KinData) {
     for b in 1..m.nbody {
@@ -118,21 +142,24 @@ fn body_poses(m: &Model, kin: &mut KinData) {
     }
 }
 
-/// v_i and c_i of node i from its parent's velocity and its dofs' velocities `qd`.
-/// c_i = c_J + Σ_j v_j ×m v_Jj over the node's joints j, where v_j, the velocity of the frame joint
-/// j moves, is v_i less the joint velocities after j (Featherstone 2008, eq. 4.29 per joint).
+/// v_i and c_i of node i from its parent's velocity and its dofs' velocities `qd`: v_i = v_λ + S q̇
+/// and c_i = Σ_j v_j ×m v_Jj over the node's joints j (a column fixed in the frame joint j moves
+/// has Ṡ = v_j × S), where v_j, that frame's velocity, is v_i less the joint velocities after j.
+/// A free joint's linear columns are fixed in the world instead: its c is (0, ṗ × ω).
 #[inline]
 fn velocity(m: &Model, kin: &mut KinData, i: usize, v_parent: Motion, qd: &[f64]) {
     let s = &kin.s[i];
-    let mut v = kin.x_up[i].apply_motion(&v_parent);
     let mut vj_all = Motion::ZERO;
     for k in 0..m.node_nv[i] {
         vj_all += s[k] * qd[k];
     }
-    v += vj_all;
+    let v = v_parent + vj_all;
     let j0 = m.node_jntadr[i];
     let c = if m.node_jntnum[i] == 1 {
-        joint_bias(m.jnt_type[j0], &vj_all) + v.cross_motion(&vj_all)
+        match m.jnt_type[j0] {
+            JointType::Free => Motion::new(DVec3::ZERO, DVec3::new(qd[0], qd[1], qd[2]).cross(v.ang)),
+            _ => v.cross_motion(&vj_all),
+        }
     } else {
         let (mut c, mut vj_frame, mut end) = (Motion::ZERO, v, m.node_nv[i]);
         for j in (j0..j0 + m.node_jntnum[i]).rev() {
@@ -160,12 +187,12 @@ pub fn forward_velocity(m: &Model, qvel: &[f64], kin: &mut KinData) {
     }
 }
 
-/// Spatial velocities alone, for another `qvel` on the configuration already in `kin` (X_up, S).
+/// Spatial velocities alone, for another `qvel` on the configuration already in `kin` (S).
 pub fn velocities(m: &Model, kin: &KinData, qvel: &[f64], v: &mut [Motion]) {
     for i in 0..m.nnode {
         let da = m.node_dofadr[i];
         let p = m.node_parent[i];
-        let mut vi = if p == WORLD { Motion::ZERO } else { kin.x_up[i].apply_motion(&v[p]) };
+        let mut vi = if p == WORLD { Motion::ZERO } else { v[p] };
         for k in 0..m.node_nv[i] {
             vi += kin.s[i][k] * qvel[da + k];
         }

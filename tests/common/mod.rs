@@ -123,19 +123,18 @@ pub fn rel_err(a: &[f64], b: &[f64]) -> f64 {
 /// Total spatial momentum in world coordinates about the world origin: (angular, linear).
 pub fn world_momentum(m: &Model, kin: &KinData) -> (DVec3, DVec3) {
     let (mut ang, mut lin) = (DVec3::ZERO, DVec3::ZERO);
+    // the kinematics' spatial quantities are about `kin.origin`, in world axes
     for i in 0..m.nnode {
-        let h: Force = m.node_inertia[i].mul_motion(&kin.v[i]);
-        let (rot, pos) = (kin.node_rot[i], kin.node_pos[i]);
-        let l = rot * h.lin;
-        ang += rot * h.ang + pos.cross(l);
-        lin += l;
+        let h: Force = kin.inertia[i].mul_motion(&kin.v[i]);
+        ang += h.ang + kin.origin.cross(h.lin);
+        lin += h.lin;
     }
     (ang, lin)
 }
 
 /// Kinetic energy ½ Σ vᵢᵀ Iᵢ vᵢ.
 pub fn kinetic_energy(m: &Model, kin: &KinData) -> f64 {
-    (0..m.nnode).map(|i| 0.5 * kin.v[i].dot(&m.node_inertia[i].mul_motion(&kin.v[i]))).sum()
+    (0..m.nnode).map(|i| 0.5 * kin.v[i].dot(&kin.inertia[i].mul_motion(&kin.v[i]))).sum()
 }
 
 /// Gravitational potential energy −Σ m g·c.
