@@ -9,11 +9,11 @@
 //! | `ia[i]`   | I^A_i             | articulated-body inertia of the subtree at node i  |
 //! | `pa[i]`   | p^A_i             | articulated bias force                             |
 //! | `u_mat[i]`| U_i = I^A_i S_i   | 6 × n_i                                            |
-//! | `d_fac[i]`| D_i = L Lᵀ        | D_i = S_iᵀ U_i + armature, factorised (1 dof: D⁻¹) |
+//! | `d_inv[i]`| D_i⁻¹             | D_i = S_iᵀ U_i + armature, inverted                |
 //! | `u[i]`    | u_i               | τ_i − S_iᵀ p^A_i                                   |
 //! | `a[i]`    | a_i               | spatial acceleration, with gravity as −g at the base |
 //!
-//! I^A, U and D's factor depend on the configuration only, so they serve every test force of the step.
+//! I^A, U and D⁻¹ depend on the configuration only, so they serve every test force of the step.
 
 use crate::math::{ArtInertia, Force, Motion};
 use crate::model::{Model, WORLD};
@@ -29,9 +29,8 @@ pub struct AbaData {
     pub pa: Vec<Force>,
     /// U_i columns (nnode × 6).
     pub u_mat: Vec<[Force; 6]>,
-    /// D_i for [`solve_d`]: 1/D_i for one dof, else the Cholesky factor L (D_i = L Lᵀ, lower
-    /// triangle row-major in a 6 × 6 block, diagonal stored as 1/L_jj) (nnode).
-    pub d_fac: Vec<[f64; 36]>,
+    /// D_i⁻¹ for [`solve_d`] (k × k, row-major in a 6 × 6 block) (nnode).
+    pub d_inv: Vec<[f64; 36]>,
     /// u_i (nnode × 6).
     pub u: Vec<[f64; 6]>,
     /// Spatial accelerations a_i (nnode).
@@ -47,7 +46,7 @@ impl AbaData {
             ia: vec![ArtInertia::ZERO; m.nnode],
             pa: vec![Force::ZERO; m.nnode],
             u_mat: vec![[Force::ZERO; 6]; m.nnode],
-            d_fac: vec![[0.0; 36]; m.nnode],
+            d_inv: vec![[0.0; 36]; m.nnode],
             u: vec![[0.0; 6]; m.nnode],
             a: vec![Motion::ZERO; m.nnode],
             singular_node: None,
@@ -55,7 +54,7 @@ impl AbaData {
     }
 }
 
-/// Passes 1–2 (inward): I^A, p^A, U, D (factorised), u for applied joint forces `tau`.
+/// Passes 1–2 (inward): I^A, p^A, U, D⁻¹, u for applied joint forces `tau`.
 /// `h_damp` adds h·damping to D (implicit damping of semi-implicit Euler, as MuJoCo's `Euler`).
 pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut AbaData) {
     // pass 1: rigid inertias and velocity-product bias forces v ×* I v
@@ -64,44 +63,49 @@ pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut Ab
     }
     rigid_bias(kin, &mut aba.pa);
     aba.singular_node = None;
-    let AbaData { ia: ia_all, pa: pa_all, u_mat, d_fac, u, singular_node, .. } = aba;
+    let AbaData { ia: ia_all, pa: pa_all, u_mat, d_inv, u, singular_node, .. } = aba;
     // pass 2: leaves to root
     for i in (0..m.nnode).rev() {
         let k = m.node_nv[i];
         let da = m.node_dofadr[i];
         let s = &kin.s[i];
         let ia = &ia_all[i];
-        let (um, d, ui) = (&mut u_mat[i], &mut d_fac[i], &mut u[i]);
-        for c in 0..k {
-            um[c] = ia.mul_motion(&s[c]);
-        }
-        for r in 0..k {
+        let (um, d, ui) = (&mut u_mat[i], &mut d_inv[i], &mut u[i]);
+        if k == 1 {
+            // one dof, the common case, without the loops
+            um[0] = ia.mul_motion(&s[0]);
+            d[0] = s[0].dot(&um[0]) + m.dof_armature[da] + h_damp * m.dof_damping[da];
+            ui[0] = tau[da] - s[0].dot(&pa_all[i]);
+        } else {
             for c in 0..k {
-                d[r * 6 + c] = s[r].dot(&um[c]);
+                um[c] = ia.mul_motion(&s[c]);
             }
-            d[r * 6 + r] += m.dof_armature[da + r] + h_damp * m.dof_damping[da + r];
-            ui[r] = tau[da + r] - s[r].dot(&pa_all[i]);
+            for r in 0..k {
+                for c in 0..k {
+                    d[r * 6 + c] = s[r].dot(&um[c]);
+                }
+                d[r * 6 + r] += m.dof_armature[da + r] + h_damp * m.dof_damping[da + r];
+                ui[r] = tau[da + r] - s[r].dot(&pa_all[i]);
+            }
         }
-        if !factorise(k, d) {
+        if !invert_d(k, d) {
             singular_node.get_or_insert(i);
         }
         let p = m.node_parent[i];
         if p == WORLD {
             continue;
         }
-        // I^a = I^A − U D⁻¹ Uᵀ (= I^A − V Vᵀ with V = U L⁻ᵀ)
+        // I^a = I^A − U D⁻¹ Uᵀ (= I^A − Σ_r U_r W_rᵀ with W = U D⁻¹)
         let mut ia_small = *ia;
         if k == 1 {
             ia_small.sub_outer(&um[0], &um[0], d[0]);
         } else {
-            let mut v = [Force::ZERO; 6];
             for r in 0..k {
-                let mut col = um[r];
-                for q in 0..r {
-                    col -= v[q] * d[r * 6 + q];
+                let mut w = Force::ZERO;
+                for c in 0..k {
+                    w += um[c] * d[c * 6 + r];
                 }
-                v[r] = col * d[r * 6 + r];
-                ia_small.sub_outer(&v[r], &v[r], 1.0);
+                ia_small.sub_outer(&um[r], &w, 1.0);
             }
         }
         let pa = articulated_bias(k, ia, um, d, ui, &kin.c[i], &pa_all[i]);
@@ -111,7 +115,7 @@ pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut Ab
 }
 
 /// The inward pass's bias terms p^A and u alone, for new velocities and forces `tau` on the
-/// configuration whose I^A, U and D's factor are already in `aba` (after an impulse).
+/// configuration whose I^A, U and D⁻¹ are already in `aba` (after an impulse).
 pub fn backward_bias(m: &Model, kin: &KinData, tau: &[f64], aba: &mut AbaData) {
     rigid_bias(kin, &mut aba.pa);
     for i in (0..m.nnode).rev() {
@@ -124,7 +128,7 @@ pub fn backward_bias(m: &Model, kin: &KinData, tau: &[f64], aba: &mut AbaData) {
         if p == WORLD {
             continue;
         }
-        let pa = articulated_bias(k, &aba.ia[i], &aba.u_mat[i], &aba.d_fac[i], &aba.u[i], &kin.c[i], &aba.pa[i]);
+        let pa = articulated_bias(k, &aba.ia[i], &aba.u_mat[i], &aba.d_inv[i], &aba.u[i], &kin.c[i], &aba.pa[i]);
         aba.pa[p] += pa;
     }
 }
@@ -140,6 +144,9 @@ fn rigid_bias(kin: &KinData, pa: &mut [Force]) {
 /// p^a = p^A + I^A c + U D⁻¹ (u − Uᵀ c) (Featherstone 2008, Table 7.1).
 #[inline(always)]
 fn articulated_bias(k: usize, ia: &ArtInertia, um: &[Force; 6], d: &[f64; 36], u: &[f64; 6], c: &Motion, pa: &Force) -> Force {
+    if k == 1 {
+        return *pa + ia.mul_motion(c) + um[0] * (d[0] * (u[0] - c.dot(&um[0])));
+    }
     let mut w = [0.0; 6];
     for r in 0..k {
         w[r] = u[r] - c.dot(&um[r]);
@@ -170,11 +177,16 @@ pub fn forward(m: &Model, kin: &KinData, aba: &mut AbaData, qacc: &mut [f64]) {
 pub fn joint_accel(m: &Model, kin: &KinData, aba: &AbaData, i: usize, u: &[f64; 6], a_prime: Motion, qacc: &mut [f64]) -> Motion {
     let k = m.node_nv[i];
     let da = m.node_dofadr[i];
+    if k == 1 {
+        let qdd = (u[0] - a_prime.dot(&aba.u_mat[i][0])) * aba.d_inv[i][0];
+        qacc[da] = qdd;
+        return a_prime + kin.s[i][0] * qdd;
+    }
     let mut rhs = [0.0; 6];
     for r in 0..k {
         rhs[r] = u[r] - a_prime.dot(&aba.u_mat[i][r]);
     }
-    solve_d(k, &aba.d_fac[i], &mut rhs);
+    solve_d(k, &aba.d_inv[i], &mut rhs);
     let mut a = a_prime;
     for r in 0..k {
         qacc[da + r] = rhs[r];
@@ -183,57 +195,71 @@ pub fn joint_accel(m: &Model, kin: &KinData, aba: &AbaData, i: usize, u: &[f64; 
     a
 }
 
-/// Factorises a symmetric positive-definite k × k matrix D (row-major in a 6 × 6 block) in place
-/// for [`solve_d`]: 1/D for k = 1, else its Cholesky factor L (D = L Lᵀ) with 1/L_jj on the
-/// diagonal, so solves multiply. Returns false, leaving zeros, when D is not positive definite.
-pub fn factorise(k: usize, d: &mut [f64; 36]) -> bool {
+/// Inverts a symmetric positive-definite k × k matrix D (row-major in a 6 × 6 block) in place for
+/// [`solve_d`], by Cholesky factorisation D = L Lᵀ and D⁻¹ = L⁻ᵀ L⁻¹, so that every later solve is
+/// one matrix–vector product. Returns false, leaving zeros, when D is not positive definite.
+pub fn invert_d(k: usize, d: &mut [f64; 36]) -> bool {
     if k == 1 {
         let ok = d[0] > 1e-300 && d[0].is_finite();
         d[0] = if ok { 1.0 / d[0] } else { 0.0 };
         return ok;
     }
     let scale = (0..k).map(|i| d[i * 6 + i].abs()).fold(0.0, f64::max);
+    // L, lower triangle, with 1/L_jj on its diagonal
+    let mut l = [0.0; 36];
     for j in 0..k {
         let mut s = d[j * 6 + j];
         for q in 0..j {
-            s -= d[j * 6 + q] * d[j * 6 + q];
+            s -= l[j * 6 + q] * l[j * 6 + q];
         }
         if s.is_nan() || s <= 1e-14 * scale || scale == 0.0 {
             *d = [0.0; 36];
             return false;
         }
         let inv = 1.0 / s.sqrt();
-        d[j * 6 + j] = inv;
+        l[j * 6 + j] = inv;
         for i in j + 1..k {
             let mut s = d[i * 6 + j];
             for q in 0..j {
-                s -= d[i * 6 + q] * d[j * 6 + q];
+                s -= l[i * 6 + q] * l[j * 6 + q];
             }
-            d[i * 6 + j] = s * inv;
+            l[i * 6 + j] = s * inv;
+        }
+    }
+    // M = L⁻¹ (lower), by forward substitution on the columns of the identity
+    let mut mi = [0.0; 36];
+    for c in 0..k {
+        for i in c..k {
+            let mut s = if i == c { 1.0 } else { 0.0 };
+            for q in c..i {
+                s -= l[i * 6 + q] * mi[q * 6 + c];
+            }
+            mi[i * 6 + c] = s * l[i * 6 + i];
+        }
+    }
+    // D⁻¹ = Mᵀ M
+    for r in 0..k {
+        for c in r..k {
+            let mut s = 0.0;
+            for q in c..k {
+                s += mi[q * 6 + r] * mi[q * 6 + c];
+            }
+            d[r * 6 + c] = s;
+            d[c * 6 + r] = s;
         }
     }
     true
 }
 
-/// x ← D⁻¹ x on the first k entries, D as [`factorise`] left it (two triangular solves for k > 1).
+/// x ← D⁻¹ x on the first k entries, D as [`invert_d`] left it.
 #[inline]
 pub fn solve_d(k: usize, d: &[f64; 36], x: &mut [f64; 6]) {
     if k == 1 {
         x[0] *= d[0];
         return;
     }
-    for i in 0..k {
-        let mut s = x[i];
-        for q in 0..i {
-            s -= d[i * 6 + q] * x[q];
-        }
-        x[i] = s * d[i * 6 + i];
-    }
-    for i in (0..k).rev() {
-        let mut s = x[i];
-        for q in i + 1..k {
-            s -= d[q * 6 + i] * x[q];
-        }
-        x[i] = s * d[i * 6 + i];
+    let b = *x;
+    for (r, xr) in x.iter_mut().enumerate().take(k) {
+        *xr = (0..k).map(|c| d[r * 6 + c] * b[c]).sum();
     }
 }

@@ -527,7 +527,7 @@ pub fn delta_pass(
         }
         let mut pa = dpa[i];
         let mut w = du[i];
-        super::aba::solve_d(k, &aba.d_fac[i], &mut w);
+        super::aba::solve_d(k, &aba.d_inv[i], &mut w);
         for r in 0..k {
             pa += aba.u_mat[i][r] * w[r];
         }
