@@ -46,8 +46,16 @@ impl SpatialInertia {
     }
 
     /// The same inertia expressed in a parent frame in which this frame has pose (`rot`, `pos`).
+    #[inline]
     pub fn to_parent(&self, rot: DMat3, pos: DVec3) -> SpatialInertia {
-        SpatialInertia { mass: self.mass, com: rot * self.com + pos, ic: rot * self.ic * rot.transpose() }
+        // R I_c Rᵀ is symmetric: its upper triangle from the rows of R I_c and the rows of R
+        let ri = rot * self.ic;
+        let row = |m: &DMat3, i: usize| DVec3::new(m.x_axis[i], m.y_axis[i], m.z_axis[i]);
+        let (r0, r1, r2) = (row(&rot, 0), row(&rot, 1), row(&rot, 2));
+        let (a0, a1, a2) = (row(&ri, 0), row(&ri, 1), row(&ri, 2));
+        let (m00, m01, m02, m11, m12, m22) = (a0.dot(r0), a0.dot(r1), a0.dot(r2), a1.dot(r1), a1.dot(r2), a2.dot(r2));
+        let ic = DMat3::from_cols(DVec3::new(m00, m01, m02), DVec3::new(m01, m11, m12), DVec3::new(m02, m12, m22));
+        SpatialInertia { mass: self.mass, com: rot * self.com + pos, ic }
     }
 
     /// Momentum I v of a spatial velocity.
@@ -59,9 +67,14 @@ impl SpatialInertia {
     }
 
     /// The 6×6 form as an articulated inertia (Featherstone 2008, eq. 2.63).
+    #[inline]
     pub fn to_art(&self) -> ArtInertia {
-        let cx = skew(self.com);
-        ArtInertia { a: self.ic - cx * cx * self.mass, b: cx * self.mass, c: DMat3::IDENTITY * self.mass }
+        // A = I_c − m c×c× = I_c + m (|c|² 1 − c cᵀ), B = m c×, C = m 1
+        let (m, c) = (self.mass, self.com);
+        let mc = c * m;
+        let sq = mc.dot(c);
+        let a = self.ic + DMat3::from_diagonal(DVec3::splat(sq)) - DMat3::from_cols(c * mc.x, c * mc.y, c * mc.z);
+        ArtInertia { a, b: skew(mc), c: DMat3::from_diagonal(DVec3::splat(m)) }
     }
 }
 
