@@ -4,7 +4,6 @@
 use glam::{DMat3, DVec3};
 
 use super::inertia::geom_inertia;
-use super::joint::constant_subspace;
 use super::{Model, Options, WORLD};
 use crate::error::{Error, Result};
 use crate::math::{SpatialInertia, Xform};
@@ -103,7 +102,6 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         node_nv: vec![],
         node_xtree: vec![],
         node_inertia: vec![],
-        node_s: vec![],
         geom_name: vec![],
         geom_type: vec![],
         geom_body: vec![],
@@ -183,10 +181,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
             // a body's joints share a node while their dofs fit in six (a free joint is alone)
             let n = m.node_parent.len();
             let joins = n > first_node && m.node_nv[n - 1] + j.kind.nv() <= 6;
-            let s = constant_subspace(j.kind, j.pos, j.axis);
             if joins {
-                let col = m.node_nv[n - 1];
-                m.node_s[n - 1][col..col + j.kind.nv()].copy_from_slice(&s[..j.kind.nv()]);
                 m.node_jntnum[n - 1] += 1;
                 m.node_nv[n - 1] += j.kind.nv();
             } else {
@@ -197,7 +192,6 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
                 m.node_nv.push(j.kind.nv());
                 m.node_xtree.push(if n == first_node { from_parent_node } else { Xform::IDENTITY });
                 m.node_inertia.push(SpatialInertia::ZERO);
-                m.node_s.push(s);
             }
             m.jnt_node.push(m.node_parent.len() - 1);
             m.nv += j.kind.nv();

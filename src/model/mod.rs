@@ -1,18 +1,20 @@
 //! ② The compiled model: immutable, flat arrays, every index resolved. Shared by all worlds.
 //!
-//! Arrays follow MuJoCo's `<object>_<field>` naming. The dynamics tree has one *node per joint*
-//! (MuJoCo's order, so node i carries joint i and qpos/qvel addresses match MuJoCo's); a body with
-//! several joints is a chain of nodes whose last frame is the body frame, and a body without
-//! joints is welded to its parent's node with a fixed offset.
+//! Arrays follow MuJoCo's `<object>_<field>` naming. Joints, dofs and qpos/qvel addresses are in
+//! MuJoCo's order. The dynamics tree has one *node* per body with joints (a body whose joints
+//! exceed six dofs together gets one per group of consecutive joints that fit): its frame is the
+//! body frame, its joints act in order as MuJoCo's do (hinge/slide coordinates relative to `ref`,
+//! rotations about the anchor `pos`, (w, x, y, z) quaternions for ball and free joints, free-joint
+//! qvel = world linear velocity then body-frame angular velocity), and a body without joints is
+//! welded to its parent's node with a fixed offset.
 
 mod compile;
 mod inertia;
-pub mod joint;
 
 use glam::{DMat3, DQuat, DVec3};
 
 pub use crate::mjcf::{GeomType, Integrator, JointType};
-use crate::math::{Motion, SpatialInertia, Xform};
+use crate::math::{SpatialInertia, Xform};
 
 /// Parent index of nodes attached to the world.
 pub const WORLD: usize = usize::MAX;
@@ -192,9 +194,6 @@ pub struct Model {
     pub node_xtree: Vec<Xform>,
     /// Rigid inertia carried by the node frame (its body plus welded descendants) (nnode).
     pub node_inertia: Vec<SpatialInertia>,
-    /// Each joint's constant motion-subspace columns in the frame that joint moves to, joint after
-    /// joint; for a one-joint node these are S itself (free joints: filled per step) (nnode).
-    pub node_s: Vec<[Motion; 6]>,
 
     /// Geom names (ngeom).
     pub geom_name: Vec<String>,

@@ -8,8 +8,7 @@
 
 use glam::{DMat3, DVec3};
 
-use crate::math::{Motion, SpatialInertia, Xform};
-use crate::model::joint::{free_subspace, joint_pose, x_up};
+use crate::math::{quat_wxyz, Motion, SpatialInertia, Xform};
 use crate::model::{JointType, Model, WORLD};
 
 /// Kinematic quantities of one configuration and velocity.
@@ -68,62 +67,78 @@ pub fn forward(m: &Model, qpos: &[f64], qvel: &[f64], kin: &mut KinData) {
 /// The nodes' part of [`KinData`] (poses, S, v, c, inertias): everything the dynamics reads,
 /// without the bodies' world poses (RK4's inner stages).
 pub fn forward_nodes(m: &Model, qpos: &[f64], qvel: &[f64], kin: &mut KinData) {
-    let mut s_local = [Motion::ZERO; 6];
     for i in 0..m.nnode {
-        let xu = node_transform(m, i, qpos, &mut s_local);
-        // world pose, from the parent's
-        let (lrot, lpos) = xu.pose();
         let p = m.node_parent[i];
         let (prot, ppos) = if p == WORLD { (DMat3::IDENTITY, DVec3::ZERO) } else { (kin.node_rot[p], kin.node_pos[p]) };
-        let (rot, pos) = (prot * lrot, ppos + prot * lpos);
+        // node 0's columns are made about the world origin, then moved to its own, the origin
+        let origin = if i == 0 { DVec3::ZERO } else { kin.origin };
+        let (rot, pos) = node_pose(m, i, prot, ppos, origin, qpos, &mut kin.s[i]);
         if i == 0 {
             kin.origin = pos;
+            for sc in kin.s[0].iter_mut().take(m.node_nv[0]) {
+                sc.lin -= pos.cross(sc.ang);
+            }
         }
         (kin.node_rot[i], kin.node_pos[i]) = (rot, pos);
-        // S and the rigid inertia from node coordinates to world about the origin
-        let r = pos - kin.origin;
-        for (sw, sl) in kin.s[i].iter_mut().zip(&s_local).take(m.node_nv[i]) {
-            let ang = rot * sl.ang;
-            *sw = Motion::new(ang, rot * sl.lin + r.cross(ang));
-        }
-        kin.inertia[i] = m.node_inertia[i].to_parent(rot, r);
+        kin.inertia[i] = m.node_inertia[i].to_parent(rot, pos - kin.origin);
         let v_parent = if p == WORLD { Motion::ZERO } else { kin.v[p] };
         velocity(m, kin, i, v_parent, &qvel[m.node_dofadr[i]..]);
     }
 }
 
-/// X_up of node i (node coordinates), writing its subspace columns in node coordinates into `s`.
-/// A node of several joints composes them in order (Featherstone 2008, §4.2): each earlier column
-/// is carried into the frame the later joint moves to, so S ends in node coordinates.
+/// World pose of node i from its parent's (`prot`, `ppos`), writing its subspace columns about
+/// `origin` into `s`. The node's joints act in order, each about its own axis and anchor in the
+/// frame the one before it left (Featherstone 2008, §4.2; MuJoCo's body kinematics): a rotation's
+/// column is (ω, (c − origin) × ω) for its world axis ω through the world point c, a
+/// translation's (0, world axis).
 #[inline]
-fn node_transform(m: &Model, i: usize, qpos: &[f64], s: &mut [Motion; 6]) -> Xform {
+fn node_pose(m: &Model, i: usize, prot: DMat3, ppos: DVec3, origin: DVec3, qpos: &[f64], s: &mut [Motion; 6]) -> (DMat3, DVec3) {
     let j0 = m.node_jntadr[i];
-    if m.node_jntnum[i] == 1 {
-        let kind = m.jnt_type[j0];
+    if m.jnt_type[j0] == JointType::Free {
+        // a free joint moves from the world: world linear velocity, body-frame angular velocity
         let qa = m.jnt_qposadr[j0];
-        let (rot, pos) = joint_pose(kind, m.jnt_pos[j0], m.jnt_axis[j0], m.qpos0[qa], &qpos[qa..]);
-        if kind == JointType::Free {
-            free_subspace(rot, s);
-        } else {
-            s[..kind.nv()].copy_from_slice(&m.node_s[i][..kind.nv()]);
+        let rot = DMat3::from_quat(quat_wxyz(&qpos[qa + 3..qa + 7]).normalize());
+        let pos = DVec3::new(qpos[qa], qpos[qa + 1], qpos[qa + 2]);
+        for k in 0..3 {
+            s[k] = Motion::new(DVec3::ZERO, DVec3::AXES[k]);
+            let w = rot.col(k);
+            s[k + 3] = Motion::new(w, (pos - origin).cross(w));
         }
-        return x_up(kind, &m.node_xtree[i], rot, pos);
+        return (rot, pos);
     }
-    let mut xu = m.node_xtree[i];
+    // the frame the first joint moves from
+    let xt = &m.node_xtree[i];
+    let (mut rot, mut pos) = if xt.e == DMat3::IDENTITY { (prot, ppos + prot * xt.r) } else { (prot * xt.e.transpose(), ppos + prot * xt.r) };
     let mut col = 0;
     for j in j0..j0 + m.node_jntnum[i] {
         let qa = m.jnt_qposadr[j];
-        let (rot, pos) = joint_pose(m.jnt_type[j], m.jnt_pos[j], m.jnt_axis[j], m.qpos0[qa], &qpos[qa..]);
-        let xj = Xform::from_pose(rot, pos);
-        for sc in &mut s[..col] {
-            *sc = xj.apply_motion(sc);
+        let (anchor, axis) = (m.jnt_pos[j], m.jnt_axis[j]);
+        let c = pos + rot * anchor - origin;
+        match m.jnt_type[j] {
+            JointType::Hinge => {
+                let w = rot * axis;
+                s[col] = Motion::new(w, c.cross(w));
+                let r = rot * DMat3::from_axis_angle(axis, qpos[qa] - m.qpos0[qa]);
+                (rot, pos) = (r, c + origin - r * anchor);
+            }
+            JointType::Slide => {
+                let w = rot * axis;
+                s[col] = Motion::new(DVec3::ZERO, w);
+                pos += w * (qpos[qa] - m.qpos0[qa]);
+            }
+            JointType::Ball => {
+                rot *= DMat3::from_quat(quat_wxyz(&qpos[qa..qa + 4]).normalize());
+                for k in 0..3 {
+                    let w = rot.col(k);
+                    s[col + k] = Motion::new(w, c.cross(w));
+                }
+                pos = c + origin - rot * anchor;
+            }
+            JointType::Free => unreachable!("a free joint is alone in its node"),
         }
-        let k = m.jnt_type[j].nv();
-        s[col..col + k].copy_from_slice(&m.node_s[i][col..col + k]);
-        col += k;
-        xu = xu.then(&xj);
+        col += m.jnt_type[j].nv();
     }
-    xu
+    (rot, pos)
 }
 
 /// Bodies' world poses from their nodes'.
