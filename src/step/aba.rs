@@ -64,54 +64,66 @@ pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut Ab
     rigid_bias(kin, &mut aba.pa);
     aba.singular_node = None;
     let AbaData { ia: ia_all, pa: pa_all, u_mat, d_inv, u, singular_node, .. } = aba;
-    // pass 2: leaves to root
+    // pass 2: leaves to root, each node at its own size so the small loops unroll
     for i in (0..m.nnode).rev() {
-        let k = m.node_nv[i];
-        let da = m.node_dofadr[i];
-        let s = &kin.s[i];
-        let ia = &ia_all[i];
+        let p = m.node_parent[i];
+        let args = (m, kin, tau, h_damp, i, &ia_all[i], &pa_all[i]);
         let (um, d, ui) = (&mut u_mat[i], &mut d_inv[i], &mut u[i]);
-        if k == 1 {
-            // one dof, the common case, without the loops
-            um[0] = ia.mul_motion(&s[0]);
-            d[0] = s[0].dot(&um[0]) + m.dof_armature[da] + h_damp * m.dof_damping[da];
-            ui[0] = tau[da] - s[0].dot(&pa_all[i]);
-        } else {
-            for c in 0..k {
-                um[c] = ia.mul_motion(&s[c]);
-            }
-            for r in 0..k {
-                for c in 0..k {
-                    d[r * 6 + c] = s[r].dot(&um[c]);
-                }
-                d[r * 6 + r] += m.dof_armature[da + r] + h_damp * m.dof_damping[da + r];
-                ui[r] = tau[da + r] - s[r].dot(&pa_all[i]);
-            }
-        }
-        if !invert_d(k, d) {
+        let (ok, ia_small, pa) = match m.node_nv[i] {
+            1 => inward::<1>(args, um, d, ui, p != WORLD),
+            2 => inward::<2>(args, um, d, ui, p != WORLD),
+            3 => inward::<3>(args, um, d, ui, p != WORLD),
+            4 => inward::<4>(args, um, d, ui, p != WORLD),
+            5 => inward::<5>(args, um, d, ui, p != WORLD),
+            _ => inward::<6>(args, um, d, ui, p != WORLD),
+        };
+        if !ok {
             singular_node.get_or_insert(i);
         }
-        let p = m.node_parent[i];
-        if p == WORLD {
-            continue;
+        if p != WORLD {
+            ia_all[p].add(&ia_small);
+            pa_all[p] += pa;
         }
-        // I^a = I^A − U D⁻¹ Uᵀ (= I^A − Σ_r U_r W_rᵀ with W = U D⁻¹)
-        let mut ia_small = *ia;
-        if k == 1 {
-            ia_small.sub_outer(&um[0], &um[0], d[0]);
-        } else {
-            for r in 0..k {
-                let mut w = Force::ZERO;
-                for c in 0..k {
-                    w += um[c] * d[c * 6 + r];
-                }
-                ia_small.sub_outer(&um[r], &w, 1.0);
-            }
-        }
-        let pa = articulated_bias(k, ia, um, d, ui, &kin.c[i], &pa_all[i]);
-        ia_all[p].add(&ia_small);
-        pa_all[p] += pa;
     }
+}
+
+/// Node i's inward step with K dofs: U = I^A S, D⁻¹, u = τ − Sᵀ p^A and, when it has a parent,
+/// the I^a = I^A − U D⁻¹ Uᵀ and p^a it hands on. Returns whether D was positive definite.
+#[allow(clippy::type_complexity)]
+#[inline(always)]
+fn inward<const K: usize>(
+    (m, kin, tau, h_damp, i, ia, pa): (&Model, &KinData, &[f64], f64, usize, &ArtInertia, &Force),
+    um: &mut [Force; 6],
+    d: &mut [f64; 36],
+    ui: &mut [f64; 6],
+    has_parent: bool,
+) -> (bool, ArtInertia, Force) {
+    let da = m.node_dofadr[i];
+    let s = &kin.s[i];
+    for c in 0..K {
+        um[c] = ia.mul_motion(&s[c]);
+    }
+    for r in 0..K {
+        for c in 0..K {
+            d[r * 6 + c] = s[r].dot(&um[c]);
+        }
+        d[r * 6 + r] += m.dof_armature[da + r] + h_damp * m.dof_damping[da + r];
+        ui[r] = tau[da + r] - s[r].dot(pa);
+    }
+    let ok = invert_d(K, d);
+    if !has_parent {
+        return (ok, ArtInertia::ZERO, Force::ZERO);
+    }
+    // I^a = I^A − U D⁻¹ Uᵀ = I^A − Σ_r U_r W_rᵀ with W = U D⁻¹
+    let mut ia_small = *ia;
+    for r in 0..K {
+        let mut w = Force::ZERO;
+        for c in 0..K {
+            w += um[c] * d[c * 6 + r];
+        }
+        ia_small.sub_outer(&um[r], &w, 1.0);
+    }
+    (ok, ia_small, articulated_bias::<K>(ia, um, d, ui, &kin.c[i], pa))
 }
 
 /// The inward pass's bias terms p^A and u alone, for new velocities and forces `tau` on the
@@ -128,7 +140,15 @@ pub fn backward_bias(m: &Model, kin: &KinData, tau: &[f64], aba: &mut AbaData) {
         if p == WORLD {
             continue;
         }
-        let pa = articulated_bias(k, &aba.ia[i], &aba.u_mat[i], &aba.d_inv[i], &aba.u[i], &kin.c[i], &aba.pa[i]);
+        let args = (&aba.ia[i], &aba.u_mat[i], &aba.d_inv[i], &aba.u[i], &kin.c[i], &aba.pa[i]);
+        let pa = match k {
+            1 => articulated_bias::<1>(args.0, args.1, args.2, args.3, args.4, args.5),
+            2 => articulated_bias::<2>(args.0, args.1, args.2, args.3, args.4, args.5),
+            3 => articulated_bias::<3>(args.0, args.1, args.2, args.3, args.4, args.5),
+            4 => articulated_bias::<4>(args.0, args.1, args.2, args.3, args.4, args.5),
+            5 => articulated_bias::<5>(args.0, args.1, args.2, args.3, args.4, args.5),
+            _ => articulated_bias::<6>(args.0, args.1, args.2, args.3, args.4, args.5),
+        };
         aba.pa[p] += pa;
     }
 }
@@ -140,20 +160,17 @@ fn rigid_bias(kin: &KinData, pa: &mut [Force]) {
     }
 }
 
-/// The bias force node i hands its parent (before the transform):
+/// The bias force a node of K dofs hands its parent:
 /// p^a = p^A + I^A c + U D⁻¹ (u − Uᵀ c) (Featherstone 2008, Table 7.1).
 #[inline(always)]
-fn articulated_bias(k: usize, ia: &ArtInertia, um: &[Force; 6], d: &[f64; 36], u: &[f64; 6], c: &Motion, pa: &Force) -> Force {
-    if k == 1 {
-        return *pa + ia.mul_motion(c) + um[0] * (d[0] * (u[0] - c.dot(&um[0])));
-    }
+fn articulated_bias<const K: usize>(ia: &ArtInertia, um: &[Force; 6], d: &[f64; 36], u: &[f64; 6], c: &Motion, pa: &Force) -> Force {
     let mut w = [0.0; 6];
-    for r in 0..k {
+    for r in 0..K {
         w[r] = u[r] - c.dot(&um[r]);
     }
-    solve_d(k, d, &mut w);
+    solve_sized::<K>(d, &mut w);
     let mut out = *pa + ia.mul_motion(c);
-    for r in 0..k {
+    for r in 0..K {
         out += um[r] * w[r];
     }
     out
@@ -175,20 +192,27 @@ pub fn forward(m: &Model, kin: &KinData, aba: &mut AbaData, qacc: &mut [f64]) {
 /// a_i = a'_i + S_i q̈_i. Shared by the main pass and the test-force delta pass.
 #[inline]
 pub fn joint_accel(m: &Model, kin: &KinData, aba: &AbaData, i: usize, u: &[f64; 6], a_prime: Motion, qacc: &mut [f64]) -> Motion {
-    let k = m.node_nv[i];
-    let da = m.node_dofadr[i];
-    if k == 1 {
-        let qdd = (u[0] - a_prime.dot(&aba.u_mat[i][0])) * aba.d_inv[i][0];
-        qacc[da] = qdd;
-        return a_prime + kin.s[i][0] * qdd;
+    match m.node_nv[i] {
+        1 => outward::<1>(m, kin, aba, i, u, a_prime, qacc),
+        2 => outward::<2>(m, kin, aba, i, u, a_prime, qacc),
+        3 => outward::<3>(m, kin, aba, i, u, a_prime, qacc),
+        4 => outward::<4>(m, kin, aba, i, u, a_prime, qacc),
+        5 => outward::<5>(m, kin, aba, i, u, a_prime, qacc),
+        _ => outward::<6>(m, kin, aba, i, u, a_prime, qacc),
     }
+}
+
+/// [`joint_accel`] for a node of K dofs.
+#[inline(always)]
+fn outward<const K: usize>(m: &Model, kin: &KinData, aba: &AbaData, i: usize, u: &[f64; 6], a_prime: Motion, qacc: &mut [f64]) -> Motion {
+    let da = m.node_dofadr[i];
     let mut rhs = [0.0; 6];
-    for r in 0..k {
+    for r in 0..K {
         rhs[r] = u[r] - a_prime.dot(&aba.u_mat[i][r]);
     }
-    solve_d(k, &aba.d_inv[i], &mut rhs);
+    solve_sized::<K>(&aba.d_inv[i], &mut rhs);
     let mut a = a_prime;
-    for r in 0..k {
+    for r in 0..K {
         qacc[da + r] = rhs[r];
         a += kin.s[i][r] * rhs[r];
     }
@@ -199,11 +223,24 @@ pub fn joint_accel(m: &Model, kin: &KinData, aba: &AbaData, i: usize, u: &[f64; 
 /// [`solve_d`], by Cholesky factorisation D = L Lᵀ and D⁻¹ = L⁻ᵀ L⁻¹, so that every later solve is
 /// one matrix–vector product. Returns false, leaving zeros, when D is not positive definite.
 pub fn invert_d(k: usize, d: &mut [f64; 36]) -> bool {
-    if k == 1 {
-        let ok = d[0] > 1e-300 && d[0].is_finite();
-        d[0] = if ok { 1.0 / d[0] } else { 0.0 };
-        return ok;
+    // fixed sizes, so the loops unroll
+    match k {
+        1 => {
+            let ok = d[0] > 1e-300 && d[0].is_finite();
+            d[0] = if ok { 1.0 / d[0] } else { 0.0 };
+            ok
+        }
+        2 => invert_sized::<2>(d),
+        3 => invert_sized::<3>(d),
+        4 => invert_sized::<4>(d),
+        5 => invert_sized::<5>(d),
+        _ => invert_sized::<6>(d),
     }
+}
+
+/// [`invert_d`] for k = K.
+fn invert_sized<const K: usize>(d: &mut [f64; 36]) -> bool {
+    let k = K;
     let scale = (0..k).map(|i| d[i * 6 + i].abs()).fold(0.0, f64::max);
     // L, lower triangle, with 1/L_jj on its diagonal
     let mut l = [0.0; 36];
@@ -251,15 +288,24 @@ pub fn invert_d(k: usize, d: &mut [f64; 36]) -> bool {
     true
 }
 
-/// x ← D⁻¹ x on the first k entries, D as [`invert_d`] left it.
+/// x ← D⁻¹ x on the first k entries, D⁻¹ as [`invert_d`] left it.
 #[inline]
 pub fn solve_d(k: usize, d: &[f64; 36], x: &mut [f64; 6]) {
-    if k == 1 {
-        x[0] *= d[0];
-        return;
+    match k {
+        1 => solve_sized::<1>(d, x),
+        2 => solve_sized::<2>(d, x),
+        3 => solve_sized::<3>(d, x),
+        4 => solve_sized::<4>(d, x),
+        5 => solve_sized::<5>(d, x),
+        _ => solve_sized::<6>(d, x),
     }
+}
+
+/// [`solve_d`] for k = K.
+#[inline(always)]
+fn solve_sized<const K: usize>(d: &[f64; 36], x: &mut [f64; 6]) {
     let b = *x;
-    for (r, xr) in x.iter_mut().enumerate().take(k) {
-        *xr = (0..k).map(|c| d[r * 6 + c] * b[c]).sum();
+    for r in 0..K {
+        x[r] = (0..K).map(|c| d[r * 6 + c] * b[c]).sum();
     }
 }
