@@ -113,13 +113,15 @@ fn node_pose(m: &Model, i: usize, prot: DMat3, ppos: DVec3, origin: DVec3, qpos:
     for j in j0..j0 + m.node_jntnum[i] {
         let qa = m.jnt_qposadr[j];
         let (anchor, axis) = (m.jnt_pos[j], m.jnt_axis[j]);
-        let c = pos + rot * anchor - origin;
+        let c = if anchor == DVec3::ZERO { pos - origin } else { pos + rot * anchor - origin };
         match m.jnt_type[j] {
             JointType::Hinge => {
                 let w = rot * axis;
                 s[col] = Motion::new(w, c.cross(w));
-                let r = rot * DMat3::from_axis_angle(axis, qpos[qa] - m.qpos0[qa]);
-                (rot, pos) = (r, c + origin - r * anchor);
+                rot = turn(rot, axis, qpos[qa] - m.qpos0[qa]);
+                if anchor != DVec3::ZERO {
+                    pos = c + origin - rot * anchor;
+                }
             }
             JointType::Slide => {
                 let w = rot * axis;
@@ -132,13 +134,35 @@ fn node_pose(m: &Model, i: usize, prot: DMat3, ppos: DVec3, origin: DVec3, qpos:
                     let w = rot.col(k);
                     s[col + k] = Motion::new(w, c.cross(w));
                 }
-                pos = c + origin - rot * anchor;
+                if anchor != DVec3::ZERO {
+                    pos = c + origin - rot * anchor;
+                }
             }
             JointType::Free => unreachable!("a free joint is alone in its node"),
         }
         col += m.jnt_type[j].nv();
     }
     (rot, pos)
+}
+
+/// `rot` R_J: `rot` turned by `angle` about the unit `axis` given in its own frame. A coordinate
+/// axis (most MJCF hinges) mixes two columns; any other uses Rodrigues' matrix.
+#[inline]
+fn turn(rot: DMat3, axis: DVec3, angle: f64) -> DMat3 {
+    let (sin, cos) = angle.sin_cos();
+    let (x, y, z) = (rot.x_axis, rot.y_axis, rot.z_axis);
+    if axis.y == 0.0 && axis.z == 0.0 {
+        let s = sin * axis.x;
+        DMat3::from_cols(x, y * cos + z * s, z * cos - y * s)
+    } else if axis.x == 0.0 && axis.z == 0.0 {
+        let s = sin * axis.y;
+        DMat3::from_cols(x * cos - z * s, y, x * s + z * cos)
+    } else if axis.x == 0.0 && axis.y == 0.0 {
+        let s = sin * axis.z;
+        DMat3::from_cols(x * cos + y * s, y * cos - x * s, z)
+    } else {
+        rot * DMat3::from_axis_angle(axis, angle)
+    }
 }
 
 /// Bodies' world poses from their nodes'.
