@@ -220,8 +220,8 @@ fn outward<const K: usize>(m: &Model, kin: &KinData, aba: &AbaData, i: usize, u:
 }
 
 /// Inverts a symmetric positive-definite k × k matrix D (row-major in a 6 × 6 block) in place for
-/// [`solve_d`], by Cholesky factorisation D = L Lᵀ and D⁻¹ = L⁻ᵀ L⁻¹, so that every later solve is
-/// one matrix–vector product. Returns false, leaving zeros, when D is not positive definite.
+/// [`solve_d`], so that every later solve is one matrix–vector product. Returns false, leaving
+/// zeros, when D is not positive definite.
 pub fn invert_d(k: usize, d: &mut [f64; 36]) -> bool {
     // fixed sizes, so the loops unroll
     match k {
@@ -238,48 +238,53 @@ pub fn invert_d(k: usize, d: &mut [f64; 36]) -> bool {
     }
 }
 
-/// [`invert_d`] for k = K.
+/// [`invert_d`] for k = K: D = L Δ Lᵀ with L unit lower triangular (no square roots, one
+/// division per column), then D⁻¹ = L⁻ᵀ Δ⁻¹ L⁻¹.
 fn invert_sized<const K: usize>(d: &mut [f64; 36]) -> bool {
-    let k = K;
-    let scale = (0..k).map(|i| d[i * 6 + i].abs()).fold(0.0, f64::max);
-    // L, lower triangle, with 1/L_jj on its diagonal
-    let mut l = [0.0; 36];
-    for j in 0..k {
-        let mut s = d[j * 6 + j];
+    let scale = (0..K).map(|i| d[i * 6 + i].abs()).fold(0.0, f64::max);
+    if scale == 0.0 || !scale.is_finite() {
+        *d = [0.0; 36];
+        return false;
+    }
+    let (mut l, mut inv_delta) = ([0.0; 36], [0.0; 6]);
+    let mut delta = [0.0; 6];
+    for j in 0..K {
+        let mut dj = d[j * 6 + j];
         for q in 0..j {
-            s -= l[j * 6 + q] * l[j * 6 + q];
+            dj -= l[j * 6 + q] * l[j * 6 + q] * delta[q];
         }
-        if s.is_nan() || s <= 1e-14 * scale || scale == 0.0 {
+        if dj.is_nan() || dj <= 1e-14 * scale {
             *d = [0.0; 36];
             return false;
         }
-        let inv = 1.0 / s.sqrt();
-        l[j * 6 + j] = inv;
-        for i in j + 1..k {
+        delta[j] = dj;
+        inv_delta[j] = 1.0 / dj;
+        for i in j + 1..K {
             let mut s = d[i * 6 + j];
             for q in 0..j {
-                s -= l[i * 6 + q] * l[j * 6 + q];
+                s -= l[i * 6 + q] * l[j * 6 + q] * delta[q];
             }
-            l[i * 6 + j] = s * inv;
+            l[i * 6 + j] = s * inv_delta[j];
         }
     }
-    // M = L⁻¹ (lower), by forward substitution on the columns of the identity
+    // M = L⁻¹ (unit lower), by forward substitution on the columns of the identity
     let mut mi = [0.0; 36];
-    for c in 0..k {
-        for i in c..k {
-            let mut s = if i == c { 1.0 } else { 0.0 };
+    for c in 0..K {
+        mi[c * 6 + c] = 1.0;
+        for i in c + 1..K {
+            let mut s = 0.0;
             for q in c..i {
                 s -= l[i * 6 + q] * mi[q * 6 + c];
             }
-            mi[i * 6 + c] = s * l[i * 6 + i];
+            mi[i * 6 + c] = s;
         }
     }
-    // D⁻¹ = Mᵀ M
-    for r in 0..k {
-        for c in r..k {
+    // D⁻¹ = Mᵀ Δ⁻¹ M
+    for r in 0..K {
+        for c in r..K {
             let mut s = 0.0;
-            for q in c..k {
-                s += mi[q * 6 + r] * mi[q * 6 + c];
+            for q in c..K {
+                s += mi[q * 6 + r] * inv_delta[q] * mi[q * 6 + c];
             }
             d[r * 6 + c] = s;
             d[c * 6 + r] = s;
