@@ -150,11 +150,10 @@ impl Batch {
     }
 }
 
+/// Back to qpos0 at rest, with nothing carried over from before: no friction tangents, LCP warm
+/// start or cached kinematics (a reset world steps exactly as a new one).
 fn reset_world(m: &Model, d: &mut Data, qpos: &mut [f64], qvel: &mut [f64]) {
     qpos.copy_from_slice(&m.qpos0);
     qvel.fill(0.0);
-    d.tangents.clear();
-    d.force.clear();
-    d.con.clear();
-    d.coll.contacts.clear();
+    d.forget_history();
 }

@@ -97,4 +97,16 @@ impl Data {
             stage_ns: [0; crate::step::STAGES],
         }
     }
+
+    /// Forgets what the last steps leave for the next (friction tangents, the LCP's warm start,
+    /// cached kinematics, rows and forces), so that the next step is a fresh world's.
+    pub fn forget_history(&mut self) {
+        self.tangents.clear();
+        self.force.clear();
+        self.con.clear();
+        self.coll.contacts.clear();
+        self.lcp_work.warm.clear();
+        self.lcp_work.warm_rows.clear();
+        self.post.forget();
+    }
 }

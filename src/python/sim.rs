@@ -194,13 +194,15 @@ impl PySim {
         Ok(())
     }
 
-    /// Back to qpos0, zero velocity, zero control, time 0.
+    /// Back to qpos0, zero velocity, zero control, time 0, with nothing kept from earlier steps
+    /// (friction tangents, the LCP warm start): it then steps exactly as a new Sim.
     fn reset(&mut self, py: Python<'_>) -> PyResult<()> {
         self.qpos.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&self.model.qpos0);
         self.qvel.bind(py).readwrite().as_slice_mut()?.fill(0.0);
         self.ctrl.bind(py).readwrite().as_slice_mut()?.fill(0.0);
         self.qacc.bind(py).readwrite().as_slice_mut()?.fill(0.0);
         self.time = 0.0;
+        self.data.forget_history();
         Ok(())
     }
 

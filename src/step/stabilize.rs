@@ -80,6 +80,11 @@ impl StabilizeData {
             ..Default::default()
         }
     }
+
+    /// Drops the cached kinematics of the last step's end state.
+    pub fn forget(&mut self) {
+        self.cached = false;
+    }
 }
 
 /// Projects `qpos` (after the step, with `qvel` after the step) out of penetration, using the rows

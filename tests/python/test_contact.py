@@ -311,3 +311,25 @@ def test_gym_models_under_leapfrog_end_each_step_clear_of_floor_and_limits(name)
     assert np.isfinite(sim.get_state()).all()
     assert pen < 1e-3
     assert lim < 1e-4
+
+
+def test_a_reset_sim_steps_exactly_as_a_new_one():
+    """reset() keeps nothing from earlier steps (friction tangents, the LCP's warm start, cached
+    kinematics): a resting box's first step after it is a cold start, as a new Sim's, and the run
+    that follows matches a new Sim's bit for bit."""
+    m = sinew.Model.from_mjcf_string(BOX.format(dt=0.002))
+
+    def run(sim, steps):
+        before = sim.constraint_stats["warm_starts"]
+        sim.step(steps)
+        return sim.get_state(), sim.constraint_stats["warm_starts"] - before
+
+    used = sinew.Sim(m)
+    _, warm = run(used, 20)
+    assert warm > 0, "resting contact warm-starts the LCP"
+    used.reset()
+    assert run(used, 1)[1] == run(fresh := sinew.Sim(m), 1)[1] == 0
+    state_used, warm_used = run(used, 200)
+    state_new, warm_new = run(fresh, 200)
+    np.testing.assert_array_equal(state_used, state_new)
+    assert warm_used == warm_new
