@@ -150,19 +150,19 @@ fn ratio_test(tab: &[f64], cols: usize, n: usize, entering: usize, basis: &[usiz
     Some(cand[0] as usize)
 }
 
+/// Pivots the tableau (`n` rows of `cols`) on row r, column c.
 fn pivot(tab: &mut [f64], cols: usize, n: usize, r: usize, c: usize) {
-    let p = tab[r * cols + c];
-    for j in 0..cols {
-        tab[r * cols + j] /= p;
+    let (before, rest) = tab[..n * cols].split_at_mut(r * cols);
+    let (prow, after) = rest.split_at_mut(cols);
+    let inv = 1.0 / prow[c];
+    for x in prow.iter_mut() {
+        *x *= inv;
     }
-    for i in 0..n {
-        if i == r {
-            continue;
-        }
-        let f = tab[i * cols + c];
+    for row in before.chunks_exact_mut(cols).chain(after.chunks_exact_mut(cols)) {
+        let f = row[c];
         if f != 0.0 {
-            for j in 0..cols {
-                tab[i * cols + j] -= f * tab[r * cols + j];
+            for (x, p) in row.iter_mut().zip(prow.iter()) {
+                *x -= f * p;
             }
         }
     }
@@ -172,9 +172,12 @@ fn pivot(tab: &mut [f64], cols: usize, n: usize, r: usize, c: usize) {
 pub fn residual(n: usize, m: &[f64], q: &[f64], z: &[f64], w: &mut Vec<f64>) -> f64 {
     w.clear();
     let mut worst = 0.0f64;
-    for i in 0..n {
-        let wi: f64 = q[i] + (0..n).map(|j| m[i * n + j] * z[j]).sum::<f64>();
-        let scale = 1.0 + q[i].abs() + (0..n).map(|j| (m[i * n + j] * z[j]).abs()).sum::<f64>();
+    for (i, row) in m[..n * n].chunks_exact(n).enumerate() {
+        let (mut wi, mut scale) = (q[i], 1.0 + q[i].abs());
+        for (a, x) in row.iter().zip(&z[..n]) {
+            wi += a * x;
+            scale += (a * x).abs();
+        }
         worst = worst.max((-z[i]).max(0.0)).max((-wi).max(0.0) / scale).max((z[i] * wi).abs() / scale);
         w.push(wi);
     }
@@ -273,21 +276,24 @@ fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
         }
         a[r * (k + 1) + k] = -q[i];
     }
+    let w = k + 1;
     for c in 0..k {
-        let p = (c..k).max_by(|&x, &y| a[x * (k + 1) + c].abs().total_cmp(&a[y * (k + 1) + c].abs())).unwrap();
-        if a[p * (k + 1) + c].abs() < 1e-300 {
+        let p = (c..k).max_by(|&x, &y| a[x * w + c].abs().total_cmp(&a[y * w + c].abs())).unwrap();
+        if a[p * w + c].abs() < 1e-300 {
             return false;
         }
-        for j in 0..=k {
-            a.swap(c * (k + 1) + j, p * (k + 1) + j);
+        for j in 0..w {
+            a.swap(c * w + j, p * w + j);
         }
-        for r in 0..k {
-            if r != c {
-                let f = a[r * (k + 1) + c] / a[c * (k + 1) + c];
-                if f != 0.0 {
-                    for j in c..=k {
-                        a[r * (k + 1) + j] -= f * a[c * (k + 1) + j];
-                    }
+        // eliminate column c from every other row (Gauss–Jordan)
+        let (before, rest) = a[..k * w].split_at_mut(c * w);
+        let (prow, after) = rest.split_at_mut(w);
+        let inv = 1.0 / prow[c];
+        for row in before.chunks_exact_mut(w).chain(after.chunks_exact_mut(w)) {
+            let f = row[c] * inv;
+            if f != 0.0 {
+                for (x, p) in row[c..].iter_mut().zip(&prow[c..]) {
+                    *x -= f * p;
                 }
             }
         }
