@@ -221,8 +221,7 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]
             continue;
         };
         stats.pivots += p as u64;
-        polish(n, m, q, z, work);
-        let res = residual(n, m, q, z, &mut work.w);
+        let res = polish(n, m, q, z, work);
         if res <= ACCEPT_RESIDUAL {
             work.stiff = stiff;
             stats.retries += retry as u64;
@@ -305,14 +304,21 @@ fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
 }
 
 /// Re-solves on Lemke's active set A = {z > 0}, removing the round-off the tableau accumulates on
-/// degenerate problems; the polished z is kept only if it lowers the residual.
-fn polish(n: usize, m: &[f64], q: &[f64], z: &mut [f64], work: &mut LcpWork) {
+/// degenerate problems; the polished z is kept only if it lowers the residual. Returns the
+/// residual of the z it leaves.
+fn polish(n: usize, m: &[f64], q: &[f64], z: &mut [f64], work: &mut LcpWork) -> f64 {
     let before = residual(n, m, q, z, &mut work.w);
     work.active.clear();
     work.active.extend((0..n).filter(|&i| z[i] > 0.0));
-    if !work.active.is_empty() && solve_active(n, m, q, work) && residual(n, m, q, &work.trial, &mut work.w) < before {
-        z[..n].copy_from_slice(&work.trial);
+    if work.active.is_empty() || !solve_active(n, m, q, work) {
+        return before;
     }
+    let after = residual(n, m, q, &work.trial, &mut work.w);
+    if after < before {
+        z[..n].copy_from_slice(&work.trial);
+        return after;
+    }
+    before
 }
 
 /// What an LCP variable is, for the projected Gauss–Seidel fallback.
