@@ -52,14 +52,8 @@ pub struct CollisionData {
     /// Geom centre in world (ngeom).
     pub geom_xpos: Vec<DVec3>,
     /// Bound on how far any point of each geom can move within the step, from its speed and
-    /// constraint-free acceleration (ngeom), for speculative detection; valid where
-    /// `reach_known` says so (computed only for geoms some pair needs it for).
+    /// constraint-free acceleration (ngeom), for speculative detection.
     pub geom_reach: Vec<f64>,
-    /// Whether `geom_reach[g]` is that of this configuration.
-    pub reach_known: Vec<bool>,
-    /// A cheaper bound on the square of each geom's reach (ngeom): pairs it shows apart need no
-    /// exact reach.
-    pub reach_sq: Vec<f64>,
     /// Bound on the speed of any point of each geom at the end of the step (ngeom).
     pub geom_speed_end: Vec<f64>,
     /// Contacts of this configuration.
@@ -75,8 +69,6 @@ impl CollisionData {
             axes_posed: (0..m.ngeom).map(|g| m.geom_body[g] == 0).collect(),
             geom_xpos: m.geom_pos.clone(),
             geom_reach: vec![0.0; m.ngeom],
-            reach_known: vec![false; m.ngeom],
-            reach_sq: vec![0.0; m.ngeom],
             geom_speed_end: vec![0.0; m.ngeom],
             contacts: Vec::with_capacity(MAX_CONTACTS),
         }
@@ -156,71 +148,32 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData)
     if !geom_poses(m, kin, out) {
         return;
     }
-    out.reach_known.fill(false);
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
     for g in 0..m.ngeom {
-        out.reach_sq[g] = reach_squared_bound(m, kin, aba, out, g);
+        let n = m.body_node[m.geom_body[g]];
+        // the step's end velocity is at most v + h a, and carries a point by lever × it
+        out.geom_reach[g] = if n == WORLD || m.geom_type[g] == GeomType::Plane {
+            0.0
+        } else {
+            // bounds over the geom's points: centre value + angular part × bounding radius;
+            // ABA's accelerations carry the base's fictitious −g, added back
+            let (v, a, centre) = (kin.v[n], aba.a[n], out.geom_xpos[g] - kin.origin);
+            let w = v.ang.length();
+            let ac = a.point_velocity(centre) + v.ang.cross(v.point_velocity(centre)) + m.opt.gravity;
+            let accel = ac.length() + (a.ang.length() + w * w) * m.geom_rbound[g];
+            lever * (speed_bound(m, g, &v, centre) + h * accel)
+        };
     }
     for &(i, j) in &m.collision_pairs {
         // speculative: pairs that could close within this step (which moves a point by
         // lever × (v + h a), lever = h for semi-implicit Euler) count as contacts, so a fast foot
-        // is stopped at the surface instead of being found inside it one step later. Pairs
-        // farther apart than even the cheap bound on their reaches allow are dismissed first
-        // ((r_i + r_j)² ≤ 2 (r_i² + r_j²)).
-        let gap = clearance(m, out, i, j);
-        if gap > 0.0 && gap * gap > 2.0 * (out.reach_sq[i] + out.reach_sq[j]) {
-            continue;
-        }
-        know_reach(m, kin, aba, out, i);
-        know_reach(m, kin, aba, out, j);
+        // is stopped at the surface instead of being found inside it one step later
         let margin = first_margin(m, out, i, j);
         if apart(m, out, i, j, margin) {
             continue;
         }
         pair(m, kin, out, i, j, margin);
     }
-}
-
-/// The centre speed and acceleration of geom g's node at the geom (relative to the origin, ABA's
-/// fictitious −g added back): what its reach is bounded by.
-#[inline(always)]
-fn centre_motion(m: &Model, kin: &KinData, aba: &AbaData, cd: &CollisionData, g: usize) -> Option<(crate::math::Motion, DVec3, DVec3, DVec3)> {
-    let n = m.body_node[m.geom_body[g]];
-    if n == WORLD || m.geom_type[g] == GeomType::Plane {
-        return None;
-    }
-    let (v, a, centre) = (kin.v[n], aba.a[n], cd.geom_xpos[g] - kin.origin);
-    let vc = v.point_velocity(centre);
-    let ac = a.point_velocity(centre) + v.ang.cross(vc) + m.opt.gravity;
-    Some((a, v.ang, vc, ac))
-}
-
-/// Fills `geom_reach[g]` for this configuration unless already done: the step's end velocity is
-/// at most v + h a, and carries a point by lever × it; over the geom's points, centre value +
-/// angular part × bounding radius.
-fn know_reach(m: &Model, kin: &KinData, aba: &AbaData, cd: &mut CollisionData, g: usize) {
-    if cd.reach_known[g] {
-        return;
-    }
-    let (h, lever) = (m.opt.timestep, m.opt.lever());
-    cd.geom_reach[g] = match centre_motion(m, kin, aba, cd, g) {
-        None => 0.0,
-        Some((a, w, vc, ac)) => {
-            let (rb, w) = (m.geom_rbound[g], w.length());
-            lever * (vc.length() + w * rb + h * (ac.length() + (a.ang.length() + w * w) * rb))
-        }
-    };
-    cd.reach_known[g] = true;
-}
-
-/// An upper bound on geom g's reach squared without square roots: the reach is lever times a sum
-/// of four norms t_k, and (Σ t_k)² ≤ 4 Σ t_k².
-#[inline]
-fn reach_squared_bound(m: &Model, kin: &KinData, aba: &AbaData, cd: &CollisionData, g: usize) -> f64 {
-    let Some((a, w, vc, ac)) = centre_motion(m, kin, aba, cd, g) else { return 0.0 };
-    let (h, lever, rb) = (m.opt.timestep, m.opt.lever(), m.geom_rbound[g]);
-    let w2 = w.length_squared();
-    // (|α| + |ω|²)² ≤ 2 (|α|² + |ω|⁴)
-    4.0 * lever * lever * (vc.length_squared() + w2 * rb * rb + h * h * (ac.length_squared() + 2.0 * rb * rb * (a.ang.length_squared() + w2 * w2)))
 }
 
 /// Contacts of the configuration in `kin` that penetrate (dist < 0) — no speculative margin; for
@@ -254,23 +207,6 @@ fn apart(m: &Model, cd: &CollisionData, i: usize, j: usize, margin: f64) -> bool
     (cd.geom_xpos[other] - cd.geom_xpos[plane]).dot(normal) > m.geom_rbound[other] + margin
 }
 
-/// The gap between the bounding spheres of geoms i and j (or a bounding sphere's height above a
-/// plane) less the pair's own margin; −∞ when neither bound applies.
-#[inline(always)]
-fn clearance(m: &Model, cd: &CollisionData, i: usize, j: usize) -> f64 {
-    let (ri, rj) = (m.geom_rbound[i], m.geom_rbound[j]);
-    let margin = m.geom_margin[i].max(m.geom_margin[j]);
-    if ri.is_finite() && rj.is_finite() {
-        return cd.geom_xpos[i].distance(cd.geom_xpos[j]) - ri - rj - margin;
-    }
-    let (plane, other) = if ri.is_finite() { (j, i) } else { (i, j) };
-    if m.geom_type[plane] != GeomType::Plane || !m.geom_rbound[other].is_finite() {
-        return f64::NEG_INFINITY;
-    }
-    let normal = cd.geom_xmat[plane].col(2);
-    (cd.geom_xpos[other] - cd.geom_xpos[plane]).dot(normal) - m.geom_rbound[other] - margin
-}
-
 /// Bound on the speed of any point of geom g, whose centre is at `centre` (relative to the
 /// kinematics' origin), under its node's velocity `v`.
 #[inline]
@@ -288,7 +224,7 @@ fn first_margin(m: &Model, cd: &CollisionData, i: usize, j: usize) -> f64 {
 /// lever·|v_end| now exceeds their first margin are tested again (same configuration) and contacts
 /// not found before are appended. Returns whether there were any: constraint forces (a body
 /// landing on another, say) can carry a geom further than its constraint-free motion.
-pub fn reach_again(m: &Model, kin: &KinData, aba: &AbaData, v_end: &[crate::math::Motion], out: &mut CollisionData) -> bool {
+pub fn reach_again(m: &Model, kin: &KinData, v_end: &[crate::math::Motion], out: &mut CollisionData) -> bool {
     if !m.opt.contact || m.collision_pairs.is_empty() {
         return false;
     }
@@ -304,9 +240,6 @@ pub fn reach_again(m: &Model, kin: &KinData, aba: &AbaData, v_end: &[crate::math
     let mut found = false;
     for &(i, j) in &m.collision_pairs {
         let margin = m.geom_margin[i].max(m.geom_margin[j]) + lever * (out.geom_speed_end[i] + out.geom_speed_end[j]);
-        // (a pair the first look dismissed on the looser bound is compared with the exact reach)
-        know_reach(m, kin, aba, out, i);
-        know_reach(m, kin, aba, out, j);
         if margin <= first_margin(m, out, i, j) {
             continue;
         }

@@ -180,13 +180,13 @@ fn missed_contacts(m: &Model, data: &mut Data, qvel: &[f64]) -> bool {
         return false;
     }
     let h = m.opt.timestep;
-    let Data { kin, aba, coll, post, qacc, .. } = data;
+    let Data { kin, coll, post, qacc, .. } = data;
     for ((e, v), a) in post.vel_end.iter_mut().zip(qvel).zip(qacc.iter()) {
         *e = v + h * a;
     }
     // post.kin is free until the post-stabilisation check, which recomputes it
     kinematics::velocities(m, kin, &post.vel_end, &mut post.kin.v);
-    collision::reach_again(m, kin, aba, &post.kin.v, coll)
+    collision::reach_again(m, kin, &post.kin.v, coll)
 }
 
 /// Marks in `data.limit_forced` each limit without a row that q̇ + h q̈ would cross within the step.
