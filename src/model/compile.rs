@@ -279,11 +279,11 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
 fn motion_plane(m: &Model) -> Option<DVec3> {
     let mut kin = crate::step::kinematics::KinData::new(m);
     crate::step::kinematics::forward(m, &m.qpos0, &vec![0.0; m.nv], &mut kin);
-    // a hinge's or slide's axis in world: its subspace column, from node coordinates
+    // a hinge's or slide's axis in world: its subspace column's rotation or translation part
     let world_axis = |j: usize| {
         let n = m.jnt_node[j];
         let s = kin.s[n][m.jnt_dofadr[j] - m.node_dofadr[n]];
-        kin.node_rot[n] * if m.jnt_type[j] == JointType::Hinge { s.ang } else { s.lin }.normalize()
+        if m.jnt_type[j] == JointType::Hinge { s.ang } else { s.lin }.normalize()
     };
     let normal = world_axis((0..m.njnt).find(|&j| m.jnt_type[j] == JointType::Hinge)?);
     let planar = (0..m.njnt).all(|j| match m.jnt_type[j] {
@@ -312,4 +312,26 @@ fn check_solvable(m: &Model) -> Result<()> {
         )));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A chain whose second body is turned 90° about x, its hinge about its own z: every hinge
+    /// still turns about world y, so the model is planar; turned the other way it is not.
+    #[test]
+    fn motion_plane_reads_joint_axes_in_world() {
+        let chain = |axis2: &str| {
+            format!(
+                r#"<mujoco><worldbody><body><joint type="hinge" axis="0 1 0"/><geom size="0.1"/>
+                <body pos="0.5 0 0" euler="90 0 0"><joint type="hinge" axis="{axis2}"/><geom size="0.1"/>
+                </body></body></worldbody></mujoco>"#
+            )
+        };
+        let planar = Model::from_mjcf(&chain("0 0 1")).unwrap();
+        let normal = planar.motion_plane.expect("both hinges turn about world y");
+        assert!(normal.cross(DVec3::Y).length() < 1e-12, "{normal}");
+        assert!(Model::from_mjcf(&chain("0 1 0")).unwrap().motion_plane.is_none());
+    }
 }
