@@ -24,12 +24,6 @@ pub fn outer(a: DVec3, b: DVec3) -> DMat3 {
     DMat3::from_cols(a * b.x, a * b.y, a * b.z)
 }
 
-/// Rotation of `angle` radians about the unit vector `axis`, as a quaternion.
-#[inline]
-pub fn quat_axis_angle(axis: DVec3, angle: f64) -> DQuat {
-    DQuat::from_axis_angle(axis, angle)
-}
-
 /// Quaternion from MuJoCo's (w, x, y, z) order.
 #[inline]
 pub fn quat_wxyz(q: &[f64]) -> DQuat {

@@ -173,48 +173,10 @@ impl Xform {
         (self.e.transpose(), self.r)
     }
 
-    /// Motion transform X m.
-    #[inline]
-    pub fn apply_motion(&self, m: &Motion) -> Motion {
-        Motion { ang: self.e * m.ang, lin: self.e * (m.lin - self.r.cross(m.ang)) }
-    }
-
-    /// Inverse motion transform X⁻¹ m (B-coordinates to A-coordinates).
-    #[inline]
-    pub fn inv_apply_motion(&self, m: &Motion) -> Motion {
-        let ang = self.e.transpose() * m.ang;
-        Motion { ang, lin: self.e.transpose() * m.lin + self.r.cross(ang) }
-    }
-
-    /// Force transform X* f (A-coordinates to B-coordinates).
-    #[inline]
-    pub fn apply_force(&self, f: &Force) -> Force {
-        Force { ang: self.e * (f.ang - self.r.cross(f.lin)), lin: self.e * f.lin }
-    }
-
-    /// Transposed transform Xᵀ f: a force in B-coordinates expressed in A-coordinates.
-    #[inline]
-    pub fn inv_apply_force(&self, f: &Force) -> Force {
-        let lin = self.e.transpose() * f.lin;
-        Force { ang: self.e.transpose() * f.ang + self.r.cross(lin), lin }
-    }
-
     /// Composition: for `self` = ^B X_A and `next` = ^C X_B, returns ^C X_A.
     #[inline]
     pub fn then(&self, next: &Xform) -> Xform {
         Xform { e: next.e * self.e, r: self.r + self.e.transpose() * next.r }
-    }
-
-    /// Maps a point given in A-coordinates to B-coordinates.
-    #[inline]
-    pub fn point_to_b(&self, p: DVec3) -> DVec3 {
-        self.e * (p - self.r)
-    }
-
-    /// Maps a point given in B-coordinates to A-coordinates.
-    #[inline]
-    pub fn point_to_a(&self, p: DVec3) -> DVec3 {
-        self.e.transpose() * p + self.r
     }
 }
 
@@ -222,36 +184,13 @@ impl Xform {
 mod tests {
     use super::*;
 
-    fn xf() -> Xform {
-        Xform::from_pose_quat(DQuat::from_euler(glam::EulerRot::XYZ, 0.3, -0.7, 1.1), DVec3::new(0.4, -1.0, 2.0))
-    }
-
     #[test]
-    fn inverse_round_trips() {
-        let x = xf();
-        let m = Motion::new(DVec3::new(1.0, 2.0, 3.0), DVec3::new(-1.0, 0.5, 0.25));
-        let back = x.inv_apply_motion(&x.apply_motion(&m));
-        assert!((back.ang - m.ang).length() < 1e-14 && (back.lin - m.lin).length() < 1e-14);
-        let f = Force::new(m.lin, m.ang);
-        let back = x.inv_apply_force(&x.apply_force(&f));
-        assert!((back.ang - f.ang).length() < 1e-14 && (back.lin - f.lin).length() < 1e-14);
-    }
-
-    #[test]
-    fn power_is_invariant() {
-        let x = xf();
-        let m = Motion::new(DVec3::new(1.0, 2.0, 3.0), DVec3::new(-1.0, 0.5, 0.25));
-        let f = Force::new(DVec3::new(0.2, -0.1, 0.7), DVec3::new(3.0, 1.0, -2.0));
-        assert!((x.apply_motion(&m).dot(&x.apply_force(&f)) - m.dot(&f)).abs() < 1e-13);
-    }
-
-    #[test]
-    fn composition_matches_sequential_application() {
-        let a = xf();
+    fn composition_composes_the_poses() {
+        let a = Xform::from_pose_quat(DQuat::from_euler(glam::EulerRot::XYZ, 0.3, -0.7, 1.1), DVec3::new(0.4, -1.0, 2.0));
         let b = Xform::from_pose_quat(DQuat::from_rotation_z(0.4), DVec3::new(1.0, 0.0, -0.5));
-        let m = Motion::new(DVec3::new(0.3, 2.0, -1.0), DVec3::new(1.0, 0.5, 0.25));
-        let seq = b.apply_motion(&a.apply_motion(&m));
-        let comp = a.then(&b).apply_motion(&m);
-        assert!((seq.ang - comp.ang).length() < 1e-14 && (seq.lin - comp.lin).length() < 1e-14);
+        let ((ra, pa), (rb, pb), (rc, pc)) = (a.pose(), b.pose(), a.then(&b).pose());
+        // C's pose in A: B's axes carried by A's, B's origin placed in A
+        assert!((rc - ra * rb).abs_diff_eq(DMat3::ZERO, 1e-14));
+        assert!((pc - (pa + ra * pb)).length() < 1e-14);
     }
 }

@@ -268,12 +268,6 @@ impl Model {
         Model::from_mjcf(&xml)
     }
 
-    /// Number of dofs of joint `j`.
-    #[inline]
-    pub fn jnt_nv(&self, j: usize) -> usize {
-        self.jnt_type[j].nv()
-    }
-
     /// Hinge and slide joints with a range: the joints limits act on (ball and free joints' ranges
     /// are not enforced).
     pub fn limited_joints(&self) -> impl Iterator<Item = usize> + '_ {
