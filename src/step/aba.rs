@@ -16,7 +16,7 @@
 //! I^A, U and D⁻¹ depend on the configuration only, so they serve every test force of the step.
 
 use crate::math::{ArtInertia, Force, Motion};
-use crate::model::{Model, WORLD};
+use crate::model::{JointType, Model, WORLD};
 
 use super::kinematics::KinData;
 
@@ -69,13 +69,15 @@ pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut Ab
         let p = m.node_parent[i];
         let args = (m, kin, tau, h_damp, i, &ia_all[i], &pa_all[i]);
         let (um, d, ui) = (&mut u_mat[i], &mut d_inv[i], &mut u[i]);
+        let free = m.jnt_type[m.node_jntadr[i]] == JointType::Free;
         let (ok, ia_small, pa) = match m.node_nv[i] {
-            1 => inward::<1>(args, um, d, ui, p != WORLD),
-            2 => inward::<2>(args, um, d, ui, p != WORLD),
-            3 => inward::<3>(args, um, d, ui, p != WORLD),
-            4 => inward::<4>(args, um, d, ui, p != WORLD),
-            5 => inward::<5>(args, um, d, ui, p != WORLD),
-            _ => inward::<6>(args, um, d, ui, p != WORLD),
+            1 => inward::<1, false>(args, um, d, ui, p != WORLD),
+            2 => inward::<2, false>(args, um, d, ui, p != WORLD),
+            3 => inward::<3, false>(args, um, d, ui, p != WORLD),
+            4 => inward::<4, false>(args, um, d, ui, p != WORLD),
+            5 => inward::<5, false>(args, um, d, ui, p != WORLD),
+            _ if free => inward::<6, true>(args, um, d, ui, p != WORLD),
+            _ => inward::<6, false>(args, um, d, ui, p != WORLD),
         };
         if !ok {
             singular_node.get_or_insert(i);
@@ -88,10 +90,12 @@ pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut Ab
 }
 
 /// Node i's inward step with K dofs: U = I^A S, D⁻¹, u = τ − Sᵀ p^A and, when it has a parent,
-/// the I^a = I^A − U D⁻¹ Uᵀ and p^a it hands on. Returns whether D was positive definite.
+/// the I^a = I^A − U D⁻¹ Uᵀ and p^a it hands on. Returns whether D was positive definite. A free
+/// joint's first three columns are the world translations (0, e_k): their U is a column of I^A's
+/// lower blocks and their rows of Sᵀ pick components, with no products.
 #[allow(clippy::type_complexity)]
 #[inline(always)]
-fn inward<const K: usize>(
+fn inward<const K: usize, const FREE: bool>(
     (m, kin, tau, h_damp, i, ia, pa): (&Model, &KinData, &[f64], f64, usize, &ArtInertia, &Force),
     um: &mut [Force; 6],
     d: &mut [f64; 36],
@@ -100,15 +104,17 @@ fn inward<const K: usize>(
 ) -> (bool, ArtInertia, Force) {
     let da = m.node_dofadr[i];
     let s = &kin.s[i];
+    // Sᵀ f for column r
+    let s_dot = |r: usize, f: &Force| if FREE && r < 3 { f.lin[r] } else { s[r].dot(f) };
     for c in 0..K {
-        um[c] = ia.mul_motion(&s[c]);
+        um[c] = if FREE && c < 3 { Force::new(ia.b.col(c), ia.c.col(c)) } else { ia.mul_motion(&s[c]) };
     }
     for r in 0..K {
         for c in 0..K {
-            d[r * 6 + c] = s[r].dot(&um[c]);
+            d[r * 6 + c] = s_dot(r, &um[c]);
         }
         d[r * 6 + r] += m.dof_armature[da + r] + h_damp * m.dof_damping[da + r];
-        ui[r] = tau[da + r] - s[r].dot(pa);
+        ui[r] = tau[da + r] - s_dot(r, pa);
     }
     let ok = invert_d(K, d);
     if !has_parent {
