@@ -67,11 +67,11 @@ impl JointType {
 pub enum GeomType {
     /// Infinite plane, normal +z of its frame.
     Plane,
-    /// Sphere of radius size[0].
+    /// Sphere of radius `size[0]`.
     Sphere,
-    /// Capsule of radius size[0] and half-length size[1] along z.
+    /// Capsule of radius `size[0]` and half-length `size[1]` along z.
     Capsule,
-    /// Cylinder of radius size[0] and half-length size[1] along z.
+    /// Cylinder of radius `size[0]` and half-length `size[1]` along z.
     Cylinder,
     /// Box of half-sizes size[0..3].
     Box,

@@ -103,7 +103,7 @@ pub struct ConstraintData {
     /// Row whose force direction is the negation of this one's (pyramid ±t), or usize::MAX: its
     /// K column and Δq̈ are that row's, negated, with no test force pushed.
     pub mirror: Vec<usize>,
-    /// K, row-major (m × m): K[j][k] = acceleration of row j per unit force of row k.
+    /// K, row-major (m × m): `K[j][k]` = acceleration of row j per unit force of row k.
     pub k: Vec<f64>,
     /// Constraint acceleration with zero constraint force.
     pub b: Vec<f64>,
