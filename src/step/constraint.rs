@@ -1,8 +1,7 @@
 //! Stage 3 — constraint rows `a = K f + b` (Kokkevis 2004): contact normals (unilateral), friction in
 //! the seed's one-tangent λ form (eqs. 19–21), and joint limits. Column k of K is measured by pushing
-//! a unit test force of row k through the ABA quantities kept from the inward pass (I^A, U and D's
-//! factor): a delta inward pass and a delta outward pass, no 6×6 work, O(n) per column, O(mn + m²)
-//! in all.
+//! a unit test force of row k through the ABA quantities kept from the inward pass (I^A, U, D⁻¹):
+//! a delta inward pass and a delta outward pass, no 6×6 work, O(n) per column, O(mn + m²) in all.
 
 use glam::DVec3;
 
@@ -184,21 +183,20 @@ fn node_of_geom(m: &Model, g: usize) -> usize {
     m.body_node[m.geom_body[g]]
 }
 
-/// World classical acceleration of the point with node coordinates `r` on node `n`, from the
-/// nodes' spatial accelerations `a`, plus `g` (the ABA's accelerations carry the base's fictitious
-/// −g, which `g` adds back; the velocity products alone, J̇ q̇, take none).
+/// World classical acceleration of the point of node `n` at `r` (relative to `kin.origin`), from
+/// the nodes' spatial accelerations `a`, plus `g` (the ABA's accelerations carry the base's
+/// fictitious −g, which `g` adds back; the velocity products alone, J̇ q̇, take none).
 fn point_accel(kin: &KinData, a: &[Motion], g: DVec3, n: usize, r: DVec3) -> DVec3 {
     if n == WORLD {
         return DVec3::ZERO;
     }
     let v = kin.v[n];
-    let r = kin.rel(n, r);
     a[n].point_velocity(r) + v.ang.cross(v.point_velocity(r)) + g
 }
 
-/// World velocity of the point with node coordinates `r` on node `n`.
+/// World velocity of the point of node `n` at `r` (relative to `kin.origin`).
 fn point_vel(kin: &KinData, n: usize, r: DVec3) -> DVec3 {
-    if n == WORLD { DVec3::ZERO } else { kin.v[n].point_velocity(kin.rel(n, r)) }
+    if n == WORLD { DVec3::ZERO } else { kin.v[n].point_velocity(r) }
 }
 
 /// Velocity-product accelerations a_i = a_λ + c_i (q̈ = 0, no gravity): J̇ q̇ of any point.
@@ -224,19 +222,19 @@ fn arc_lift(kin: &KinData, out: &ConstraintData, j: usize, h: f64, lever: f64) -
 /// J̇ q̇ · n of normal row j's contact points and of its centres, relative (side 1 − side 2).
 pub fn arcs(kin: &KinData, out: &ConstraintData, j: usize) -> [f64; 2] {
     let n = out.node[j];
-    let vp = |side: usize, r: DVec3| point_accel(kin, &out.a_vp, DVec3::ZERO, n[side], r);
+    let vp = |side: usize, p: DVec3| point_accel(kin, &out.a_vp, DVec3::ZERO, n[side], kin.rel(n[side], p));
     [out.point[j], out.centre[j]].map(|p| out.dir[j].dot(vp(0, p[0]) - vp(1, p[1])))
 }
 
 /// The contact row's spatial forces on its two nodes per unit force along world direction `dir`
-/// (+dir on side 1, −dir on side 2), world coordinates about `kin.origin`.
-pub fn jacobian(kin: &KinData, nodes: [usize; 2], pts: [DVec3; 2], dir: DVec3) -> [Force; 2] {
+/// (+dir on side 1, −dir on side 2) at the points `r` (relative to the kinematics' origin, in
+/// whose coordinates the forces are).
+pub fn jacobian(nodes: [usize; 2], r: [DVec3; 2], dir: [DVec3; 2]) -> [Force; 2] {
     let mut jac = [Force::ZERO; 2];
     for side in 0..2 {
-        let n = nodes[side];
-        if n != WORLD {
+        if nodes[side] != WORLD {
             let sgn = if side == 0 { 1.0 } else { -1.0 };
-            jac[side] = Force::at_point(kin.rel(n, pts[side]), dir * sgn);
+            jac[side] = Force::at_point(r[side], dir[side] * sgn);
         }
     }
     jac
@@ -272,13 +270,15 @@ pub fn rows(
         let nodes = [node_of_geom(m, c.geom1), node_of_geom(m, c.geom2)];
         let local = |n: usize| if n == WORLD { c.pos } else { kin.node_rot[n].transpose() * (c.pos - kin.node_pos[n]) };
         let pts = [local(nodes[0]), local(nodes[1])];
-        let vrel = point_vel(kin, nodes[0], pts[0]) - point_vel(kin, nodes[1], pts[1]);
+        // the contact point relative to the origin: the same world point on both sides
+        let r = c.pos - kin.origin;
+        let vrel = point_vel(kin, nodes[0], r) - point_vel(kin, nodes[1], r);
         let g = m.opt.gravity;
-        let arel = point_accel(kin, &aba.a, g, nodes[0], pts[0]) - point_accel(kin, &aba.a, g, nodes[1], pts[1]);
+        let arel = point_accel(kin, &aba.a, g, nodes[0], r) - point_accel(kin, &aba.a, g, nodes[1], r);
         let normal_row = out.len();
         out.push(RowKind::Normal, nodes, pts, c.normal, (0, 0.0), c.mu, ci);
         out.vel[normal_row] = c.normal.dot(vrel);
-        out.jac[normal_row] = jacobian(kin, nodes, pts, c.normal);
+        out.jac[normal_row] = jacobian(nodes, [r; 2], [c.normal; 2]);
         out.dist[normal_row] = c.dist;
         // a sphere's or capsule's surface is a radius from its centre along the normal (+n points
         // into geom1; `pos` lies midway between the surfaces)
@@ -312,12 +312,12 @@ pub fn rows(
                 }
             };
             for (k, d) in dirs.into_iter().enumerate().filter(|(_, d)| *d != DVec3::ZERO) {
-                let r = out.len();
+                let row = out.len();
                 out.push(RowKind::Tangent { normal: normal_row }, nodes, pts, d, (0, 0.0), c.mu, ci);
-                out.vel[r] = d.dot(vrel);
-                out.jac[r] = jacobian(kin, nodes, pts, d);
+                out.vel[row] = d.dot(vrel);
+                out.jac[row] = jacobian(nodes, [r; 2], [d; 2]);
                 if k % 2 == 1 {
-                    out.mirror[r] = r - 1;
+                    out.mirror[row] = row - 1;
                 }
             }
         }
@@ -487,7 +487,7 @@ fn measure(m: &Model, kin: &KinData, cd: &ConstraintData, j: usize, what: Measur
     };
     let ([n0, n1], [p0, p1]) = (cd.node[j], cd.point[j]);
     let g = m.opt.gravity;
-    cd.dir[j].dot(point_accel(kin, &aba.a, g, n0, p0) - point_accel(kin, &aba.a, g, n1, p1))
+    cd.dir[j].dot(point_accel(kin, &aba.a, g, n0, kin.rel(n0, p0)) - point_accel(kin, &aba.a, g, n1, kin.rel(n1, p1)))
 }
 
 /// Response of the articulated system to the test forces in `dpa` (world coordinates) or the unit

@@ -194,9 +194,19 @@ fn gather(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
         if known {
             continue;
         }
+        // the contact's point and normal carried back with each side's node to the step's start,
+        // whose kinematics and ABA quantities the projection uses
         let nodes = [m.body_node[m.geom_body[c.geom1]], m.body_node[m.geom_body[c.geom2]]];
-        let local = |n: usize| if n == WORLD { c.pos } else { new.node_rot[n].transpose() * (c.pos - new.node_pos[n]) };
-        let jac = constraint::jacobian(new, nodes, [local(nodes[0]), local(nodes[1])], c.normal);
+        let back = |side: usize| {
+            let n = nodes[side];
+            if n == WORLD {
+                return (c.pos - kin.origin, c.normal);
+            }
+            let turn = kin.node_rot[n] * new.node_rot[n].transpose();
+            (kin.rel(n, new.node_rot[n].transpose() * (c.pos - new.node_pos[n])), turn * c.normal)
+        };
+        let ((r1, n1), (r2, n2)) = (back(0), back(1));
+        let jac = constraint::jacobian(nodes, [r1, r2], [n1, n2]);
         post.gap.push(c.dist);
         push_jacobian(m, kin, nodes, jac, &mut post.jac);
         post.dpa.fill(Force::ZERO);
