@@ -20,6 +20,21 @@ use crate::model::{JointType, Model, WORLD};
 
 use super::kinematics::KinData;
 
+/// `$f::<K>(args)` with K the node's dof count `$k` (1 to 6) as a constant, so that the callee's
+/// small loops have fixed bounds and unroll.
+macro_rules! sized {
+    ($k:expr, $f:ident($($arg:expr),*)) => {
+        match $k {
+            1 => $f::<1>($($arg),*),
+            2 => $f::<2>($($arg),*),
+            3 => $f::<3>($($arg),*),
+            4 => $f::<4>($($arg),*),
+            5 => $f::<5>($($arg),*),
+            _ => $f::<6>($($arg),*),
+        }
+    };
+}
+
 /// Quantities of the inward pass, kept for the outward pass and for test forces.
 #[derive(Clone, Debug, Default)]
 pub struct AbaData {
@@ -69,16 +84,7 @@ pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut Ab
         let p = m.node_parent[i];
         let args = (m, kin, tau, h_damp, i, &ia_all[i], &pa_all[i]);
         let (um, d, ui) = (&mut u_mat[i], &mut d_inv[i], &mut u[i]);
-        let free = m.jnt_type[m.node_jntadr[i]] == JointType::Free;
-        let (ok, ia_small, pa) = match m.node_nv[i] {
-            1 => inward::<1, false>(args, um, d, ui, p != WORLD),
-            2 => inward::<2, false>(args, um, d, ui, p != WORLD),
-            3 => inward::<3, false>(args, um, d, ui, p != WORLD),
-            4 => inward::<4, false>(args, um, d, ui, p != WORLD),
-            5 => inward::<5, false>(args, um, d, ui, p != WORLD),
-            _ if free => inward::<6, true>(args, um, d, ui, p != WORLD),
-            _ => inward::<6, false>(args, um, d, ui, p != WORLD),
-        };
+        let (ok, ia_small, pa) = sized!(m.node_nv[i], inward(args, um, d, ui, p != WORLD));
         if !ok {
             singular_node.get_or_insert(i);
         }
@@ -95,7 +101,7 @@ pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut Ab
 /// lower blocks and their rows of Sᵀ pick components, with no products.
 #[allow(clippy::type_complexity)]
 #[inline(always)]
-fn inward<const K: usize, const FREE: bool>(
+fn inward<const K: usize>(
     (m, kin, tau, h_damp, i, ia, pa): (&Model, &KinData, &[f64], f64, usize, &ArtInertia, &Force),
     um: &mut [Force; 6],
     d: &mut [f64; 36],
@@ -104,10 +110,11 @@ fn inward<const K: usize, const FREE: bool>(
 ) -> (bool, ArtInertia, Force) {
     let da = m.node_dofadr[i];
     let s = &kin.s[i];
+    let free = K == 6 && m.jnt_type[m.node_jntadr[i]] == JointType::Free;
     // Sᵀ f for column r
-    let s_dot = |r: usize, f: &Force| if FREE && r < 3 { f.lin[r] } else { s[r].dot(f) };
+    let s_dot = |r: usize, f: &Force| if free && r < 3 { f.lin[r] } else { s[r].dot(f) };
     for c in 0..K {
-        um[c] = if FREE && c < 3 { Force::new(ia.b.col(c), ia.c.col(c)) } else { ia.mul_motion(&s[c]) };
+        um[c] = if free && c < 3 { Force::new(ia.b.col(c), ia.c.col(c)) } else { ia.mul_motion(&s[c]) };
     }
     for r in 0..K {
         for c in 0..K {
@@ -146,15 +153,7 @@ pub fn backward_bias(m: &Model, kin: &KinData, tau: &[f64], aba: &mut AbaData) {
         if p == WORLD {
             continue;
         }
-        let args = (&aba.ia[i], &aba.u_mat[i], &aba.d_inv[i], &aba.u[i], &kin.c[i], &aba.pa[i]);
-        let pa = match k {
-            1 => articulated_bias::<1>(args.0, args.1, args.2, args.3, args.4, args.5),
-            2 => articulated_bias::<2>(args.0, args.1, args.2, args.3, args.4, args.5),
-            3 => articulated_bias::<3>(args.0, args.1, args.2, args.3, args.4, args.5),
-            4 => articulated_bias::<4>(args.0, args.1, args.2, args.3, args.4, args.5),
-            5 => articulated_bias::<5>(args.0, args.1, args.2, args.3, args.4, args.5),
-            _ => articulated_bias::<6>(args.0, args.1, args.2, args.3, args.4, args.5),
-        };
+        let pa = sized!(k, articulated_bias(&aba.ia[i], &aba.u_mat[i], &aba.d_inv[i], &aba.u[i], &kin.c[i], &aba.pa[i]));
         aba.pa[p] += pa;
     }
 }
@@ -198,14 +197,7 @@ pub fn forward(m: &Model, kin: &KinData, aba: &mut AbaData, qacc: &mut [f64]) {
 /// a_i = a'_i + S_i q̈_i. Shared by the main pass and the test-force delta pass.
 #[inline]
 pub fn joint_accel(m: &Model, kin: &KinData, aba: &AbaData, i: usize, u: &[f64; 6], a_prime: Motion, qacc: &mut [f64]) -> Motion {
-    match m.node_nv[i] {
-        1 => outward::<1>(m, kin, aba, i, u, a_prime, qacc),
-        2 => outward::<2>(m, kin, aba, i, u, a_prime, qacc),
-        3 => outward::<3>(m, kin, aba, i, u, a_prime, qacc),
-        4 => outward::<4>(m, kin, aba, i, u, a_prime, qacc),
-        5 => outward::<5>(m, kin, aba, i, u, a_prime, qacc),
-        _ => outward::<6>(m, kin, aba, i, u, a_prime, qacc),
-    }
+    sized!(m.node_nv[i], outward(m, kin, aba, i, u, a_prime, qacc))
 }
 
 /// [`joint_accel`] for a node of K dofs.
@@ -229,19 +221,12 @@ fn outward<const K: usize>(m: &Model, kin: &KinData, aba: &AbaData, i: usize, u:
 /// [`solve_d`], so that every later solve is one matrix–vector product. Returns false, leaving
 /// zeros, when D is not positive definite.
 pub fn invert_d(k: usize, d: &mut [f64; 36]) -> bool {
-    // fixed sizes, so the loops unroll
-    match k {
-        1 => {
-            let ok = d[0] > 1e-300 && d[0].is_finite();
-            d[0] = if ok { 1.0 / d[0] } else { 0.0 };
-            ok
-        }
-        2 => invert_sized::<2>(d),
-        3 => invert_sized::<3>(d),
-        4 => invert_sized::<4>(d),
-        5 => invert_sized::<5>(d),
-        _ => invert_sized::<6>(d),
+    if k == 1 {
+        let ok = d[0] > 1e-300 && d[0].is_finite();
+        d[0] = if ok { 1.0 / d[0] } else { 0.0 };
+        return ok;
     }
+    sized!(k, invert_sized(d))
 }
 
 /// [`invert_d`] for k = K: D = L Δ Lᵀ with L unit lower triangular (no square roots, one
@@ -302,14 +287,7 @@ fn invert_sized<const K: usize>(d: &mut [f64; 36]) -> bool {
 /// x ← D⁻¹ x on the first k entries, D⁻¹ as [`invert_d`] left it.
 #[inline]
 pub fn solve_d(k: usize, d: &[f64; 36], x: &mut [f64; 6]) {
-    match k {
-        1 => solve_sized::<1>(d, x),
-        2 => solve_sized::<2>(d, x),
-        3 => solve_sized::<3>(d, x),
-        4 => solve_sized::<4>(d, x),
-        5 => solve_sized::<5>(d, x),
-        _ => solve_sized::<6>(d, x),
-    }
+    sized!(k, solve_sized(d, x))
 }
 
 /// [`solve_d`] for k = K.
