@@ -6,7 +6,7 @@
 use glam::DVec3;
 
 use crate::data::Data;
-use crate::math::Force;
+use crate::math::{Force, SpatialInertia};
 use crate::model::{ConstraintMode, Model, WORLD};
 use crate::step::kinematics;
 
@@ -92,9 +92,10 @@ pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64]
     let com_of_root = |r: usize| root_com[r].0;
     // cinert and cvel: about and at the root subtree's centre of mass, world axes
     for b in 0..m.nbody {
-        let (rot, mass) = (kin.xmat[b], m.body_mass[b]);
-        let d = kin.xpos[b] + rot * m.body_ipos[b] - com_of_root(root[b]);
-        let i = rot * m.body_inertia[b] * rot.transpose();
+        let mass = m.body_mass[b];
+        // the body's inertia in world axes, its centre of mass at d from the root subtree's
+        let SpatialInertia { com: d, ic: i, .. } =
+            SpatialInertia::new(mass, m.body_ipos[b], m.body_inertia[b]).to_parent(kin.xmat[b], kin.xpos[b] - com_of_root(root[b]));
         let ci = &mut out.cinert[10 * b..10 * b + 10];
         ci[0] = i.x_axis.x + mass * (d.y * d.y + d.z * d.z);
         ci[1] = i.y_axis.y + mass * (d.x * d.x + d.z * d.z);

@@ -350,9 +350,8 @@ fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
     data.force.resize(n, 0.0);
     let con = &data.con;
     let q = &mut data.lcp_q;
-    // contact points and centres move on arcs the rows' linear prediction leaves out
-    // (`constraint::arc_lift`): the end-of-step targets make up for it
-    let arc_lift = |j: usize| con.lift[j];
+    // contact points and centres move on arcs the rows' linear prediction leaves out: the
+    // end-of-step targets add `con.lift` (`constraint::arc_lift`)
     for j in 0..nr {
         let (vel, dist) = (con.vel[j], con.dist[j]);
         // desired values: acceleration a^d, or velocity change Δv^d for impacts
@@ -368,14 +367,14 @@ fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
             // constraint-free v_p = v + h b
             (RowKind::Tangent { .. }, Level::TimeStep) => -(vel + h * con.b[j]),
             (_, Level::TimeStep) => {
-                let mut target = if dist > 0.0 { -dist / lever } else { constraint::correction_velocity(dist, h) } + arc_lift(j);
+                let mut target = if dist > 0.0 { -dist / lever } else { constraint::correction_velocity(dist, h) } + con.lift[j];
                 if -vel > impact && dist + lever * vel < 0.0 && m.opt.restitution > 0.0 {
                     target = target.max(rebound(vel, dist, con.b[j], m.opt.restitution, h));
                 }
                 target - (vel + h * con.b[j])
             }
             (_, Level::Acceleration) => {
-                let target = if dist > 0.0 { -dist / lever } else { constraint::correction_velocity(dist, h) } + arc_lift(j);
+                let target = if dist > 0.0 { -dist / lever } else { constraint::correction_velocity(dist, h) } + con.lift[j];
                 (target - vel) / h
             }
             // end-of-step velocity v⁺ for a row that closes within this step: the rebound with
