@@ -157,11 +157,10 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData)
         } else {
             // bounds over the geom's points: centre value + angular part × bounding radius;
             // ABA's accelerations carry the base's fictitious −g, added back
-            let (v, a, centre) = (kin.v[n], aba.a[n], out.geom_xpos[g] - kin.origin);
-            let w = v.ang.length();
-            let ac = a.point_velocity(centre) + v.ang.cross(v.point_velocity(centre)) + m.opt.gravity;
-            let accel = ac.length() + (a.ang.length() + w * w) * m.geom_rbound[g];
-            lever * (speed_bound(m, g, &v, centre) + h * accel)
+            let (v, a, centre, rb) = (kin.v[n], aba.a[n], out.geom_xpos[g] - kin.origin, m.geom_rbound[g]);
+            let (vc, w) = (v.point_velocity(centre), v.ang.length());
+            let ac = a.point_velocity(centre) + v.ang.cross(vc) + m.opt.gravity;
+            lever * (vc.length() + w * rb + h * (ac.length() + (a.ang.length() + w * w) * rb))
         };
     }
     for &(i, j) in &m.collision_pairs {
