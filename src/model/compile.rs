@@ -265,7 +265,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
     for i in 0..m.ngeom {
         for j in i + 1..m.ngeom {
             if crate::step::collision::can_collide(&m, i, j) {
-                m.collision_pairs.push((i, j));
+                m.collision_pairs.push(crate::step::collision::geom_pair(&m, i, j));
             }
         }
     }

@@ -102,6 +102,38 @@ impl Options {
     }
 }
 
+/// A geom pair that may collide, with its broadphase test precomputed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GeomPair {
+    /// First geom (the lower index).
+    pub g1: usize,
+    /// Second geom.
+    pub g2: usize,
+    /// How the broadphase rejects the pair.
+    pub test: PairTest,
+    /// The larger of the two geoms' margins.
+    pub margin: f64,
+    /// `margin` plus the bounding radii of the bounded geoms.
+    pub bound: f64,
+}
+
+/// Broadphase test of a [`GeomPair`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PairTest {
+    /// Bounding spheres farther apart than their radii, margin and reach.
+    Spheres,
+    /// The bounding sphere of geom `other` farther above geom `plane` than its radius, margin and
+    /// reach.
+    Plane {
+        /// The plane geom.
+        plane: usize,
+        /// The bounded geom.
+        other: usize,
+    },
+    /// No bound: always tested (two planes).
+    Always,
+}
+
 /// A compiled model. Build it with [`Model::from_mjcf`].
 #[derive(Clone, Debug)]
 pub struct Model {
@@ -244,8 +276,9 @@ pub struct Model {
     /// Whether the force is clamped (nu).
     pub actuator_forcelimited: Vec<bool>,
 
-    /// Geom pairs that pass the configuration-independent collision filters.
-    pub collision_pairs: Vec<(usize, usize)>,
+    /// Geom pairs that pass the configuration-independent collision filters, with what the
+    /// broadphase reads of them.
+    pub collision_pairs: Vec<GeomPair>,
     /// Normal of the plane all motion stays in, when every joint is a hinge about it or a slide
     /// along it (hopper, walker, half-cheetah): friction out of that plane can do nothing there.
     pub motion_plane: Option<DVec3>,

@@ -13,7 +13,7 @@
 
 use glam::{DMat3, DVec3};
 
-use crate::model::{GeomType, Model, WORLD};
+use crate::model::{GeomPair, GeomType, Model, PairTest, WORLD};
 
 use super::aba::AbaData;
 use super::kinematics::KinData;
@@ -110,6 +110,19 @@ pub fn can_collide(m: &Model, i: usize, j: usize) -> bool {
     !m.exclude_pairs.contains(&(bi.min(bj), bi.max(bj)))
 }
 
+/// The broadphase test of geoms i < j, which [`can_collide`].
+pub fn geom_pair(m: &Model, i: usize, j: usize) -> GeomPair {
+    let margin = m.geom_margin[i].max(m.geom_margin[j]);
+    let (ri, rj) = (m.geom_rbound[i], m.geom_rbound[j]);
+    let (test, bound) = match (ri.is_finite(), rj.is_finite()) {
+        (true, true) => (PairTest::Spheres, margin + ri + rj),
+        (false, true) if m.geom_type[i] == GeomType::Plane => (PairTest::Plane { plane: i, other: j }, margin + rj),
+        (true, false) if m.geom_type[j] == GeomType::Plane => (PairTest::Plane { plane: j, other: i }, margin + ri),
+        _ => (PairTest::Always, margin),
+    };
+    GeomPair { g1: i, g2: j, test, margin, bound }
+}
+
 /// Clears the contacts and, when the model has pairs to test, writes the geoms' world poses;
 /// false when there is nothing to test.
 fn geom_poses(m: &Model, kin: &KinData, out: &mut CollisionData) -> bool {
@@ -155,23 +168,28 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData)
         out.geom_reach[g] = if n == WORLD || m.geom_type[g] == GeomType::Plane {
             0.0
         } else {
-            // bounds over the geom's points: centre value + angular part × bounding radius;
-            // ABA's accelerations carry the base's fictitious −g, added back
+            // bounds over the geom's points: centre value + angular part × bounding radius,
+            // |v_c| + h|a_c| + r (|ω| + h(|α| + |ω|²)); ABA's accelerations carry the base's
+            // fictitious −g, added back. Two square roots instead of four, by x + y ≤ √(2(x² + y²))
+            // over each pair (within √2, and tight when the h-term is small, as it usually is)
             let (v, a, centre, rb) = (kin.v[n], aba.a[n], out.geom_xpos[g] - kin.origin, m.geom_rbound[g]);
-            let (vc, w) = (v.point_velocity(centre), v.ang.length());
+            let vc = v.point_velocity(centre);
             let ac = a.point_velocity(centre) + v.ang.cross(vc) + m.opt.gravity;
-            lever * (vc.length() + w * rb + h * (ac.length() + (a.ang.length() + w * w) * rb))
+            let w2 = v.ang.length_squared();
+            let linear = (2.0 * (vc.length_squared() + h * h * ac.length_squared())).sqrt();
+            let angular = (2.0 * (w2 + h * h * a.ang.length_squared())).sqrt() + h * w2;
+            lever * (linear + angular * rb)
         };
     }
-    for &(i, j) in &m.collision_pairs {
+    for p in &m.collision_pairs {
         // speculative: pairs that could close within this step (which moves a point by
         // lever × (v + h a), lever = h for semi-implicit Euler) count as contacts, so a fast foot
         // is stopped at the surface instead of being found inside it one step later
-        let margin = first_margin(m, out, i, j);
-        if apart(m, out, i, j, margin) {
+        let reach = out.geom_reach[p.g1] + out.geom_reach[p.g2];
+        if apart(out, p, reach) {
             continue;
         }
-        pair(m, kin, out, i, j, margin);
+        pair(m, kin, out, p.g1, p.g2, p.margin + reach);
     }
 }
 
@@ -181,29 +199,24 @@ pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
     if !geom_poses(m, kin, out) {
         return;
     }
-    for &(i, j) in &m.collision_pairs {
-        if apart(m, out, i, j, 0.0) {
+    for p in &m.collision_pairs {
+        if apart(out, p, -p.margin) {
             continue;
         }
-        pair(m, kin, out, i, j, 0.0);
+        pair(m, kin, out, p.g1, p.g2, 0.0);
     }
 }
 
-/// Broadphase: bounding spheres farther apart than `margin`, or a bounding sphere that far above
-/// a plane.
+/// Broadphase: bounding spheres farther apart than the pair's margin plus `extra`, or a bounding
+/// sphere that far above a plane.
 #[inline(always)]
-fn apart(m: &Model, cd: &CollisionData, i: usize, j: usize, margin: f64) -> bool {
-    let (ri, rj) = (m.geom_rbound[i], m.geom_rbound[j]);
-    if ri.is_finite() && rj.is_finite() {
-        let reach = ri + rj + margin;
-        return cd.geom_xpos[i].distance_squared(cd.geom_xpos[j]) > reach * reach;
+fn apart(cd: &CollisionData, p: &GeomPair, extra: f64) -> bool {
+    let reach = p.bound + extra;
+    match p.test {
+        PairTest::Spheres => cd.geom_xpos[p.g1].distance_squared(cd.geom_xpos[p.g2]) > reach * reach,
+        PairTest::Plane { plane, other } => (cd.geom_xpos[other] - cd.geom_xpos[plane]).dot(cd.geom_xmat[plane].col(2)) > reach,
+        PairTest::Always => false,
     }
-    let (plane, other) = if ri.is_finite() { (j, i) } else { (i, j) };
-    if m.geom_type[plane] != GeomType::Plane || !m.geom_rbound[other].is_finite() {
-        return false;
-    }
-    let normal = cd.geom_xmat[plane].col(2);
-    (cd.geom_xpos[other] - cd.geom_xpos[plane]).dot(normal) > m.geom_rbound[other] + margin
 }
 
 /// Bound on the speed of any point of geom g, whose centre is at `centre` (relative to the
@@ -211,12 +224,6 @@ fn apart(m: &Model, cd: &CollisionData, i: usize, j: usize, margin: f64) -> bool
 #[inline]
 fn speed_bound(m: &Model, g: usize, v: &crate::math::Motion, centre: DVec3) -> f64 {
     v.point_velocity(centre).length() + v.ang.length() * m.geom_rbound[g]
-}
-
-/// The margin of the first detection: the pair's own plus its reach over the step.
-#[inline(always)]
-fn first_margin(m: &Model, cd: &CollisionData, i: usize, j: usize) -> f64 {
-    m.geom_margin[i].max(m.geom_margin[j]) + cd.geom_reach[i] + cd.geom_reach[j]
 }
 
 /// After the constraint solve: with the step's final node velocities `v_end`, the pairs whose reach
@@ -237,14 +244,13 @@ pub fn reach_again(m: &Model, kin: &KinData, v_end: &[crate::math::Motion], out:
         };
     }
     let mut found = false;
-    for &(i, j) in &m.collision_pairs {
-        let margin = m.geom_margin[i].max(m.geom_margin[j]) + lever * (out.geom_speed_end[i] + out.geom_speed_end[j]);
-        if margin <= first_margin(m, out, i, j) {
+    for p in &m.collision_pairs {
+        let (i, j) = (p.g1, p.g2);
+        let reach = lever * (out.geom_speed_end[i] + out.geom_speed_end[j]);
+        if reach <= out.geom_reach[i] + out.geom_reach[j] || apart(out, p, reach) {
             continue;
         }
-        if apart(m, out, i, j, margin) {
-            continue;
-        }
+        let margin = p.margin + reach;
         let before = out.contacts.len();
         if before >= MAX_CONTACTS {
             // full: a replacement would change contacts the rows already refer to
