@@ -115,12 +115,12 @@ impl Batch {
                 ctrl.par_chunks(nu),
                 st.time.par_iter_mut(),
                 st.diverged.par_iter_mut(),
-                (st.out.xpos.par_chunks_mut(3 * nb), st.out.xmat.par_chunks_mut(9 * nb)),
+                (st.out.xpos.par_chunks_mut(3 * nb), st.out.xmat.par_chunks_mut(9 * nb), st.out.xipos.par_chunks_mut(3 * nb)),
                 (st.out.xvel.par_chunks_mut(6 * nb), st.out.cfrc_ext.par_chunks_mut(6 * nb), st.out.qfrc_constraint.par_chunks_mut(nv)),
                 (st.out.cinert.par_chunks_mut(10 * nb), st.out.cvel.par_chunks_mut(6 * nb)),
             )
                 .into_par_iter()
-                .for_each(|(d, qpos, qvel, ctrl, time, div, (xpos, xmat), (xvel, cfrc_ext, qfrc_constraint), (cinert, cvel))| {
+                .for_each(|(d, qpos, qvel, ctrl, time, div, (xpos, xmat, xipos), (xvel, cfrc_ext, qfrc_constraint), (cinert, cvel))| {
                     let (qpos, qvel) = (&mut qpos[..m.nq], &mut qvel[..m.nv]);
                     let ctrl = &ctrl[..m.nu];
                     *div = false;
@@ -133,7 +133,7 @@ impl Batch {
                         }
                     }
                     let qfrc_constraint = &mut qfrc_constraint[..m.nv];
-                    sensors::write(m, root, d, qpos, qvel, Sensors { xpos, xmat, xvel, cfrc_ext, qfrc_constraint, cinert, cvel });
+                    sensors::write(m, root, d, qpos, qvel, Sensors { xpos, xmat, xipos, xvel, cfrc_ext, qfrc_constraint, cinert, cvel });
                 });
         });
     }

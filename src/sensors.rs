@@ -16,6 +16,8 @@ pub struct Sensors<'a> {
     pub xpos: &'a mut [f64],
     /// Body rotation matrices, row-major (nbody × 9).
     pub xmat: &'a mut [f64],
+    /// Body centres of mass (nbody × 3), MuJoCo's `xipos`.
+    pub xipos: &'a mut [f64],
     /// Body velocities (nbody × 6): world angular velocity, then world velocity of the body origin.
     pub xvel: &'a mut [f64],
     /// Contact wrench on each body (nbody × 6): torque then force, world axes, about the centre of
@@ -37,6 +39,7 @@ impl Sensors<'_> {
         Sensors {
             xpos: &mut self.xpos[i * 3 * nbody..(i + 1) * 3 * nbody],
             xmat: &mut self.xmat[i * 9 * nbody..(i + 1) * 9 * nbody],
+            xipos: &mut self.xipos[i * 3 * nbody..(i + 1) * 3 * nbody],
             xvel: &mut self.xvel[i * 6 * nbody..(i + 1) * 6 * nbody],
             cfrc_ext: &mut self.cfrc_ext[i * 6 * nbody..(i + 1) * 6 * nbody],
             qfrc_constraint: &mut self.qfrc_constraint[i * nv..(i + 1) * nv],
@@ -81,9 +84,12 @@ pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64]
     }
     // centres of mass of the roots' subtrees (MuJoCo's subtree_com[rootid]), indexed by root
     root_com.fill((DVec3::ZERO, 0.0));
+    out.xipos[..3].copy_from_slice(&kin.xpos[0].to_array());
     for b in 1..m.nbody {
+        let xipos = kin.xpos[b] + kin.xmat[b] * m.body_ipos[b];
+        out.xipos[3 * b..3 * b + 3].copy_from_slice(&xipos.to_array());
         let (mc, mass) = &mut root_com[root[b]];
-        *mc += (kin.xpos[b] + kin.xmat[b] * m.body_ipos[b]) * m.body_mass[b];
+        *mc += xipos * m.body_mass[b];
         *mass += m.body_mass[b];
     }
     for (r, (mc, mass)) in root_com.iter_mut().enumerate() {

@@ -63,8 +63,8 @@ class BatchTask:
         self.num_envs = num_envs
         self.batch = Batch(self.model, num_envs, seed=0, num_threads=num_threads)
         b = self.batch
-        self.view = View(b.qpos, b.qvel, b.ctrl, b.xpos, b.xmat.reshape(num_envs, -1, 3, 3), b.xvel, b.cfrc_ext,
-                         b.qfrc_constraint, b.cinert, b.cvel)
+        self.view = View(b.qpos, b.qvel, b.ctrl, b.xpos, b.xmat.reshape(num_envs, -1, 3, 3), b.xipos, b.xvel,
+                         b.cfrc_ext, b.qfrc_constraint, b.cinert, b.cvel)
         if action_mode in ("pd", "trajectory"):
             jnt = [self.model.jnt_dofadr.index(d) for d in self.model.actuator_dofadr]
             unlimited = [np.pi if self.model.joint_types[j] == "hinge" else 1.0 for j in jnt]

@@ -27,6 +27,7 @@ class View:
     ctrl: np.ndarray
     xpos: np.ndarray  # (N, nbody, 3)
     xmat: np.ndarray  # (N, nbody, 3, 3)
+    xipos: np.ndarray  # (N, nbody, 3): body centres of mass
     xvel: np.ndarray  # (N, nbody, 6): world angular velocity, origin linear velocity
     cfrc_ext: np.ndarray  # (N, nbody, 6)
     qfrc_constraint: np.ndarray  # (N, nv)
@@ -49,7 +50,6 @@ class Task:
         self.qpos0 = model.qpos0
         self.nq, self.nv, self.nu = model.nq, model.nv, model.nu
         self.body_mass = model.body_mass
-        self.body_ipos = model.body_ipos
 
     # helpers shared by tasks
     @staticmethod
@@ -57,10 +57,6 @@ class Task:
         """Where a free-floating body's root is in the ground plane (Ant's and Humanoid's info)."""
         return {"x_position": v.qpos[:, 0].copy(), "y_position": v.qpos[:, 1].copy(),
                 "distance_from_origin": np.linalg.norm(v.qpos[:, :2], axis=1)}
-
-    def xipos(self, v: View) -> np.ndarray:
-        """Body centres of mass in world (N, nbody, 3), MuJoCo's ``xipos``."""
-        return v.xpos + np.einsum("nbij,bj->nbi", v.xmat, self.body_ipos)
 
     def body_id(self, name: str) -> int:
         return self.model.body_names.index(name)
@@ -157,7 +153,7 @@ class Reacher(Task):
         return 10
 
     def _vec(self, v):
-        c = self.xipos(v)
+        c = v.xipos
         return c[:, self.tip] - c[:, self.target]
 
     def observe(self, v):
@@ -400,7 +396,7 @@ class Humanoid(Task):
         return self.qpos0 + uniform(rngs, -n, n, self.nq), uniform(rngs, -n, n, self.nv)
 
     def mass_center(self, v):
-        return np.einsum("b,nbj->nj", self.body_mass, self.xipos(v))[:, :2] / self.body_mass.sum()
+        return np.einsum("b,nbj->nj", self.body_mass, v.xipos)[:, :2] / self.body_mass.sum()
 
     def before(self, v):
         return self.mass_center(v)

@@ -22,6 +22,7 @@ pub struct PyBatch {
     diverged: Py<PyArray1<bool>>,
     xpos: Py<PyArray3<f64>>,
     xmat: Py<PyArray3<f64>>,
+    xipos: Py<PyArray3<f64>>,
     xvel: Py<PyArray3<f64>>,
     cfrc_ext: Py<PyArray3<f64>>,
     qfrc_constraint: Py<PyArray2<f64>>,
@@ -60,6 +61,7 @@ impl PyBatch {
             diverged: PyArray1::from_vec(py, vec![false; num_envs]).unbind(),
             xpos: PyArray3::zeros(py, [num_envs, m.nbody, 3], false).unbind(),
             xmat: PyArray3::zeros(py, [num_envs, m.nbody, 9], false).unbind(),
+            xipos: PyArray3::zeros(py, [num_envs, m.nbody, 3], false).unbind(),
             xvel: PyArray3::zeros(py, [num_envs, m.nbody, 6], false).unbind(),
             cfrc_ext: PyArray3::zeros(py, [num_envs, m.nbody, 6], false).unbind(),
             qfrc_constraint: PyArray2::zeros(py, [num_envs, m.nv], false).unbind(),
@@ -119,6 +121,11 @@ impl PyBatch {
     #[getter]
     fn xmat(&self, py: Python<'_>) -> Py<PyArray3<f64>> {
         self.xmat.clone_ref(py)
+    }
+    /// Body centres of mass in world (N, nbody, 3), MuJoCo's `xipos`, for the current state.
+    #[getter]
+    fn xipos(&self, py: Python<'_>) -> Py<PyArray3<f64>> {
+        self.xipos.clone_ref(py)
     }
 
     /// Body velocities (N, nbody, 6): world angular velocity, then world velocity of the body origin.
@@ -249,6 +256,7 @@ impl PyBatch {
         SensorArrays {
             xpos: self.xpos.bind(py).readwrite(),
             xmat: self.xmat.bind(py).readwrite(),
+            xipos: self.xipos.bind(py).readwrite(),
             xvel: self.xvel.bind(py).readwrite(),
             cfrc_ext: self.cfrc_ext.bind(py).readwrite(),
             qfrc_constraint: self.qfrc_constraint.bind(py).readwrite(),
@@ -275,6 +283,7 @@ impl PyBatch {
 struct SensorArrays<'py> {
     xpos: PyReadwriteArray3<'py, f64>,
     xmat: PyReadwriteArray3<'py, f64>,
+    xipos: PyReadwriteArray3<'py, f64>,
     xvel: PyReadwriteArray3<'py, f64>,
     cfrc_ext: PyReadwriteArray3<'py, f64>,
     qfrc_constraint: PyReadwriteArray2<'py, f64>,
@@ -288,6 +297,7 @@ impl SensorArrays<'_> {
         Ok(Sensors {
             xpos: self.xpos.as_slice_mut()?,
             xmat: self.xmat.as_slice_mut()?,
+            xipos: self.xipos.as_slice_mut()?,
             xvel: self.xvel.as_slice_mut()?,
             cfrc_ext: self.cfrc_ext.as_slice_mut()?,
             qfrc_constraint: self.qfrc_constraint.as_slice_mut()?,

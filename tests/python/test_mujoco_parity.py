@@ -85,6 +85,25 @@ def test_accelerations_match_mj_forward_without_constraints(gym_model):
         np.testing.assert_allclose(sim.xmat.reshape(-1, 9), d.xmat, atol=1e-9)
 
 
+def test_batch_body_quantities_match_mujoco(gym_model):
+    """What environments observe of a Batch's bodies (xpos, xmat, xipos) at random states."""
+    _, path = gym_model
+    mj, sm = load_both(path)
+    d = mujoco.MjData(mj)
+    rng = np.random.default_rng(3)
+    states = [random_state(mj, rng) for _ in range(4)]
+    b = sinew.Batch(sm, len(states), num_threads=1)
+    for i, (q, v, _) in enumerate(states):
+        b.qpos[i], b.qvel[i] = q, v
+    b.forward_kinematics()
+    for i, (q, v, _) in enumerate(states):
+        d.qpos[:], d.qvel[:] = q, v
+        mujoco.mj_kinematics(mj, d)
+        np.testing.assert_allclose(b.xpos[i], d.xpos, atol=1e-9)
+        np.testing.assert_allclose(b.xmat[i], d.xmat, atol=1e-9)
+        np.testing.assert_allclose(b.xipos[i], d.xipos, atol=1e-9)
+
+
 @pytest.mark.parametrize(
     "name, integrator",
     [(n, i) for n in ["inverted_double_pendulum", "reacher", "half_cheetah"] for i in ["Euler", "RK4"]]
