@@ -47,6 +47,8 @@ pub struct BatchState<'a> {
     pub time: &'a mut [f64],
     /// Set for worlds that diverged and were reset during the call (N).
     pub diverged: &'a mut [bool],
+    /// Worlds to step (N); the others keep their state and outputs.
+    pub active: &'a [bool],
     /// Sensor outputs after the call, every world's rows one after another ([`Sensors`] × N).
     pub out: Sensors<'a>,
 }
@@ -114,16 +116,19 @@ impl Batch {
                 st.qvel.par_chunks_mut(nv),
                 ctrl.par_chunks(nu),
                 st.time.par_iter_mut(),
-                st.diverged.par_iter_mut(),
+                st.diverged.par_iter_mut().zip(st.active.par_iter()),
                 (st.out.xpos.par_chunks_mut(3 * nb), st.out.xmat.par_chunks_mut(9 * nb), st.out.xipos.par_chunks_mut(3 * nb)),
                 (st.out.xvel.par_chunks_mut(6 * nb), st.out.cfrc_ext.par_chunks_mut(6 * nb), st.out.qfrc_constraint.par_chunks_mut(nv)),
                 (st.out.cinert.par_chunks_mut(10 * nb), st.out.cvel.par_chunks_mut(6 * nb)),
             )
                 .into_par_iter()
-                .for_each(|(d, qpos, qvel, ctrl, time, div, (xpos, xmat, xipos), (xvel, cfrc_ext, qfrc_constraint), (cinert, cvel))| {
+                .for_each(|(d, qpos, qvel, ctrl, time, (div, &active), (xpos, xmat, xipos), (xvel, cfrc_ext, qfrc_constraint), (cinert, cvel))| {
+                    *div = false;
+                    if !active {
+                        return;
+                    }
                     let (qpos, qvel) = (&mut qpos[..m.nq], &mut qvel[..m.nv]);
                     let ctrl = &ctrl[..m.nu];
-                    *div = false;
                     for _ in 0..n {
                         step(m, d, qpos, qvel, ctrl, time);
                         if qpos.iter().chain(qvel.iter()).any(|&x| out_of_range(x)) {

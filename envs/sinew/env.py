@@ -103,10 +103,12 @@ class BatchTask:
     def observe(self) -> np.ndarray:
         return self.task.observe(self.view)
 
-    def step(self, actions: np.ndarray):
+    def step(self, actions: np.ndarray, active: np.ndarray | None = None):
+        """One env step of the worlds `active` (all when None); the others' results are to be
+        discarded (the vector env resets them)."""
         before = self.task.before(self.view)
         self.batch.ctrl[:] = actions
-        self.batch.step(self.task.frame_skip)
+        self.batch.step(self.task.frame_skip, active)
         obs = self.observe()
         reward, terminated, info = self.task.after(self.view, before, actions, obs)
         diverged = self.batch.diverged.copy()
@@ -207,7 +209,8 @@ class SinewVectorEnv(VectorEnv):
 
     def step(self, actions):
         a = self._core.check_actions(actions)
-        obs, reward, terminated, info = self._core.step(a)
+        # worlds that ended on the previous call are reset below instead of stepped
+        obs, reward, terminated, info = self._core.step(a, ~self._autoreset if self._autoreset.any() else None)
         self._steps += 1
         truncated = (self._steps >= self.max_episode_steps) & ~terminated
         # next-step autoreset: worlds that ended on the previous call start over now

@@ -160,15 +160,20 @@ impl PyBatch {
         self.qfrc_constraint.clone_ref(py)
     }
 
-    /// Advances every world `n` steps (GIL released). Non-finite controls raise ValueError naming
-    /// the worlds; worlds that diverge are reset alone and flagged in `diverged`.
-    #[pyo3(signature = (n=1))]
-    fn step(&mut self, py: Python<'_>, n: usize) -> PyResult<()> {
+    /// Advances the worlds where `mask` is true (every world when None) `n` steps (GIL released);
+    /// the others keep their state and outputs. Non-finite controls of stepped worlds raise
+    /// ValueError naming them; worlds that diverge are reset alone and flagged in `diverged`.
+    #[pyo3(signature = (n=1, mask=None))]
+    fn step(&mut self, py: Python<'_>, n: usize, mask: Option<Bound<'_, PyAny>>) -> PyResult<()> {
         let nu = self.inner.model.nu;
+        let mut active = vec![false; self.inner.len()];
+        for i in self.chosen(mask)? {
+            active[i] = true;
+        }
         {
             let ctrl = self.ctrl.bind(py).readonly();
             let c = ctrl.as_slice()?;
-            let bad: Vec<usize> = (0..self.inner.len()).filter(|&i| c[i * nu..(i + 1) * nu].iter().any(|x| !x.is_finite())).collect();
+            let bad: Vec<usize> = (0..self.inner.len()).filter(|&i| active[i] && c[i * nu..(i + 1) * nu].iter().any(|x| !x.is_finite())).collect();
             if !bad.is_empty() {
                 return Err(PyValueError::new_err(format!("ctrl is not finite in worlds {bad:?}")));
             }
@@ -182,6 +187,7 @@ impl PyBatch {
             ctrl: ctrl.as_slice()?,
             time: time.as_slice_mut()?,
             diverged: div.as_slice_mut()?,
+            active: &active,
             out: out.slices()?,
         };
         let inner = &mut self.inner;

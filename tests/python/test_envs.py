@@ -168,6 +168,24 @@ def test_batch_world_does_not_depend_on_batch_size():
     np.testing.assert_array_equal(outs[0], outs[2])
 
 
+def test_batch_step_mask_leaves_other_worlds_untouched():
+    m = sinew.Model.from_mjcf(sinew.tasks.ASSETS + "/hopper.xml")
+    a, b = sinew.Batch(m, 3, seed=0), sinew.Batch(m, 3, seed=0)
+    mask = np.array([True, False, True])
+    a.ctrl[:], b.ctrl[:] = 0.5, 0.5
+    b.ctrl[1] = np.nan  # a world not stepped is not checked either
+    a.step(4)
+    before = [x.copy() for x in (b.qpos[1], b.qvel[1], b.xpos[1], b.cfrc_ext[1])]
+    b.step(4, mask)
+    np.testing.assert_array_equal(a.qpos[mask], b.qpos[mask])
+    np.testing.assert_array_equal(a.xipos[mask], b.xipos[mask])
+    for x, y in zip(before, (b.qpos[1], b.qvel[1], b.xpos[1], b.cfrc_ext[1])):
+        np.testing.assert_array_equal(x, y)
+    assert b.time.tolist() == [a.time[0], 0.0, a.time[2]]
+    with pytest.raises(ValueError, match="worlds \\[1\\]"):
+        b.step(4)
+
+
 def test_diverging_world_is_reset_alone_and_reported():
     m = sinew.Model.from_mjcf(sinew.tasks.ASSETS + "/hopper.xml")
     a, b = sinew.Batch(m, 3, seed=0), sinew.Batch(m, 3, seed=0)
