@@ -8,7 +8,6 @@ use glam::DVec3;
 use crate::data::Data;
 use crate::math::{Force, SpatialInertia};
 use crate::model::{ConstraintMode, Model, WORLD};
-use crate::step::kinematics;
 
 /// Output rows of one world.
 pub struct Sensors<'a> {
@@ -61,8 +60,9 @@ pub fn body_root(m: &Model) -> Vec<usize> {
 
 /// Fills `out` for the state (qpos, qvel) and the constraint forces of the last step in `d`.
 pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64], out: Sensors<'_>) {
-    kinematics::forward(m, qpos, qvel, &mut d.kin);
-    let Data { kin, con, coll, force, node_force: node_f, root_com, .. } = d;
+    let Data { post, con, coll, force, node_force: node_f, root_com, .. } = d;
+    // the end state's kinematics, shared with the next step
+    let kin = post.kinematics_at(m, qpos, qvel);
     // poses and velocities
     for b in 0..m.nbody {
         out.xpos[3 * b..3 * b + 3].copy_from_slice(&kin.xpos[b].to_array());

@@ -85,6 +85,25 @@ impl StabilizeData {
     pub fn forget(&mut self) {
         self.cached = false;
     }
+
+    /// The kinematics of (`qpos`, `qvel`): the last projection check's when it was of this state,
+    /// else computed here and kept for the next step's [`kinematics_of`].
+    pub fn kinematics_at(&mut self, m: &Model, qpos: &[f64], qvel: &[f64]) -> &KinData {
+        if !(self.cached && self.qpos == qpos && self.qvel == qvel) {
+            kinematics::forward(m, qpos, qvel, &mut self.kin);
+            self.keep(qpos, qvel);
+        }
+        &self.kin
+    }
+
+    /// Marks `kin` as the kinematics of (`qpos`, `qvel`).
+    fn keep(&mut self, qpos: &[f64], qvel: &[f64]) {
+        self.cached = true;
+        self.qpos.clear();
+        self.qpos.extend_from_slice(qpos);
+        self.qvel.clear();
+        self.qvel.extend_from_slice(qvel);
+    }
 }
 
 /// Projects `qpos` (after the step, with `qvel` after the step) out of penetration, using the rows
@@ -97,12 +116,7 @@ pub fn project(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &[f64]) {
     for _ in 0..PASSES {
         if !gather(m, data, qpos, qvel) {
             // post.kin is the kinematics of the next step's state: kept for it
-            let post = &mut data.post;
-            post.cached = true;
-            post.qpos.clear();
-            post.qpos.extend_from_slice(qpos);
-            post.qvel.clear();
-            post.qvel.extend_from_slice(qvel);
+            data.post.keep(qpos, qvel);
             return;
         }
         solve(m, data, qpos);
