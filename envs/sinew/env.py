@@ -21,7 +21,10 @@ Actions (keyword ``action_mode``):
   q̈ = kp (target − q) − kd q̇ together with contacts and limits, each bounded by its motor's
   gear · max|ctrlrange|; ``trajectory_gains=(kp, kd)`` in 1/s² and 1/s (default (100, 20)).
 
-Non-finite actions raise ``ValueError``; wrong shapes raise ``ValueError``. A world
+Actions that are not finite or beyond ±1e10 (where the control cost alone would overflow the
+reward) raise ``ValueError``, as do wrong shapes. Finite actions outside the action Box are
+accepted: the physics clamps controls to ctrlrange, the control cost sees them as given (as
+the twin does). A world
 whose state becomes non-finite or exceeds 1e10 is reset alone and reported with
 ``info["sim_diverged"]``, ``terminated=True`` and reward 0.
 """
@@ -39,6 +42,9 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 
 from sinew._core import Batch, Model
 from sinew.tasks import ASSETS, TASKS, View
+
+#: Largest accepted action magnitude: the divergence bound.
+MAX_ACTION = 1e10
 
 
 class BatchTask:
@@ -84,9 +90,11 @@ class BatchTask:
                 a = a[None]
             else:
                 raise ValueError(f"action shape mismatch: expected {shape[1:] if self.num_envs == 1 else shape}, got {a.shape}")
-        bad = ~np.isfinite(a).all(axis=1)
+        # beyond the divergence bound an action's control cost alone can overflow the reward
+        bad = ~(np.abs(a) <= MAX_ACTION).all(axis=1)
         if bad.any():
-            raise ValueError(f"actions are not finite (NaN or inf) for env indices {np.flatnonzero(bad).tolist()}")
+            raise ValueError(f"actions are not finite (NaN or inf) or beyond ±{MAX_ACTION:g} for env indices "
+                             f"{np.flatnonzero(bad).tolist()}")
         return a
 
     def reset_worlds(self, idx: np.ndarray, rngs: list) -> None:

@@ -207,6 +207,12 @@ def test_bad_actions_raise_value_errors():
         env.step(np.array([np.nan, 0, 0]))
     with pytest.raises(ValueError, match="shape"):
         env.step(np.zeros(4))
+    with pytest.raises(ValueError, match="beyond"):
+        env.step(np.array([1e308, 0, 0]))  # its control cost would overflow the reward
+    # odd but finite inputs are accepted and give finite results
+    for a in (np.array([1e9, -1e9, -0.0]), np.full(3, 5e-324), np.array([1, 0, -1]), np.full(3, 0.5, np.float16)):
+        obs, reward, *_ = env.step(a)
+        assert np.isfinite(obs).all() and np.isfinite(reward)
     venv = gym.make_vec("sinew/Hopper-v0", num_envs=2, vectorization_mode="vector_entry_point")
     venv.reset(seed=0)
     with pytest.raises(ValueError, match=r"\[1\]"):
