@@ -37,7 +37,7 @@ from typing import Any
 import gymnasium
 import numpy as np
 from gymnasium import spaces
-from gymnasium.utils import seeding
+from gymnasium.utils import EzPickle, seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 
 from sinew._core import Batch, Model
@@ -126,12 +126,14 @@ class BatchTask:
         return obs, reward, terminated, info
 
 
-class SinewEnv(gymnasium.Env):
-    """One sinew world with a gymnasium MuJoCo v5 task (see module docstring)."""
+class SinewEnv(gymnasium.Env, EzPickle):
+    """One sinew world with a gymnasium MuJoCo v5 task (see module docstring). Pickles as its
+    constructor arguments, as gymnasium's MuJoCo envs do: unpickled, it is a new env."""
 
     metadata = {"render_modes": []}
 
     def __init__(self, task: str, render_mode: str | None = None, **kwargs):
+        EzPickle.__init__(self, task, render_mode, **kwargs)
         if render_mode is not None:
             raise ValueError("sinew environments do not render")
         self._core = BatchTask(task, 1, num_threads=1, **kwargs)

@@ -200,6 +200,18 @@ def test_diverging_world_is_reset_alone_and_reported():
     np.testing.assert_array_equal(a.qpos[[0, 2]], b.qpos[[0, 2]])
 
 
+def test_pickled_env_is_the_same_env():
+    import pickle
+
+    env = gym.make("sinew/Walker2d-v0", forward_reward_weight=2.0)
+    copy = pickle.loads(pickle.dumps(env))
+    assert copy.unwrapped._core.task.wf == 2.0
+    a = env.action_space.sample()
+    for e in (env, copy):
+        e.reset(seed=3)
+    np.testing.assert_array_equal(env.step(a)[0], copy.step(a)[0])
+
+
 def test_bad_actions_raise_value_errors():
     env = gym.make("sinew/Hopper-v0")
     env.reset(seed=0)
