@@ -13,6 +13,7 @@ use crate::data::Data;
 use crate::model::Model;
 use crate::sensors::{self, Sensors};
 use crate::step::step;
+use crate::task::Task;
 
 /// Largest magnitude a state entry may reach before the world counts as diverged (MuJoCo's mjMAXVAL).
 pub const MAX_STATE: f64 = 1e10;
@@ -33,6 +34,23 @@ pub struct Batch {
     pool: rayon::ThreadPool,
     /// One zero control per world, for models without actuators (the chunk iterators need a slot).
     no_ctrl: Vec<f64>,
+    /// The task outputs' slots (3 per world) of a step without a task.
+    no_task: Vec<f64>,
+    no_task_flag: Vec<bool>,
+}
+
+/// A task to evaluate after each world's env step, and where its outputs go.
+pub struct TaskRun<'a> {
+    /// The task.
+    pub task: &'a Task,
+    /// Observations (N × [`Task::obs_dim`]).
+    pub obs: &'a mut [f64],
+    /// Rewards (N): the sum of the reward terms, 0 for a diverged world.
+    pub reward: &'a mut [f64],
+    /// Whether the env step ended the episode (N); a diverged world's always does.
+    pub terminated: &'a mut [bool],
+    /// Info columns (N × [`Task::info_names`]).
+    pub info: &'a mut [f64],
 }
 
 /// The flat state arrays of a batch, borrowed for one call.
@@ -78,7 +96,8 @@ impl Batch {
             .build()
             .map_err(|e| crate::Error::Input(format!("cannot start the thread pool: {e}")))?;
         let no_ctrl = vec![0.0; if model.nu == 0 { data.len() } else { 0 }];
-        Ok(Batch { root: sensors::body_root(&model), model, data, pool, no_ctrl })
+        let (no_task, no_task_flag) = (vec![0.0; 3 * data.len()], vec![false; data.len()]);
+        Ok(Batch { root: sensors::body_root(&model), model, data, pool, no_ctrl, no_task, no_task_flag })
     }
 
     /// Number of worlds.
@@ -102,33 +121,49 @@ impl Batch {
         self.data[i].tangents.clear();
     }
 
-    /// Advances every world `n` steps in parallel, then writes the sensor outputs.
-    pub fn step(&mut self, st: BatchState<'_>, n: usize) {
+    /// Advances the active worlds `n` steps in parallel, then writes their sensor outputs and, with
+    /// a task, its observation, reward terms and termination (`n` steps make one env step).
+    pub fn step(&mut self, st: BatchState<'_>, n: usize, task: Option<TaskRun<'_>>) {
         let m = &*self.model;
         let root = &self.root[..];
         let (nq, nv, nu, nb) = (m.nq.max(1), m.nv.max(1), m.nu.max(1), m.nbody);
         let data = &mut self.data;
         let ctrl = if m.nu == 0 { &self.no_ctrl[..] } else { st.ctrl };
+        let BatchState { qpos, qvel, time, diverged, active, out, .. } = st;
+        // without a task its outputs are one unused slot per world
+        let (spec, obs_dim, ninfo, obs, reward, terminated, info) = match task {
+            Some(t) => (Some(t.task), t.task.obs_dim(m), t.task.info_names().len(), t.obs, t.reward, t.terminated, t.info),
+            None => {
+                let (a, rest) = self.no_task.split_at_mut(data.len());
+                let (b, c) = rest.split_at_mut(data.len());
+                (None, 1, 1, a, b, &mut self.no_task_flag[..], c)
+            }
+        };
+        let h = m.opt.timestep;
         self.pool.install(|| {
             (
                 data.par_iter_mut(),
-                st.qpos.par_chunks_mut(nq),
-                st.qvel.par_chunks_mut(nv),
+                qpos.par_chunks_mut(nq),
+                qvel.par_chunks_mut(nv),
                 ctrl.par_chunks(nu),
-                st.time.par_iter_mut(),
-                st.diverged.par_iter_mut().zip(st.active.par_iter()),
-                (st.out.xpos.par_chunks_mut(3 * nb), st.out.xmat.par_chunks_mut(9 * nb), st.out.xipos.par_chunks_mut(3 * nb)),
-                (st.out.xvel.par_chunks_mut(6 * nb), st.out.cfrc_ext.par_chunks_mut(6 * nb), st.out.qfrc_constraint.par_chunks_mut(nv)),
-                (st.out.cinert.par_chunks_mut(10 * nb), st.out.cvel.par_chunks_mut(6 * nb)),
+                time.par_iter_mut().zip(diverged.par_iter_mut()).zip(active.par_iter()),
+                (out.xpos.par_chunks_mut(3 * nb), out.xmat.par_chunks_mut(9 * nb), out.xipos.par_chunks_mut(3 * nb)),
+                (out.xvel.par_chunks_mut(6 * nb), out.cfrc_ext.par_chunks_mut(6 * nb), out.qfrc_constraint.par_chunks_mut(nv)),
+                (out.cinert.par_chunks_mut(10 * nb), out.cvel.par_chunks_mut(6 * nb)),
+                (obs.par_chunks_mut(obs_dim.max(1)), reward.par_iter_mut(), terminated.par_iter_mut(), info.par_chunks_mut(ninfo.max(1))),
             )
                 .into_par_iter()
-                .for_each(|(d, qpos, qvel, ctrl, time, (div, &active), (xpos, xmat, xipos), (xvel, cfrc_ext, qfrc_constraint), (cinert, cvel))| {
+                .for_each(|(d, qpos, qvel, ctrl, ((time, div), &active), (xpos, xmat, xipos), (xvel, cfrc_ext, qfrc_constraint), (cinert, cvel), (obs, reward, terminated, info))| {
                     *div = false;
                     if !active {
                         return;
                     }
                     let (qpos, qvel) = (&mut qpos[..m.nq], &mut qvel[..m.nv]);
                     let ctrl = &ctrl[..m.nu];
+                    let qfrc_constraint = &mut qfrc_constraint[..m.nv];
+                    let mut out = Sensors { xpos, xmat, xipos, xvel, cfrc_ext, qfrc_constraint, cinert, cvel };
+                    // the rewarded position before the env step, from the outputs of the state it starts in
+                    let before = spec.map(|t| t.position(m, &out.world_view(qpos, qvel, ctrl)));
                     for _ in 0..n {
                         step(m, d, qpos, qvel, ctrl, time);
                         if qpos.iter().chain(qvel.iter()).any(|&x| out_of_range(x)) {
@@ -137,8 +172,18 @@ impl Batch {
                             break;
                         }
                     }
-                    let qfrc_constraint = &mut qfrc_constraint[..m.nv];
-                    sensors::write(m, root, d, qpos, qvel, Sensors { xpos, xmat, xipos, xvel, cfrc_ext, qfrc_constraint, cinert, cvel });
+                    sensors::write(m, root, d, qpos, qvel, out.reborrow());
+                    if let (Some(t), Some(before)) = (spec, before) {
+                        let w = out.world_view(qpos, qvel, ctrl);
+                        t.observe(m, &w, obs);
+                        *terminated = t.evaluate(m, &w, obs, before, n as f64 * h, info);
+                        *reward = info[..t.reward_terms()].iter().sum();
+                        // a diverged world was reset: its step earns nothing and ends the episode
+                        if *div {
+                            *reward = 0.0;
+                            *terminated = true;
+                        }
+                    }
                 });
         });
     }
@@ -149,9 +194,12 @@ impl Batch {
     }
 
     /// Recomputes the sensor outputs of world `i` for its current state (after a reset or a
-    /// state written from Python).
-    pub fn sense(&mut self, i: usize, qpos: &[f64], qvel: &[f64], out: Sensors<'_>) {
-        sensors::write(&self.model, &self.root, &mut self.data[i], qpos, qvel, out);
+    /// state written from Python), and a task's observation `obs` of it.
+    pub fn sense(&mut self, i: usize, qpos: &[f64], qvel: &[f64], ctrl: &[f64], mut out: Sensors<'_>, task: Option<(&Task, &mut [f64])>) {
+        sensors::write(&self.model, &self.root, &mut self.data[i], qpos, qvel, out.reborrow());
+        if let Some((t, obs)) = task {
+            t.observe(&self.model, &out.world_view(qpos, qvel, ctrl), obs);
+        }
     }
 }
 

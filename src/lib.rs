@@ -24,6 +24,7 @@ pub mod step;
 // ⑤ many worlds, and what environments observe of them
 pub mod batch;
 pub mod sensors;
+pub mod task;
 // reference algorithms, used as checks
 pub mod dynamics;
 

@@ -8,6 +8,7 @@ use glam::DVec3;
 use crate::data::Data;
 use crate::math::{Force, SpatialInertia};
 use crate::model::{ConstraintMode, Model, WORLD};
+use crate::task::World;
 
 /// Output rows of one world.
 pub struct Sensors<'a> {
@@ -33,6 +34,36 @@ pub struct Sensors<'a> {
 }
 
 impl Sensors<'_> {
+    /// The same rows, borrowed again.
+    pub fn reborrow(&mut self) -> Sensors<'_> {
+        Sensors {
+            xpos: self.xpos,
+            xmat: self.xmat,
+            xipos: self.xipos,
+            xvel: self.xvel,
+            cfrc_ext: self.cfrc_ext,
+            qfrc_constraint: self.qfrc_constraint,
+            cinert: self.cinert,
+            cvel: self.cvel,
+        }
+    }
+
+    /// One world's outputs with its state, as a task reads them.
+    pub fn world_view<'b>(&'b self, qpos: &'b [f64], qvel: &'b [f64], ctrl: &'b [f64]) -> World<'b> {
+        World {
+            qpos,
+            qvel,
+            ctrl,
+            xpos: self.xpos,
+            xmat: self.xmat,
+            xipos: self.xipos,
+            cfrc_ext: self.cfrc_ext,
+            qfrc_constraint: self.qfrc_constraint,
+            cinert: self.cinert,
+            cvel: self.cvel,
+        }
+    }
+
     /// World `i`'s rows of outputs that hold every world's rows one after another.
     pub fn world(&mut self, i: usize, nbody: usize, nv: usize) -> Sensors<'_> {
         Sensors {

@@ -41,7 +41,7 @@ from gymnasium.utils import EzPickle, seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 
 from sinew._core import Batch, Model
-from sinew.tasks import ASSETS, TASKS, View
+from sinew.tasks import ASSETS, TASKS
 
 #: Largest accepted action magnitude: the divergence bound.
 MAX_ACTION = 1e10
@@ -68,9 +68,8 @@ class BatchTask:
         self.task = cls(self.model, **task_kwargs)
         self.num_envs = num_envs
         self.batch = Batch(self.model, num_envs, seed=0, num_threads=num_threads)
-        b = self.batch
-        self.view = View(b.qpos, b.qvel, b.ctrl, b.xpos, b.xmat.reshape(num_envs, -1, 3, 3), b.xipos, b.xvel,
-                         b.cfrc_ext, b.qfrc_constraint, b.cinert, b.cvel)
+        # observation, reward terms and termination: computed in Rust with every step
+        self.batch.set_task(self.task.kind, **self.task.params())
         if action_mode in ("pd", "trajectory"):
             jnt = [self.model.jnt_dofadr.index(d) for d in self.model.actuator_dofadr]
             unlimited = [np.pi if self.model.joint_types[j] == "hinge" else 1.0 for j in jnt]
@@ -80,7 +79,7 @@ class BatchTask:
         else:
             lo, hi = self.model.actuator_ctrlrange.T
         self.action_space = spaces.Box(low=lo.astype(np.float32), high=hi.astype(np.float32), dtype=np.float32)
-        self.observation_space = spaces.Box(-np.inf, np.inf, shape=(self.task.obs_dim(),), dtype=np.float64)
+        self.observation_space = spaces.Box(-np.inf, np.inf, shape=self.batch.obs.shape[1:], dtype=np.float64)
 
     def check_actions(self, actions) -> np.ndarray:
         a = np.asarray(actions, dtype=np.float64)
@@ -109,21 +108,21 @@ class BatchTask:
         self.batch.forward_kinematics(mask)
 
     def observe(self) -> np.ndarray:
-        return self.task.observe(self.view)
+        return self.batch.obs.copy()
+
+    def reset_info(self) -> dict:
+        return self.task.reset_info(self.batch.qpos)
 
     def step(self, actions: np.ndarray, active: np.ndarray | None = None):
         """One env step of the worlds `active` (all when None); the others' results are to be
-        discarded (the vector env resets them)."""
-        before = self.task.before(self.view)
-        self.batch.ctrl[:] = actions
-        self.batch.step(self.task.frame_skip, active)
-        obs = self.observe()
-        reward, terminated, info = self.task.after(self.view, before, actions, obs)
-        diverged = self.batch.diverged.copy()
-        reward = np.where(diverged, 0.0, reward).astype(np.float64)
-        terminated = terminated | diverged
-        info["sim_diverged"] = diverged
-        return obs, reward, terminated, info
+        discarded (the vector env resets them). A diverged world gets reward 0 and terminates."""
+        b = self.batch
+        b.ctrl[:] = actions
+        b.step(self.task.frame_skip, active)
+        info_rows = b.info.copy()
+        info = {name: info_rows[:, k] for k, name in enumerate(b.info_names)}
+        info["sim_diverged"] = b.diverged.copy()
+        return self.observe(), b.reward.copy(), b.terminated.copy(), info
 
 
 class SinewEnv(gymnasium.Env, EzPickle):
@@ -149,7 +148,7 @@ class SinewEnv(gymnasium.Env, EzPickle):
         super().reset(seed=seed)
         self._core.reset_worlds(np.array([0]), [self.np_random])
         self._needs_reset = False
-        info = {k: v[0] for k, v in self._core.task.reset_info(self._core.view).items()}
+        info = {k: v[0] for k, v in self._core.reset_info().items()}
         return self._core.observe()[0], info
 
     def step(self, action):
@@ -206,6 +205,9 @@ class SinewVectorEnv(VectorEnv):
         self._rngs = [seeding.np_random()[0] for _ in range(num_envs)]
         self._steps = np.zeros(num_envs, dtype=np.int64)
         self._autoreset = np.zeros(num_envs, dtype=bool)
+        # every info entry is set for every env: one shared, read-only mask
+        self._all = np.ones(num_envs, dtype=bool)
+        self._all.flags.writeable = False
 
     def reset(self, *, seed=None, options=None):
         for i, s in enumerate(_seeds(seed, self.num_envs)):
@@ -215,7 +217,7 @@ class SinewVectorEnv(VectorEnv):
         self._core.reset_worlds(idx, self._rngs)
         self._steps[:] = 0
         self._autoreset[:] = False
-        return self._core.observe(), self._info(self._core.task.reset_info(self._core.view))
+        return self._core.observe(), self._info(self._core.reset_info())
 
     def step(self, actions):
         a = self._core.check_actions(actions)
@@ -239,5 +241,5 @@ class SinewVectorEnv(VectorEnv):
         out = {}
         for k, v in info.items():
             out[k] = np.asarray(v)
-            out["_" + k] = np.ones(self.num_envs, dtype=bool)
+            out["_" + k] = self._all
         return out

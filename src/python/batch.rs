@@ -5,10 +5,13 @@ use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadwriteArray2, PyR
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
+use pyo3::types::PyDict;
+
 use super::errors::as_f64;
 use super::model::PyModel;
-use crate::batch::{Batch, BatchState};
+use crate::batch::{Batch, BatchState, TaskRun};
 use crate::sensors::Sensors;
+use crate::task::Task;
 
 /// N simulated worlds of one model, stepped in parallel.
 #[pyclass(name = "Batch", module = "sinew._core")]
@@ -28,6 +31,16 @@ pub struct PyBatch {
     qfrc_constraint: Py<PyArray2<f64>>,
     cinert: Py<PyArray3<f64>>,
     cvel: Py<PyArray3<f64>>,
+    task: Option<TaskArrays>,
+}
+
+/// A task set on a batch and its output arrays.
+struct TaskArrays {
+    task: Task,
+    obs: Py<PyArray2<f64>>,
+    reward: Py<PyArray1<f64>>,
+    terminated: Py<PyArray1<bool>>,
+    info: Py<PyArray2<f64>>,
 }
 
 #[pymethods]
@@ -67,6 +80,7 @@ impl PyBatch {
             qfrc_constraint: PyArray2::zeros(py, [num_envs, m.nv], false).unbind(),
             cinert: PyArray3::zeros(py, [num_envs, m.nbody, 10], false).unbind(),
             cvel: PyArray3::zeros(py, [num_envs, m.nbody, 6], false).unbind(),
+            task: None,
         };
         b.refresh_poses(py)?;
         Ok(b)
@@ -190,9 +204,73 @@ impl PyBatch {
             active: &active,
             out: out.slices()?,
         };
+        let mut outputs = self.task.as_ref().map(|t| t.borrow(py));
+        let run = match &mut outputs {
+            Some((task, obs, reward, terminated, info)) => Some(TaskRun {
+                task,
+                obs: obs.as_slice_mut()?,
+                reward: reward.as_slice_mut()?,
+                terminated: terminated.as_slice_mut()?,
+                info: info.as_slice_mut()?,
+            }),
+            None => None,
+        };
         let inner = &mut self.inner;
-        py.detach(|| inner.step(st, n));
+        py.detach(|| inner.step(st, n, run));
         Ok(())
+    }
+
+    /// Sets the task evaluated after every `step` (`n` = its frame_skip): gymnasium's MuJoCo v5
+    /// env `kind` ("InvertedPendulum", "InvertedDoublePendulum", "Reacher", "Hopper", "Walker2d",
+    /// "HalfCheetah", "Ant", "Humanoid") with that env's keyword arguments, every one given
+    /// (`sinew.tasks` fills in the defaults). Its outputs are `obs`, `reward`, `terminated` and
+    /// `info` (columns named by `info_names`); the observations of all worlds are computed now.
+    #[pyo3(signature = (kind, **params))]
+    fn set_task(&mut self, py: Python<'_>, kind: &str, params: Option<Bound<'_, PyDict>>) -> PyResult<()> {
+        let m = self.inner.model.clone();
+        let task = super::task::parse(&m, kind, params.unwrap_or_else(|| PyDict::new(py)))?;
+        let n = self.inner.len();
+        self.task = Some(TaskArrays {
+            obs: PyArray2::zeros(py, [n, task.obs_dim(&m)], false).unbind(),
+            reward: PyArray1::zeros(py, n, false).unbind(),
+            terminated: PyArray1::from_vec(py, vec![false; n]).unbind(),
+            info: PyArray2::zeros(py, [n, task.info_names().len()], false).unbind(),
+            task,
+        });
+        self.refresh_poses(py)
+    }
+
+    /// The task's observations (N, obs_dim), for the current state: after `step`, or after
+    /// `reset`/`forward_kinematics` for the worlds they touched. None without a task.
+    #[getter]
+    fn obs(&self, py: Python<'_>) -> Option<Py<PyArray2<f64>>> {
+        self.task.as_ref().map(|t| t.obs.clone_ref(py))
+    }
+    /// The last `step`'s rewards (N); 0 for a world that diverged. None without a task.
+    #[getter]
+    fn reward(&self, py: Python<'_>) -> Option<Py<PyArray1<f64>>> {
+        self.task.as_ref().map(|t| t.reward.clone_ref(py))
+    }
+    /// Whether the last `step` ended each world's episode (N); true for a world that diverged.
+    /// None without a task.
+    #[getter]
+    fn terminated(&self, py: Python<'_>) -> Option<Py<PyArray1<bool>>> {
+        self.task.as_ref().map(|t| t.terminated.clone_ref(py))
+    }
+    /// The last `step`'s info columns (N, len(info_names)): reward terms first. None without a task.
+    #[getter]
+    fn info(&self, py: Python<'_>) -> Option<Py<PyArray2<f64>>> {
+        self.task.as_ref().map(|t| t.info.clone_ref(py))
+    }
+    /// Names of the `info` columns; the reward is the sum of the first `reward_terms`.
+    #[getter]
+    fn info_names(&self) -> Vec<&'static str> {
+        self.task.as_ref().map_or(vec![], |t| t.task.info_names().to_vec())
+    }
+    /// How many leading `info` columns are reward terms.
+    #[getter]
+    fn reward_terms(&self) -> usize {
+        self.task.as_ref().map_or(0, |t| t.task.reward_terms())
     }
 
     /// Resets the worlds where `mask` is true (all when None) to qpos0, zero velocity, control
@@ -277,11 +355,33 @@ impl PyBatch {
         let (qpos, qvel) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly());
         let mut arrays = self.sensor_arrays(py);
         let mut out = arrays.slices()?;
-        let (qp, qv) = (qpos.as_slice()?, qvel.as_slice()?);
+        let ctrl = self.ctrl.bind(py).readonly();
+        let (qp, qv, c) = (qpos.as_slice()?, qvel.as_slice()?, ctrl.as_slice()?);
+        let mut outputs = self.task.as_ref().map(|t| t.borrow(py));
+        let mut task = match &mut outputs {
+            Some((task, obs, ..)) => Some((&**task, obs.as_slice_mut()?)),
+            None => None,
+        };
         for &i in which {
-            self.inner.sense(i, &qp[i * m.nq..(i + 1) * m.nq], &qv[i * m.nv..(i + 1) * m.nv], out.world(i, m.nbody, m.nv));
+            let obs = task.as_mut().map(|(t, obs)| {
+                let dim = obs.len() / self.inner.len();
+                (*t, &mut obs[i * dim..(i + 1) * dim])
+            });
+            let (q, v, u) = (&qp[i * m.nq..(i + 1) * m.nq], &qv[i * m.nv..(i + 1) * m.nv], &c[i * m.nu..(i + 1) * m.nu]);
+            self.inner.sense(i, q, v, u, out.world(i, m.nbody, m.nv), obs);
         }
         Ok(())
+    }
+}
+
+impl TaskArrays {
+    /// The task and its output arrays, borrowed for writing.
+    #[allow(clippy::type_complexity)]
+    fn borrow<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> (&Task, PyReadwriteArray2<'py, f64>, numpy::PyReadwriteArray1<'py, f64>, numpy::PyReadwriteArray1<'py, bool>, PyReadwriteArray2<'py, f64>) {
+        (&self.task, self.obs.bind(py).readwrite(), self.reward.bind(py).readwrite(), self.terminated.bind(py).readwrite(), self.info.bind(py).readwrite())
     }
 }
 

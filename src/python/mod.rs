@@ -4,6 +4,7 @@ mod batch;
 mod errors;
 mod model;
 mod sim;
+mod task;
 
 use pyo3::prelude::*;
 

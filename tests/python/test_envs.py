@@ -75,6 +75,64 @@ def test_reward_terms_are_reported_and_sum_to_the_reward(name):
 
 
 @pytest.mark.parametrize("name", NAMES)
+def test_reward_terms_and_termination_match_the_twins_formulas(name):
+    """sinew's step (reward terms and termination computed in Rust) against the twin's own
+    `_get_rew` and `terminated` evaluated at sinew's states before and after the step; the contact
+    cost is left out (it reads MuJoCo's soft contact forces)."""
+    env, ref = gym.make(f"sinew/{name}-v0"), twin(name)
+    u, r = env.unwrapped, ref.unwrapped
+    env.reset(seed=2)
+    ref.reset(seed=2)
+    rng = np.random.default_rng(1)
+
+    def twin_at(qpos, qvel, action):
+        r.set_state(qpos, qvel)
+        r.data.ctrl[:] = action
+        mujoco.mj_forward(r.model, r.data)
+        mujoco.mj_rnePostConstraint(r.model, r.data)
+
+    def position():
+        if name in ("Hopper", "Walker2d", "HalfCheetah"):
+            return np.array([r.data.qpos[0], 0.0])
+        if name == "Ant":
+            return r.data.body(r._main_body).xpos[:2].copy()
+        if name == "Humanoid":
+            from gymnasium.envs.mujoco.humanoid_v5 import mass_center
+
+            return mass_center(r.model, r.data)
+        return np.zeros(2)
+
+    checked = 0
+    for _ in range(30):
+        a = rng.uniform(env.action_space.low, env.action_space.high)
+        twin_at(u.data_qpos.copy(), u.data_qvel.copy(), a)
+        before = position()
+        obs, reward, terminated, _, info = env.step(a)
+        twin_at(u.data_qpos.copy(), u.data_qvel.copy(), a)
+        if name in ("InvertedPendulum",):
+            ref_terminated = bool(not np.isfinite(obs).all() or abs(obs[1]) > 0.2)
+            ref_info = {"reward_survive": float(not ref_terminated)}
+        elif name == "InvertedDoublePendulum":
+            x, _, y = r.data.site_xpos[0]
+            ref_terminated = bool(y <= 1)
+            ref_info = r._get_rew(x, y, ref_terminated)[1]
+        elif name == "Reacher":
+            ref_terminated, ref_info = False, r._get_rew(a)[1]
+        else:
+            x_velocity = (position() - before)[0] / r.dt
+            ref_info = r._get_rew(x_velocity, a)[1]
+            ref_terminated = bool(not r.is_healthy and r._terminate_when_unhealthy) if hasattr(r, "is_healthy") else False
+        assert terminated == ref_terminated
+        for k, v in ref_info.items():
+            if k != "reward_contact":
+                assert info[k] == pytest.approx(v, rel=1e-9, abs=1e-9), k
+        checked += 1
+        if terminated:
+            break
+    assert checked >= 3
+
+
+@pytest.mark.parametrize("name", NAMES)
 def test_checkers_warn_no_more_than_for_the_twin(name):
     from stable_baselines3.common.env_checker import check_env as sb3_check
 
@@ -205,7 +263,7 @@ def test_pickled_env_is_the_same_env():
 
     env = gym.make("sinew/Walker2d-v0", forward_reward_weight=2.0)
     copy = pickle.loads(pickle.dumps(env))
-    assert copy.unwrapped._core.task.wf == 2.0
+    assert copy.unwrapped._core.task.params()["forward_reward_weight"] == 2.0
     a = env.action_space.sample()
     for e in (env, copy):
         e.reset(seed=3)
