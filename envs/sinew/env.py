@@ -97,15 +97,13 @@ class BatchTask:
         return a
 
     def reset_worlds(self, idx: np.ndarray, rngs: list) -> None:
-        """Resets the worlds `idx`, drawing their noise (as the twin does) and physics seeds from `rngs`."""
+        """Resets the worlds `idx` (ascending), drawing their noise (as the twin does) and physics
+        seeds from `rngs` (one per world, in the same order)."""
         qpos, qvel = self.task.reset_state(rngs)
         seeds = [int(r.integers(2**63)) for r in rngs]
         mask = np.zeros(self.num_envs, dtype=bool)
         mask[idx] = True
-        self.batch.reset(mask, seeds)
-        self.batch.qpos[idx] = qpos
-        self.batch.qvel[idx] = qvel
-        self.batch.forward_kinematics(mask)
+        self.batch.reset(mask, seeds, qpos, qvel)
 
     def observe(self) -> np.ndarray:
         return self.batch.obs.copy()

@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 
 use pyo3::types::PyDict;
 
-use super::errors::as_f64;
+use super::errors::{as_f64, checked_values};
 use super::model::PyModel;
 use crate::batch::{Batch, BatchState, TaskRun};
 use crate::sensors::Sensors;
@@ -274,9 +274,17 @@ impl PyBatch {
     }
 
     /// Resets the worlds where `mask` is true (all when None) to qpos0, zero velocity, control
-    /// and time; `seeds` (one per reset world, in order) re-seeds their random streams.
-    #[pyo3(signature = (mask=None, seeds=None))]
-    fn reset(&mut self, py: Python<'_>, mask: Option<Bound<'_, PyAny>>, seeds: Option<Vec<u64>>) -> PyResult<()> {
+    /// and time, or to the given `qpos` (k, nq) and `qvel` (k, nv), one row per reset world in
+    /// order; `seeds` (one per reset world) re-seeds their random streams.
+    #[pyo3(signature = (mask=None, seeds=None, qpos=None, qvel=None))]
+    fn reset(
+        &mut self,
+        py: Python<'_>,
+        mask: Option<Bound<'_, PyAny>>,
+        seeds: Option<Vec<u64>>,
+        qpos: Option<Bound<'_, PyAny>>,
+        qvel: Option<Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
         let chosen = self.chosen(mask)?;
         if let Some(s) = &seeds
             && s.len() != chosen.len()
@@ -284,12 +292,22 @@ impl PyBatch {
             return Err(PyValueError::new_err(format!("seeds: expected {} values, got {}", chosen.len(), s.len())));
         }
         let m = self.inner.model.clone();
+        let k = chosen.len();
+        let start_q = qpos.map(|q| checked_values(&q, "qpos", &[k, m.nq])).transpose()?;
+        let start_v = qvel.map(|v| checked_values(&v, "qvel", &[k, m.nv])).transpose()?;
         {
             let (mut qpos, mut qvel) = (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite());
             let (mut ctrl, mut time) = (self.ctrl.bind(py).readwrite(), self.time.bind(py).readwrite());
             let (qp, qv, c, t) = (qpos.as_slice_mut()?, qvel.as_slice_mut()?, ctrl.as_slice_mut()?, time.as_slice_mut()?);
             for (k, &i) in chosen.iter().enumerate() {
-                self.inner.reset(i, &mut qp[i * m.nq..(i + 1) * m.nq], &mut qv[i * m.nv..(i + 1) * m.nv]);
+                let (q, v) = (&mut qp[i * m.nq..(i + 1) * m.nq], &mut qv[i * m.nv..(i + 1) * m.nv]);
+                self.inner.reset(i, q, v);
+                if let Some(s) = &start_q {
+                    q.copy_from_slice(&s[k * m.nq..(k + 1) * m.nq]);
+                }
+                if let Some(s) = &start_v {
+                    v.copy_from_slice(&s[k * m.nv..(k + 1) * m.nv]);
+                }
                 c[i * m.nu..(i + 1) * m.nu].fill(0.0);
                 t[i] = 0.0;
                 if let Some(s) = &seeds {

@@ -244,6 +244,21 @@ def test_batch_step_mask_leaves_other_worlds_untouched():
         b.step(4)
 
 
+def test_batch_reset_to_given_states():
+    m = sinew.Model.from_mjcf(sinew.tasks.ASSETS + "/hopper.xml")
+    b = sinew.Batch(m, 3, seed=0)
+    b.qvel[:] = 1.0
+    q = np.tile(m.qpos0, (2, 1)) + [[0.0, 0.1, 0, 0, 0, 0], [0.0, 0.2, 0, 0, 0, 0]]
+    b.reset(np.array([True, False, True]), None, q, np.full((2, m.nv), 0.5))
+    np.testing.assert_array_equal(b.qpos[[0, 2]], q)
+    assert (b.qvel[[0, 2]] == 0.5).all() and (b.qvel[1] == 1.0).all()
+    assert b.xpos[2, 1, 2] == pytest.approx(q[1, 1])  # the torso sits at rootz (outputs refreshed)
+    with pytest.raises(ValueError, match="qpos"):
+        b.reset(np.array([True, False, False]), None, q)  # two rows for one world
+    with pytest.raises(ValueError, match="finite"):
+        b.reset(None, None, None, np.full((3, m.nv), np.nan))
+
+
 def test_diverging_world_is_reset_alone_and_reported():
     m = sinew.Model.from_mjcf(sinew.tasks.ASSETS + "/hopper.xml")
     a, b = sinew.Batch(m, 3, seed=0), sinew.Batch(m, 3, seed=0)
