@@ -59,6 +59,13 @@ def normal(rngs, size):
     return np.stack([r.standard_normal(size) for r in rngs])
 
 
+def uniform_state(task, rngs):
+    """qpos0 + U(±noise) and U(±noise) velocities: the twin's two draws as one (the same numbers)."""
+    n = task.noise
+    x = uniform(rngs, -n, n, task.nq + task.nv)
+    return task.qpos0 + x[:, :task.nq], x[:, task.nq:]
+
+
 def planar_info(qpos):
     """Where a free-floating body's root is in the ground plane (Ant's and Humanoid's info)."""
     return {"x_position": qpos[:, 0].copy(), "y_position": qpos[:, 1].copy(),
@@ -73,8 +80,7 @@ class InvertedPendulum(Task):
         self.noise = reset_noise_scale
 
     def reset_state(self, rngs):
-        n = self.noise
-        return self.qpos0 + uniform(rngs, -n, n, self.nq), uniform(rngs, -n, n, self.nv)
+        return uniform_state(self, rngs)
 
 
 class InvertedDoublePendulum(Task):
@@ -124,8 +130,7 @@ class _Planar(Task):
                        "exclude_current_positions_from_observation": exclude_current_positions_from_observation}
 
     def reset_state(self, rngs):
-        n = self.noise
-        return self.qpos0 + uniform(rngs, -n, n, self.nq), uniform(rngs, -n, n, self.nv)
+        return uniform_state(self, rngs)
 
     def reset_info(self, qpos):
         return {"x_position": qpos[:, 0].copy(), "z_distance_from_origin": qpos[:, 1] - self.qpos0[1]}
@@ -218,8 +223,7 @@ class Humanoid(Task):
         }
 
     def reset_state(self, rngs):
-        n = self.noise
-        return self.qpos0 + uniform(rngs, -n, n, self.nq), uniform(rngs, -n, n, self.nv)
+        return uniform_state(self, rngs)
 
     def reset_info(self, qpos):
         return planar_info(qpos)
