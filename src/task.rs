@@ -13,9 +13,9 @@ use crate::model::Model;
 pub struct Healthy {
     /// Reward per healthy step.
     pub reward: f64,
-    /// Range of the torso height qpos[1].
+    /// Range of the torso height `qpos[1]`.
     pub z: [f64; 2],
-    /// Range of the torso angle qpos[2].
+    /// Range of the torso angle `qpos[2]`.
     pub angle: [f64; 2],
     /// Range of every entry of (qpos, qvel) after the first two (Hopper), or none.
     pub state: Option<[f64; 2]>,
@@ -26,7 +26,7 @@ pub struct Healthy {
 /// One gymnasium task and its parameters (the keyword arguments of the v5 env).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Task {
-    /// Pole upright: reward 1 while |qpos[1]| ≤ 0.2.
+    /// Pole upright: reward 1 while `|qpos[1]| ≤ 0.2`.
     InvertedPendulum,
     /// Double pendulum: tip height above 1, near (0, 2), slow.
     InvertedDoublePendulum {
@@ -44,7 +44,7 @@ pub enum Task {
         /// Fingertip and target bodies.
         bodies: (usize, usize),
     },
-    /// Hopper, Walker2d, HalfCheetah: forward progress of qpos[0].
+    /// Hopper, Walker2d, HalfCheetah: forward progress of `qpos[0]`.
     Planar {
         /// Weight of the forward velocity.
         forward_weight: f64,
@@ -63,7 +63,7 @@ pub enum Task {
         weights: [f64; 4],
         /// The body whose xy progress is rewarded.
         main: usize,
-        /// Range of the torso height qpos[2] (closed).
+        /// Range of the torso height `qpos[2]` (closed).
         z: [f64; 2],
         /// Range cfrc_ext is clipped to.
         force_range: [f64; 2],
@@ -80,7 +80,7 @@ pub enum Task {
         weights: [f64; 4],
         /// Range the contact cost is clipped to.
         cost_range: [f64; 2],
-        /// Range of the torso height qpos[2] (open).
+        /// Range of the torso height `qpos[2]` (open).
         z: [f64; 2],
         /// Whether an unhealthy state ends the episode.
         terminate: bool,
