@@ -192,9 +192,7 @@ pub fn residual(n: usize, m: &[f64], q: &[f64], z: &[f64], w: &mut Vec<f64>) -> 
 pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
     stats.solves += 1;
     if let Some(prev) = warm.filter(|w| w.len() == n) {
-        work.active.clear();
-        work.active.extend((0..n).filter(|&i| prev[i]));
-        if solve_active(n, m, q, work) {
+        if solve_on(n, m, q, role, |i| prev[i], work) {
             let res = residual(n, m, q, &work.trial, &mut work.w);
             if res <= ACCEPT_RESIDUAL {
                 z[..n].copy_from_slice(&work.trial);
@@ -221,7 +219,7 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]
             continue;
         };
         stats.pivots += p as u64;
-        let res = polish(n, m, q, z, work);
+        let res = polish(n, m, q, role, z, work);
         if res <= ACCEPT_RESIDUAL {
             work.stiff = stiff;
             stats.retries += retry as u64;
@@ -259,7 +257,30 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]
     stats.residual = 0.0;
 }
 
-/// Solves M_AA z_A = −q_A on the active set `active` (z = 0 elsewhere) into `work.trial` by
+/// Solves on the active set {i : `active(i)`} into `work.trial`: M_AA z_A = −q_A, z = 0 elsewhere.
+/// The λ of a contact whose normal force is inactive is not fixed by its own row (μ·0 − Σ 0 = 0
+/// for any λ, so M_AA would be singular): it is left out and set afterwards to the least value
+/// that keeps the contact's friction rows' w ≥ 0. False when singular or the result is negative.
+fn solve_on(n: usize, m: &[f64], q: &[f64], role: &[Role], active: impl Fn(usize) -> bool, work: &mut LcpWork) -> bool {
+    let free_lambda = |l: usize| role.iter().any(|r| matches!(*r, Role::Friction { normal, lambda, .. } if lambda == l && !active(normal)));
+    work.active.clear();
+    work.active.extend((0..n).filter(|&i| active(i) && !(role[i] == Role::Lambda && free_lambda(i))));
+    if !solve_active(n, m, q, work) {
+        return false;
+    }
+    for i in 0..n {
+        if let Role::Friction { normal, lambda, .. } = role[i]
+            && !active(normal)
+        {
+            // w_i without λ's own contribution (M_iλ = 1)
+            let wi = q[i] + (0..n).filter(|&j| j != lambda).map(|j| m[i * n + j] * work.trial[j]).sum::<f64>();
+            work.trial[lambda] = work.trial[lambda].max(-wi);
+        }
+    }
+    true
+}
+
+/// Solves M_AA z_A = −q_A on the active set `work.active` (z = 0 elsewhere) into `work.trial` by
 /// Gaussian elimination with partial pivoting. False when singular or the result is negative.
 fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
     let LcpWork { tab: a, active, trial, .. } = work;
@@ -306,11 +327,9 @@ fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
 /// Re-solves on Lemke's active set A = {z > 0}, removing the round-off the tableau accumulates on
 /// degenerate problems; the polished z is kept only if it lowers the residual. Returns the
 /// residual of the z it leaves.
-fn polish(n: usize, m: &[f64], q: &[f64], z: &mut [f64], work: &mut LcpWork) -> f64 {
+fn polish(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64], work: &mut LcpWork) -> f64 {
     let before = residual(n, m, q, z, &mut work.w);
-    work.active.clear();
-    work.active.extend((0..n).filter(|&i| z[i] > 0.0));
-    if work.active.is_empty() || !solve_active(n, m, q, work) {
+    if z[..n].iter().all(|&x| x <= 0.0) || !solve_on(n, m, q, role, |i| z[i] > 0.0, work) {
         return before;
     }
     let after = residual(n, m, q, &work.trial, &mut work.w);
@@ -405,6 +424,21 @@ mod tests {
         lemke(2, &m, &q, |_| false, &mut z, &mut work).unwrap();
         assert!((z[0] - 1.0 / 3.0).abs() < 1e-14 && (z[1] - 1.0 / 3.0).abs() < 1e-14);
         assert!(residual(2, &m, &q, &z, &mut work.w) < 1e-14);
+    }
+
+    #[test]
+    fn warm_start_recovers_the_lambda_of_a_contact_without_normal_force() {
+        // one separating contact (q_n > 0) with a tangential demand: f = 0 and λ is any value
+        // that keeps w_t ≥ 0; the active set {λ} leaves M_AA singular, so λ is recovered instead
+        let (knn, ktt, mu) = (1.0, 1.0, 0.5);
+        let m = [knn, 0.0, 0.0, 0.0, ktt, 1.0, mu, -1.0, 0.0];
+        let q = [2.0, -3.0, 0.0];
+        let role = [Role::Normal, Role::Friction { normal: 0, lambda: 2, mu }, Role::Lambda];
+        let (mut z, mut work, mut stats) = ([0.0; 3], LcpWork::default(), LcpStats::default());
+        solve(3, &m, &q, &role, Some(&[false, false, true]), &mut z, &mut work, &mut stats);
+        assert_eq!(stats.warm_starts, 1, "{stats:?}");
+        assert_eq!(z, [0.0, 0.0, 3.0]);
+        assert!(residual(3, &m, &q, &z, &mut work.w) < 1e-15);
     }
 
     #[test]
