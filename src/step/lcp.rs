@@ -191,15 +191,15 @@ pub fn residual(n: usize, m: &[f64], q: &[f64], z: &[f64], w: &mut Vec<f64>) -> 
 #[allow(clippy::too_many_arguments)]
 pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
     stats.solves += 1;
-    if let Some(prev) = warm.filter(|w| w.len() == n) {
-        if solve_on(n, m, q, role, |i| prev[i], work) {
-            let res = residual(n, m, q, &work.trial, &mut work.w);
-            if res <= ACCEPT_RESIDUAL {
-                z[..n].copy_from_slice(&work.trial);
-                stats.warm_starts += 1;
-                stats.residual = res;
-                return;
-            }
+    if let Some(prev) = warm.filter(|w| w.len() == n)
+        && solve_on(n, m, q, role, |i| prev[i], work)
+    {
+        let res = residual(n, m, q, &work.trial, &mut work.w);
+        if res <= ACCEPT_RESIDUAL {
+            z[..n].copy_from_slice(&work.trial);
+            stats.warm_starts += 1;
+            stats.residual = res;
+            return;
         }
     }
     // Lemke; once more with a stronger regulariser when its answer fails the check (redundant
