@@ -232,12 +232,27 @@ class SinewVectorEnv(VectorEnv):
             terminated[done_before] = False
             truncated[done_before] = False
             self._steps[done_before] = 0
+            # those worlds report their reset info, as SyncVectorEnv does
+            info = self._info(info, done_before, self._core.reset_info())
+        else:
+            info = self._info(info)
         self._autoreset = terminated | truncated
-        return obs, reward, terminated, truncated, self._info(info)
+        return obs, reward, terminated, truncated, info
 
-    def _info(self, info: dict) -> dict:
+    def _info(self, info: dict, reset_rows=None, reset_info=None) -> dict:
+        """gymnasium's vector info: each entry with its mask of envs that report it; envs in
+        `reset_rows` report `reset_info` instead of the step's entries."""
         out = {}
         for k, v in info.items():
-            out[k] = np.asarray(v)
-            out["_" + k] = self._all
+            v = np.asarray(v)
+            if reset_rows is None:
+                out[k], out["_" + k] = v, self._all
+                continue
+            mask = np.ones(self.num_envs, dtype=bool)
+            if k in reset_info:
+                v[reset_rows] = reset_info[k][reset_rows]
+            else:
+                v[reset_rows] = 0
+                mask[reset_rows] = False
+            out[k], out["_" + k] = v, mask
         return out
