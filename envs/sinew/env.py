@@ -243,16 +243,19 @@ class SinewVectorEnv(VectorEnv):
         """gymnasium's vector info: each entry with its mask of envs that report it; envs in
         `reset_rows` report `reset_info` instead of the step's entries."""
         out = {}
+        if reset_rows is not None:
+            # one shared read-only mask for the step's entries
+            stepped = np.ones(self.num_envs, dtype=bool)
+            stepped[reset_rows] = False
+            stepped.flags.writeable = False
         for k, v in info.items():
             v = np.asarray(v)
             if reset_rows is None:
                 out[k], out["_" + k] = v, self._all
-                continue
-            mask = np.ones(self.num_envs, dtype=bool)
-            if k in reset_info:
+            elif k in reset_info:
                 v[reset_rows] = reset_info[k][reset_rows]
+                out[k], out["_" + k] = v, self._all
             else:
                 v[reset_rows] = 0
-                mask[reset_rows] = False
-            out[k], out["_" + k] = v, mask
+                out[k], out["_" + k] = v, stepped
         return out
