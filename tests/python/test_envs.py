@@ -285,6 +285,27 @@ def test_batch_reset_to_given_states():
         b.reset(None, None, None, np.full((3, m.nv), np.nan))
 
 
+def test_set_task_rejects_bad_parameters():
+    m = sinew.Model.from_mjcf(sinew.tasks.ASSETS + "/hopper.xml")
+    b = sinew.Batch(m, 2)
+    good = sinew.tasks.Hopper(m).params()
+    with pytest.raises(ValueError, match="unknown task"):
+        b.set_task("Hoper", **good)
+    with pytest.raises(ValueError, match="missing parameter 'healthy_reward'"):
+        b.set_task("Hopper", forward_reward_weight=1.0)
+    with pytest.raises(ValueError, match="unknown parameter 'colour'"):
+        b.set_task("Hopper", colour=1, **good)
+    with pytest.raises(ValueError, match="healthy_z_range"):
+        b.set_task("Hopper", **{**good, "healthy_z_range": (2.0, 1.0)})
+    with pytest.raises(ValueError, match="finite"):
+        b.set_task("Hopper", **{**good, "ctrl_cost_weight": float("nan")})
+    with pytest.raises(ValueError, match="free root"):
+        b.set_task("Ant", **sinew.tasks.Ant(m, main_body=1).params())
+    assert b.obs is None  # nothing was set
+    b.set_task("Hopper", **good)
+    assert b.obs.shape == (2, 11) and b.info_names[:b.reward_terms] == ["reward_forward", "reward_ctrl", "reward_survive"]
+
+
 def test_diverging_world_is_reset_alone_and_reported():
     m = sinew.Model.from_mjcf(sinew.tasks.ASSETS + "/hopper.xml")
     a, b = sinew.Batch(m, 3, seed=0), sinew.Batch(m, 3, seed=0)
