@@ -1,10 +1,12 @@
 """Env-steps/s of sinew's native vector env beside EnvPool and gymnasium's SyncVectorEnv of the
 MuJoCo twins, random actions, each task at its v5 frame_skip, on this machine.
 
-    python benches/throughput.py [--num-envs 64] [--steps 1000] [--out results/throughput.md]
+    python benches/throughput.py [--num-envs 64] [--steps 1000] [--constraint-mode velocity] [--out results/throughput.md]
 
 sinew runs with 1 and 2 threads (scaling efficiency = rate(2) / (2 · rate(1))); EnvPool with 2
 threads (``num_threads=2``, its v4 envs: same models and frame_skip); SyncVectorEnv is one thread.
+sinew's environments run the seed's acceleration-level scheme unless ``--constraint-mode velocity``
+selects velocity-level time stepping.
 """
 
 import argparse
@@ -47,14 +49,16 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--num-envs", type=int, default=64)
     ap.add_argument("--steps", type=int, default=1000)
+    ap.add_argument("--constraint-mode", default="acceleration", choices=["acceleration", "velocity"])
     ap.add_argument("--out", default=None)
     args = ap.parse_args()
+    mode = {"constraint_mode": args.constraint_mode}
     n, steps = args.num_envs, args.steps
     rng = np.random.default_rng(0)
     rows = []
     for name in TASKS:
-        r1 = rate_gym_vec(gym.make_vec(f"sinew/{name}-v0", num_envs=n, vectorization_mode="vector_entry_point", num_threads=1), steps, rng)
-        r2 = rate_gym_vec(gym.make_vec(f"sinew/{name}-v0", num_envs=n, vectorization_mode="vector_entry_point", num_threads=2), steps, rng)
+        r1 = rate_gym_vec(gym.make_vec(f"sinew/{name}-v0", num_envs=n, vectorization_mode="vector_entry_point", num_threads=1, **mode), steps, rng)
+        r2 = rate_gym_vec(gym.make_vec(f"sinew/{name}-v0", num_envs=n, vectorization_mode="vector_entry_point", num_threads=2, **mode), steps, rng)
         ep = rate_envpool(name, n, steps, rng)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -70,7 +74,8 @@ def main():
     print(table)
     if args.out:
         with open(args.out, "w") as f:
-            f.write(f"<!-- python benches/throughput.py --num-envs {n} --steps {steps} --out {args.out} -->\n{table}\n")
+            flag = "" if args.constraint_mode == "acceleration" else f" --constraint-mode {args.constraint_mode}"
+            f.write(f"<!-- python benches/throughput.py --num-envs {n} --steps {steps}{flag} --out {args.out} -->\n{table}\n")
 
 
 if __name__ == "__main__":

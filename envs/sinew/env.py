@@ -21,6 +21,10 @@ Actions (keyword ``action_mode``):
   q̈ = kp (target − q) − kd q̇ together with contacts and limits, each bounded by its motor's
   gear · max|ctrlrange|; ``trajectory_gains=(kp, kd)`` in 1/s² and 1/s (default (100, 20)).
 
+Physics: ``friction="pyramid"`` (default) or ``"seed"`` (the paper's one tangent);
+``constraint_mode="acceleration"`` (default: the seed's impacts then acceleration-level solve) or
+``"velocity"`` (velocity-level time stepping).
+
 Actions that are not finite or beyond ±1e10 (where the control cost alone would overflow the
 reward) raise ``ValueError``, as do wrong shapes. Finite actions outside the action Box are
 accepted: the physics clamps controls to ctrlrange, the control cost sees them as given (as
@@ -51,13 +55,13 @@ class BatchTask:
     """A task over N worlds: reset with per-world generators, step with a batch of actions."""
 
     def __init__(self, task: str, num_envs: int, num_threads: int | None = None, xml_file: str | None = None,
-                 friction: str = "pyramid", action_mode: str = "torque", pd_gains: tuple = (5.0, 0.1),
-                 trajectory_gains: tuple = (100.0, 20.0), **task_kwargs):
+                 friction: str = "pyramid", constraint_mode: str = "acceleration", action_mode: str = "torque",
+                 pd_gains: tuple = (5.0, 0.1), trajectory_gains: tuple = (100.0, 20.0), **task_kwargs):
         if task not in TASKS:
             raise ValueError(f"unknown task {task!r}; known: {sorted(TASKS)}")
         cls = TASKS[task]
         path = xml_file or os.path.join(ASSETS, cls.xml)
-        model = Model.from_mjcf(path).with_options(friction=friction)
+        model = Model.from_mjcf(path).with_options(friction=friction, constraint_mode=constraint_mode)
         if action_mode == "pd":
             model = model.with_options(pd_gains=tuple(pd_gains))
         elif action_mode == "trajectory":

@@ -285,6 +285,16 @@ def test_batch_reset_to_given_states():
         b.reset(None, None, None, np.full((3, m.nv), np.nan))
 
 
+def test_constraint_mode_is_an_env_option():
+    env = gym.make("sinew/Hopper-v0", constraint_mode="velocity")
+    assert env.unwrapped.model.constraint_mode == "velocity"
+    env.reset(seed=0)
+    obs, reward, *_ = env.step(env.action_space.sample())
+    assert np.isfinite(obs).all() and np.isfinite(reward)
+    with pytest.raises(ValueError, match="constraint_mode"):
+        gym.make("sinew/Hopper-v0", constraint_mode="implicit")
+
+
 def test_set_task_rejects_bad_parameters():
     m = sinew.Model.from_mjcf(sinew.tasks.ASSETS + "/hopper.xml")
     b = sinew.Batch(m, 2)
