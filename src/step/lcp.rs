@@ -45,6 +45,8 @@ pub struct LcpWork {
     trial: Vec<f64>,
     stiff: Vec<f64>,
     best: Vec<f64>,
+    /// λ variables [`solve_on`] leaves out of the solve.
+    free: Vec<bool>,
 }
 
 /// Relative regulariser added to the diagonal of the force rows.
@@ -262,9 +264,17 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]
 /// for any λ, so M_AA would be singular): it is left out and set afterwards to the least value
 /// that keeps the contact's friction rows' w ≥ 0. False when singular or the result is negative.
 fn solve_on(n: usize, m: &[f64], q: &[f64], role: &[Role], active: impl Fn(usize) -> bool, work: &mut LcpWork) -> bool {
-    let free_lambda = |l: usize| role.iter().any(|r| matches!(*r, Role::Friction { normal, lambda, .. } if lambda == l && !active(normal)));
+    work.free.clear();
+    work.free.resize(n, false);
+    for r in role {
+        if let Role::Friction { normal, lambda, .. } = *r
+            && !active(normal)
+        {
+            work.free[lambda] = true;
+        }
+    }
     work.active.clear();
-    work.active.extend((0..n).filter(|&i| active(i) && !(role[i] == Role::Lambda && free_lambda(i))));
+    work.active.extend((0..n).filter(|&i| active(i) && !work.free[i]));
     if !solve_active(n, m, q, work) {
         return false;
     }
