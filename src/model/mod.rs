@@ -113,8 +113,8 @@ pub struct GeomPair {
     pub test: PairTest,
     /// The larger of the two geoms' margins.
     pub margin: f64,
-    /// `margin` plus the bounding radii of the bounded geoms.
-    pub bound: f64,
+    /// The bounding radii of the bounded geoms, summed.
+    pub radii: f64,
 }
 
 /// Broadphase test of a [`GeomPair`].

@@ -114,13 +114,13 @@ pub fn can_collide(m: &Model, i: usize, j: usize) -> bool {
 pub fn geom_pair(m: &Model, i: usize, j: usize) -> GeomPair {
     let margin = m.geom_margin[i].max(m.geom_margin[j]);
     let (ri, rj) = (m.geom_rbound[i], m.geom_rbound[j]);
-    let (test, bound) = match (ri.is_finite(), rj.is_finite()) {
-        (true, true) => (PairTest::Spheres, margin + ri + rj),
-        (false, true) if m.geom_type[i] == GeomType::Plane => (PairTest::Plane { plane: i, other: j }, margin + rj),
-        (true, false) if m.geom_type[j] == GeomType::Plane => (PairTest::Plane { plane: j, other: i }, margin + ri),
-        _ => (PairTest::Always, margin),
+    let (test, radii) = match (ri.is_finite(), rj.is_finite()) {
+        (true, true) => (PairTest::Spheres, ri + rj),
+        (false, true) if m.geom_type[i] == GeomType::Plane => (PairTest::Plane { plane: i, other: j }, rj),
+        (true, false) if m.geom_type[j] == GeomType::Plane => (PairTest::Plane { plane: j, other: i }, ri),
+        _ => (PairTest::Always, 0.0),
     };
-    GeomPair { g1: i, g2: j, test, margin, bound }
+    GeomPair { g1: i, g2: j, test, margin, radii }
 }
 
 /// Clears the contacts and, when the model has pairs to test, writes the geoms' world poses;
@@ -186,10 +186,11 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData)
         // lever × (v + h a), lever = h for semi-implicit Euler) count as contacts, so a fast foot
         // is stopped at the surface instead of being found inside it one step later
         let reach = out.geom_reach[p.g1] + out.geom_reach[p.g2];
-        if apart(out, p, reach) {
+        let margin = p.margin + reach;
+        if apart(out, p, margin) {
             continue;
         }
-        pair(m, kin, out, p.g1, p.g2, p.margin + reach);
+        pair(m, kin, out, p.g1, p.g2, margin);
     }
 }
 
@@ -200,18 +201,18 @@ pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
         return;
     }
     for p in &m.collision_pairs {
-        if apart(out, p, -p.margin) {
+        if apart(out, p, 0.0) {
             continue;
         }
         pair(m, kin, out, p.g1, p.g2, 0.0);
     }
 }
 
-/// Broadphase: bounding spheres farther apart than the pair's margin plus `extra`, or a bounding
-/// sphere that far above a plane.
+/// Broadphase: bounding spheres farther apart than `margin`, or a bounding sphere that far above
+/// a plane.
 #[inline(always)]
-fn apart(cd: &CollisionData, p: &GeomPair, extra: f64) -> bool {
-    let reach = p.bound + extra;
+fn apart(cd: &CollisionData, p: &GeomPair, margin: f64) -> bool {
+    let reach = p.radii + margin;
     match p.test {
         PairTest::Spheres => cd.geom_xpos[p.g1].distance_squared(cd.geom_xpos[p.g2]) > reach * reach,
         PairTest::Plane { plane, other } => (cd.geom_xpos[other] - cd.geom_xpos[plane]).dot(cd.geom_xmat[plane].col(2)) > reach,
@@ -247,10 +248,10 @@ pub fn reach_again(m: &Model, kin: &KinData, v_end: &[crate::math::Motion], out:
     for p in &m.collision_pairs {
         let (i, j) = (p.g1, p.g2);
         let reach = lever * (out.geom_speed_end[i] + out.geom_speed_end[j]);
-        if reach <= out.geom_reach[i] + out.geom_reach[j] || apart(out, p, reach) {
+        let margin = p.margin + reach;
+        if reach <= out.geom_reach[i] + out.geom_reach[j] || apart(out, p, margin) {
             continue;
         }
-        let margin = p.margin + reach;
         let before = out.contacts.len();
         if before >= MAX_CONTACTS {
             // full: a replacement would change contacts the rows already refer to
