@@ -7,6 +7,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 __version__: str
+#: A world whose state leaves ±MAX_STATE (or goes non-finite) has diverged.
+MAX_STATE: float
 
 class ModelError(ValueError):
     """Malformed or unsupported model; carries ``element``, ``attribute`` and ``line`` when known."""

@@ -44,11 +44,11 @@ from gymnasium import spaces
 from gymnasium.utils import EzPickle, seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 
-from sinew._core import Batch, Model
+from sinew._core import MAX_STATE, Batch, Model
 from sinew.tasks import ASSETS, TASKS
 
-#: Largest accepted action magnitude: the divergence bound.
-MAX_ACTION = 1e10
+#: Largest accepted action magnitude: the divergence bound on states.
+MAX_ACTION = MAX_STATE
 
 
 class BatchTask:

@@ -89,11 +89,16 @@ impl StabilizeData {
     /// The kinematics of (`qpos`, `qvel`): the last projection check's when it was of this state,
     /// else computed here and kept for the next step's [`kinematics_of`].
     pub fn kinematics_at(&mut self, m: &Model, qpos: &[f64], qvel: &[f64]) -> &KinData {
-        if !(self.cached && self.qpos == qpos && self.qvel == qvel) {
+        if !self.holds(qpos, qvel) {
             kinematics::forward(m, qpos, qvel, &mut self.kin);
             self.keep(qpos, qvel);
         }
         &self.kin
+    }
+
+    /// Whether `kin` is the kinematics of (`qpos`, `qvel`).
+    fn holds(&self, qpos: &[f64], qvel: &[f64]) -> bool {
+        self.cached && self.qpos == qpos && self.qvel == qvel
     }
 
     /// Marks `kin` as the kinematics of (`qpos`, `qvel`).
@@ -143,7 +148,7 @@ pub fn hold_limits(m: &Model, post: &StabilizeData, qpos: &mut [f64]) {
 /// projection's check when that was of the same state.
 pub fn kinematics_of(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) {
     let post = &mut data.post;
-    if post.cached && post.qpos == qpos && post.qvel == qvel {
+    if post.holds(qpos, qvel) {
         std::mem::swap(&mut data.kin, &mut post.kin);
     } else {
         kinematics::forward(m, qpos, qvel, &mut data.kin);
