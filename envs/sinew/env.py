@@ -74,6 +74,7 @@ class BatchTask:
         self.batch = Batch(self.model, num_envs, seed=0, num_threads=num_threads)
         # observation, reward terms and termination: computed in Rust with every step
         self.batch.set_task(self.task.kind, **self.task.params())
+        self.info_names = self.batch.info_names
         if action_mode in ("pd", "trajectory"):
             jnt = [self.model.jnt_dofadr.index(d) for d in self.model.actuator_dofadr]
             unlimited = [np.pi if self.model.joint_types[j] == "hinge" else 1.0 for j in jnt]
@@ -122,7 +123,7 @@ class BatchTask:
         b.ctrl[:] = actions
         b.step(self.task.frame_skip, active)
         info_rows = b.info.copy()
-        info = {name: info_rows[:, k] for k, name in enumerate(b.info_names)}
+        info = {name: info_rows[:, k] for k, name in enumerate(self.info_names)}
         info["sim_diverged"] = b.diverged.copy()
         return self.observe(), b.reward.copy(), b.terminated.copy(), info
 
