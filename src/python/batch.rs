@@ -318,8 +318,8 @@ impl PyBatch {
         self.refresh(py, &chosen)
     }
 
-    /// Recomputes `xpos`, `xmat`, `xvel` after qpos/qvel were written from Python, for the worlds
-    /// where `mask` is true (all when None).
+    /// Recomputes the sensor outputs (and a task's observations) after qpos/qvel were written from
+    /// Python, for the worlds where `mask` is true (all when None).
     #[pyo3(signature = (mask=None))]
     fn forward_kinematics(&mut self, py: Python<'_>, mask: Option<Bound<'_, PyAny>>) -> PyResult<()> {
         let which = self.chosen(mask)?;
