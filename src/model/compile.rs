@@ -4,7 +4,7 @@
 use glam::{DMat3, DVec3};
 
 use super::inertia::geom_inertia;
-use super::{Model, Options, WORLD};
+use super::{GeomType, Model, Options, PairTest, PlaneGroup, WORLD};
 use crate::error::{Error, Result};
 use crate::math::{SpatialInertia, Xform};
 use crate::mjcf::{InertiaFromGeom, JointType, ModelSpec};
@@ -94,6 +94,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         dof_damping: vec![],
         dof_armature: vec![],
         dof_jnt: vec![],
+        dof_arm: vec![],
         node_parent: vec![],
         node_jntadr: vec![],
         node_jntnum: vec![],
@@ -128,6 +129,8 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         collision_pairs: vec![],
         motion_plane: None,
         exclude_pairs: vec![],
+        body_reach: vec![],
+        plane_groups: vec![],
         warnings: spec.warnings.clone(),
     };
 
@@ -269,9 +272,90 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
             }
         }
     }
+    m.body_reach = body_reaches(&m);
+    m.dof_arm = dof_arms(&m);
+    m.plane_groups = plane_groups(&mut m);
     check_solvable(&m)?;
     m.motion_plane = motion_plane(&m);
     Ok(m)
+}
+
+/// How far a body's joints can carry its origin from where its parent puts it: 2|anchor| per
+/// hinge or ball joint (a turn about the anchor), unboundedly by a slide; joints `after` the
+/// given one only, when it is Some.
+fn joint_travel(m: &Model, b: usize, after: Option<usize>) -> f64 {
+    (0..m.njnt)
+        .filter(|&j| m.jnt_body[j] == b && after.is_none_or(|a| j > a))
+        .map(|j| if m.jnt_type[j] == JointType::Slide { f64::INFINITY } else { 2.0 * m.jnt_pos[j].length() })
+        .sum()
+}
+
+/// [`Model::body_reach`], bottom-up: a body's own geoms, and each child's reach from where the
+/// child's origin can be.
+fn body_reaches(m: &Model) -> Vec<f64> {
+    let mut reach = vec![0.0_f64; m.nbody];
+    for g in (0..m.ngeom).filter(|&g| m.geom_type[g] != GeomType::Plane) {
+        let b = m.geom_body[g];
+        reach[b] = reach[b].max(m.geom_pos[g].length() + m.geom_rbound[g]);
+    }
+    // children come after their parents
+    for c in (1..m.nbody).rev() {
+        let p = m.body_parent[c];
+        reach[p] = reach[p].max(m.body_pos[c].length() + joint_travel(m, c, None) + reach[c]);
+    }
+    reach
+}
+
+/// [`Model::dof_arm`]: a rotational joint's arm is its anchor's distance to the body's origin
+/// once the joints that follow it in the body have moved that, plus the body's reach.
+fn dof_arms(m: &Model) -> Vec<f64> {
+    let mut arm = vec![0.0; m.nv];
+    for j in 0..m.njnt {
+        let b = m.jnt_body[j];
+        let rotational = m.jnt_pos[j].length() + joint_travel(m, b, Some(j)) + m.body_reach[b];
+        let da = m.jnt_dofadr[j];
+        match m.jnt_type[j] {
+            JointType::Slide => arm[da] = 1.0,
+            JointType::Hinge => arm[da] = rotational,
+            JointType::Ball => arm[da..da + 3].fill(rotational),
+            // linear velocity of the body's origin, then angular velocity about it
+            JointType::Free => {
+                arm[da..da + 3].fill(1.0);
+                arm[da + 3..da + 6].fill(m.body_reach[b]);
+            }
+        }
+    }
+    arm
+}
+
+/// Groups each pair of a world plane and a geom under a child of the world with a bounded reach
+/// into that child's [`PlaneGroup`], and returns the groups.
+fn plane_groups(m: &mut Model) -> Vec<PlaneGroup> {
+    let mut groups: Vec<PlaneGroup> = vec![];
+    for k in 0..m.collision_pairs.len() {
+        let p = &m.collision_pairs[k];
+        let PairTest::Plane { plane, other, .. } = p.test else { continue };
+        let mut root = m.geom_body[other];
+        while m.body_parent[root] != 0 {
+            root = m.body_parent[root];
+        }
+        if m.geom_body[plane] != 0 || !m.body_reach[root].is_finite() {
+            continue;
+        }
+        let radius = m.body_reach[root] + p.margin;
+        let g = match groups.iter().position(|g| (g.plane, g.body) == (plane, root)) {
+            Some(g) => {
+                groups[g].radius = groups[g].radius.max(radius);
+                g
+            }
+            None => {
+                groups.push(PlaneGroup { plane, body: root, radius });
+                groups.len() - 1
+            }
+        };
+        m.collision_pairs[k].test = PairTest::Plane { plane, other, group: Some(g) };
+    }
+    groups
 }
 
 /// The normal every hinge axis is parallel to and every slide axis perpendicular to, in world at

@@ -129,9 +129,24 @@ pub enum PairTest {
         plane: usize,
         /// The bounded geom.
         other: usize,
+        /// The [`PlaneGroup`] whose single test rejects the pair first, if any.
+        group: Option<usize>,
     },
     /// No bound: always tested (two planes).
     Always,
+}
+
+/// A world plane and the subtree of one child of the world: while the sphere about the child's
+/// origin that holds every geom of the subtree stays above the plane, none of their pairs with the
+/// plane needs a test of its own (the broadphase's upper level).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlaneGroup {
+    /// The plane geom (a world geom).
+    pub plane: usize,
+    /// The child of the world.
+    pub body: usize,
+    /// The body's [`Model::body_reach`] plus the largest margin of the group's pairs.
+    pub radius: f64,
 }
 
 /// A compiled model. Build it with [`Model::from_mjcf`].
@@ -209,6 +224,11 @@ pub struct Model {
     pub dof_armature: Vec<f64>,
     /// Joint of each dof (nv).
     pub dof_jnt: Vec<usize>,
+    /// Bound, valid at every configuration, on the speed a unit velocity of the dof gives any
+    /// point of a geom it moves: 1 for a translational dof; for a rotational one, the greatest
+    /// distance such a point can have from the joint's anchor, or ∞ when a slide joint beyond
+    /// the dof makes it unbounded (nv). So a point moves at most Σ_k `dof_arm[k]` |q̇_k|.
+    pub dof_arm: Vec<f64>,
 
     /// Parent node or [`WORLD`] (nnode).
     pub node_parent: Vec<usize>,
@@ -284,6 +304,12 @@ pub struct Model {
     pub motion_plane: Option<DVec3>,
     /// Body-pair contact exclusions (sorted pairs).
     pub exclude_pairs: Vec<(usize, usize)>,
+    /// Bound, valid at every configuration, on the distance from the body's origin to any point of
+    /// a geom (planes excepted) of its subtree; ∞ when a slide joint within makes it unbounded
+    /// (nbody).
+    pub body_reach: Vec<f64>,
+    /// The plane groups the [`PairTest::Plane`] pairs refer to.
+    pub plane_groups: Vec<PlaneGroup>,
     /// What the model file asks for that sinew does not model.
     pub warnings: Vec<String>,
 }

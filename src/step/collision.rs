@@ -6,8 +6,13 @@
 //! Cylinders collide as capsules of the same radius and half-length, ellipsoids as spheres of their
 //! largest semi-axis (documented approximations). Filtering follows MuJoCo: contype/conaffinity
 //! bits, no contact within a body or
-//! between a body and its parent (unless the parent is the world), `<exclude>` pairs, and a
-//! bounding-sphere broadphase. Friction is the maximum of the pair's, as MuJoCo's default.
+//! between a body and its parent (unless the parent is the world), `<exclude>` pairs. The
+//! broadphase has two levels: a world plane against the sphere that holds a whole subtree of the
+//! world's child (`Model::plane_groups`), then each pair's bounding spheres. How far a geom can
+//! move within the step comes first from one O(nv) bound shared by all geoms
+//! (`Model::dof_arm`), then from the geom's own velocity where a pair needs it, and geoms are posed
+//! only when a test reads them: a scene whose floor is far costs a few tests per step. Friction
+//! is the maximum of the pair's, as MuJoCo's default.
 //! Detection is speculative: a pair within its margin plus the distance its geoms can cover in one
 //! step yields a (separated, dist > 0) contact, whose row only stops it at the surface.
 
@@ -17,6 +22,7 @@ use crate::model::{GeomPair, GeomType, Model, PairTest, WORLD};
 
 use super::aba::AbaData;
 use super::kinematics::KinData;
+use crate::math::Motion;
 
 /// One contact point. The normal points from geom2 to geom1: pushing body1 along +n and body2
 /// along −n separates them.
@@ -49,13 +55,22 @@ pub struct CollisionData {
     /// Whether `geom_xmat[g]` is that of this configuration: the narrowphase poses the axes of
     /// the geoms it tests, so pairs the broadphase rejects cost no rotation.
     pub axes_posed: Vec<bool>,
-    /// Geom centre in world (ngeom).
+    /// Geom centre in world (ngeom); a moving geom's is current only where `posed` says so.
     pub geom_xpos: Vec<DVec3>,
+    /// Whether `geom_xpos[g]` (and a plane's axes) is that of this configuration: posed when a
+    /// test first reads it, so pairs a plane group rejects cost nothing per geom.
+    posed: Vec<bool>,
+    /// Per [`crate::model::PlaneGroup`]: whether its subtree is apart from its plane.
+    group_apart: Vec<bool>,
     /// Bound on how far any point of each geom can move within the step, from its speed and
-    /// constraint-free acceleration (ngeom), for speculative detection.
+    /// constraint-free acceleration (ngeom), for speculative detection: the bound shared by all
+    /// moving geoms, or the geom's own where `own_bound` says so.
     pub geom_reach: Vec<f64>,
     /// Bound on the speed of any point of each geom at the end of the step (ngeom).
     pub geom_speed_end: Vec<f64>,
+    /// Whether the geom's own (tighter) bound is already in `geom_reach`: it is computed only
+    /// for geoms of pairs the shared bound cannot reject.
+    own_bound: Vec<bool>,
     /// Contacts of this configuration.
     pub contacts: Vec<Contact>,
 }
@@ -68,8 +83,11 @@ impl CollisionData {
             geom_xmat: m.geom_mat.clone(),
             axes_posed: (0..m.ngeom).map(|g| m.geom_body[g] == 0).collect(),
             geom_xpos: m.geom_pos.clone(),
+            posed: (0..m.ngeom).map(|g| m.geom_body[g] == 0).collect(),
+            group_apart: vec![false; m.plane_groups.len()],
             geom_reach: vec![0.0; m.ngeom],
             geom_speed_end: vec![0.0; m.ngeom],
+            own_bound: vec![false; m.ngeom],
             contacts: Vec::with_capacity(MAX_CONTACTS),
         }
     }
@@ -116,34 +134,50 @@ pub fn geom_pair(m: &Model, i: usize, j: usize) -> GeomPair {
     let (ri, rj) = (m.geom_rbound[i], m.geom_rbound[j]);
     let (test, radii) = match (ri.is_finite(), rj.is_finite()) {
         (true, true) => (PairTest::Spheres, ri + rj),
-        (false, true) if m.geom_type[i] == GeomType::Plane => (PairTest::Plane { plane: i, other: j }, rj),
-        (true, false) if m.geom_type[j] == GeomType::Plane => (PairTest::Plane { plane: j, other: i }, ri),
+        (false, true) if m.geom_type[i] == GeomType::Plane => (PairTest::Plane { plane: i, other: j, group: None }, rj),
+        (true, false) if m.geom_type[j] == GeomType::Plane => (PairTest::Plane { plane: j, other: i, group: None }, ri),
         _ => (PairTest::Always, 0.0),
     };
     GeomPair { g1: i, g2: j, test, margin, radii }
 }
 
-/// Clears the contacts and, when the model has pairs to test, writes the geoms' world poses;
-/// false when there is nothing to test.
-fn geom_poses(m: &Model, kin: &KinData, out: &mut CollisionData) -> bool {
+/// Clears the contacts and, when the model has pairs to test, marks the moving geoms' poses as
+/// not yet computed; false when there is nothing to test.
+fn begin(m: &Model, out: &mut CollisionData) -> bool {
     out.contacts.clear();
     if !m.opt.contact || m.collision_pairs.is_empty() {
         return false;
     }
     for g in 0..m.ngeom {
-        let b = m.geom_body[g];
-        if b == 0 {
-            continue;
-        }
-        out.geom_xpos[g] = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
-        // the broadphase reads a plane's normal; other axes are posed when a pair needs them
-        let plane = m.geom_type[g] == GeomType::Plane;
-        if plane {
-            out.geom_xmat[g] = kin.xmat[b] * m.geom_mat[g];
-        }
-        out.axes_posed[g] = plane;
+        let world = m.geom_body[g] == 0;
+        out.posed[g] = world;
+        out.axes_posed[g] = world;
     }
     true
+}
+
+/// Decides each plane group: apart when its subtree's sphere stays farther above the plane than
+/// its radius and `reach` (a bound on how far any of its points moves).
+fn judge_groups(m: &Model, kin: &KinData, out: &mut CollisionData, reach: f64) {
+    for (apart, g) in out.group_apart.iter_mut().zip(&m.plane_groups) {
+        let height = (kin.xpos[g.body] - out.geom_xpos[g.plane]).dot(out.geom_xmat[g.plane].col(2));
+        *apart = height > g.radius + reach;
+    }
+}
+
+/// Poses geom g's centre (and a plane's axes) for the configuration in `kin`, unless already done.
+#[inline(always)]
+fn pose(m: &Model, kin: &KinData, cd: &mut CollisionData, g: usize) {
+    if !cd.posed[g] {
+        let b = m.geom_body[g];
+        cd.geom_xpos[g] = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
+        // the broadphase reads a plane's normal; other axes are posed when a pair needs them
+        if m.geom_type[g] == GeomType::Plane {
+            cd.geom_xmat[g] = kin.xmat[b] * m.geom_mat[g];
+            cd.axes_posed[g] = true;
+        }
+        cd.posed[g] = true;
+    }
 }
 
 /// Poses the world axes of geom g for the configuration in `kin`, unless already done (a
@@ -155,101 +189,146 @@ fn pose_axes(m: &Model, kin: &KinData, cd: &mut CollisionData, g: usize) {
     }
 }
 
-/// Detects all contacts of the configuration in `kin`, with `aba` holding the constraint-free
-/// accelerations of the same state (for how far a geom can move within the step).
-pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData) {
-    if !geom_poses(m, kin, out) {
+/// Whether geom g never moves (a world geom, or a plane: a plane's motion is not tracked).
+fn fixed(m: &Model, g: usize) -> bool {
+    m.body_node[m.geom_body[g]] == WORLD || m.geom_type[g] == GeomType::Plane
+}
+
+/// Bound on the speed of any point of any moving geom at the step's end, whose joint velocities
+/// are at most |q̇ + h q̈| each, from [`Model::dof_arm`]: O(nv), no kinematics; ∞ when an arm is
+/// unbounded.
+fn shared_speed(m: &Model, qvel: &[f64], qacc: &[f64], h: f64) -> f64 {
+    let s: f64 = m.dof_arm.iter().zip(qvel.iter().zip(qacc)).map(|(c, (v, a))| {
+        let w = v.abs() + h * a.abs();
+        if w == 0.0 { 0.0 } else { c * w }
+    }).sum();
+    if s.is_nan() { f64::INFINITY } else { s }
+}
+
+/// Detects all contacts of the configuration in `kin`, with `aba` and `qacc` holding the
+/// constraint-free accelerations of the same state (for how far a geom can move within the step).
+pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, qvel: &[f64], qacc: &[f64], out: &mut CollisionData) {
+    if !begin(m, out) {
         return;
     }
     let (h, lever) = (m.opt.timestep, m.opt.lever());
+    // the step's end velocity moves a point by lever × its speed; first one bound for all moving
+    // geoms, each geom's own (tighter near others) once a pair needs it
+    let shared = lever * shared_speed(m, qvel, qacc, h);
     for g in 0..m.ngeom {
-        let n = m.body_node[m.geom_body[g]];
-        // the step's end velocity is at most v + h a, and carries a point by lever × it
-        out.geom_reach[g] = if n == WORLD || m.geom_type[g] == GeomType::Plane {
-            0.0
-        } else {
-            // bounds over the geom's points: centre value + angular part × bounding radius,
-            // |v_c| + h|a_c| + r (|ω| + h(|α| + |ω|²)); ABA's accelerations carry the base's
-            // fictitious −g, added back. Two square roots instead of four, by x + y ≤ √(2(x² + y²))
-            // over each pair (within √2, and tight when the h-term is small, as it usually is)
-            let (v, a, centre, rb) = (kin.v[n], aba.a[n], out.geom_xpos[g] - kin.origin, m.geom_rbound[g]);
-            let vc = v.point_velocity(centre);
-            let ac = a.point_velocity(centre) + v.ang.cross(vc) + m.opt.gravity;
-            let w2 = v.ang.length_squared();
-            let linear = (2.0 * (vc.length_squared() + h * h * ac.length_squared())).sqrt();
-            let angular = (2.0 * (w2 + h * h * a.ang.length_squared())).sqrt() + h * w2;
-            lever * (linear + angular * rb)
-        };
+        let fixed = fixed(m, g);
+        out.geom_reach[g] = if fixed { 0.0 } else { shared };
+        out.own_bound[g] = fixed;
     }
+    judge_groups(m, kin, out, shared);
     for p in &m.collision_pairs {
         // speculative: pairs that could close within this step (which moves a point by
         // lever × (v + h a), lever = h for semi-implicit Euler) count as contacts, so a fast foot
         // is stopped at the surface instead of being found inside it one step later
-        let reach = out.geom_reach[p.g1] + out.geom_reach[p.g2];
-        let margin = p.margin + reach;
-        if apart(out, p, margin) {
+        if apart(m, kin, out, p, p.margin + out.geom_reach[p.g1] + out.geom_reach[p.g2]) {
+            continue;
+        }
+        let tighter = own_reach(m, kin, aba, out, p.g1, h, lever) | own_reach(m, kin, aba, out, p.g2, h, lever);
+        let margin = p.margin + out.geom_reach[p.g1] + out.geom_reach[p.g2];
+        if tighter && apart(m, kin, out, p, margin) {
             continue;
         }
         pair(m, kin, out, p.g1, p.g2, margin);
     }
 }
 
+/// Tightens `geom_reach[g]` with the geom's own bound, once per detection; whether it got smaller.
+fn own_reach(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData, g: usize, h: f64, lever: f64) -> bool {
+    if out.own_bound[g] {
+        return false;
+    }
+    out.own_bound[g] = true;
+    // bounds over the geom's points: centre value + angular part × bounding radius,
+    // |v_c| + h|a_c| + r (|ω| + h(|α| + |ω|²)); ABA's accelerations carry the base's fictitious
+    // −g, added back. Two square roots instead of four, by x + y ≤ √(2(x² + y²)) over each pair
+    // (within √2, and tight when the h-term is small, as it usually is)
+    let n = m.body_node[m.geom_body[g]];
+    let (v, a, centre, rb) = (kin.v[n], aba.a[n], out.geom_xpos[g] - kin.origin, m.geom_rbound[g]);
+    let vc = v.point_velocity(centre);
+    let ac = a.point_velocity(centre) + v.ang.cross(vc) + m.opt.gravity;
+    let w2 = v.ang.length_squared();
+    let linear = (2.0 * (vc.length_squared() + h * h * ac.length_squared())).sqrt();
+    let angular = (2.0 * (w2 + h * h * a.ang.length_squared())).sqrt() + h * w2;
+    let own = lever * (linear + angular * rb);
+    let tighter = own < out.geom_reach[g];
+    out.geom_reach[g] = out.geom_reach[g].min(own);
+    tighter
+}
+
 /// Contacts of the configuration in `kin` that penetrate (dist < 0) — no speculative margin; for
 /// checking a configuration after the step.
 pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
-    if !geom_poses(m, kin, out) {
+    if !begin(m, out) {
         return;
     }
+    judge_groups(m, kin, out, 0.0);
     for p in &m.collision_pairs {
-        if apart(out, p, 0.0) {
+        if apart(m, kin, out, p, 0.0) {
             continue;
         }
         pair(m, kin, out, p.g1, p.g2, 0.0);
     }
 }
 
-/// Broadphase: bounding spheres farther apart than `margin`, or a bounding sphere that far above
-/// a plane.
+/// Broadphase: the pair's plane group apart, or bounding spheres farther apart than `margin`, or a
+/// bounding sphere that far above a plane. Poses the geoms it reads.
 #[inline(always)]
-fn apart(cd: &CollisionData, p: &GeomPair, margin: f64) -> bool {
+fn apart(m: &Model, kin: &KinData, cd: &mut CollisionData, p: &GeomPair, margin: f64) -> bool {
     let reach = p.radii + margin;
     match p.test {
-        PairTest::Spheres => cd.geom_xpos[p.g1].distance_squared(cd.geom_xpos[p.g2]) > reach * reach,
-        PairTest::Plane { plane, other } => (cd.geom_xpos[other] - cd.geom_xpos[plane]).dot(cd.geom_xmat[plane].col(2)) > reach,
-        PairTest::Always => false,
+        PairTest::Spheres => {
+            pose(m, kin, cd, p.g1);
+            pose(m, kin, cd, p.g2);
+            cd.geom_xpos[p.g1].distance_squared(cd.geom_xpos[p.g2]) > reach * reach
+        }
+        PairTest::Plane { plane, other, group } => {
+            if group.is_some_and(|g| cd.group_apart[g]) {
+                return true;
+            }
+            pose(m, kin, cd, plane);
+            pose(m, kin, cd, other);
+            (cd.geom_xpos[other] - cd.geom_xpos[plane]).dot(cd.geom_xmat[plane].col(2)) > reach
+        }
+        PairTest::Always => {
+            pose(m, kin, cd, p.g1);
+            pose(m, kin, cd, p.g2);
+            false
+        }
     }
-}
-
-/// Bound on the speed of any point of geom g, whose centre is at `centre` (relative to the
-/// kinematics' origin), under its node's velocity `v`.
-#[inline]
-fn speed_bound(m: &Model, g: usize, v: &crate::math::Motion, centre: DVec3) -> f64 {
-    v.point_velocity(centre).length() + v.ang.length() * m.geom_rbound[g]
 }
 
 /// After the constraint solve: with the step's final node velocities `v_end`, the pairs whose reach
 /// lever·|v_end| now exceeds their first margin are tested again (same configuration) and contacts
 /// not found before are appended. Returns whether there were any: constraint forces (a body
 /// landing on another, say) can carry a geom further than its constraint-free motion.
-pub fn reach_again(m: &Model, kin: &KinData, v_end: &[crate::math::Motion], out: &mut CollisionData) -> bool {
+pub fn reach_again(m: &Model, kin: &KinData, v_end: &[Motion], out: &mut CollisionData) -> bool {
     if !m.opt.contact || m.collision_pairs.is_empty() {
         return false;
     }
     let lever = m.opt.lever();
+    // each geom's own bound: compared with its first reach, it settles most pairs without a test
     for g in 0..m.ngeom {
-        let n = m.body_node[m.geom_body[g]];
-        out.geom_speed_end[g] = if n == WORLD || m.geom_type[g] == GeomType::Plane {
+        out.geom_speed_end[g] = if fixed(m, g) {
             0.0
         } else {
-            speed_bound(m, g, &v_end[n], out.geom_xpos[g] - kin.origin)
+            pose(m, kin, out, g);
+            let v = &v_end[m.body_node[m.geom_body[g]]];
+            v.point_velocity(out.geom_xpos[g] - kin.origin).length() + v.ang.length() * m.geom_rbound[g]
         };
     }
+    let fastest = out.geom_speed_end.iter().fold(0.0_f64, |a, &b| a.max(b));
+    judge_groups(m, kin, out, lever * fastest);
     let mut found = false;
     for p in &m.collision_pairs {
         let (i, j) = (p.g1, p.g2);
         let reach = lever * (out.geom_speed_end[i] + out.geom_speed_end[j]);
         let margin = p.margin + reach;
-        if reach <= out.geom_reach[i] + out.geom_reach[j] || apart(out, p, margin) {
+        if reach <= out.geom_reach[i] + out.geom_reach[j] || apart(m, kin, out, p, margin) {
             continue;
         }
         let before = out.contacts.len();

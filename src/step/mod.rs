@@ -94,7 +94,7 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
     // 2. articulated inertias and the constraint-free accelerations
     timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, h_damp));
     // 3. contacts of this configuration (reach over the step from velocities and accelerations)
-    timed!(data, Stage::Collision, collision::collide(m, &data.kin, &data.aba, &mut data.coll));
+    timed!(data, Stage::Collision, collision::collide(m, &data.kin, &data.aba, qvel, &data.qacc, &mut data.coll));
     // 4. constraint rows: contacts (normal + friction), active limits, motion control
     timed!(data, Stage::Rows, build_rows(m, data, qpos, qvel, ctrl));
     if data.con.is_empty() {

@@ -1,0 +1,109 @@
+//! The broadphase's configuration-independent bounds: `Model::dof_arm` bounds the speed of every
+//! geom point and `Model::body_reach` every geom point's distance from its subtree's root, at
+//! random states of random trees; plane groups reject no pair that touches.
+#![allow(clippy::needless_range_loop)] // the shared helpers index as the math does
+
+mod common;
+
+use common::{random_state, random_tree_mjcf, Rng};
+use sinew::math::DVec3;
+use sinew::model::{GeomType, PairTest};
+use sinew::step::collision::{penetrations, CollisionData};
+use sinew::step::kinematics::{forward, KinData};
+use sinew::Model;
+
+/// Random trees, once as generated and once with every slide joint made a hinge (all arms finite).
+fn trees() -> Vec<Model> {
+    let mut models = vec![];
+    for seed in 0..40 {
+        let xml = random_tree_mjcf(2 + (seed % 7) as usize, seed % 2 == 0, seed);
+        models.push(Model::from_mjcf(&xml).unwrap());
+        models.push(Model::from_mjcf(&xml.replace("type=\"slide\"", "type=\"hinge\"")).unwrap());
+    }
+    models
+}
+
+/// Points of geom g's bounding sphere in world: its centre and six points on the sphere.
+fn sphere_points(m: &Model, kin: &KinData, g: usize, r: &mut Rng) -> Vec<DVec3> {
+    let b = m.geom_body[g];
+    let c = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
+    let mut pts = vec![c];
+    for _ in 0..6 {
+        let d = DVec3::new(r.uniform(-1.0, 1.0), r.uniform(-1.0, 1.0), r.uniform(-1.0, 1.0)).normalize();
+        pts.push(c + d * m.geom_rbound[g]);
+    }
+    pts
+}
+
+#[test]
+fn dof_arms_bound_every_geom_point_speed_and_body_reach_its_distance() {
+    let mut r = Rng(7);
+    let (mut finite, mut tightest) = (0, 0.0_f64);
+    for m in trees() {
+        finite += m.dof_arm.iter().all(|c| c.is_finite()) as usize;
+        let mut kin = KinData::new(&m);
+        for _ in 0..10 {
+            let (q, _) = random_state(&m, &mut r);
+            // a unit velocity of one dof at a time moves no point faster than that dof's arm
+            for k in 0..m.nv {
+                let mut v = vec![0.0; m.nv];
+                v[k] = 1.0;
+                forward(&m, &q, &v, &mut kin);
+                for g in (0..m.ngeom).filter(|&g| m.geom_type[g] != GeomType::Plane && m.geom_body[g] != 0) {
+                    let b = m.geom_body[g];
+                    let node = &kin.v[m.body_node[b]];
+                    for p in sphere_points(&m, &kin, g, &mut r) {
+                        let u = node.point_velocity(p - kin.origin).length();
+                        assert!(u <= m.dof_arm[k] * (1.0 + 1e-12) + 1e-12, "{}: dof {k} moves geom {g} at {u} > {}", m.name, m.dof_arm[k]);
+                        tightest = tightest.max(u / m.dof_arm[k]);
+                        // every ancestor's reach covers the point
+                        let mut a = b;
+                        while a != 0 {
+                            let d = (p - kin.xpos[a]).length();
+                            assert!(d <= m.body_reach[a] * (1.0 + 1e-12) + 1e-12, "{}: body {a} reach {} < {d}", m.name, m.body_reach[a]);
+                            a = m.body_parent[a];
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(finite >= 20, "only {finite} trees with bounded arms");
+    // the bounds are reached closely somewhere (a geom at full stretch from its joint)
+    assert!(tightest > 0.9, "no point comes near its bound: {tightest}");
+}
+
+/// A free body over a floor with a hinged and a ball-jointed limb, joints at the body origins so
+/// that the stretched limb reaches exactly as far as the group's sphere.
+const WALKER: &str = r#"<mujoco><worldbody><geom name="floor" type="plane" size="5 5 .1"/>
+<body name="torso" pos="0 0 1"><freejoint/><geom type="capsule" fromto="0 0 -.3 0 0 .3" size=".1"/>
+  <body pos="0 0 -.3"><joint type="hinge" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0 0 -.4" size=".05"/>
+    <body pos="0 0 -.4"><joint type="ball"/><geom type="sphere" size=".08" pos="0 0 -.1"/></body></body>
+  <body pos="0 0 .3"><joint type="hinge" axis="1 0 0"/><geom type="box" size=".05 .05 .1" pos="0 0 .1"/></body>
+</body></worldbody></mujoco>"#;
+
+#[test]
+fn plane_groups_reject_no_touching_pair() {
+    let m = Model::from_mjcf(WALKER).unwrap();
+    assert_eq!(m.plane_groups.len(), 1, "one floor, one free body");
+    // the same model with every pair tested by its narrowphase
+    let mut brute = m.clone();
+    brute.plane_groups.clear();
+    for p in &mut brute.collision_pairs {
+        p.test = PairTest::Always;
+    }
+    let (mut kin, mut cd, mut cd_brute) = (KinData::new(&m), CollisionData::new(&m), CollisionData::new(&brute));
+    let mut r = Rng(3);
+    let mut touching = 0;
+    for _ in 0..20000 {
+        let (mut q, v) = random_state(&m, &mut r);
+        // heights from well clear of the floor to sunk into it
+        q[2] = r.uniform(-0.2, 1.2);
+        forward(&m, &q, &v, &mut kin);
+        penetrations(&m, &kin, &mut cd);
+        penetrations(&brute, &kin, &mut cd_brute);
+        assert_eq!(cd.contacts, cd_brute.contacts, "q = {q:?}");
+        touching += !cd.contacts.is_empty() as usize;
+    }
+    assert!(touching > 2000 && touching < 19000, "{touching} of 20000 states touch: not a test of both sides");
+}
