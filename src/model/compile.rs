@@ -131,6 +131,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         exclude_pairs: vec![],
         body_reach: vec![],
         plane_groups: vec![],
+        geom_grouped: vec![],
         warnings: spec.warnings.clone(),
     };
 
@@ -329,7 +330,8 @@ fn dof_arms(m: &Model) -> Vec<f64> {
 }
 
 /// Groups each pair of a world plane and a geom under a child of the world with a bounded reach
-/// into that child's [`PlaneGroup`], and returns the groups.
+/// into that child's [`PlaneGroup`], marks the geoms whose every pair is so grouped
+/// ([`Model::geom_grouped`]), and returns the groups.
 fn plane_groups(m: &mut Model) -> Vec<PlaneGroup> {
     let mut groups: Vec<PlaneGroup> = vec![];
     for k in 0..m.collision_pairs.len() {
@@ -354,6 +356,13 @@ fn plane_groups(m: &mut Model) -> Vec<PlaneGroup> {
             }
         };
         m.collision_pairs[k].test = PairTest::Plane { plane, other, group: Some(g) };
+    }
+    m.geom_grouped = vec![true; m.ngeom];
+    for p in &m.collision_pairs {
+        if !matches!(p.test, PairTest::Plane { group: Some(_), .. }) {
+            m.geom_grouped[p.g1] = false;
+            m.geom_grouped[p.g2] = false;
+        }
     }
     groups
 }

@@ -310,6 +310,9 @@ pub struct Model {
     pub body_reach: Vec<f64>,
     /// The plane groups the [`PairTest::Plane`] pairs refer to.
     pub plane_groups: Vec<PlaneGroup>,
+    /// Whether every pair of the geom is in a plane group (ngeom): the collision stage then poses
+    /// it and bounds its motion only when its group is not apart.
+    pub geom_grouped: Vec<bool>,
     /// What the model file asks for that sinew does not model.
     pub warnings: Vec<String>,
 }

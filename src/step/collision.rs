@@ -63,14 +63,12 @@ pub struct CollisionData {
     /// Per [`crate::model::PlaneGroup`]: whether its subtree is apart from its plane.
     group_apart: Vec<bool>,
     /// Bound on how far any point of each geom can move within the step, from its speed and
-    /// constraint-free acceleration (ngeom), for speculative detection: the bound shared by all
-    /// moving geoms, or the geom's own where `own_bound` says so.
+    /// constraint-free acceleration (ngeom), for speculative detection: the smaller of the bound
+    /// shared by all moving geoms and the geom's own, or the shared one alone for a geom left
+    /// unposed.
     pub geom_reach: Vec<f64>,
     /// Bound on the speed of any point of each geom at the end of the step (ngeom).
     pub geom_speed_end: Vec<f64>,
-    /// Whether the geom's own (tighter) bound is already in `geom_reach`: it is computed only
-    /// for geoms of pairs the shared bound cannot reject.
-    own_bound: Vec<bool>,
     /// Contacts of this configuration.
     pub contacts: Vec<Contact>,
 }
@@ -87,7 +85,6 @@ impl CollisionData {
             group_apart: vec![false; m.plane_groups.len()],
             geom_reach: vec![0.0; m.ngeom],
             geom_speed_end: vec![0.0; m.ngeom],
-            own_bound: vec![false; m.ngeom],
             contacts: Vec::with_capacity(MAX_CONTACTS),
         }
     }
@@ -141,17 +138,30 @@ pub fn geom_pair(m: &Model, i: usize, j: usize) -> GeomPair {
     GeomPair { g1: i, g2: j, test, margin, radii }
 }
 
-/// Clears the contacts and, when the model has pairs to test, marks the moving geoms' poses as
-/// not yet computed; false when there is nothing to test.
-fn begin(m: &Model, out: &mut CollisionData) -> bool {
+/// Clears the contacts and, when the model has pairs to test, decides the plane groups with
+/// `reach` (see [`judge_groups`]) and poses the moving geoms — but, when every group is apart, not
+/// those whose every pair is in a group ([`Model::geom_grouped`]): no test reads them. False when
+/// there is nothing to test.
+fn begin(m: &Model, kin: &KinData, out: &mut CollisionData, reach: f64) -> bool {
     out.contacts.clear();
     if !m.opt.contact || m.collision_pairs.is_empty() {
         return false;
     }
+    judge_groups(m, kin, out, reach);
+    let all_apart = out.group_apart.iter().all(|&a| a);
     for g in 0..m.ngeom {
-        let world = m.geom_body[g] == 0;
-        out.posed[g] = world;
-        out.axes_posed[g] = world;
+        let b = m.geom_body[g];
+        // world geoms stay posed from the start
+        if b == 0 {
+            continue;
+        }
+        let now = !(all_apart && m.geom_grouped[g]);
+        out.posed[g] = now;
+        out.axes_posed[g] = false;
+        if now {
+            out.geom_xpos[g] = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
+            pose_plane(m, kin, out, g);
+        }
     }
     true
 }
@@ -166,17 +176,22 @@ fn judge_groups(m: &Model, kin: &KinData, out: &mut CollisionData, reach: f64) {
 }
 
 /// Poses geom g's centre (and a plane's axes) for the configuration in `kin`, unless already done.
-#[inline(always)]
 fn pose(m: &Model, kin: &KinData, cd: &mut CollisionData, g: usize) {
     if !cd.posed[g] {
         let b = m.geom_body[g];
         cd.geom_xpos[g] = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
-        // the broadphase reads a plane's normal; other axes are posed when a pair needs them
-        if m.geom_type[g] == GeomType::Plane {
-            cd.geom_xmat[g] = kin.xmat[b] * m.geom_mat[g];
-            cd.axes_posed[g] = true;
-        }
+        pose_plane(m, kin, cd, g);
         cd.posed[g] = true;
+    }
+}
+
+/// The broadphase reads a plane's normal: its axes are posed with its centre (other geoms' when a
+/// pair needs them).
+#[inline(always)]
+fn pose_plane(m: &Model, kin: &KinData, cd: &mut CollisionData, g: usize) {
+    if m.geom_type[g] == GeomType::Plane {
+        cd.geom_xmat[g] = kin.xmat[m.geom_body[g]] * m.geom_mat[g];
+        cd.axes_posed[g] = true;
     }
 }
 
@@ -196,53 +211,46 @@ fn fixed(m: &Model, g: usize) -> bool {
 
 /// Bound on the speed of any point of any moving geom at the step's end, whose joint velocities
 /// are at most |q̇ + h q̈| each, from [`Model::dof_arm`]: O(nv), no kinematics; ∞ when an arm is
-/// unbounded.
+/// unbounded (0 · ∞ gives NaN, taken as ∞ too).
 fn shared_speed(m: &Model, qvel: &[f64], qacc: &[f64], h: f64) -> f64 {
-    let s: f64 = m.dof_arm.iter().zip(qvel.iter().zip(qacc)).map(|(c, (v, a))| {
-        let w = v.abs() + h * a.abs();
-        if w == 0.0 { 0.0 } else { c * w }
-    }).sum();
+    let s: f64 = m.dof_arm.iter().zip(qvel.iter().zip(qacc)).map(|(c, (v, a))| c * (v.abs() + h * a.abs())).sum();
     if s.is_nan() { f64::INFINITY } else { s }
 }
 
 /// Detects all contacts of the configuration in `kin`, with `aba` and `qacc` holding the
 /// constraint-free accelerations of the same state (for how far a geom can move within the step).
 pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, qvel: &[f64], qacc: &[f64], out: &mut CollisionData) {
-    if !begin(m, out) {
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
+    // the step's end velocity moves a point by lever × its speed: one bound for all moving geoms
+    // decides the plane groups; each posed geom's own (usually tighter) serves the pair tests
+    let shared = lever * shared_speed(m, qvel, qacc, h);
+    if !begin(m, kin, out, shared) {
         return;
     }
-    let (h, lever) = (m.opt.timestep, m.opt.lever());
-    // the step's end velocity moves a point by lever × its speed; first one bound for all moving
-    // geoms, each geom's own (tighter near others) once a pair needs it
-    let shared = lever * shared_speed(m, qvel, qacc, h);
     for g in 0..m.ngeom {
-        let fixed = fixed(m, g);
-        out.geom_reach[g] = if fixed { 0.0 } else { shared };
-        out.own_bound[g] = fixed;
+        out.geom_reach[g] = if fixed(m, g) {
+            0.0
+        } else if out.posed[g] {
+            shared.min(own_reach(m, kin, aba, out, g, h, lever))
+        } else {
+            shared
+        };
     }
-    judge_groups(m, kin, out, shared);
     for p in &m.collision_pairs {
         // speculative: pairs that could close within this step (which moves a point by
         // lever × (v + h a), lever = h for semi-implicit Euler) count as contacts, so a fast foot
         // is stopped at the surface instead of being found inside it one step later
-        if apart(m, kin, out, p, p.margin + out.geom_reach[p.g1] + out.geom_reach[p.g2]) {
-            continue;
-        }
-        let tighter = own_reach(m, kin, aba, out, p.g1, h, lever) | own_reach(m, kin, aba, out, p.g2, h, lever);
         let margin = p.margin + out.geom_reach[p.g1] + out.geom_reach[p.g2];
-        if tighter && apart(m, kin, out, p, margin) {
+        if apart(out, p, margin) {
             continue;
         }
         pair(m, kin, out, p.g1, p.g2, margin);
     }
 }
 
-/// Tightens `geom_reach[g]` with the geom's own bound, once per detection; whether it got smaller.
-fn own_reach(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData, g: usize, h: f64, lever: f64) -> bool {
-    if out.own_bound[g] {
-        return false;
-    }
-    out.own_bound[g] = true;
+/// Geom g's own bound on how far its points move within the step.
+#[inline(always)]
+fn own_reach(m: &Model, kin: &KinData, aba: &AbaData, out: &CollisionData, g: usize, h: f64, lever: f64) -> f64 {
     // bounds over the geom's points: centre value + angular part × bounding radius,
     // |v_c| + h|a_c| + r (|ω| + h(|α| + |ω|²)); ABA's accelerations carry the base's fictitious
     // −g, added back. Two square roots instead of four, by x + y ≤ √(2(x² + y²)) over each pair
@@ -254,21 +262,17 @@ fn own_reach(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData, g
     let w2 = v.ang.length_squared();
     let linear = (2.0 * (vc.length_squared() + h * h * ac.length_squared())).sqrt();
     let angular = (2.0 * (w2 + h * h * a.ang.length_squared())).sqrt() + h * w2;
-    let own = lever * (linear + angular * rb);
-    let tighter = own < out.geom_reach[g];
-    out.geom_reach[g] = out.geom_reach[g].min(own);
-    tighter
+    lever * (linear + angular * rb)
 }
 
 /// Contacts of the configuration in `kin` that penetrate (dist < 0) — no speculative margin; for
 /// checking a configuration after the step.
 pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
-    if !begin(m, out) {
+    if !begin(m, kin, out, 0.0) {
         return;
     }
-    judge_groups(m, kin, out, 0.0);
     for p in &m.collision_pairs {
-        if apart(m, kin, out, p, 0.0) {
+        if apart(out, p, 0.0) {
             continue;
         }
         pair(m, kin, out, p.g1, p.g2, 0.0);
@@ -276,29 +280,16 @@ pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
 }
 
 /// Broadphase: the pair's plane group apart, or bounding spheres farther apart than `margin`, or a
-/// bounding sphere that far above a plane. Poses the geoms it reads.
+/// bounding sphere that far above a plane.
 #[inline(always)]
-fn apart(m: &Model, kin: &KinData, cd: &mut CollisionData, p: &GeomPair, margin: f64) -> bool {
+fn apart(cd: &CollisionData, p: &GeomPair, margin: f64) -> bool {
     let reach = p.radii + margin;
     match p.test {
-        PairTest::Spheres => {
-            pose(m, kin, cd, p.g1);
-            pose(m, kin, cd, p.g2);
-            cd.geom_xpos[p.g1].distance_squared(cd.geom_xpos[p.g2]) > reach * reach
-        }
+        PairTest::Spheres => cd.geom_xpos[p.g1].distance_squared(cd.geom_xpos[p.g2]) > reach * reach,
         PairTest::Plane { plane, other, group } => {
-            if group.is_some_and(|g| cd.group_apart[g]) {
-                return true;
-            }
-            pose(m, kin, cd, plane);
-            pose(m, kin, cd, other);
-            (cd.geom_xpos[other] - cd.geom_xpos[plane]).dot(cd.geom_xmat[plane].col(2)) > reach
+            group.is_some_and(|g| cd.group_apart[g]) || (cd.geom_xpos[other] - cd.geom_xpos[plane]).dot(cd.geom_xmat[plane].col(2)) > reach
         }
-        PairTest::Always => {
-            pose(m, kin, cd, p.g1);
-            pose(m, kin, cd, p.g2);
-            false
-        }
+        PairTest::Always => false,
     }
 }
 
@@ -328,7 +319,7 @@ pub fn reach_again(m: &Model, kin: &KinData, v_end: &[Motion], out: &mut Collisi
         let (i, j) = (p.g1, p.g2);
         let reach = lever * (out.geom_speed_end[i] + out.geom_speed_end[j]);
         let margin = p.margin + reach;
-        if reach <= out.geom_reach[i] + out.geom_reach[j] || apart(m, kin, out, p, margin) {
+        if reach <= out.geom_reach[i] + out.geom_reach[j] || apart(out, p, margin) {
             continue;
         }
         let before = out.contacts.len();
