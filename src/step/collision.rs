@@ -8,10 +8,10 @@
 //! bits, no contact within a body or
 //! between a body and its parent (unless the parent is the world), `<exclude>` pairs. The
 //! broadphase has two levels: a world plane against the sphere that holds a whole subtree of the
-//! world's child (`Model::plane_groups`), then each pair's bounding spheres. How far a geom can
-//! move within the step comes first from one O(nv) bound shared by all geoms
-//! (`Model::dof_arm`), then from the geom's own velocity where a pair needs it, and geoms are posed
-//! only when a test reads them: a scene whose floor is far costs a few tests per step. Friction
+//! world's child (`Model::plane_groups`), decided with one O(nv) bound on how far any geom point
+//! moves within the step (`Model::dof_arm`); then each pair's bounding spheres, with each geom's
+//! own bound from its velocity. When every group is apart, the geoms whose pairs are all grouped
+//! are neither posed nor bounded: a scene whose floor is far costs a few tests per step. Friction
 //! is the maximum of the pair's, as MuJoCo's default.
 //! Detection is speculative: a pair within its margin plus the distance its geoms can cover in one
 //! step yields a (separated, dist > 0) contact, whose row only stops it at the surface.
@@ -57,8 +57,8 @@ pub struct CollisionData {
     pub axes_posed: Vec<bool>,
     /// Geom centre in world (ngeom); a moving geom's is current only where `posed` says so.
     pub geom_xpos: Vec<DVec3>,
-    /// Whether `geom_xpos[g]` (and a plane's axes) is that of this configuration: posed when a
-    /// test first reads it, so pairs a plane group rejects cost nothing per geom.
+    /// Whether `geom_xpos[g]` (and a plane's axes) is that of this configuration: a geom all of
+    /// whose pairs are in plane groups is left unposed while every group is apart.
     posed: Vec<bool>,
     /// Per [`crate::model::PlaneGroup`]: whether its subtree is apart from its plane.
     group_apart: Vec<bool>,
