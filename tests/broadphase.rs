@@ -92,6 +92,8 @@ fn plane_groups_reject_no_touching_pair() {
     for p in &mut brute.collision_pairs {
         p.test = PairTest::Always;
     }
+    brute.geom_grouped.fill(false);
+    brute.pairs_outside_groups = (0..brute.collision_pairs.len()).collect();
     let (mut kin, mut cd, mut cd_brute) = (KinData::new(&m), CollisionData::new(&m), CollisionData::new(&brute));
     let mut r = Rng(3);
     let mut touching = 0;

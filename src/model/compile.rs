@@ -132,6 +132,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         body_reach: vec![],
         plane_groups: vec![],
         geom_grouped: vec![],
+        pairs_outside_groups: vec![],
         warnings: spec.warnings.clone(),
     };
 
@@ -331,7 +332,8 @@ fn dof_arms(m: &Model) -> Vec<f64> {
 
 /// Groups each pair of a world plane and a geom under a child of the world with a bounded reach
 /// into that child's [`PlaneGroup`], marks the geoms whose every pair is so grouped
-/// ([`Model::geom_grouped`]), and returns the groups.
+/// ([`Model::geom_grouped`]) and lists the pairs that are not ([`Model::pairs_outside_groups`]),
+/// and returns the groups.
 fn plane_groups(m: &mut Model) -> Vec<PlaneGroup> {
     let mut groups: Vec<PlaneGroup> = vec![];
     for k in 0..m.collision_pairs.len() {
@@ -358,10 +360,12 @@ fn plane_groups(m: &mut Model) -> Vec<PlaneGroup> {
         m.collision_pairs[k].test = PairTest::Plane { plane, other, group: Some(g) };
     }
     m.geom_grouped = vec![true; m.ngeom];
-    for p in &m.collision_pairs {
+    m.pairs_outside_groups.clear();
+    for (k, p) in m.collision_pairs.iter().enumerate() {
         if !matches!(p.test, PairTest::Plane { group: Some(_), .. }) {
             m.geom_grouped[p.g1] = false;
             m.geom_grouped[p.g2] = false;
+            m.pairs_outside_groups.push(k);
         }
     }
     groups

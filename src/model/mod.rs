@@ -313,6 +313,9 @@ pub struct Model {
     /// Whether every pair of the geom is in a plane group (ngeom): the collision stage then poses
     /// it and bounds its motion only when its group is not apart.
     pub geom_grouped: Vec<bool>,
+    /// Indices into `collision_pairs` of the pairs outside plane groups: the only ones tested
+    /// while every group is apart.
+    pub pairs_outside_groups: Vec<usize>,
     /// What the model file asks for that sinew does not model.
     pub warnings: Vec<String>,
 }

@@ -140,12 +140,12 @@ pub fn geom_pair(m: &Model, i: usize, j: usize) -> GeomPair {
 
 /// Clears the contacts and, when the model has pairs to test, decides the plane groups with
 /// `reach` (see [`judge_groups`]) and poses the moving geoms — but, when every group is apart, not
-/// those whose every pair is in a group ([`Model::geom_grouped`]): no test reads them. False when
-/// there is nothing to test.
-fn begin(m: &Model, kin: &KinData, out: &mut CollisionData, reach: f64) -> bool {
+/// those whose every pair is in a group ([`Model::geom_grouped`]): no test reads them. None when
+/// there is nothing to test, else whether every group is apart.
+fn begin(m: &Model, kin: &KinData, out: &mut CollisionData, reach: f64) -> Option<bool> {
     out.contacts.clear();
     if !m.opt.contact || m.collision_pairs.is_empty() {
-        return false;
+        return None;
     }
     judge_groups(m, kin, out, reach);
     let all_apart = out.group_apart.iter().all(|&a| a);
@@ -163,7 +163,7 @@ fn begin(m: &Model, kin: &KinData, out: &mut CollisionData, reach: f64) -> bool 
             pose_plane(m, kin, out, g);
         }
     }
-    true
+    Some(all_apart)
 }
 
 /// Decides each plane group: apart when its subtree's sphere stays farther above the plane than
@@ -220,37 +220,39 @@ fn shared_speed(m: &Model, qvel: &[f64], qacc: &[f64], h: f64) -> f64 {
 /// Detects all contacts of the configuration in `kin`, with `aba` and `qacc` holding the
 /// constraint-free accelerations of the same state (for how far a geom can move within the step).
 pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, qvel: &[f64], qacc: &[f64], out: &mut CollisionData) {
-    let (h, lever) = (m.opt.timestep, m.opt.lever());
     // the step's end velocity moves a point by lever × its speed: one bound for all moving geoms
     // decides the plane groups; each posed geom's own (usually tighter) serves the pair tests
-    let shared = lever * shared_speed(m, qvel, qacc, h);
-    if !begin(m, kin, out, shared) {
-        return;
-    }
+    let shared = m.opt.lever() * shared_speed(m, qvel, qacc, m.opt.timestep);
+    let Some(all_apart) = begin(m, kin, out, shared) else { return };
     for g in 0..m.ngeom {
         out.geom_reach[g] = if fixed(m, g) {
             0.0
         } else if out.posed[g] {
-            shared.min(own_reach(m, kin, aba, out, g, h, lever))
+            shared.min(own_reach(m, kin, aba, out, g))
         } else {
             shared
         };
     }
-    for p in &m.collision_pairs {
+    let mut test = |p: &GeomPair| {
         // speculative: pairs that could close within this step (which moves a point by
         // lever × (v + h a), lever = h for semi-implicit Euler) count as contacts, so a fast foot
         // is stopped at the surface instead of being found inside it one step later
         let margin = p.margin + out.geom_reach[p.g1] + out.geom_reach[p.g2];
-        if apart(out, p, margin) {
-            continue;
+        if !apart(out, p, margin) {
+            pair(m, kin, out, p.g1, p.g2, margin);
         }
-        pair(m, kin, out, p.g1, p.g2, margin);
+    };
+    if all_apart {
+        m.pairs_outside_groups.iter().for_each(|&k| test(&m.collision_pairs[k]));
+    } else {
+        m.collision_pairs.iter().for_each(test);
     }
 }
 
 /// Geom g's own bound on how far its points move within the step.
 #[inline(always)]
-fn own_reach(m: &Model, kin: &KinData, aba: &AbaData, out: &CollisionData, g: usize, h: f64, lever: f64) -> f64 {
+fn own_reach(m: &Model, kin: &KinData, aba: &AbaData, out: &CollisionData, g: usize) -> f64 {
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
     // bounds over the geom's points: centre value + angular part × bounding radius,
     // |v_c| + h|a_c| + r (|ω| + h(|α| + |ω|²)); ABA's accelerations carry the base's fictitious
     // −g, added back. Two square roots instead of four, by x + y ≤ √(2(x² + y²)) over each pair
@@ -268,14 +270,16 @@ fn own_reach(m: &Model, kin: &KinData, aba: &AbaData, out: &CollisionData, g: us
 /// Contacts of the configuration in `kin` that penetrate (dist < 0) — no speculative margin; for
 /// checking a configuration after the step.
 pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
-    if !begin(m, kin, out, 0.0) {
-        return;
-    }
-    for p in &m.collision_pairs {
-        if apart(out, p, 0.0) {
-            continue;
+    let Some(all_apart) = begin(m, kin, out, 0.0) else { return };
+    let mut test = |p: &GeomPair| {
+        if !apart(out, p, 0.0) {
+            pair(m, kin, out, p.g1, p.g2, 0.0);
         }
-        pair(m, kin, out, p.g1, p.g2, 0.0);
+    };
+    if all_apart {
+        m.pairs_outside_groups.iter().for_each(|&k| test(&m.collision_pairs[k]));
+    } else {
+        m.collision_pairs.iter().for_each(test);
     }
 }
 
