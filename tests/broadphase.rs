@@ -74,8 +74,11 @@ fn dof_arms_bound_every_geom_point_speed_and_body_reach_its_distance() {
 }
 
 /// A free body over a floor with a hinged and a ball-jointed limb, joints at the body origins so
-/// that the stretched limb reaches exactly as far as the group's sphere.
-const WALKER: &str = r#"<mujoco><worldbody><geom name="floor" type="plane" size="5 5 .1"/>
+/// that the stretched limb reaches exactly as far as the group's sphere. Its geoms collide with the
+/// floor only (contype/conaffinity as gymnasium's ant): a self-collision pair would need every
+/// geom posed anyway, and the model would have no plane group.
+const WALKER: &str = r#"<mujoco><default><geom contype="1" conaffinity="0"/></default>
+<worldbody><geom name="floor" type="plane" size="5 5 .1" contype="0" conaffinity="1"/>
 <body name="torso" pos="0 0 1"><freejoint/><geom type="capsule" fromto="0 0 -.3 0 0 .3" size=".1"/>
   <body pos="0 0 -.3"><joint type="hinge" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0 0 -.4" size=".05"/>
     <body pos="0 0 -.4"><joint type="ball"/><geom type="sphere" size=".08" pos="0 0 -.1"/></body></body>

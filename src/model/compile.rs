@@ -368,6 +368,19 @@ fn plane_groups(m: &mut Model) -> Vec<PlaneGroup> {
             m.pairs_outside_groups.push(k);
         }
     }
+    // groups pay only by sparing a moving geom's pose and bound: without one, they would only
+    // add work (self-collision pairs need every geom posed anyway)
+    let spared = (0..m.ngeom).any(|g| m.geom_grouped[g] && m.geom_body[g] != 0);
+    if !spared {
+        for p in &mut m.collision_pairs {
+            if let PairTest::Plane { group, .. } = &mut p.test {
+                *group = None;
+            }
+        }
+        m.geom_grouped.fill(false);
+        m.pairs_outside_groups = (0..m.collision_pairs.len()).collect();
+        return vec![];
+    }
     groups
 }
 

@@ -176,6 +176,7 @@ fn judge_groups(m: &Model, kin: &KinData, out: &mut CollisionData, reach: f64) {
 }
 
 /// Poses geom g's centre (and a plane's axes) for the configuration in `kin`, unless already done.
+#[inline(always)]
 fn pose(m: &Model, kin: &KinData, cd: &mut CollisionData, g: usize) {
     if !cd.posed[g] {
         let b = m.geom_body[g];
@@ -222,7 +223,7 @@ fn shared_speed(m: &Model, qvel: &[f64], qacc: &[f64], h: f64) -> f64 {
 pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, qvel: &[f64], qacc: &[f64], out: &mut CollisionData) {
     // the step's end velocity moves a point by lever × its speed: one bound for all moving geoms
     // decides the plane groups; each posed geom's own (usually tighter) serves the pair tests
-    let shared = m.opt.lever() * shared_speed(m, qvel, qacc, m.opt.timestep);
+    let shared = if m.plane_groups.is_empty() { f64::INFINITY } else { m.opt.lever() * shared_speed(m, qvel, qacc, m.opt.timestep) };
     let Some(all_apart) = begin(m, kin, out, shared) else { return };
     for g in 0..m.ngeom {
         out.geom_reach[g] = if fixed(m, g) {
@@ -316,8 +317,10 @@ pub fn reach_again(m: &Model, kin: &KinData, v_end: &[Motion], out: &mut Collisi
             v.point_velocity(out.geom_xpos[g] - kin.origin).length() + v.ang.length() * m.geom_rbound[g]
         };
     }
-    let fastest = out.geom_speed_end.iter().fold(0.0_f64, |a, &b| a.max(b));
-    judge_groups(m, kin, out, lever * fastest);
+    if !m.plane_groups.is_empty() {
+        let fastest = out.geom_speed_end.iter().fold(0.0_f64, |a, &b| a.max(b));
+        judge_groups(m, kin, out, lever * fastest);
+    }
     let mut found = false;
     for p in &m.collision_pairs {
         let (i, j) = (p.g1, p.g2);
