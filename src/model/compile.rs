@@ -333,53 +333,53 @@ fn dof_arms(m: &Model) -> Vec<f64> {
 /// Groups each pair of a world plane and a geom under a child of the world with a bounded reach
 /// into that child's [`PlaneGroup`], marks the geoms whose every pair is so grouped
 /// ([`Model::geom_grouped`]) and lists the pairs that are not ([`Model::pairs_outside_groups`]),
-/// and returns the groups.
+/// and returns the groups. Groups pay only by sparing a moving geom's pose and bound: a model
+/// where every moving geom has a self-collision pair (which needs it posed anyway) gets none.
 fn plane_groups(m: &mut Model) -> Vec<PlaneGroup> {
-    let mut groups: Vec<PlaneGroup> = vec![];
-    for k in 0..m.collision_pairs.len() {
-        let p = &m.collision_pairs[k];
-        let PairTest::Plane { plane, other, .. } = p.test else { continue };
+    // the child of the world whose subtree holds each pair's geom, for pairs a group could hold
+    let root_of = |p: &crate::model::GeomPair| {
+        let PairTest::Plane { plane, other, .. } = p.test else { return None };
         let mut root = m.geom_body[other];
         while m.body_parent[root] != 0 {
             root = m.body_parent[root];
         }
-        if m.geom_body[plane] != 0 || !m.body_reach[root].is_finite() {
-            continue;
+        (m.geom_body[plane] == 0 && m.body_reach[root].is_finite()).then_some((plane, root))
+    };
+    let roots: Vec<Option<(usize, usize)>> = m.collision_pairs.iter().map(root_of).collect();
+    let mut grouped = vec![true; m.ngeom];
+    for (p, root) in m.collision_pairs.iter().zip(&roots) {
+        if root.is_none() {
+            grouped[p.g1] = false;
+            grouped[p.g2] = false;
         }
-        let radius = m.body_reach[root] + p.margin;
-        let g = match groups.iter().position(|g| (g.plane, g.body) == (plane, root)) {
+    }
+    let spared = (0..m.ngeom).any(|g| grouped[g] && m.geom_body[g] != 0);
+    let mut groups: Vec<PlaneGroup> = vec![];
+    m.geom_grouped = vec![false; m.ngeom];
+    m.pairs_outside_groups.clear();
+    for (k, root) in roots.into_iter().enumerate() {
+        let Some((plane, body)) = root.filter(|_| spared) else {
+            m.pairs_outside_groups.push(k);
+            continue;
+        };
+        let p = &mut m.collision_pairs[k];
+        let radius = m.body_reach[body] + p.margin;
+        let g = match groups.iter().position(|g| (g.plane, g.body) == (plane, body)) {
             Some(g) => {
                 groups[g].radius = groups[g].radius.max(radius);
                 g
             }
             None => {
-                groups.push(PlaneGroup { plane, body: root, radius });
+                groups.push(PlaneGroup { plane, body, radius });
                 groups.len() - 1
             }
         };
-        m.collision_pairs[k].test = PairTest::Plane { plane, other, group: Some(g) };
-    }
-    m.geom_grouped = vec![true; m.ngeom];
-    m.pairs_outside_groups.clear();
-    for (k, p) in m.collision_pairs.iter().enumerate() {
-        if !matches!(p.test, PairTest::Plane { group: Some(_), .. }) {
-            m.geom_grouped[p.g1] = false;
-            m.geom_grouped[p.g2] = false;
-            m.pairs_outside_groups.push(k);
+        if let PairTest::Plane { group, .. } = &mut p.test {
+            *group = Some(g);
         }
     }
-    // groups pay only by sparing a moving geom's pose and bound: without one, they would only
-    // add work (self-collision pairs need every geom posed anyway)
-    let spared = (0..m.ngeom).any(|g| m.geom_grouped[g] && m.geom_body[g] != 0);
-    if !spared {
-        for p in &mut m.collision_pairs {
-            if let PairTest::Plane { group, .. } = &mut p.test {
-                *group = None;
-            }
-        }
-        m.geom_grouped.fill(false);
-        m.pairs_outside_groups = (0..m.collision_pairs.len()).collect();
-        return vec![];
+    if spared {
+        m.geom_grouped = grouped;
     }
     groups
 }

@@ -279,8 +279,8 @@ fn solve_on(n: usize, m: &[f64], q: &[f64], role: &[Role], active: impl Fn(usize
         return false;
     }
     for i in 0..n {
-        if let Role::Friction { normal, lambda, .. } = role[i]
-            && !active(normal)
+        if let Role::Friction { lambda, .. } = role[i]
+            && work.free[lambda]
         {
             // w_i without λ's own contribution (M_iλ = 1)
             let wi = q[i] + (0..n).filter(|&j| j != lambda).map(|j| m[i * n + j] * work.trial[j]).sum::<f64>();
