@@ -1,13 +1,14 @@
-//! ⑤ Many worlds sharing one immutable [`Model`], stepped in parallel with rayon.
+//! ⑤ Many worlds sharing one immutable [`Model`], stepped in parallel: the calling thread and the
+//! workers of a rayon pool take worlds one at a time from a shared queue.
 //!
 //! Worlds are independent: each has its own [`Data`] (scratch and its seeded random stream) and
 //! its own rows of the flat (N × nq), (N × nv), (N × nu) state arrays, so the result is
 //! bit-identical for any thread count and any batch size. A world whose state leaves the finite
 //! range is reset alone to qpos0 and flagged.
 
-use std::sync::Arc;
-
-use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
 
 use crate::data::Data;
 use crate::model::Model;
@@ -17,6 +18,11 @@ use crate::task::Task;
 
 /// Largest magnitude a state entry may reach before the world counts as diverged (MuJoCo's mjMAXVAL).
 pub const MAX_STATE: f64 = 1e10;
+
+/// How long the pool's workers keep polling for the next call after one ends before they go to
+/// sleep: waking a sleeping worker costs a call tens of microseconds on this kind of machine,
+/// about a tenth of a 64-world Hopper env step (OpenMP's runtimes spin 200 ms by default).
+pub const LINGER: Duration = Duration::from_micros(200);
 
 /// Whether a state entry is NaN or beyond [`MAX_STATE`] (±inf included).
 #[inline]
@@ -31,7 +37,13 @@ pub struct Batch {
     /// Per-world scratch (N).
     pub data: Vec<Data>,
     root: Vec<usize>,
-    pool: rayon::ThreadPool,
+    /// Threads that step worlds, the calling one included.
+    threads: usize,
+    /// The `threads − 1` workers beside the calling thread (None for one thread).
+    pool: Option<rayon::ThreadPool>,
+    /// Number of the current call to [`Batch::step`]: workers lingering after the previous one
+    /// stop polling when it changes.
+    call: Arc<AtomicU64>,
     /// One zero control per world, for models without actuators (the chunk iterators need a slot).
     no_ctrl: Vec<f64>,
     /// The task outputs' slots (3 per world) of a step without a task.
@@ -91,13 +103,18 @@ impl Batch {
                 d
             })
             .collect();
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(num_threads.unwrap_or(0))
-            .build()
-            .map_err(|e| crate::Error::Input(format!("cannot start the thread pool: {e}")))?;
+        let threads = num_threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
+        // the calling thread steps worlds too: a pool of one fewer, none for one thread (waking a
+        // worker costs each call tens of microseconds on a loaded machine)
+        let pool = if threads == 1 {
+            None
+        } else {
+            let built = rayon::ThreadPoolBuilder::new().num_threads(threads - 1).build();
+            Some(built.map_err(|e| crate::Error::Input(format!("cannot start the thread pool: {e}")))?)
+        };
         let no_ctrl = vec![0.0; if model.nu == 0 { data.len() } else { 0 }];
         let (no_task, no_task_flag) = (vec![0.0; 3 * data.len()], vec![false; data.len()]);
-        Ok(Batch { root: sensors::body_root(&model), model, data, pool, no_ctrl, no_task, no_task_flag })
+        Ok(Batch { root: sensors::body_root(&model), model, data, threads, pool, call: Arc::default(), no_ctrl, no_task, no_task_flag })
     }
 
     /// Number of worlds.
@@ -110,9 +127,9 @@ impl Batch {
         self.data.is_empty()
     }
 
-    /// Threads in the pool.
+    /// Threads that step worlds (the calling thread and the pool's workers).
     pub fn num_threads(&self) -> usize {
-        self.pool.current_num_threads()
+        self.threads
     }
 
     /// Re-seeds world `i`'s random stream.
@@ -139,53 +156,62 @@ impl Batch {
                 (None, 1, 1, a, b, &mut self.no_task_flag[..], c)
             }
         };
-        let h = m.opt.timestep;
-        self.pool.install(|| {
-            (
-                data.par_iter_mut(),
-                qpos.par_chunks_mut(nq),
-                qvel.par_chunks_mut(nv),
-                ctrl.par_chunks(nu),
-                time.par_iter_mut().zip(diverged.par_iter_mut()).zip(active.par_iter()),
-                (out.xpos.par_chunks_mut(3 * nb), out.xmat.par_chunks_mut(9 * nb), out.xipos.par_chunks_mut(3 * nb)),
-                (out.xvel.par_chunks_mut(6 * nb), out.cfrc_ext.par_chunks_mut(6 * nb), out.qfrc_constraint.par_chunks_mut(nv)),
-                (out.cinert.par_chunks_mut(10 * nb), out.cvel.par_chunks_mut(6 * nb)),
-                (obs.par_chunks_mut(obs_dim.max(1)), reward.par_iter_mut(), terminated.par_iter_mut(), info.par_chunks_mut(ninfo.max(1))),
-            )
-                .into_par_iter()
-                .for_each(|(d, qpos, qvel, ctrl, ((time, div), &active), (xpos, xmat, xipos), (xvel, cfrc_ext, qfrc_constraint), (cinert, cvel), (obs, reward, terminated, info))| {
-                    *div = false;
-                    if !active {
-                        return;
-                    }
-                    let (qpos, qvel) = (&mut qpos[..m.nq], &mut qvel[..m.nv]);
-                    let ctrl = &ctrl[..m.nu];
-                    let qfrc_constraint = &mut qfrc_constraint[..m.nv];
-                    let mut out = Sensors { xpos, xmat, xipos, xvel, cfrc_ext, qfrc_constraint, cinert, cvel };
-                    // the rewarded position before the env step, from the outputs of the state it starts in
-                    let before = spec.map(|t| t.position(m, &out.world_view(qpos, qvel, ctrl)));
-                    for _ in 0..n {
-                        step(m, d, qpos, qvel, ctrl, time);
-                        if qpos.iter().chain(qvel.iter()).any(|&x| out_of_range(x)) {
-                            reset_world(m, d, qpos, qvel);
-                            *div = true;
-                            break;
-                        }
-                    }
-                    sensors::write(m, root, d, qpos, qvel, out.reborrow());
-                    if let (Some(t), Some(before)) = (spec, before) {
-                        let w = out.world_view(qpos, qvel, ctrl);
-                        t.observe(m, &w, obs);
-                        *terminated = t.evaluate(m, &w, obs, before, n as f64 * h, info);
-                        *reward = info[..t.reward_terms()].iter().sum();
-                        // a diverged world was reset: its step earns nothing and ends the episode
-                        if *div {
-                            *reward = 0.0;
-                            *terminated = true;
-                        }
-                    }
-                });
+        // one world per item; the calling thread takes them from the front, the workers from the
+        // back, so that each keeps to its own end of the batch from call to call
+        let worlds = Mutex::new(
+            data.iter_mut()
+                .zip(qpos.chunks_mut(nq).zip(qvel.chunks_mut(nv)).zip(ctrl.chunks(nu)))
+                .zip(time.iter_mut().zip(diverged.iter_mut()).zip(active.iter()))
+                .zip(out.xpos.chunks_mut(3 * nb).zip(out.xmat.chunks_mut(9 * nb)).zip(out.xipos.chunks_mut(3 * nb)))
+                .zip(out.xvel.chunks_mut(6 * nb).zip(out.cfrc_ext.chunks_mut(6 * nb)).zip(out.qfrc_constraint.chunks_mut(nv)))
+                .zip(out.cinert.chunks_mut(10 * nb).zip(out.cvel.chunks_mut(6 * nb)))
+                .zip(obs.chunks_mut(obs_dim.max(1)).zip(reward.iter_mut()).zip(terminated.iter_mut()).zip(info.chunks_mut(ninfo.max(1))))
+                .map(|((((((d, ((qpos, qvel), ctrl)), ((time, diverged), &active)), ((xpos, xmat), xipos)), ((xvel, cfrc_ext), qfrc_constraint)), (cinert, cvel)), (((obs, reward), terminated), info))| World {
+                    data: d,
+                    qpos: &mut qpos[..m.nq],
+                    qvel: &mut qvel[..m.nv],
+                    ctrl: &ctrl[..m.nu],
+                    time,
+                    diverged,
+                    active,
+                    out: Sensors { xpos, xmat, xipos, xvel, cfrc_ext, qfrc_constraint: &mut qfrc_constraint[..m.nv], cinert, cvel },
+                    obs,
+                    reward,
+                    terminated,
+                    info,
+                }),
+        );
+        let work = |from_back: bool| {
+            loop {
+                // the lock is held only to take the next world (a guard in a `while let`
+                // scrutinee would live through the loop body)
+                let mut queue = worlds.lock().unwrap_or_else(|e| e.into_inner());
+                let next = if from_back { queue.next_back() } else { queue.next() };
+                drop(queue);
+                let Some(w) = next else { return };
+                env_step(m, root, spec, n, w);
+            }
+        };
+        let call = self.call.fetch_add(1, Ordering::Relaxed) + 1;
+        let Some(pool) = &self.pool else {
+            return work(false);
+        };
+        pool.in_place_scope(|s| {
+            for _ in 1..self.threads {
+                s.spawn(|_| work(true));
+            }
+            work(false);
         });
+        // the workers poll for the next call for a while instead of going to sleep at once
+        for _ in 1..self.threads {
+            let now = Arc::clone(&self.call);
+            let start = Instant::now();
+            pool.spawn(move || {
+                while now.load(Ordering::Relaxed) == call && start.elapsed() < LINGER {
+                    std::hint::spin_loop();
+                }
+            });
+        }
     }
 
     /// Resets world `i` to qpos0 at rest (its constraint forces cleared) in the given rows.
@@ -199,6 +225,54 @@ impl Batch {
         sensors::write(&self.model, &self.root, &mut self.data[i], qpos, qvel, out.reborrow());
         if let Some((t, obs)) = task {
             t.observe(&self.model, &out.world_view(qpos, qvel, ctrl), obs);
+        }
+    }
+}
+
+/// One world's rows of a batch's arrays, for one call of [`Batch::step`].
+struct World<'a> {
+    data: &'a mut Data,
+    qpos: &'a mut [f64],
+    qvel: &'a mut [f64],
+    ctrl: &'a [f64],
+    time: &'a mut f64,
+    diverged: &'a mut bool,
+    active: bool,
+    out: Sensors<'a>,
+    obs: &'a mut [f64],
+    reward: &'a mut f64,
+    terminated: &'a mut bool,
+    info: &'a mut [f64],
+}
+
+/// `n` steps of one world (reset alone if it diverges), then its sensor outputs and, with a task,
+/// its observation, reward terms and termination.
+fn env_step(m: &Model, root: &[usize], task: Option<&Task>, n: usize, w: World<'_>) {
+    let World { data, qpos, qvel, ctrl, time, diverged, active, mut out, obs, reward, terminated, info } = w;
+    *diverged = false;
+    if !active {
+        return;
+    }
+    // the rewarded position before the env step, from the outputs of the state it starts in
+    let before = task.map(|t| t.position(m, &out.world_view(qpos, qvel, ctrl)));
+    for _ in 0..n {
+        step(m, data, qpos, qvel, ctrl, time);
+        if qpos.iter().chain(qvel.iter()).any(|&x| out_of_range(x)) {
+            reset_world(m, data, qpos, qvel);
+            *diverged = true;
+            break;
+        }
+    }
+    sensors::write(m, root, data, qpos, qvel, out.reborrow());
+    if let (Some(t), Some(before)) = (task, before) {
+        let view = out.world_view(qpos, qvel, ctrl);
+        t.observe(m, &view, obs);
+        *terminated = t.evaluate(m, &view, obs, before, n as f64 * m.opt.timestep, info);
+        *reward = info[..t.reward_terms()].iter().sum();
+        // a diverged world was reset: its step earns nothing and ends the episode
+        if *diverged {
+            *reward = 0.0;
+            *terminated = true;
         }
     }
 }
