@@ -95,8 +95,9 @@ class BatchTask:
             else:
                 raise ValueError(f"action shape mismatch: expected {shape[1:] if self.num_envs == 1 else shape}, got {a.shape}")
         # beyond the divergence bound an action's control cost alone can overflow the reward
-        bad = ~(np.abs(a) <= MAX_ACTION).all(axis=1)
-        if bad.any():
+        within = np.abs(a) <= MAX_ACTION
+        if not within.all():
+            bad = ~within.all(axis=1)
             raise ValueError(f"actions are not finite (NaN or inf) or beyond ±{MAX_ACTION:g} for env indices "
                              f"{np.flatnonzero(bad).tolist()}")
         return a
@@ -116,13 +117,16 @@ class BatchTask:
     def reset_info(self) -> dict:
         return self.task.reset_info(self.batch.qpos)
 
-    def step(self, actions: np.ndarray, active: np.ndarray | None = None):
+    def step(self, actions: np.ndarray, active: np.ndarray | None = None, blank: np.ndarray | None = None):
         """One env step of the worlds `active` (all when None); the others' results are to be
-        discarded (the vector env resets them). A diverged world gets reward 0 and terminates."""
+        discarded (the vector env resets them), and their info rows `blank` are zero. A diverged
+        world gets reward 0 and terminates."""
         b = self.batch
         b.ctrl[:] = actions
         b.step(self.task.frame_skip, active)
         info_rows = b.info.copy()
+        if blank is not None:
+            info_rows[blank] = 0.0
         info = {name: info_rows[:, k] for k, name in enumerate(self.info_names)}
         info["sim_diverged"] = b.diverged.copy()
         return self.observe(), b.reward.copy(), b.terminated.copy(), info
@@ -220,47 +224,43 @@ class SinewVectorEnv(VectorEnv):
         self._core.reset_worlds(idx, self._rngs)
         self._steps[:] = 0
         self._autoreset[:] = False
-        return self._core.observe(), self._info(self._core.reset_info())
+        reset_info = self._core.reset_info()
+        return self._core.observe(), self._info(reset_info, self._all, reset_info)
 
     def step(self, actions):
         a = self._core.check_actions(actions)
         # worlds that ended on the previous call are reset below instead of stepped
-        obs, reward, terminated, info = self._core.step(a, ~self._autoreset if self._autoreset.any() else None)
-        self._steps += 1
-        truncated = (self._steps >= self.max_episode_steps) & ~terminated
-        # next-step autoreset: worlds that ended on the previous call start over now
         done_before = np.flatnonzero(self._autoreset)
-        if len(done_before):
-            self._core.reset_worlds(done_before, [self._rngs[i] for i in done_before])
-            obs = self._core.observe()
-            reward[done_before] = 0.0
-            terminated[done_before] = False
-            truncated[done_before] = False
-            self._steps[done_before] = 0
-            # those worlds report their reset info, as SyncVectorEnv does
-            info = self._info(info, done_before, self._core.reset_info())
-        else:
-            info = self._info(info)
+        resetting = len(done_before) > 0
+        obs, reward, terminated, info = self._core.step(a, ~self._autoreset if resetting else None,
+                                                        blank=done_before if resetting else None)
+        self._steps += 1
+        if not resetting:
+            truncated = (self._steps >= self.max_episode_steps) & ~terminated
+            self._autoreset = terminated | truncated
+            return obs, reward, terminated, truncated, self._info(info, self._all)
+        # next-step autoreset: worlds that ended on the previous call start over now
+        self._core.reset_worlds(done_before, [self._rngs[i] for i in done_before])
+        obs = self._core.observe()
+        reward[done_before] = 0.0
+        terminated[done_before] = False
+        self._steps[done_before] = 0
+        truncated = (self._steps >= self.max_episode_steps) & ~terminated
+        # those worlds report their reset info, as SyncVectorEnv does, and no step entries
+        stepped = np.ones(self.num_envs, dtype=bool)
+        stepped[done_before] = False
+        stepped.flags.writeable = False
+        reset_info = self._core.reset_info()
+        for k, v in reset_info.items():
+            if k in info:
+                info[k][done_before] = v[done_before]
         self._autoreset = terminated | truncated
-        return obs, reward, terminated, truncated, info
+        return obs, reward, terminated, truncated, self._info(info, stepped, reset_info)
 
-    def _info(self, info: dict, reset_rows=None, reset_info=None) -> dict:
-        """gymnasium's vector info: each entry with its mask of envs that report it; envs in
-        `reset_rows` report `reset_info` instead of the step's entries."""
+    def _info(self, info: dict, stepped: np.ndarray, reset_info=()) -> dict:
+        """gymnasium's vector info: each entry with its mask of the envs that report it (every env
+        for the entries reset info shares, else `stepped`)."""
         out = {}
-        if reset_rows is not None:
-            # one shared read-only mask for the step's entries
-            stepped = np.ones(self.num_envs, dtype=bool)
-            stepped[reset_rows] = False
-            stepped.flags.writeable = False
         for k, v in info.items():
-            v = np.asarray(v)
-            if reset_rows is None:
-                out[k], out["_" + k] = v, self._all
-            elif k in reset_info:
-                v[reset_rows] = reset_info[k][reset_rows]
-                out[k], out["_" + k] = v, self._all
-            else:
-                v[reset_rows] = 0
-                out[k], out["_" + k] = v, stepped
+            out[k], out["_" + k] = v, self._all if k in reset_info else stepped
         return out

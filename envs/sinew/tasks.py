@@ -52,11 +52,20 @@ class Task:
 
 
 def uniform(rngs, low, high, size):
-    return np.stack([r.uniform(low=low, high=high, size=size) for r in rngs])
+    """One row of U(low, high) per generator: ``r.uniform(low, high, size)``'s numbers (it computes
+    low + (high − low) · u from the same u), drawn into one array."""
+    u = np.empty((len(rngs), size))
+    for r, row in zip(rngs, u):
+        r.random(out=row)
+    return low + (high - low) * u
 
 
 def normal(rngs, size):
-    return np.stack([r.standard_normal(size) for r in rngs])
+    """One row of standard normals per generator, drawn into one array."""
+    x = np.empty((len(rngs), size))
+    for r, row in zip(rngs, x):
+        r.standard_normal(out=row)
+    return x
 
 
 def uniform_state(task, rngs):

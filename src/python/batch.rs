@@ -338,6 +338,13 @@ impl PyBatch {
         match mask {
             None => Ok((0..n).collect()),
             Some(mk) => {
+                // a boolean array as it is; anything else through float64
+                if let Ok(b) = mk.cast::<PyArray1<bool>>()
+                    && b.len() == n
+                {
+                    let v = b.readonly();
+                    return Ok(v.as_array().iter().enumerate().filter(|(_, x)| **x).map(|(i, _)| i).collect());
+                }
                 let arr = as_f64(&mk, "mask")?;
                 if arr.shape() != [n] {
                     return Err(PyValueError::new_err(format!("mask: expected shape [{n}], got {:?}", arr.shape())));

@@ -43,8 +43,14 @@ pub fn to_py(py: Python<'_>, e: Error) -> PyErr {
     }
 }
 
-/// Converts any array-like to a contiguous float64 array, as `numpy.ascontiguousarray`.
+/// Converts any array-like to a contiguous float64 array, as `numpy.ascontiguousarray` (which
+/// is not called for an array that already is one).
 pub fn as_f64<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    if let Ok(arr) = obj.cast::<PyArrayDyn<f64>>()
+        && arr.is_c_contiguous()
+    {
+        return Ok(arr.clone());
+    }
     let py = obj.py();
     let np = py.import("numpy")?;
     let arr = np

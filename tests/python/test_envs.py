@@ -23,6 +23,19 @@ def twin(name):
         return gym.make(f"{name}-v5")
 
 
+def test_reset_noise_is_the_generators_own_draws_bit_for_bit():
+    """The tasks draw all worlds' noise into one array; each row is exactly what the world's
+    generator's uniform and standard_normal give, as the twin draws them."""
+    from sinew.tasks import normal, uniform
+
+    for low, high, size in [(-0.005, 0.005, 11), (-0.1, 0.1, 15), (-0.2, 0.3, 2)]:
+        ours = uniform([np.random.default_rng(s) for s in range(200)], low, high, size)
+        theirs = np.stack([np.random.default_rng(s).uniform(low, high, size) for s in range(200)])
+        np.testing.assert_array_equal(ours, theirs)
+    ours = normal([np.random.default_rng(s) for s in range(200)], 14)
+    np.testing.assert_array_equal(ours, np.stack([np.random.default_rng(s).standard_normal(14) for s in range(200)]))
+
+
 @pytest.mark.parametrize("name", NAMES)
 def test_spaces_and_reset_match_the_mujoco_twin(name):
     env, ref = gym.make(f"sinew/{name}-v0"), twin(name)
