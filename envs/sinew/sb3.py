@@ -53,7 +53,9 @@ class SinewVecEnv(VecEnv):
         self._returns += reward
         truncated = (self._steps >= self.max_episode_steps) & ~terminated
         dones = terminated | truncated
-        infos: list[dict[str, Any]] = [{k: v[i] for k, v in info.items()} for i in range(self.num_envs)]
+        # one dict per env, its values as Python scalars
+        names = list(info)
+        infos: list[dict[str, Any]] = [dict(zip(names, row)) for row in zip(*(v.tolist() for v in info.values()))]
         ended = np.flatnonzero(dones)
         if len(ended):
             for i in ended:
