@@ -40,6 +40,10 @@ pub struct LcpWork {
     /// Row signature (kind, source, direction) the warm set belongs to.
     pub warm_rows: Vec<(u8, usize, usize, usize, usize)>,
     basis: Vec<usize>,
+    /// Tableau column of each variable (usize::MAX while basic).
+    column: Vec<usize>,
+    /// Variable of each tableau column.
+    nonbasic: Vec<usize>,
     w: Vec<f64>,
     active: Vec<usize>,
     trial: Vec<f64>,
@@ -66,25 +70,34 @@ pub const PIVOT_CAP_PER_ROW: usize = 50;
 /// The friction λ rows (q = 0) and the slack rows of bounded forces (q = cap ≥ 0) need no
 /// covering; covering them too sends Lemke's path to a secondary ray on contacts whose tangential
 /// demand exceeds what their (zero) normal force allows, which have the solution f = 0, λ > 0.
+///
+/// The tableau is condensed (Tucker's form): it keeps the columns of the n + 1 nonbasic variables
+/// and the right-hand side, not the unit columns of the basic ones, so a pivot updates n × (n + 2)
+/// entries instead of n × (2n + 2), with the same arithmetic on every entry it keeps. Variables are
+/// numbered w_i = i, z_i = n + i, z0 = 2n.
 pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, z: &mut [f64], work: &mut LcpWork) -> Option<usize> {
     z[..n].fill(0.0);
     let qmin = (0..n).map(|i| q[i]).fold(f64::INFINITY, f64::min);
     if n == 0 || qmin >= 0.0 {
         return Some(0);
     }
-    // tableau columns: w (n) | z (n) | z0 | rhs
-    let cols = 2 * n + 2;
-    let (z0, rhs) = (2 * n, 2 * n + 1);
+    // columns: the nonbasic variables (at first z_0 … z_{n−1}, z0) | rhs
+    let cols = n + 2;
+    let rhs = n + 1;
+    let z0 = 2 * n;
     work.tab.clear();
     work.tab.resize(n * cols, 0.0);
     work.basis.clear();
+    work.column.clear();
+    work.column.extend((0..=2 * n).map(|v| if v < n { usize::MAX } else { v - n }));
+    work.nonbasic.clear();
+    work.nonbasic.extend(n..=2 * n);
     for i in 0..n {
         let row = &mut work.tab[i * cols..(i + 1) * cols];
-        row[i] = 1.0;
         for j in 0..n {
-            row[n + j] = -m[i * n + j];
+            row[j] = -m[i * n + j];
         }
-        row[z0] = if uncovered(i) && q[i] >= 0.0 { 0.0 } else { -1.0 };
+        row[n] = if uncovered(i) && q[i] >= 0.0 { 0.0 } else { -1.0 };
         row[rhs] = q[i];
         work.basis.push(i);
     }
@@ -92,9 +105,13 @@ pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, 
     let mut entering = z0;
     let cap = PIVOT_CAP_PER_ROW * n + 10;
     for pivots in 1..=cap {
-        pivot(&mut work.tab, cols, n, r, entering);
+        let c = work.column[entering];
+        pivot(&mut work.tab, cols, n, r, c);
         let leaving = work.basis[r];
         work.basis[r] = entering;
+        work.column[entering] = usize::MAX;
+        work.nonbasic[c] = leaving;
+        work.column[leaving] = c;
         if leaving == z0 {
             for i in 0..n {
                 let v = work.basis[i];
@@ -106,7 +123,7 @@ pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, 
         }
         // complement of the leaving variable enters
         entering = if leaving < n { leaving + n } else { leaving - n };
-        r = ratio_test(&work.tab, cols, n, entering, &work.basis, z0, &mut work.w)?;
+        r = ratio_test(&work.tab, cols, n, work.column[entering], &work.basis, &work.column, &mut work.w)?;
         if !work.tab[r * cols + rhs].is_finite() {
             return None;
         }
@@ -114,17 +131,19 @@ pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, 
     None
 }
 
-/// Lexicographic minimum-ratio test (Cottle, Pang & Stone 1992, §4.9): the rows with the smallest
-/// rhs/d, ties broken by z0 first, then by the columns of B⁻¹ (the tableau's w block) over d, so
-/// degenerate problems (redundant contacts) cannot cycle.
-fn ratio_test(tab: &[f64], cols: usize, n: usize, entering: usize, basis: &[usize], z0: usize, cand: &mut Vec<f64>) -> Option<usize> {
-    let rhs = 2 * n + 1;
+/// Lexicographic minimum-ratio test (Cottle, Pang & Stone 1992, §4.9) on the condensed tableau's
+/// column `ce`: the rows with the smallest rhs/d, ties broken by z0 first, then by the columns of
+/// B⁻¹ (the full tableau's w columns: a nonbasic w's tableau column, a basic one's unit column)
+/// over d, so degenerate problems (redundant contacts) cannot cycle.
+fn ratio_test(tab: &[f64], cols: usize, n: usize, ce: usize, basis: &[usize], column: &[usize], cand: &mut Vec<f64>) -> Option<usize> {
+    let rhs = n + 1;
+    let z0 = 2 * n;
     let tol = 1e-11;
     // candidate rows, kept as indices in `cand` (stored as f64 to reuse the buffer)
     cand.clear();
     let mut best = f64::INFINITY;
     for i in 0..n {
-        let d = tab[i * cols + entering];
+        let d = tab[i * cols + ce];
         if d > tol {
             let ratio = tab[i * cols + rhs] / d;
             if cand.is_empty() || ratio < best - tol * (1.0 + best.abs()) {
@@ -142,17 +161,26 @@ fn ratio_test(tab: &[f64], cols: usize, n: usize, entering: usize, basis: &[usiz
     if let Some(&i) = cand.iter().find(|&&i| basis[i as usize] == z0) {
         return Some(i as usize);
     }
-    let mut col = 0;
-    while cand.len() > 1 && col < n {
-        let val = |i: f64| tab[i as usize * cols + col] / tab[i as usize * cols + entering];
+    let mut w = 0;
+    while cand.len() > 1 && w < n {
+        let val = |i: f64| {
+            let i = i as usize;
+            let b = match column[w] {
+                usize::MAX => (basis[i] == w) as u8 as f64,
+                c => tab[i * cols + c],
+            };
+            b / tab[i * cols + ce]
+        };
         let min = cand.iter().map(|&i| val(i)).fold(f64::INFINITY, f64::min);
         cand.retain(|&i| val(i) <= min + tol * (1.0 + min.abs()));
-        col += 1;
+        w += 1;
     }
     Some(cand[0] as usize)
 }
 
-/// Pivots the tableau (`n` rows of `cols`) on row r, column c.
+/// Pivots the condensed tableau (`n` rows of `cols`) on row r, column c: the entering variable of
+/// column c becomes row r's basic variable, and the leaving one takes column c (its unit column,
+/// pivoted: 1/p in row r, −f_i/p elsewhere).
 fn pivot(tab: &mut [f64], cols: usize, n: usize, r: usize, c: usize) {
     let (before, rest) = tab[..n * cols].split_at_mut(r * cols);
     let (prow, after) = rest.split_at_mut(cols);
@@ -160,12 +188,14 @@ fn pivot(tab: &mut [f64], cols: usize, n: usize, r: usize, c: usize) {
     for x in prow.iter_mut() {
         *x *= inv;
     }
+    prow[c] = inv;
     for row in before.chunks_exact_mut(cols).chain(after.chunks_exact_mut(cols)) {
         let f = row[c];
         if f != 0.0 {
             for (x, p) in row.iter_mut().zip(prow.iter()) {
                 *x -= f * p;
             }
+            row[c] = -f * inv;
         }
     }
 }
@@ -449,6 +479,56 @@ mod tests {
         assert_eq!(stats.warm_starts, 1, "{stats:?}");
         assert_eq!(z, [0.0, 0.0, 3.0]);
         assert!(residual(3, &m, &q, &z, &mut work.w) < 1e-15);
+    }
+
+    #[test]
+    fn solves_random_pyramid_friction_problems_without_fallback() {
+        // k contacts (normal, ±t1, ±t2, λ) with K = J Jᵀ + εI from a random J, random demands:
+        // every solution passes the independent check, and Lemke (not a fallback) finds it
+        let mut x: u64 = 11;
+        let mut rnd = || {
+            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let (mut work, mut stats) = (LcpWork::default(), LcpStats::default());
+        for trial in 0..400 {
+            let k = 1 + trial % 4;
+            let (nr, n) = (5 * k, 6 * k);
+            // 3 independent directions per contact, the mirrored tangents their negatives
+            let dofs = 4 + trial % 5;
+            let base: Vec<f64> = (0..3 * k * dofs).map(|_| rnd()).collect();
+            let row = |j: usize| -> Vec<f64> {
+                let (c, w) = (j / 5, j % 5);
+                let (src, sign) = [(0, 1.0), (1, 1.0), (1, -1.0), (2, 1.0), (2, -1.0)][w];
+                base[(3 * c + src) * dofs..(3 * c + src + 1) * dofs].iter().map(|v| sign * v).collect()
+            };
+            let mut m = vec![0.0; n * n];
+            let mut q = vec![0.0; n];
+            let mut role = vec![Role::Lambda; n];
+            for a in 0..nr {
+                for b in 0..nr {
+                    m[a * n + b] = row(a).iter().zip(row(b)).map(|(u, v)| u * v).sum::<f64>();
+                }
+                m[a * n + a] *= 1.0 + REGULARISATION;
+                let (c, w) = (a / 5, a % 5);
+                let (normal, lambda, mu) = (5 * c, nr + c, 0.2 + 0.8 * (rnd() + 1.0) / 2.0);
+                if w == 0 {
+                    role[a] = Role::Normal;
+                    q[a] = 2.0 * rnd() - 0.5;
+                } else {
+                    role[a] = Role::Friction { normal, lambda, mu };
+                    q[a] = rnd();
+                    m[a * n + lambda] = 1.0;
+                    m[lambda * n + normal] = mu;
+                    m[lambda * n + a] = -1.0;
+                }
+            }
+            let mut z = vec![0.0; n];
+            solve(n, &m, &q, &role, None, &mut z, &mut work, &mut stats);
+            assert!(residual(n, &m, &q, &z, &mut work.w) <= ACCEPT_RESIDUAL, "trial {trial}: {stats:?}");
+        }
+        assert_eq!((stats.fallback_pgs, stats.inexact, stats.fallback_zero), (0, 0, 0), "{stats:?}");
+        assert!(stats.pivots > 400, "{stats:?}");
     }
 
     #[test]
