@@ -42,8 +42,6 @@ pub struct LcpWork {
     basis: Vec<usize>,
     /// Tableau column of each variable (usize::MAX while basic).
     column: Vec<usize>,
-    /// Variable of each tableau column.
-    nonbasic: Vec<usize>,
     w: Vec<f64>,
     active: Vec<usize>,
     trial: Vec<f64>,
@@ -90,8 +88,6 @@ pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, 
     work.basis.clear();
     work.column.clear();
     work.column.extend((0..=2 * n).map(|v| if v < n { usize::MAX } else { v - n }));
-    work.nonbasic.clear();
-    work.nonbasic.extend(n..=2 * n);
     for i in 0..n {
         let row = &mut work.tab[i * cols..(i + 1) * cols];
         for j in 0..n {
@@ -110,7 +106,6 @@ pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, 
         let leaving = work.basis[r];
         work.basis[r] = entering;
         work.column[entering] = usize::MAX;
-        work.nonbasic[c] = leaving;
         work.column[leaving] = c;
         if leaving == z0 {
             for i in 0..n {
