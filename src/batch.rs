@@ -1,5 +1,6 @@
-//! ⑤ Many worlds sharing one immutable [`Model`], stepped in parallel: the calling thread and the
-//! workers of a rayon pool take worlds one at a time from a shared queue.
+//! ⑤ Many worlds sharing one immutable [`Model`], stepped in parallel: the calling thread takes
+//! worlds one at a time from the front of a shared queue, the workers of a rayon pool from its
+//! back.
 //!
 //! Worlds are independent: each has its own [`Data`] (scratch and its seeded random stream) and
 //! its own rows of the flat (N × nq), (N × nv), (N × nu) state arrays, so the result is
@@ -21,7 +22,8 @@ pub const MAX_STATE: f64 = 1e10;
 
 /// How long the pool's workers keep polling for the next call after one ends before they go to
 /// sleep: waking a sleeping worker costs a call tens of microseconds on this kind of machine,
-/// about a tenth of a 64-world Hopper env step (OpenMP's runtimes spin 200 ms by default).
+/// about a tenth of a 64-world Hopper env step (Intel's OpenMP runtime spins 200 ms by default,
+/// `KMP_BLOCKTIME`).
 pub const LINGER: Duration = Duration::from_micros(200);
 
 /// Whether a state entry is NaN or beyond [`MAX_STATE`] (±inf included).
@@ -93,7 +95,7 @@ pub fn mix_seed(seed: u64) -> u64 {
 
 impl Batch {
     /// `seeds.len()` worlds; world i draws its random friction tangents from `seeds[i]`.
-    /// `num_threads` = None uses all cores.
+    /// `num_threads` = None uses all cores (`std::thread::available_parallelism`).
     pub fn new(model: Arc<Model>, seeds: &[u64], num_threads: Option<usize>) -> crate::Result<Batch> {
         let data: Vec<Data> = seeds
             .iter()
