@@ -20,6 +20,12 @@ use crate::task::Task;
 /// Largest magnitude a state entry may reach before the world counts as diverged (MuJoCo's mjMAXVAL).
 pub const MAX_STATE: f64 = 1e10;
 
+/// Most threads a batch accepts (a thread each costs its stack; beyond this a count is a mistake).
+pub const MAX_THREADS: usize = 1024;
+
+/// Most worlds a batch accepts.
+pub const MAX_WORLDS: usize = 1 << 20;
+
 /// How long the pool's workers keep polling for the next call after one ends before they go to
 /// sleep: waking a sleeping worker costs a call tens of microseconds on this kind of machine,
 /// about a tenth of a 64-world Hopper env step (Intel's OpenMP runtime spins 200 ms by default,
@@ -97,6 +103,12 @@ impl Batch {
     /// `seeds.len()` worlds; world i draws its random friction tangents from `seeds[i]`.
     /// `num_threads` = None uses all cores (`std::thread::available_parallelism`).
     pub fn new(model: Arc<Model>, seeds: &[u64], num_threads: Option<usize>) -> crate::Result<Batch> {
+        if seeds.len() > MAX_WORLDS {
+            return Err(crate::Error::Input(format!("a batch holds at most {MAX_WORLDS} worlds, got {}", seeds.len())));
+        }
+        if num_threads.is_some_and(|t| t > MAX_THREADS) {
+            return Err(crate::Error::Input(format!("num_threads must be at most {MAX_THREADS}, got {}", num_threads.unwrap_or(0))));
+        }
         let data: Vec<Data> = seeds
             .iter()
             .map(|&s| {

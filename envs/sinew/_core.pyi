@@ -166,7 +166,8 @@ class Sim:
     def set_state(self, state: ArrayLike) -> None: ...
 
 class Batch:
-    """N worlds of one model stepped in parallel; state arrays are (N, ·) float64, stepped in place."""
+    """N worlds of one model stepped in parallel; state arrays are (N, ·) float64, stepped in place.
+    At most 2**20 worlds and 1024 threads; num_threads=None uses all cores."""
 
     def __init__(self, model: Model, num_envs: int, seed: int = 0, num_threads: Optional[int] = None) -> None: ...
     @property

@@ -13,7 +13,8 @@ use crate::batch::{Batch, BatchState, TaskRun};
 use crate::sensors::Sensors;
 use crate::task::Task;
 
-/// N simulated worlds of one model, stepped in parallel.
+/// N simulated worlds of one model, stepped in parallel (at most 2**20 worlds and 1024 threads;
+/// num_threads=None uses all cores).
 #[pyclass(name = "Batch", module = "sinew._core")]
 pub struct PyBatch {
     inner: Batch,
@@ -59,6 +60,9 @@ impl PyBatch {
         }
         if num_threads == Some(0) {
             return Err(PyValueError::new_err("num_threads must be at least 1 (or None for all cores)"));
+        }
+        if num_envs > crate::batch::MAX_WORLDS {
+            return Err(PyValueError::new_err(format!("num_envs must be at most {}, got {num_envs}", crate::batch::MAX_WORLDS)));
         }
         let seeds: Vec<u64> = (0..num_envs as u64).map(|i| seed.wrapping_add(i)).collect();
         let inner = Batch::new(m.clone(), &seeds, num_threads).map_err(|e| super::errors::to_py(py, e))?;

@@ -245,6 +245,17 @@ def test_batch_is_bit_identical_for_any_thread_count():
     np.testing.assert_array_equal(batch_rollout(8, 1), batch_rollout(8, 3))
 
 
+def test_batch_rejects_absurd_sizes_with_value_errors():
+    """Zero or absurd world and thread counts are ValueErrors naming the argument, raised before
+    anything is allocated or spawned (a billion threads would otherwise hang the process)."""
+    m = sinew.Model.from_mjcf(sinew.tasks.ASSETS + "/hopper.xml")
+    for kwargs, name in [({"num_envs": 0}, "num_envs"), ({"num_envs": 10**12}, "num_envs"),
+                         ({"num_envs": 2, "num_threads": 0}, "num_threads"),
+                         ({"num_envs": 2, "num_threads": 10**9}, "num_threads")]:
+        with pytest.raises(ValueError, match=name):
+            sinew.Batch(m, **kwargs)
+
+
 def test_batch_world_does_not_depend_on_batch_size():
     # world 0 of a batch of 5 with seed s equals world 3 of a batch of 7 with seed s − 3,
     # given the same per-world inputs: the inputs here differ per batch, so compare one world
