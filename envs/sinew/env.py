@@ -72,6 +72,8 @@ class BatchTask:
         self.task = cls(self.model, **task_kwargs)
         self.num_envs = num_envs
         self.batch = Batch(self.model, num_envs, seed=0, num_threads=num_threads)
+        # the generator that last seeded each world's physics stream
+        self._seeded_by: list = [None] * num_envs
         # observation, reward terms and termination: computed in Rust with every step
         self.batch.set_task(self.task.kind, **self.task.params())
         self.info_names = self.batch.info_names
@@ -103,13 +105,27 @@ class BatchTask:
         return a
 
     def reset_worlds(self, idx: np.ndarray, rngs: list) -> None:
-        """Resets the worlds `idx` (ascending), drawing their noise (as the twin does) and physics
-        seeds from `rngs` (one per world, in the same order)."""
+        """Resets the worlds `idx` (ascending), drawing their noise from `rngs` (one per world, in
+        the same order) as the twin does. A world's physics stream (its random friction tangents)
+        is seeded from its generator the first time that generator resets it, and continues
+        through the episodes that follow."""
         qpos, qvel = self.task.reset_state(rngs)
-        seeds = [int(r.integers(2**63)) for r in rngs]
-        mask = np.zeros(self.num_envs, dtype=bool)
-        mask[idx] = True
-        self.batch.reset(mask, seeds, qpos, qvel)
+        fresh = [k for k, (i, r) in enumerate(zip(idx, rngs)) if self._seeded_by[i] is not r]
+        seeds = [int(rngs[k].integers(2**63)) for k in fresh]
+        for k in fresh:
+            self._seeded_by[idx[k]] = rngs[k]
+        if len(fresh) in (0, len(idx)):
+            mask = np.zeros(self.num_envs, dtype=bool)
+            mask[idx] = True
+            self.batch.reset(mask, seeds or None, qpos, qvel)
+            return
+        # some worlds re-seeded, some continuing: one call each
+        rows = np.zeros(len(idx), dtype=bool)
+        rows[fresh] = True
+        for part, part_seeds in ((rows, seeds), (~rows, None)):
+            mask = np.zeros(self.num_envs, dtype=bool)
+            mask[idx[part]] = True
+            self.batch.reset(mask, part_seeds, qpos[part], qvel[part])
 
     def observe(self) -> np.ndarray:
         return self.batch.obs.copy()
@@ -261,6 +277,11 @@ class SinewVectorEnv(VectorEnv):
         """gymnasium's vector info: each entry with its mask of the envs that report it (every env
         for the entries reset info shares, else `stepped`)."""
         out = {}
+        any_stepped = stepped is self._all or stepped.any()
         for k, v in info.items():
-            out[k], out["_" + k] = v, self._all if k in reset_info else stepped
+            if k in reset_info:
+                out[k], out["_" + k] = v, self._all
+            elif any_stepped:
+                # an entry no env reports is left out, as SyncVectorEnv leaves it out
+                out[k], out["_" + k] = v, stepped
         return out
