@@ -7,7 +7,7 @@
 //! bit-identical for any thread count and any batch size. A world whose state leaves the finite
 //! range is reset alone to qpos0 and flagged.
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -210,11 +210,20 @@ impl Batch {
         let Some(pool) = &self.pool else {
             return work(false);
         };
+        // the calling thread waits for the workers' last worlds by polling: blocking in the
+        // scope would add a wake-up to every call
+        let finished = AtomicUsize::new(0);
         pool.in_place_scope(|s| {
             for _ in 1..self.threads {
-                s.spawn(|_| work(true));
+                s.spawn(|_| {
+                    work(true);
+                    finished.fetch_add(1, Ordering::Release);
+                });
             }
             work(false);
+            while finished.load(Ordering::Acquire) < self.threads - 1 {
+                std::hint::spin_loop();
+            }
         });
         // the workers poll for the next call for a while instead of going to sleep at once
         for _ in 1..self.threads {
