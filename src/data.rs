@@ -104,7 +104,7 @@ impl Data {
         self.tangents.clear();
         self.force.clear();
         self.con.clear();
-        self.coll.contacts.clear();
+        self.coll.forget();
         self.lcp_work.warm.clear();
         self.lcp_work.warm_rows.clear();
         self.post.forget();

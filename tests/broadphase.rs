@@ -1,14 +1,15 @@
 //! The broadphase's configuration-independent bounds: `Model::dof_arm` bounds the speed of every
 //! geom point and `Model::body_reach` every geom point's distance from its subtree's root, at
-//! random states of random trees; plane groups reject no pair that touches.
+//! random states of random trees; plane groups and the pairs' gaps reject no pair that touches.
 #![allow(clippy::needless_range_loop)] // the shared helpers index as the math does
 
 mod common;
 
 use common::{random_state, random_tree_mjcf, Rng};
-use sinew::math::DVec3;
+use sinew::math::{DVec3, Motion};
 use sinew::model::{GeomType, PairTest};
-use sinew::step::collision::{penetrations, CollisionData};
+use sinew::data::Data;
+use sinew::step::collision::{collide, penetrations, reach_again, CollisionData};
 use sinew::step::kinematics::{forward, KinData};
 use sinew::Model;
 
@@ -95,8 +96,8 @@ fn plane_groups_reject_no_touching_pair() {
     for p in &mut brute.collision_pairs {
         p.test = PairTest::Always;
     }
-    brute.geom_grouped.fill(false);
-    brute.pairs_outside_groups = (0..brute.collision_pairs.len()).collect();
+    brute.gap_pairs.clear();
+    brute.pairs_without_gap = (0..brute.collision_pairs.len()).collect();
     let (mut kin, mut cd, mut cd_brute) = (KinData::new(&m), CollisionData::new(&m), CollisionData::new(&brute));
     let mut r = Rng(3);
     let mut touching = 0;
@@ -111,4 +112,51 @@ fn plane_groups_reject_no_touching_pair() {
         touching += !cd.contacts.is_empty() as usize;
     }
     assert!(touching > 2000 && touching < 19000, "{touching} of 20000 states touch: not a test of both sides");
+}
+
+/// Detection that keeps the pairs' gaps finds the same contacts as detection from scratch, and
+/// so does the second look with the step's end velocities ([`reach_again`]), along
+/// random walks through the configurations of random trees (no floor: every plane group is apart,
+/// so the gaps are in use), with a jump to a random state every 100 steps.
+#[test]
+fn gaps_reject_no_pair_that_touches() {
+    let mut r = Rng(11);
+    let (mut skipped, mut touching, mut tested) = (0, 0, 0);
+    for m in trees() {
+        if m.gap_pairs.is_empty() {
+            continue;
+        }
+        let mut data = Data::new(&m);
+        let mut cd = CollisionData::new(&m);
+        let mut node_v = vec![Motion::ZERO; m.nnode];
+        let (mut q, mut v) = random_state(&m, &mut r);
+        let ctrl = vec![0.0; m.nu];
+        for step in 0..600 {
+            if step % 100 == 99 {
+                (q, v) = random_state(&m, &mut r);
+            }
+            sinew::step::forward(&m, &mut data, &q, &v, &ctrl);
+            collide(&m, &data.kin, &data.aba, &q, &v, &data.qacc, &mut cd);
+            let mut fresh = CollisionData::new(&m);
+            collide(&m, &data.kin, &data.aba, &q, &v, &data.qacc, &mut fresh);
+            assert_eq!(cd.contacts, fresh.contacts, "{} step {step}", m.name);
+            skipped += cd.gap_skips;
+            // constraint forces changed the velocities: the pairs the new ones can close
+            let v_end: Vec<f64> = v.iter().map(|x| x * r.uniform(0.0, 30.0)).collect();
+            reach_again(&m, &data.kin, &v_end, &mut node_v, &mut cd);
+            reach_again(&m, &data.kin, &v_end, &mut node_v, &mut fresh);
+            assert_eq!(cd.contacts, fresh.contacts, "{} step {step}, end velocities", m.name);
+            touching += !fresh.contacts.is_empty() as usize;
+            tested += 1;
+            // a smooth walk: velocities drift, positions follow
+            for x in v.iter_mut() {
+                *x = (*x + r.uniform(-0.5, 0.5)).clamp(-3.0, 3.0);
+            }
+            let dq = v.iter().map(|x| 0.01 * x).collect::<Vec<_>>();
+            sinew::step::integrate::integrate_pos(&m, &mut q, &dq, 1.0);
+        }
+    }
+    // both sides: pairs spared by their gaps, and states with contacts
+    assert!(skipped > 2 * tested, "{skipped} gap skips in {tested} detections");
+    assert!(touching > tested / 20 && touching < tested, "{touching} of {tested} detections touch");
 }

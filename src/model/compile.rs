@@ -4,7 +4,7 @@
 use glam::{DMat3, DVec3};
 
 use super::inertia::geom_inertia;
-use super::{GeomType, Model, Options, PairTest, PlaneGroup, WORLD};
+use super::{GapPair, GeomType, Model, Options, PairTest, PlaneGroup, WORLD};
 use crate::error::{Error, Result};
 use crate::math::{SpatialInertia, Xform};
 use crate::mjcf::{InertiaFromGeom, JointType, ModelSpec};
@@ -131,8 +131,8 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         exclude_pairs: vec![],
         body_reach: vec![],
         plane_groups: vec![],
-        geom_grouped: vec![],
-        pairs_outside_groups: vec![],
+        gap_pairs: vec![],
+        pairs_without_gap: vec![],
         warnings: spec.warnings.clone(),
     };
 
@@ -331,10 +331,8 @@ fn dof_arms(m: &Model) -> Vec<f64> {
 }
 
 /// Groups each pair of a world plane and a geom under a child of the world with a bounded reach
-/// into that child's [`PlaneGroup`], marks the geoms whose every pair is so grouped
-/// ([`Model::geom_grouped`]) and lists the pairs that are not ([`Model::pairs_outside_groups`]),
-/// and returns the groups. Groups pay only by sparing a moving geom's pose and bound: a model
-/// where every moving geom has a self-collision pair (which needs it posed anyway) gets none.
+/// into that child's [`PlaneGroup`], lists the pairs that are not ([`Model::gap_pairs`] and
+/// [`Model::pairs_without_gap`]), and returns the groups.
 fn plane_groups(m: &mut Model) -> Vec<PlaneGroup> {
     // the child of the world whose subtree holds each pair's geom, for pairs a group could hold
     let root_of = |p: &crate::model::GeomPair| {
@@ -346,20 +344,27 @@ fn plane_groups(m: &mut Model) -> Vec<PlaneGroup> {
         (m.geom_body[plane] == 0 && m.body_reach[root].is_finite()).then_some((plane, root))
     };
     let roots: Vec<Option<(usize, usize)>> = m.collision_pairs.iter().map(root_of).collect();
-    let mut grouped = vec![true; m.ngeom];
-    for (p, root) in m.collision_pairs.iter().zip(&roots) {
-        if root.is_none() {
-            grouped[p.g1] = false;
-            grouped[p.g2] = false;
-        }
-    }
-    let spared = (0..m.ngeom).any(|g| grouped[g] && m.geom_body[g] != 0);
     let mut groups: Vec<PlaneGroup> = vec![];
-    m.geom_grouped = vec![false; m.ngeom];
-    m.pairs_outside_groups.clear();
+    m.gap_pairs.clear();
+    m.pairs_without_gap.clear();
     for (k, root) in roots.into_iter().enumerate() {
-        let Some((plane, body)) = root.filter(|_| spared) else {
-            m.pairs_outside_groups.push(k);
+        let Some((plane, body)) = root else {
+            let p = &m.collision_pairs[k];
+            if p.test != PairTest::Spheres {
+                m.pairs_without_gap.push(k);
+                continue;
+            }
+            let bodies = [m.geom_body[p.g1], m.geom_body[p.g2]];
+            // parents have lower indices
+            let [mut a, mut b] = bodies;
+            while a != b {
+                if a > b {
+                    a = m.body_parent[a];
+                } else {
+                    b = m.body_parent[b];
+                }
+            }
+            m.gap_pairs.push(GapPair { pair: k, bodies, ancestor: a, margin: p.margin });
             continue;
         };
         let p = &mut m.collision_pairs[k];
@@ -377,9 +382,6 @@ fn plane_groups(m: &mut Model) -> Vec<PlaneGroup> {
         if let PairTest::Plane { group, .. } = &mut p.test {
             *group = Some(g);
         }
-    }
-    if spared {
-        m.geom_grouped = grouped;
     }
     groups
 }

@@ -117,6 +117,21 @@ pub struct GeomPair {
     pub radii: f64,
 }
 
+/// A pair of two bounded geoms ([`PairTest::Spheres`]), which keeps a lower bound on its distance
+/// while every plane group is apart.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GapPair {
+    /// Index into [`Model::collision_pairs`].
+    pub pair: usize,
+    /// The geoms' bodies.
+    pub bodies: [usize; 2],
+    /// The deepest body both bodies descend from (or are): only the joints below it change the
+    /// distance between the geoms.
+    pub ancestor: usize,
+    /// The pair's margin.
+    pub margin: f64,
+}
+
 /// Broadphase test of a [`GeomPair`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PairTest {
@@ -178,7 +193,7 @@ pub struct Model {
 
     /// Body names (nbody).
     pub body_name: Vec<String>,
-    /// Parent body (nbody); the world is its own parent.
+    /// Parent body (nbody), of a lower index; the world is its own parent.
     pub body_parent: Vec<usize>,
     /// Position relative to the parent body (nbody).
     pub body_pos: Vec<DVec3>,
@@ -310,12 +325,12 @@ pub struct Model {
     pub body_reach: Vec<f64>,
     /// The plane groups the [`PairTest::Plane`] pairs refer to.
     pub plane_groups: Vec<PlaneGroup>,
-    /// Whether every pair of the geom is in a plane group (ngeom): the collision stage then poses
-    /// it and bounds its motion only when its group is not apart.
-    pub geom_grouped: Vec<bool>,
-    /// Indices into `collision_pairs` of the pairs outside plane groups: the only ones tested
-    /// while every group is apart.
-    pub pairs_outside_groups: Vec<usize>,
+    /// The pairs of two bounded geoms.
+    pub gap_pairs: Vec<GapPair>,
+    /// Indices into `collision_pairs` of the other pairs outside plane groups (a plane's with a
+    /// geom of unbounded reach, two planes'): with the gap pairs, the only ones tested while every
+    /// group is apart.
+    pub pairs_without_gap: Vec<usize>,
     /// What the model file asks for that sinew does not model.
     pub warnings: Vec<String>,
 }

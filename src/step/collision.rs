@@ -5,20 +5,29 @@
 //! (separating axes: face contacts clipped to the overlap of the faces, or one edge–edge point).
 //! Cylinders collide as capsules of the same radius and half-length, ellipsoids as spheres of their
 //! largest semi-axis (documented approximations). Filtering follows MuJoCo: contype/conaffinity
-//! bits, no contact within a body or
-//! between a body and its parent (unless the parent is the world), `<exclude>` pairs. The
-//! broadphase has two levels: a world plane against the sphere that holds a whole subtree of the
-//! world's child (`Model::plane_groups`), decided with one O(nv) bound on how far any geom point
-//! moves within the step (`Model::dof_arm`); then each pair's bounding spheres, with each geom's
-//! own bound from its velocity. When every group is apart, the geoms whose pairs are all grouped
-//! are neither posed nor bounded: a scene whose floor is far costs a few tests per step. Friction
-//! is the maximum of the pair's, as MuJoCo's default.
+//! bits, no contact within a body or between a body and its parent (unless the parent is the
+//! world), `<exclude>` pairs. Friction is the maximum of the pair's, as MuJoCo's default.
+//!
+//! The broadphase has two levels. First a world plane is tested against the sphere that holds a
+//! whole subtree of the world's child (`Model::plane_groups`), decided with one O(nv) bound on how
+//! far any geom point moves within the step (`Model::dof_arm`). Then each remaining pair is tested
+//! on its bounding spheres, with each geom's own bound from its velocity. While every group is
+//! apart (nothing near the floor) the pairs are spared more: geoms are posed and bounded only as
+//! pairs need them (a pair apart with the shared bound needs neither geom's own), and each pair of
+//! bounded geoms keeps a lower bound on its distance, its *gap* (the bounding spheres' distance or,
+//! for sphere and capsule pairs, the exact one at its last test), lowered at each detection by how
+//! far the joints below the two geoms' common ancestor have moved them since (each joint's arm
+//! times its change of position); while the gap exceeds the largest margin the pair can have, the
+//! pair is not tested. A scene whose floor is far and whose limbs are apart costs a few bounds per
+//! step.
+//!
 //! Detection is speculative: a pair within its margin plus the distance its geoms can cover in one
 //! step yields a (separated, dist > 0) contact, whose row only stops it at the surface.
 
 use glam::{DMat3, DVec3};
 
-use crate::model::{GeomPair, GeomType, Model, PairTest, WORLD};
+use crate::math::quat_wxyz;
+use crate::model::{GeomPair, GeomType, JointType, Model, PairTest, WORLD};
 
 use super::aba::AbaData;
 use super::kinematics::KinData;
@@ -47,7 +56,7 @@ pub struct Contact {
     pub friction: bool,
 }
 
-/// World poses of all geoms, and the contact list.
+/// World poses of all geoms, the pairs' gaps, and the contact list.
 #[derive(Clone, Debug, Default)]
 pub struct CollisionData {
     /// Geom axes in world (ngeom); a moving geom's are current only where `axes_posed` says so.
@@ -57,18 +66,34 @@ pub struct CollisionData {
     pub axes_posed: Vec<bool>,
     /// Geom centre in world (ngeom); a moving geom's is current only where `posed` says so.
     pub geom_xpos: Vec<DVec3>,
-    /// Whether `geom_xpos[g]` (and a plane's axes) is that of this configuration: a geom all of
-    /// whose pairs are in plane groups is left unposed while every group is apart.
+    /// Whether `geom_xpos[g]` (and a plane's axes) is that of this configuration: while every
+    /// plane group is apart, geoms are posed only for the pairs tested.
     posed: Vec<bool>,
     /// Per [`crate::model::PlaneGroup`]: whether its subtree is apart from its plane.
     group_apart: Vec<bool>,
     /// Bound on how far any point of each geom can move within the step, from its speed and
     /// constraint-free acceleration (ngeom), for speculative detection: the smaller of the bound
-    /// shared by all moving geoms and the geom's own, or the shared one alone for a geom left
-    /// unposed.
+    /// shared by all moving geoms and the geom's own where `own_reach` says so, else the shared
+    /// one.
     pub geom_reach: Vec<f64>,
+    /// Whether `geom_reach[g]` includes geom g's own bound: it is computed for the geoms of the
+    /// pairs that the shared bound does not settle.
+    own_reach: Vec<bool>,
     /// Bound on the speed of any point of each geom at the end of the step (ngeom).
     pub geom_speed_end: Vec<f64>,
+    /// Per [`crate::model::GapPair`]: a lower bound on the distance between its geoms at
+    /// `qpos_gap` (−∞ when unknown).
+    pair_gap: Vec<f64>,
+    /// The configuration the gaps were last lowered to (nq).
+    qpos_gap: Vec<f64>,
+    /// How far the joints from the world to each body have moved any geom point of the body's
+    /// subtree since `qpos_gap`, summed along the chain (nbody).
+    body_travel: Vec<f64>,
+    /// Whether `pair_gap` is of the configuration of the last detection (which lowers the gaps
+    /// only while every plane group is apart).
+    gaps_current: bool,
+    /// Pairs whose gap spared them a test in the last detection.
+    pub gap_skips: usize,
     /// Contacts of this configuration.
     pub contacts: Vec<Contact>,
 }
@@ -84,11 +109,26 @@ impl CollisionData {
             posed: (0..m.ngeom).map(|g| m.geom_body[g] == 0).collect(),
             group_apart: vec![false; m.plane_groups.len()],
             geom_reach: vec![0.0; m.ngeom],
+            own_reach: vec![false; m.ngeom],
             geom_speed_end: vec![0.0; m.ngeom],
+            pair_gap: vec![f64::NEG_INFINITY; m.gap_pairs.len()],
+            qpos_gap: m.qpos0.clone(),
+            body_travel: vec![0.0; m.nbody],
+            gaps_current: false,
+            gap_skips: 0,
             contacts: Vec::with_capacity(MAX_CONTACTS),
         }
     }
+
+    /// Forgets the contacts and the pairs' gaps.
+    pub fn forget(&mut self) {
+        self.contacts.clear();
+        self.pair_gap.fill(f64::NEG_INFINITY);
+    }
 }
+
+/// Gaps are compared with this much to spare (m): they are computed in floating point.
+const GAP_TOLERANCE: f64 = 1e-9;
 
 /// Contacts kept per step; beyond it, a deeper contact replaces the least deep.
 pub const MAX_CONTACTS: usize = 128;
@@ -139,28 +179,28 @@ pub fn geom_pair(m: &Model, i: usize, j: usize) -> GeomPair {
 }
 
 /// Clears the contacts and, when the model has pairs to test, decides the plane groups with
-/// `reach` (see [`judge_groups`]) and poses the moving geoms — but, when every group is apart, not
-/// those whose every pair is in a group ([`Model::geom_grouped`]): no test reads them. None when
-/// there is nothing to test, else whether every group is apart.
+/// `reach` (see [`judge_groups`]) and gives every moving geom the bound `reach`. Unless every
+/// group is apart it poses all moving geoms; else none (they are posed as pairs need them). None
+/// when there is nothing to test, else whether every group is apart.
 fn begin(m: &Model, kin: &KinData, out: &mut CollisionData, reach: f64) -> Option<bool> {
     out.contacts.clear();
+    out.gap_skips = 0;
     if !m.opt.contact || m.collision_pairs.is_empty() {
         return None;
     }
     judge_groups(m, kin, out, reach);
     let all_apart = out.group_apart.iter().all(|&a| a);
     for g in 0..m.ngeom {
-        let b = m.geom_body[g];
+        let fixed = fixed(m, g);
+        out.geom_reach[g] = if fixed { 0.0 } else { reach };
+        out.own_reach[g] = fixed;
         // world geoms stay posed from the start
-        if b == 0 {
-            continue;
-        }
-        let now = !(all_apart && m.geom_grouped[g]);
-        out.posed[g] = now;
-        out.axes_posed[g] = false;
-        if now {
-            out.geom_xpos[g] = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
-            pose_plane(m, kin, out, g);
+        if m.geom_body[g] != 0 {
+            out.axes_posed[g] = false;
+            out.posed[g] = false;
+            if !all_apart {
+                pose(m, kin, out, g);
+            }
         }
     }
     Some(all_apart)
@@ -175,15 +215,13 @@ fn judge_groups(m: &Model, kin: &KinData, out: &mut CollisionData, reach: f64) {
     }
 }
 
-/// Poses geom g's centre (and a plane's axes) for the configuration in `kin`, unless already done.
+/// Poses geom g's centre (and a plane's axes) for the configuration in `kin`.
 #[inline(always)]
 fn pose(m: &Model, kin: &KinData, cd: &mut CollisionData, g: usize) {
-    if !cd.posed[g] {
-        let b = m.geom_body[g];
-        cd.geom_xpos[g] = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
-        pose_plane(m, kin, cd, g);
-        cd.posed[g] = true;
-    }
+    let b = m.geom_body[g];
+    cd.geom_xpos[g] = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
+    pose_plane(m, kin, cd, g);
+    cd.posed[g] = true;
 }
 
 /// The broadphase reads a plane's normal: its axes are posed with its centre (other geoms' when a
@@ -210,31 +248,56 @@ fn fixed(m: &Model, g: usize) -> bool {
     m.body_node[m.geom_body[g]] == WORLD || m.geom_type[g] == GeomType::Plane
 }
 
-/// Bound on the speed of any point of any moving geom at the step's end, whose joint velocities
-/// are at most |q̇ + h q̈| each, from [`Model::dof_arm`]: O(nv), no kinematics; ∞ when an arm is
-/// unbounded (0 · ∞ gives NaN, taken as ∞ too).
-fn shared_speed(m: &Model, qvel: &[f64], qacc: &[f64], h: f64) -> f64 {
-    let s: f64 = m.dof_arm.iter().zip(qvel.iter().zip(qacc)).map(|(c, (v, a))| c * (v.abs() + h * a.abs())).sum();
+/// Bound on the speed of any point of any moving geom whose joint speeds are at most `speeds`
+/// (nv), from [`Model::dof_arm`]: O(nv), no kinematics; ∞ when an arm is unbounded (0 · ∞ gives
+/// NaN, taken as ∞ too).
+fn arm_speed(m: &Model, speeds: impl Iterator<Item = f64>) -> f64 {
+    let s: f64 = m.dof_arm.iter().zip(speeds).map(|(c, v)| c * v).sum();
     if s.is_nan() { f64::INFINITY } else { s }
 }
 
-/// Detects all contacts of the configuration in `kin`, with `aba` and `qacc` holding the
-/// constraint-free accelerations of the same state (for how far a geom can move within the step).
-pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, qvel: &[f64], qacc: &[f64], out: &mut CollisionData) {
-    // the step's end velocity moves a point by lever × its speed: one bound for all moving geoms
-    // decides the plane groups; each posed geom's own (usually tighter) serves the pair tests
-    let shared = if m.plane_groups.is_empty() { f64::INFINITY } else { m.opt.lever() * shared_speed(m, qvel, qacc, m.opt.timestep) };
+/// Detects all contacts of the configuration `qpos`, whose kinematics are in `kin`, with `aba`
+/// and `qacc` holding the constraint-free accelerations of the same state (for how far a geom can
+/// move within the step).
+pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f64], qacc: &[f64], out: &mut CollisionData) {
+    // the step's end velocity (each joint's at most |q̇ + h q̈|) moves a point by lever × its
+    // speed: one bound for all moving geoms decides the plane groups (and the gaps); each geom's
+    // own, usually tighter and dearer, serves the pair tests
+    let h = m.opt.timestep;
+    let shared = m.opt.lever() * arm_speed(m, qvel.iter().zip(qacc).map(|(v, a)| v.abs() + h * a.abs()));
     let Some(all_apart) = begin(m, kin, out, shared) else { return };
-    for g in 0..m.ngeom {
-        out.geom_reach[g] = if fixed(m, g) {
-            0.0
-        } else if out.posed[g] {
-            shared.min(own_reach(m, kin, aba, out, g))
-        } else {
-            shared
-        };
+    out.gaps_current = all_apart;
+    if all_apart {
+        if !m.gap_pairs.is_empty() {
+            travel(m, qpos, out);
+        }
+        // the margin is at most p.margin + 2 shared: a larger gap spares the test
+        let spare = 2.0 * shared + GAP_TOLERANCE;
+        let mut skips = 0;
+        for (i, gp) in m.gap_pairs.iter().enumerate() {
+            // only the joints below the common ancestor change the pair's distance
+            let t = &out.body_travel;
+            let gap = out.pair_gap[i] - (t[gp.bodies[0]] + t[gp.bodies[1]] - 2.0 * t[gp.ancestor]);
+            out.pair_gap[i] = if gap > gp.margin + spare {
+                skips += 1;
+                gap
+            } else {
+                test_lazily(m, kin, aba, out, gp.pair, shared, gp.margin + spare)
+            };
+        }
+        out.gap_skips = skips;
+        for &k in &m.pairs_without_gap {
+            test_lazily(m, kin, aba, out, k, shared, f64::INFINITY);
+        }
+        return;
     }
-    let mut test = |p: &GeomPair| {
+    for g in 0..m.ngeom {
+        if !out.own_reach[g] {
+            out.geom_reach[g] = shared.min(own_reach(m, kin, aba, out, g));
+            out.own_reach[g] = true;
+        }
+    }
+    for p in &m.collision_pairs {
         // speculative: pairs that could close within this step (which moves a point by
         // lever × (v + h a), lever = h for semi-implicit Euler) count as contacts, so a fast foot
         // is stopped at the surface instead of being found inside it one step later
@@ -242,12 +305,74 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, qvel: &[f64], qacc: &[f6
         if !apart(out, p, margin) {
             pair(m, kin, out, p.g1, p.g2, margin);
         }
-    };
-    if all_apart {
-        m.pairs_outside_groups.iter().for_each(|&k| test(&m.collision_pairs[k]));
-    } else {
-        m.collision_pairs.iter().for_each(test);
     }
+}
+
+/// How far the configuration moved since the gaps' (`qpos_gap`), as
+/// [`CollisionData::body_travel`]: each joint moves a point of its subtree by at most its arm
+/// times its change (the rotation angle for a ball or free joint, plus a free joint's
+/// translation), a bound along the straight path between the configurations, so that any change
+/// counts, a reset's included.
+fn travel(m: &Model, qpos: &[f64], out: &mut CollisionData) {
+    let mut j = 0;
+    for b in 1..m.nbody {
+        let mut t = out.body_travel[m.body_parent[b]];
+        // joints come in body order
+        while j < m.njnt && m.jnt_body[j] == b {
+            let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
+            let (q, last) = (&qpos[qa..], &out.qpos_gap[qa..]);
+            let angle = |k: usize| {
+                let r = quat_wxyz(&last[k..k + 4]).conjugate() * quat_wxyz(&q[k..k + 4]);
+                2.0 * r.xyz().length().atan2(r.w.abs())
+            };
+            t += match m.jnt_type[j] {
+                JointType::Hinge | JointType::Slide => m.dof_arm[da] * (q[0] - last[0]).abs(),
+                JointType::Ball => m.dof_arm[da] * angle(0),
+                JointType::Free => DVec3::new(q[0] - last[0], q[1] - last[1], q[2] - last[2]).length() + m.dof_arm[da + 3] * angle(3),
+            };
+            j += 1;
+        }
+        out.body_travel[b] = t;
+    }
+    out.qpos_gap.copy_from_slice(qpos);
+}
+
+/// Collision pair k while every plane group is apart: its geoms posed and bounded as needed, the
+/// pair tested. Returns a lower bound on the distance between its geoms where it exceeds `spare`
+/// (where it can spare the next test of a [`PairTest::Spheres`] pair), else −∞ or less.
+fn test_lazily(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData, k: usize, shared: f64, spare: f64) -> f64 {
+    let p = &m.collision_pairs[k];
+    for g in [p.g1, p.g2] {
+        if !out.posed[g] {
+            pose(m, kin, out, g);
+        }
+    }
+    // with the shared bound first, which settles most pairs, then each geom's own
+    if !(out.own_reach[p.g1] && out.own_reach[p.g2]) {
+        if apart(out, p, p.margin + out.geom_reach[p.g1] + out.geom_reach[p.g2]) {
+            return spheres_gap(out, p, spare);
+        }
+        for g in [p.g1, p.g2] {
+            if !out.own_reach[g] {
+                out.geom_reach[g] = shared.min(own_reach(m, kin, aba, out, g));
+                out.own_reach[g] = true;
+            }
+        }
+    }
+    let margin = p.margin + out.geom_reach[p.g1] + out.geom_reach[p.g2];
+    if apart(out, p, margin) { spheres_gap(out, p, spare) } else { pair(m, kin, out, p.g1, p.g2, margin) }
+}
+
+/// The distance between a pair's bounding spheres where it exceeds `spare`, else −∞ (also for
+/// a pair that is not [`PairTest::Spheres`]): the square root only where it pays.
+#[inline(always)]
+fn spheres_gap(out: &CollisionData, p: &GeomPair, spare: f64) -> f64 {
+    if p.test != PairTest::Spheres {
+        return f64::NEG_INFINITY;
+    }
+    let d2 = out.geom_xpos[p.g1].distance_squared(out.geom_xpos[p.g2]);
+    let far = p.radii + spare;
+    if d2 > far * far { d2.sqrt() - p.radii } else { f64::NEG_INFINITY }
 }
 
 /// Geom g's own bound on how far its points move within the step.
@@ -272,15 +397,26 @@ fn own_reach(m: &Model, kin: &KinData, aba: &AbaData, out: &CollisionData, g: us
 /// checking a configuration after the step.
 pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
     let Some(all_apart) = begin(m, kin, out, 0.0) else { return };
-    let mut test = |p: &GeomPair| {
+    if !all_apart {
+        for p in &m.collision_pairs {
+            if !apart(out, p, 0.0) {
+                pair(m, kin, out, p.g1, p.g2, 0.0);
+            }
+        }
+        return;
+    }
+    // the geoms posed as pairs need them
+    let gapped = m.gap_pairs.iter().map(|gp| gp.pair);
+    for k in gapped.chain(m.pairs_without_gap.iter().copied()) {
+        let p = &m.collision_pairs[k];
+        for g in [p.g1, p.g2] {
+            if !out.posed[g] {
+                pose(m, kin, out, g);
+            }
+        }
         if !apart(out, p, 0.0) {
             pair(m, kin, out, p.g1, p.g2, 0.0);
         }
-    };
-    if all_apart {
-        m.pairs_outside_groups.iter().for_each(|&k| test(&m.collision_pairs[k]));
-    } else {
-        m.collision_pairs.iter().for_each(test);
     }
 }
 
@@ -298,55 +434,99 @@ fn apart(cd: &CollisionData, p: &GeomPair, margin: f64) -> bool {
     }
 }
 
-/// After the constraint solve: with the step's final node velocities `v_end`, the pairs whose reach
-/// lever·|v_end| now exceeds their first margin are tested again (same configuration) and contacts
-/// not found before are appended. Returns whether there were any: constraint forces (a body
-/// landing on another, say) can carry a geom further than its constraint-free motion.
-pub fn reach_again(m: &Model, kin: &KinData, v_end: &[Motion], out: &mut CollisionData) -> bool {
+/// After the constraint solve: with the step's final joint velocities `qvel_end`, the pairs whose
+/// reach lever·|v_end| now exceeds their first margin are tested again (same configuration) and
+/// contacts not found before are appended. Returns whether there were any: constraint forces (a
+/// body landing on another, say) can carry a geom further than its constraint-free motion. The
+/// nodes' end velocities are computed into `v_end` only if a pair needs them.
+pub fn reach_again(m: &Model, kin: &KinData, qvel_end: &[f64], v_end: &mut [Motion], out: &mut CollisionData) -> bool {
     if !m.opt.contact || m.collision_pairs.is_empty() {
         return false;
     }
     let lever = m.opt.lever();
-    // each geom's own bound: compared with its first reach, it settles most pairs without a test
+    // one bound for every geom point decides the groups and settles most gap pairs
+    let reach = lever * arm_speed(m, qvel_end.iter().map(|v| v.abs()));
+    judge_groups(m, kin, out, reach);
+    let mut found = false;
+    if !out.group_apart.iter().all(|&a| a) {
+        end_speeds(m, kin, qvel_end, v_end, out);
+        for k in 0..m.collision_pairs.len() {
+            let Some(more) = test_again(m, kin, out, k, lever) else { break };
+            found |= more;
+        }
+        return found;
+    }
+    // every group apart: the gap pairs, whose gaps (when of this configuration) settle most, and
+    // the rest outside groups
+    let gaps = out.gaps_current;
+    let mut speeds = false;
+    let n = m.gap_pairs.len();
+    for idx in 0..n + m.pairs_without_gap.len() {
+        let k = if idx < n {
+            let gp = &m.gap_pairs[idx];
+            // the reach of a pair is at most 2 reach
+            if gaps && out.pair_gap[idx] > gp.margin + 2.0 * reach + GAP_TOLERANCE {
+                continue;
+            }
+            gp.pair
+        } else {
+            m.pairs_without_gap[idx - n]
+        };
+        if !speeds {
+            end_speeds(m, kin, qvel_end, v_end, out);
+            speeds = true;
+        }
+        let Some(more) = test_again(m, kin, out, k, lever) else { break };
+        found |= more;
+    }
+    found
+}
+
+/// The nodes' end velocities from `qvel_end` into `v_end`, and from them
+/// [`CollisionData::geom_speed_end`] (posing the geoms not yet posed).
+fn end_speeds(m: &Model, kin: &KinData, qvel_end: &[f64], v_end: &mut [Motion], out: &mut CollisionData) {
+    super::kinematics::velocities(m, kin, qvel_end, v_end);
     for g in 0..m.ngeom {
+        if !out.posed[g] {
+            pose(m, kin, out, g);
+        }
         out.geom_speed_end[g] = if fixed(m, g) {
             0.0
         } else {
-            pose(m, kin, out, g);
             let v = &v_end[m.body_node[m.geom_body[g]]];
             v.point_velocity(out.geom_xpos[g] - kin.origin).length() + v.ang.length() * m.geom_rbound[g]
         };
     }
-    if !m.plane_groups.is_empty() {
-        let fastest = out.geom_speed_end.iter().fold(0.0_f64, |a, &b| a.max(b));
-        judge_groups(m, kin, out, lever * fastest);
+}
+
+/// [`reach_again`]'s test of pair k: whether it added contacts, None when the list is full.
+#[inline(always)]
+fn test_again(m: &Model, kin: &KinData, out: &mut CollisionData, k: usize, lever: f64) -> Option<bool> {
+    let p = &m.collision_pairs[k];
+    let (i, j) = (p.g1, p.g2);
+    let reach = lever * (out.geom_speed_end[i] + out.geom_speed_end[j]);
+    let margin = p.margin + reach;
+    if reach <= out.geom_reach[i] + out.geom_reach[j] || apart(out, p, margin) {
+        return Some(false);
     }
+    let before = out.contacts.len();
+    if before >= MAX_CONTACTS {
+        // full: a replacement would change contacts the rows already refer to
+        return None;
+    }
+    pair(m, kin, out, i, j, margin);
     let mut found = false;
-    for p in &m.collision_pairs {
-        let (i, j) = (p.g1, p.g2);
-        let reach = lever * (out.geom_speed_end[i] + out.geom_speed_end[j]);
-        let margin = p.margin + reach;
-        if reach <= out.geom_reach[i] + out.geom_reach[j] || apart(out, p, margin) {
-            continue;
-        }
-        let before = out.contacts.len();
-        if before >= MAX_CONTACTS {
-            // full: a replacement would change contacts the rows already refer to
-            break;
-        }
-        pair(m, kin, out, i, j, margin);
-        let mut k = before;
-        while k < out.contacts.len() {
-            let c = out.contacts[k];
-            if out.contacts[..before].iter().any(|o| (o.geom1, o.geom2, o.feature) == (c.geom1, c.geom2, c.feature)) {
-                out.contacts.remove(k);
-            } else {
-                k += 1;
-                found = true;
-            }
+    let mut k = before;
+    while k < out.contacts.len() {
+        let c = out.contacts[k];
+        if out.contacts[..before].iter().any(|o| (o.geom1, o.geom2, o.feature) == (c.geom1, c.geom2, c.feature)) {
+            out.contacts.remove(k);
+        } else {
+            k += 1;
+            found = true;
         }
     }
-    found
+    Some(found)
 }
 
 #[derive(Clone, Copy)]
@@ -371,7 +551,9 @@ fn shape(m: &Model, cd: &CollisionData, g: usize) -> Shape {
     }
 }
 
-fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, i: usize, j: usize, margin: f64) {
+/// Narrowphase of geoms i and j: appends the contacts within `margin`. Returns the distance
+/// between the geoms where a pair of spheres and capsules gives it exactly, else −∞.
+fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, i: usize, j: usize, margin: f64) -> f64 {
     pose_axes(m, kin, cd, i);
     pose_axes(m, kin, cd, j);
     let (si, sj) = (shape(m, cd, i), shape(m, cd, j));
@@ -418,27 +600,27 @@ fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, i: usize, j: usize, ma
             }
         }
         (Shape::Sphere { c: c1, r: r1 }, Shape::Sphere { c: c2, r: r2 }) => {
-            if let Some((pos, n, d)) = spheres(c1, r1, c2, r2) {
-                add(cd, g1, g2, 0, pos, n, d);
-            }
+            let (pos, n, d) = spheres(c1, r1, c2, r2);
+            add(cd, g1, g2, 0, pos, n, d);
+            return d;
         }
         (Shape::Sphere { c, r }, Shape::Segment { a, b, r: rs }) => {
             let q = closest_on_segment(a, b, c);
-            if let Some((pos, n, d)) = spheres(c, r, q, rs) {
-                add(cd, g1, g2, 0, pos, n, d);
-            }
+            let (pos, n, d) = spheres(c, r, q, rs);
+            add(cd, g1, g2, 0, pos, n, d);
+            return d;
         }
         (Shape::Segment { a, b, r: rs }, Shape::Sphere { c, r }) => {
             let q = closest_on_segment(a, b, c);
-            if let Some((pos, n, d)) = spheres(q, rs, c, r) {
-                add(cd, g1, g2, 0, pos, n, d);
-            }
+            let (pos, n, d) = spheres(q, rs, c, r);
+            add(cd, g1, g2, 0, pos, n, d);
+            return d;
         }
         (Shape::Segment { a: a1, b: b1, r: r1 }, Shape::Segment { a: a2, b: b2, r: r2 }) => {
             let (p1, p2) = closest_segments(a1, b1, a2, b2);
-            if let Some((pos, n, d)) = spheres(p1, r1, p2, r2) {
-                add(cd, g1, g2, 0, pos, n, d);
-            }
+            let (pos, n, d) = spheres(p1, r1, p2, r2);
+            add(cd, g1, g2, 0, pos, n, d);
+            return d;
         }
         (Shape::Sphere { c, r }, Shape::Box { c: bc, rot, half }) => {
             let (n, d) = point_box(c, bc, rot, half, c - bc);
@@ -468,6 +650,7 @@ fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, i: usize, j: usize, ma
         }
         _ => {}
     }
+    f64::NEG_INFINITY
 }
 
 /// Whether `c` repeats a contact of the parent or child body at the same point with the same
@@ -644,12 +827,12 @@ fn segment_box_points(a: DVec3, b: DVec3, c: DVec3, rot: DMat3, half: DVec3) -> 
 }
 
 /// Contact between two spheres: (point, normal from 2 to 1, signed distance).
-fn spheres(c1: DVec3, r1: f64, c2: DVec3, r2: f64) -> Option<(DVec3, DVec3, f64)> {
+fn spheres(c1: DVec3, r1: f64, c2: DVec3, r2: f64) -> (DVec3, DVec3, f64) {
     let d = c1 - c2;
     let len = d.length();
     let n = if len > 1e-12 { d / len } else { DVec3::Z };
     let dist = len - r1 - r2;
-    Some((c2 + n * (r2 + 0.5 * dist), n, dist))
+    (c2 + n * (r2 + 0.5 * dist), n, dist)
 }
 
 fn closest_on_segment(a: DVec3, b: DVec3, p: DVec3) -> DVec3 {

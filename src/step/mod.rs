@@ -94,7 +94,7 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
     // 2. articulated inertias and the constraint-free accelerations
     timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, h_damp));
     // 3. contacts of this configuration (reach over the step from velocities and accelerations)
-    timed!(data, Stage::Collision, collision::collide(m, &data.kin, &data.aba, qvel, &data.qacc, &mut data.coll));
+    timed!(data, Stage::Collision, collision::collide(m, &data.kin, &data.aba, qpos, qvel, &data.qacc, &mut data.coll));
     // 4. constraint rows: contacts (normal + friction), active limits, motion control
     timed!(data, Stage::Rows, build_rows(m, data, qpos, qvel, ctrl));
     if data.con.is_empty() {
@@ -185,8 +185,7 @@ fn missed_contacts(m: &Model, data: &mut Data, qvel: &[f64]) -> bool {
         *e = v + h * a;
     }
     // post.kin is free until the post-stabilisation check, which recomputes it
-    kinematics::velocities(m, kin, &post.vel_end, &mut post.kin.v);
-    collision::reach_again(m, kin, &post.kin.v, coll)
+    collision::reach_again(m, kin, &post.vel_end, &mut post.kin.v, coll)
 }
 
 /// Marks in `data.limit_forced` each limit without a row that q̇ + h q̈ would cross within the step.
