@@ -114,49 +114,73 @@ fn plane_groups_reject_no_touching_pair() {
     assert!(touching > 2000 && touching < 19000, "{touching} of 20000 states touch: not a test of both sides");
 }
 
-/// Detection that keeps the pairs' gaps finds the same contacts as detection from scratch, and
-/// so does the second look with the step's end velocities ([`reach_again`]), along
-/// random walks through the configurations of random trees (no floor: every plane group is apart,
-/// so the gaps are in use), with a jump to a random state every 100 steps.
+/// Steps a random walk through the configurations of `m` (velocities drifting by up to `drift`
+/// per step, clamped to ±`v_max`, positions following over 0.01 s, a jump to a random state every
+/// `jump` steps) and checks at every step that detection keeping the pairs' gaps finds the
+/// contacts of detection from scratch, and so does the second look with end velocities
+/// ([`reach_again`]). Returns (gap skips, detections with contacts, detections).
+fn walk(m: &Model, r: &mut Rng, steps: usize, jump: usize, drift: f64, v_max: f64) -> (usize, usize, usize) {
+    let (mut skipped, mut touching) = (0, 0);
+    let mut data = Data::new(m);
+    let mut cd = CollisionData::new(m);
+    let mut node_v = vec![Motion::ZERO; m.nnode];
+    let (mut q, mut v) = random_state(m, r);
+    let ctrl = vec![0.0; m.nu];
+    for step in 0..steps {
+        if step % jump == jump - 1 {
+            (q, v) = random_state(m, r);
+        }
+        sinew::step::forward(m, &mut data, &q, &v, &ctrl);
+        collide(m, &data.kin, &data.aba, &q, &v, &data.qacc, &mut cd);
+        let mut fresh = CollisionData::new(m);
+        collide(m, &data.kin, &data.aba, &q, &v, &data.qacc, &mut fresh);
+        assert_eq!(cd.contacts, fresh.contacts, "{} step {step}", m.name);
+        skipped += cd.gap_skips;
+        // constraint forces changed the velocities: the pairs the new ones can close
+        let v_end: Vec<f64> = v.iter().map(|x| x * r.uniform(0.0, 30.0)).collect();
+        reach_again(m, &data.kin, &v_end, &mut node_v, &mut cd);
+        reach_again(m, &data.kin, &v_end, &mut node_v, &mut fresh);
+        assert_eq!(cd.contacts, fresh.contacts, "{} step {step}, end velocities", m.name);
+        touching += !fresh.contacts.is_empty() as usize;
+        for x in v.iter_mut() {
+            *x = (*x + r.uniform(-drift, drift)).clamp(-v_max, v_max);
+        }
+        let dq = v.iter().map(|x| 0.01 * x).collect::<Vec<_>>();
+        sinew::step::integrate::integrate_pos(m, &mut q, &dq, 1.0);
+    }
+    (skipped, touching, steps)
+}
+
+/// Along random walks through random trees (no floor: every plane group is apart, so the gaps are
+/// in use), detection with the pairs' gaps finds what detection from scratch finds.
 #[test]
 fn gaps_reject_no_pair_that_touches() {
     let mut r = Rng(11);
     let (mut skipped, mut touching, mut tested) = (0, 0, 0);
-    for m in trees() {
-        if m.gap_pairs.is_empty() {
-            continue;
-        }
-        let mut data = Data::new(&m);
-        let mut cd = CollisionData::new(&m);
-        let mut node_v = vec![Motion::ZERO; m.nnode];
-        let (mut q, mut v) = random_state(&m, &mut r);
-        let ctrl = vec![0.0; m.nu];
-        for step in 0..600 {
-            if step % 100 == 99 {
-                (q, v) = random_state(&m, &mut r);
-            }
-            sinew::step::forward(&m, &mut data, &q, &v, &ctrl);
-            collide(&m, &data.kin, &data.aba, &q, &v, &data.qacc, &mut cd);
-            let mut fresh = CollisionData::new(&m);
-            collide(&m, &data.kin, &data.aba, &q, &v, &data.qacc, &mut fresh);
-            assert_eq!(cd.contacts, fresh.contacts, "{} step {step}", m.name);
-            skipped += cd.gap_skips;
-            // constraint forces changed the velocities: the pairs the new ones can close
-            let v_end: Vec<f64> = v.iter().map(|x| x * r.uniform(0.0, 30.0)).collect();
-            reach_again(&m, &data.kin, &v_end, &mut node_v, &mut cd);
-            reach_again(&m, &data.kin, &v_end, &mut node_v, &mut fresh);
-            assert_eq!(cd.contacts, fresh.contacts, "{} step {step}, end velocities", m.name);
-            touching += !fresh.contacts.is_empty() as usize;
-            tested += 1;
-            // a smooth walk: velocities drift, positions follow
-            for x in v.iter_mut() {
-                *x = (*x + r.uniform(-0.5, 0.5)).clamp(-3.0, 3.0);
-            }
-            let dq = v.iter().map(|x| 0.01 * x).collect::<Vec<_>>();
-            sinew::step::integrate::integrate_pos(&m, &mut q, &dq, 1.0);
-        }
+    for m in trees().iter().filter(|m| !m.gap_pairs.is_empty()) {
+        let (s, t, n) = walk(m, &mut r, 600, 100, 0.5, 3.0);
+        (skipped, touching, tested) = (skipped + s, touching + t, tested + n);
     }
     // both sides: pairs spared by their gaps, and states with contacts
     assert!(skipped > 2 * tested, "{skipped} gap skips in {tested} detections");
     assert!(touching > tested / 20 && touching < tested, "{touching} of {tested} detections touch");
+}
+
+/// An arm folding slowly onto its base: while its pairs are far apart the whole tree's travel
+/// settles them at once, and detection still finds every contact as they close.
+#[test]
+fn gaps_settled_at_once_reject_no_pair_that_touches() {
+    let m = Model::from_mjcf(
+        r#"<mujoco><worldbody><body name="base"><geom type="capsule" fromto="0 0 0 0 0 .3" size=".05"/>
+        <body pos="0 0 .3"><joint type="hinge" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 .3 0 0" size=".04"/>
+          <body pos=".3 0 0"><joint type="hinge" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 .3 0 0" size=".04"/>
+            <body pos=".3 0 0"><joint type="ball"/><geom type="box" size=".05 .05 .05" pos=".1 0 0"/></body>
+          </body></body></body></worldbody></mujoco>"#,
+    )
+    .unwrap();
+    assert_eq!(m.gap_pairs.len(), 3);
+    let mut r = Rng(5);
+    let (skipped, touching, tested) = walk(&m, &mut r, 20000, 2000, 0.05, 1.0);
+    assert!(skipped > tested, "{skipped} gap skips in {tested} detections");
+    assert!(touching > tested / 50 && touching < tested / 2, "{touching} of {tested} detections touch");
 }

@@ -89,9 +89,20 @@ pub struct CollisionData {
     /// How far the joints from the world to each body have moved any geom point of the body's
     /// subtree since `qpos_gap`, summed along the chain (nbody).
     body_travel: Vec<f64>,
-    /// Whether `pair_gap` is of the configuration of the last detection (which lowers the gaps
-    /// only while every plane group is apart).
+    /// `body_travel` of the child of the world each body descends from (nbody).
+    top_travel: Vec<f64>,
+    /// Whether every gap pair's common ancestor is below the world, so that the joints above a
+    /// child of the world move both its geoms alike.
+    gaps_within_trees: bool,
+    /// Whether `pair_gap` less `shrink` bounds the distances at the configuration of the last
+    /// detection (which keeps the gaps only while every plane group is apart).
     gaps_current: bool,
+    /// The least of `pair_gap[i]` less the pair's margin: when it exceeds what the joints' travel
+    /// since `qpos_gap` can take off any gap plus the largest margin, every gap pair is settled at
+    /// once and the gaps stay those of `qpos_gap`.
+    least_slack: f64,
+    /// How much any gap may have shrunk between `qpos_gap` and the last detection's configuration.
+    shrink: f64,
     /// Pairs whose gap spared them a test in the last detection.
     pub gap_skips: usize,
     /// Contacts of this configuration.
@@ -114,7 +125,11 @@ impl CollisionData {
             pair_gap: vec![f64::NEG_INFINITY; m.gap_pairs.len()],
             qpos_gap: m.qpos0.clone(),
             body_travel: vec![0.0; m.nbody],
+            top_travel: vec![0.0; m.nbody],
+            gaps_within_trees: m.gap_pairs.iter().all(|gp| gp.ancestor != 0),
             gaps_current: false,
+            least_slack: f64::NEG_INFINITY,
+            shrink: 0.0,
             gap_skips: 0,
             contacts: Vec::with_capacity(MAX_CONTACTS),
         }
@@ -124,6 +139,7 @@ impl CollisionData {
     pub fn forget(&mut self) {
         self.contacts.clear();
         self.pair_gap.fill(f64::NEG_INFINITY);
+        self.least_slack = f64::NEG_INFINITY;
     }
 }
 
@@ -268,24 +284,18 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f6
     let Some(all_apart) = begin(m, kin, out, shared) else { return };
     out.gaps_current = all_apart;
     if all_apart {
-        if !m.gap_pairs.is_empty() {
-            travel(m, qpos, out);
-        }
         // the margin is at most p.margin + 2 shared: a larger gap spares the test
         let spare = 2.0 * shared + GAP_TOLERANCE;
-        let mut skips = 0;
-        for (i, gp) in m.gap_pairs.iter().enumerate() {
-            // only the joints below the common ancestor change the pair's distance
-            let t = &out.body_travel;
-            let gap = out.pair_gap[i] - (t[gp.bodies[0]] + t[gp.bodies[1]] - 2.0 * t[gp.ancestor]);
-            out.pair_gap[i] = if gap > gp.margin + spare {
-                skips += 1;
-                gap
+        if !m.gap_pairs.is_empty() {
+            let shrink = travel(m, qpos, out);
+            if out.least_slack - shrink > spare {
+                // every gap pair settled at once; the gaps stay those of `qpos_gap`
+                out.shrink = shrink;
+                out.gap_skips = m.gap_pairs.len();
             } else {
-                test_lazily(m, kin, aba, out, gp.pair, shared, gp.margin + spare)
-            };
+                lower_and_test_gaps(m, kin, aba, qpos, out, shared, spare);
+            }
         }
-        out.gap_skips = skips;
         for &k in &m.pairs_without_gap {
             test_lazily(m, kin, aba, out, k, shared, f64::INFINITY);
         }
@@ -308,15 +318,39 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f6
     }
 }
 
+/// Each gap pair: its gap lowered by the joints' travel since `qpos_gap` (only the joints below
+/// the common ancestor change the pair's distance), the pair tested where the gap does not exceed
+/// its margin plus `spare`, and the gaps made those of `qpos`.
+fn lower_and_test_gaps(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], out: &mut CollisionData, shared: f64, spare: f64) {
+    let (mut skips, mut least) = (0, f64::INFINITY);
+    for (i, gp) in m.gap_pairs.iter().enumerate() {
+        let t = &out.body_travel;
+        let gap = out.pair_gap[i] - (t[gp.bodies[0]] + t[gp.bodies[1]] - 2.0 * t[gp.ancestor]);
+        let gap = if gap > gp.margin + spare {
+            skips += 1;
+            gap
+        } else {
+            test_lazily(m, kin, aba, out, gp.pair, shared, gp.margin + spare)
+        };
+        out.pair_gap[i] = gap;
+        least = least.min(gap - gp.margin);
+    }
+    out.gap_skips = skips;
+    out.least_slack = least;
+    out.shrink = 0.0;
+    out.qpos_gap.copy_from_slice(qpos);
+}
+
 /// How far the configuration moved since the gaps' (`qpos_gap`), as
 /// [`CollisionData::body_travel`]: each joint moves a point of its subtree by at most its arm
 /// times its change (the rotation angle for a ball or free joint, plus a free joint's
 /// translation), a bound along the straight path between the configurations, so that any change
-/// counts, a reset's included.
-fn travel(m: &Model, qpos: &[f64], out: &mut CollisionData) {
-    let mut j = 0;
+/// counts, a reset's included. Returns a bound on how much that took off any gap.
+fn travel(m: &Model, qpos: &[f64], out: &mut CollisionData) -> f64 {
+    let (mut j, mut most) = (0, 0.0_f64);
     for b in 1..m.nbody {
-        let mut t = out.body_travel[m.body_parent[b]];
+        let parent = m.body_parent[b];
+        let mut t = out.body_travel[parent];
         // joints come in body order
         while j < m.njnt && m.jnt_body[j] == b {
             let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
@@ -333,8 +367,12 @@ fn travel(m: &Model, qpos: &[f64], out: &mut CollisionData) {
             j += 1;
         }
         out.body_travel[b] = t;
+        out.top_travel[b] = if parent == 0 { t } else { out.top_travel[parent] };
+        // a pair's decrease is its two bodies' travel below their ancestor: at most twice the
+        // largest, less what the joints above a child of the world add to both when it is below
+        most = most.max(if out.gaps_within_trees { t - out.top_travel[b] } else { t });
     }
-    out.qpos_gap.copy_from_slice(qpos);
+    2.0 * most
 }
 
 /// Collision pair k while every plane group is apart: its geoms posed and bounded as needed, the
@@ -461,11 +499,12 @@ pub fn reach_again(m: &Model, kin: &KinData, qvel_end: &[f64], v_end: &mut [Moti
     let gaps = out.gaps_current;
     let mut speeds = false;
     let n = m.gap_pairs.len();
-    for idx in 0..n + m.pairs_without_gap.len() {
+    // the reach of a pair is at most 2 reach: the least slack may settle them all
+    let first = if gaps && out.least_slack - out.shrink > 2.0 * reach + GAP_TOLERANCE { n } else { 0 };
+    for idx in first..n + m.pairs_without_gap.len() {
         let k = if idx < n {
             let gp = &m.gap_pairs[idx];
-            // the reach of a pair is at most 2 reach
-            if gaps && out.pair_gap[idx] > gp.margin + 2.0 * reach + GAP_TOLERANCE {
+            if gaps && out.pair_gap[idx] - out.shrink > gp.margin + 2.0 * reach + GAP_TOLERANCE {
                 continue;
             }
             gp.pair
