@@ -30,7 +30,9 @@ reward) raise ``ValueError``, as do wrong shapes. Finite actions outside the act
 accepted: the physics clamps controls to ctrlrange, the control cost sees them as given (as
 the twin does). A world
 whose state becomes non-finite or exceeds 1e10 is reset alone and reported with
-``info["sim_diverged"]``, ``terminated=True`` and reward 0.
+``info["sim_diverged"]``, ``terminated=True`` and reward 0. In the vector env it is a step entry
+like the reward terms: masked by ``info["_sim_diverged"]``, and absent in a step where every env
+resets (no env stepped), as gymnasium's SyncVectorEnv leaves such entries out.
 """
 
 from __future__ import annotations
