@@ -322,7 +322,7 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f6
 /// the common ancestor change the pair's distance), the pair tested where the gap does not exceed
 /// its margin plus `spare`, and the gaps made those of `qpos`.
 fn lower_and_test_gaps(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], out: &mut CollisionData, shared: f64, spare: f64) {
-    let (mut skips, mut least) = (0, f64::INFINITY);
+    let (mut skips, mut least, mut unknown) = (0, f64::INFINITY, false);
     for (i, gp) in m.gap_pairs.iter().enumerate() {
         let t = &out.body_travel;
         let gap = out.pair_gap[i] - (t[gp.bodies[0]] + t[gp.bodies[1]] - 2.0 * t[gp.ancestor]);
@@ -334,9 +334,10 @@ fn lower_and_test_gaps(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], ou
         };
         out.pair_gap[i] = gap;
         least = least.min(gap - gp.margin);
+        unknown |= gap.is_nan();
     }
     out.gap_skips = skips;
-    out.least_slack = least;
+    out.least_slack = if unknown { f64::NEG_INFINITY } else { least };
     out.shrink = 0.0;
     out.qpos_gap.copy_from_slice(qpos);
 }
@@ -347,7 +348,7 @@ fn lower_and_test_gaps(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], ou
 /// translation), a bound along the straight path between the configurations, so that any change
 /// counts, a reset's included. Returns a bound on how much that took off any gap.
 fn travel(m: &Model, qpos: &[f64], out: &mut CollisionData) -> f64 {
-    let (mut j, mut most) = (0, 0.0_f64);
+    let (mut j, mut most, mut unbounded) = (0, 0.0_f64, false);
     for b in 1..m.nbody {
         let parent = m.body_parent[b];
         let mut t = out.body_travel[parent];
@@ -370,9 +371,12 @@ fn travel(m: &Model, qpos: &[f64], out: &mut CollisionData) -> f64 {
         out.top_travel[b] = if parent == 0 { t } else { out.top_travel[parent] };
         // a pair's decrease is its two bodies' travel below their ancestor: at most twice the
         // largest, less what the joints above a child of the world add to both when it is below
-        most = most.max(if out.gaps_within_trees { t - out.top_travel[b] } else { t });
+        let own = if out.gaps_within_trees { t - out.top_travel[b] } else { t };
+        most = most.max(own);
+        unbounded |= own.is_nan();
     }
-    2.0 * most
+    // NaN (an unbounded arm times no change) is no bound
+    if unbounded { f64::INFINITY } else { 2.0 * most }
 }
 
 /// Collision pair k while every plane group is apart: its geoms posed and bounded as needed, the
