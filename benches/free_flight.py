@@ -1,0 +1,96 @@
+"""Angular momentum in free flight: bodies in zero gravity with contacts off, driven by internal
+motor torques only, so their angular momentum should stay where it starts (zero). It is measured
+with MuJoCo's `subtree_angmom` on each engine's states.
+
+- a two-link free body whose second link has two hinges with ±10° limits (Euler), random controls
+  for 30 s, at three timesteps and in sinew's two constraint modes, beside MuJoCo;
+- gymnasium's humanoid (an RK4 model), random controls, limits on and off, beside MuJoCo.
+
+    python benches/free_flight.py [--out results/free_flight.md]
+"""
+
+import argparse
+import os
+import warnings
+
+import mujoco
+import numpy as np
+
+import sinew
+from sinew.tasks import ASSETS
+
+TWO_LINK = """<mujoco><option gravity="0 0 0" timestep="{dt}"/><worldbody>
+<body name="a" pos="0 0 1"><freejoint/><geom type="capsule" fromto="0 0 0 .3 0 0" size=".05"/>
+  <body name="b" pos=".3 0 0">
+    <joint name="h1" type="hinge" axis="0 1 0" range="-10 10" limited="true" damping="1" armature=".02"/>
+    <joint name="h2" type="hinge" axis="0 0 1" range="-10 10" limited="true" damping="1" armature=".02"/>
+    <geom type="capsule" fromto="0 0 0 .3 0 .1" size=".05"/></body></body></worldbody>
+<actuator><motor joint="h1" gear="20"/><motor joint="h2" gear="20"/></actuator></mujoco>"""
+
+
+class Momentum:
+    """|angular momentum| of the whole tree about its com, by MuJoCo, at a (qpos, qvel)."""
+
+    def __init__(self, mj):
+        self.m, self.d = mj, mujoco.MjData(mj)
+
+    def __call__(self, qpos, qvel):
+        self.d.qpos[:], self.d.qvel[:] = qpos, qvel
+        mujoco.mj_forward(self.m, self.d)
+        mujoco.mj_subtreeVel(self.m, self.d)
+        return float(np.linalg.norm(self.d.subtree_angmom[1]))
+
+
+def drift(sinew_model, mj, seconds, every):
+    """|L| at the end of `seconds` of random controls (a new one every `every` steps), sinew and
+    MuJoCo from the same controls; sinew's is 'diverged at t' when it diverges."""
+    steps = int(round(seconds / mj.opt.timestep))
+    measure = Momentum(mj)
+    sim, d = sinew.Sim(sinew_model), mujoco.MjData(mj)
+    rng = np.random.default_rng(1)
+    ours = None
+    for k in range(steps):
+        if k % every == 0:
+            c = rng.uniform(-1, 1, mj.nu)
+            d.ctrl[:] = c
+            sim.ctrl = c
+        mujoco.mj_step(mj, d)
+        if ours is None:
+            try:
+                sim.step(1)
+            except sinew.SimulationError:
+                ours = f"diverged at t = {k * mj.opt.timestep:.1f} s"
+    return ours or f"{measure(sim.qpos, sim.qvel):.3f}", f"{measure(d.qpos, d.qvel):.3f}"
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--out", default=None)
+    args = ap.parse_args()
+    lines = ["| model | dt | sinew configuration | sinew \\|L\\| | MuJoCo \\|L\\| |", "|---|---|---|---|---|"]
+    for dt in (3e-3, 1e-3, 3e-4):
+        xml = TWO_LINK.format(dt=dt)
+        mj = mujoco.MjModel.from_xml_string(xml)
+        for mode in ("acceleration", "velocity"):
+            m = sinew.Model.from_mjcf_string(xml).with_options(constraint_mode=mode)
+            ours, theirs = drift(m, mj, 30.0, max(1, round(0.03 / dt)))
+            lines.append(f"| two links, 30 s | {dt:g} | {mode} | {ours} | {theirs} |")
+            print(lines[-1], flush=True)
+    path = os.path.join(ASSETS, "humanoid.xml")
+    mj = mujoco.MjModel.from_xml_path(path)
+    mj.opt.gravity[:] = 0
+    mj.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT
+    for limit in (True, False):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            m = sinew.Model.from_mjcf(path).with_options(gravity=[0, 0, 0], contact=False, limit=limit)
+        ours, theirs = drift(m, mj, 33.0, 10)
+        lines.append(f"| humanoid, 33 s | {mj.opt.timestep:g} | limits {'on' if limit else 'off'} | {ours} | {theirs} |")
+        print(lines[-1], flush=True)
+    if args.out:
+        with open(args.out, "w") as f:
+            f.write(f"<!-- python benches/free_flight.py --out {args.out} -->\n" + "\n".join(lines) + "\n")
+
+
+if __name__ == "__main__":
+    main()
