@@ -4,7 +4,11 @@ with MuJoCo's `subtree_angmom` on each engine's states.
 
 - a two-link free body whose second link has two hinges with ±10° limits (Euler), random controls
   for 30 s, at three timesteps and in sinew's two constraint modes, beside MuJoCo;
-- gymnasium's humanoid (an RK4 model), random controls, limits on and off, beside MuJoCo.
+- gymnasium's humanoid (an RK4 model), random controls, limits on and off, beside MuJoCo;
+- along the two-link body's acceleration-level trajectory (dt = 3e-3), each constrained step
+  redone from the same state by velocity-level time stepping: how much angular momentum (along
+  the current momentum) the acceleration-level step adds beyond it, for steps with and without an
+  impact solve.
 
     python benches/free_flight.py [--out results/free_flight.md]
 """
@@ -63,6 +67,40 @@ def drift(sinew_model, mj, seconds, every):
     return ours or f"{measure(sim.qpos, sim.qvel):.3f}", f"{measure(d.qpos, d.qvel):.3f}"
 
 
+def same_state(xml, seconds):
+    """Along an acceleration-level trajectory, each constrained step redone from its start state
+    with velocity-level time stepping: per kind of step (with or without an impact solve), the
+    count, the summed difference of the end angular momenta along the start's, and the largest
+    difference of end velocities."""
+    mj = mujoco.MjModel.from_xml_string(xml)
+    measure = Momentum(mj)
+    d = measure.d
+
+    def momentum(qpos, qvel):
+        measure(qpos, qvel)
+        return d.subtree_angmom[1].copy()
+
+    m = sinew.Model.from_mjcf_string(xml)
+    sim, probe = sinew.Sim(m), sinew.Sim(m.with_options(constraint_mode="velocity"))
+    rng = np.random.default_rng(1)
+    out = {"with an impact solve": [0, 0.0, 0.0], "without": [0, 0.0, 0.0]}
+    for k in range(int(round(seconds / mj.opt.timestep))):
+        if k % 10 == 0:
+            sim.ctrl = rng.uniform(-1, 1, m.nu)
+        start, impacts = sim.get_state(), sim.constraint_stats["impacts"]
+        l0 = momentum(sim.qpos, sim.qvel)
+        sim.step(1)
+        if sim.constraint_stats["rows"] == 0:
+            continue
+        probe.set_state(start)
+        probe.step(1)
+        row = out["with an impact solve" if sim.constraint_stats["impacts"] > impacts else "without"]
+        row[0] += 1
+        row[1] += (momentum(sim.qpos, sim.qvel) - momentum(probe.qpos, probe.qvel)) @ (l0 / max(np.linalg.norm(l0), 1e-300))
+        row[2] = max(row[2], float(np.abs(sim.qvel - probe.qvel).max()))
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--out", default=None)
@@ -86,6 +124,11 @@ def main():
             m = sinew.Model.from_mjcf(path).with_options(gravity=[0, 0, 0], contact=False, limit=limit)
         ours, theirs = drift(m, mj, 33.0, 10)
         lines.append(f"| humanoid, 33 s | {mj.opt.timestep:g} | limits {'on' if limit else 'off'} | {ours} | {theirs} |")
+        print(lines[-1], flush=True)
+    lines += ["", "| two links, dt = 0.003, 20 s of constrained steps | steps | Σ (L_acceleration − L_velocity) · L̂ | max \\|Δq̇\\| |",
+              "|---|---|---|---|"]
+    for kind, (n, gain, dv) in same_state(TWO_LINK.format(dt=3e-3), 20.0).items():
+        lines.append(f"| {kind} | {n} | {gain:+.4f} | {dv:.1e} |")
         print(lines[-1], flush=True)
     if args.out:
         with open(args.out, "w") as f:
