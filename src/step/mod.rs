@@ -127,13 +127,17 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
                 data.impacts += 1;
                 solve_rows(m, data, Level::Velocity);
                 apply(m, data, qvel, 1.0);
-                // same configuration, so the same rows, K and articulated inertias; new
-                // velocities, bias terms and b
+                // same configuration, so the same rows, K and articulated inertias. The applied
+                // forces (damping, servos) are those of the new velocities; the velocity-product
+                // bias forces stay those of the step's start, as velocity-level time stepping has
+                // them (re-evaluated at the post-impact velocities they made a free-floating body
+                // gain angular momentum at every impact: benches/free_flight.py); then the rows'
+                // velocities and b anew
                 timed!(data, Stage::Impact, {
-                    kinematics::forward_velocity(m, qvel, &mut data.kin);
                     forces::applied(m, qpos, qvel, ctrl, &mut data.qfrc_applied);
                     aba::backward_bias(m, &data.kin, &data.qfrc_applied, &mut data.aba);
                     aba::forward(m, &data.kin, &mut data.aba, &mut data.qacc);
+                    kinematics::forward_velocity(m, qvel, &mut data.kin);
                     constraint::refresh(m, &data.kin, &data.aba, qpos, qvel, ctrl, &data.feedforward, &data.qacc, &mut data.con);
                 });
             }
