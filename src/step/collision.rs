@@ -18,8 +18,9 @@
 //! for sphere and capsule pairs, the exact one at its last test), lowered at each detection by how
 //! far the joints below the two geoms' common ancestor have moved them since (each joint's arm
 //! times its change of position); while the gap exceeds the largest margin the pair can have, the
-//! pair is not tested. A scene whose floor is far and whose limbs are apart costs a few bounds per
-//! step.
+//! pair is not tested. When the least gap exceeds that margin by twice the largest travel below a
+//! child of the world, every pair is settled at once and the gaps are kept as they were. A scene
+//! whose floor is far and whose limbs are apart costs a few bounds per step.
 //!
 //! Detection is speculative: a pair within its margin plus the distance its geoms can cover in one
 //! step yields a (separated, dist > 0) contact, whose row only stops it at the surface.
