@@ -39,6 +39,8 @@ pub struct Data {
     pub lcp_lambda: Vec<usize>,
     /// Role of each LCP variable.
     pub lcp_role: Vec<crate::step::lcp::Role>,
+    /// LCP variables left out of the solve (held at zero force) and of K.
+    pub lcp_out: Vec<bool>,
     /// Lemke tableau.
     pub lcp_work: LcpWork,
     /// Solver statistics.
@@ -82,6 +84,7 @@ impl Data {
             lcp_q: vec![],
             lcp_lambda: vec![],
             lcp_role: vec![],
+            lcp_out: vec![],
             lcp_work: LcpWork::default(),
             stats: LcpStats::default(),
             impacts: 0,

@@ -265,8 +265,8 @@ impl PySim {
     }
 
     /// Constraint statistics: rows of the last step, LCP solves, pivots, warm starts, regularised
-    /// retries, fallbacks,
-    /// residual, impacts, post-stabilisation projections.
+    /// retries, fallbacks, rows left out of solves as separating (summed) and times one was brought
+    /// back, residual, impacts, post-stabilisation projections.
     #[getter]
     fn constraint_stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
         let s = &self.data.stats;
@@ -279,6 +279,8 @@ impl PySim {
         d.set_item("fallback_pgs", s.fallback_pgs)?;
         d.set_item("inexact", s.inexact)?;
         d.set_item("fallback_zero", s.fallback_zero)?;
+        d.set_item("left_out", s.left_out)?;
+        d.set_item("regrown", s.regrown)?;
         d.set_item("residual", s.residual)?;
         d.set_item("impacts", self.data.impacts)?;
         d.set_item("projections", self.data.post.projections)?;

@@ -108,8 +108,11 @@ pub struct ConstraintData {
     pub b: Vec<f64>,
     /// Δq̈ per unit force of each row (m × nv).
     pub dqdd: Vec<f64>,
-    /// Whether `k` and `dqdd` are those of the current rows.
+    /// Whether `k`, `dqdd` and `column_done` are sized for the current rows.
     pub assembled: bool,
+    /// Whether column k of K and Δq̈ of row k hold row k's test-force response (computed only
+    /// for the rows a solve needs: [`responses`]).
+    pub column_done: Vec<bool>,
     dpa: Vec<Force>,
     du: Vec<[f64; 6]>,
     da: Vec<Motion>,
@@ -398,7 +401,7 @@ pub fn refresh(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f6
 /// `aba.a` and `qacc0` of the same state.
 pub fn assemble(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], out: &mut ConstraintData) {
     bias(m, kin, aba, qacc0, out);
-    responses(m, kin, aba, out);
+    responses(m, kin, aba, out, |_, _| true);
 }
 
 /// b alone: each row's acceleration with zero constraint force.
@@ -410,18 +413,30 @@ pub fn bias(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], out: &mut Co
     }
 }
 
-/// K and Δq̈ alone, by test forces (they depend on the configuration, not on velocities).
-pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintData) {
+/// K's columns and Δq̈ of the rows `needed` (by index and kind) not yet computed, by test forces (they depend on the
+/// configuration, not on velocities). Each column is measured at every row, so a row left out
+/// still has its accelerations under the forces of the rows computed.
+pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintData, needed: impl Fn(usize, RowKind) -> bool) {
     let nr = out.len();
     let nv = m.nv;
-    out.k.clear();
-    out.k.resize(nr * nr, 0.0);
-    out.dqdd.clear();
-    out.dqdd.resize(nr * nv, 0.0);
-    out.assembled = true;
+    if !out.assembled {
+        out.k.clear();
+        out.k.resize(nr * nr, 0.0);
+        out.dqdd.clear();
+        out.dqdd.resize(nr * nv, 0.0);
+        out.column_done.clear();
+        out.column_done.resize(nr, false);
+        out.assembled = true;
+    }
     for k in 0..nr {
+        if out.column_done[k] || !needed(k, out.kind[k]) {
+            continue;
+        }
         let mk = out.mirror[k];
         if mk != usize::MAX {
+            if !out.column_done[mk] {
+                push_test_force(m, kin, aba, out, mk);
+            }
             for j in 0..nr {
                 out.k[j * nr + k] = -out.k[j * nr + mk];
             }
@@ -429,29 +444,37 @@ pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintDa
             for (d, s) in rest[..nv].iter_mut().zip(&done[mk * nv..(mk + 1) * nv]) {
                 *d = -s;
             }
+            out.column_done[k] = true;
             continue;
         }
-        // seed: a unit test force of row k (Kokkevis 2004; δp^A = −f at the point's node)
-        for f in out.dpa.iter_mut() {
-            *f = Force::ZERO;
-        }
-        let mut dtau = None;
-        match out.kind[k] {
-            RowKind::Limit | RowKind::Motion { .. } => dtau = Some(out.dof[k]),
-            _ => {
-                for side in 0..2 {
-                    let n = out.node[k][side];
-                    if n != WORLD {
-                        out.dpa[n] -= out.jac[k][side];
-                    }
+        push_test_force(m, kin, aba, out, k);
+    }
+}
+
+/// Column k of K and Δq̈ of row k, from a unit test force of row k (Kokkevis 2004; δp^A = −f at
+/// the point's node).
+fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintData, k: usize) {
+    let (nr, nv) = (out.len(), m.nv);
+    for f in out.dpa.iter_mut() {
+        *f = Force::ZERO;
+    }
+    let mut dtau = None;
+    match out.kind[k] {
+        RowKind::Limit | RowKind::Motion { .. } => dtau = Some(out.dof[k]),
+        _ => {
+            for side in 0..2 {
+                let n = out.node[k][side];
+                if n != WORLD {
+                    out.dpa[n] -= out.jac[k][side];
                 }
             }
         }
-        delta_pass(m, kin, aba, dtau, &mut out.dpa, &mut out.du, &mut out.da, &mut out.dqdd[k * nv..(k + 1) * nv]);
-        for j in 0..nr {
-            out.k[j * nr + k] = measure(m, kin, out, j, Measure::Delta { col: k });
-        }
     }
+    delta_pass(m, kin, aba, dtau, &mut out.dpa, &mut out.du, &mut out.da, &mut out.dqdd[k * nv..(k + 1) * nv]);
+    for j in 0..nr {
+        out.k[j * nr + k] = measure(m, kin, out, j, Measure::Delta { col: k });
+    }
+    out.column_done[k] = true;
 }
 
 enum Measure<'a> {

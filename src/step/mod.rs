@@ -317,10 +317,38 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
         record_warm(data, level);
         return;
     };
-    if !data.con.assembled {
-        timed!(data, Stage::Assembly, constraint::responses(m, &data.kin, &data.aba, &mut data.con));
+    let same_rows = timed!(data, Stage::Lcp, leave_out(data, level, n));
+    // K's columns for the rows kept; more when the answer pushes into a row left out
+    loop {
+        let Data { kin, aba, con, lcp_out, .. } = data;
+        timed!(data, Stage::Assembly, constraint::responses(m, kin, aba, con, |k, _| !lcp_out[k]));
+        if timed!(data, Stage::Lcp, lcp_matrix_and_solve(m, data, level, n, same_rows)) {
+            break;
+        }
     }
-    timed!(data, Stage::Lcp, lcp_matrix_and_solve(m, data, level, n));
+}
+
+/// Marks in `data.lcp_out` the variables the solve starts without: each contact with friction
+/// whose q says the motion without its force separates it (q_n ≥ 0), with its friction rows and
+/// λ, unless it carried force in the warm set (it probably will again). A separating contact
+/// keeps no force unless others push it closed, which the solve checks; its test forces, a
+/// third of a contact's cost in K, are then never pushed. Returns whether the rows are last
+/// step's (the warm set applies).
+fn leave_out(data: &mut Data, level: Level, n: usize) -> bool {
+    let same_rows = level != Level::Velocity && {
+        let w = &data.lcp_work.warm_rows;
+        w.len() == data.con.len() && (0..w.len()).all(|j| w[j] == row_key(data, j))
+    };
+    let (con, q, warm, out) = (&data.con, &data.lcp_q, &data.lcp_work.warm, &mut data.lcp_out);
+    out.clear();
+    out.resize(n, false);
+    for j in 0..con.len() {
+        if let RowKind::Tangent { normal } = con.kind[j] {
+            let left = q[normal] >= 0.0 && !(same_rows && warm[normal]);
+            (out[normal], out[j], out[data.lcp_lambda[normal]]) = (left, left, left);
+        }
+    }
+    same_rows
 }
 
 /// The LCP's variables (rows, then one λ per contact with friction and one σ per bounded
@@ -404,8 +432,9 @@ fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
 }
 
 /// M from K and the friction and bound couplings; solves into `data.force` (warm-started when the
-/// rows are last step's).
-fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: usize) {
+/// rows are last step's). False when the solve brought back rows left out, whose K columns it
+/// needs.
+fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: usize, same_rows: bool) -> bool {
     let h = m.opt.timestep;
     let con = &data.con;
     let nr = con.len();
@@ -415,18 +444,19 @@ fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: usize) {
     data.lcp_role.resize(n, lcp::Role::Lambda);
     let (mm, q) = (&mut data.lcp_m, &mut data.lcp_q);
     // a row no force can move (K_jj ≈ 0: the out-of-plane friction of a planar model) carries no
-    // force; left in, it makes the LCP degenerate
-    let k_max = (0..nr).map(|j| con.k[j * nr + j]).fold(0.0, f64::max);
+    // force; left in, it makes the LCP degenerate. Decoupled (w = z, q = 0), the solve leaves it
+    // out. Rows whose K column is not computed are left out and read only as rows
+    let done = &con.column_done;
+    let k_max = (0..nr).filter(|&j| done[j]).map(|j| con.k[j * nr + j]).fold(0.0, f64::max);
+    let inert = |j: usize| done[j] && con.k[j * nr + j] <= INERT_ROW * k_max;
     for j in 0..nr {
-        if con.k[j * nr + j] <= INERT_ROW * k_max {
+        if inert(j) {
             mm[j * n + j] = 1.0;
             q[j] = 0.0;
             data.lcp_role[j] = lcp::Role::Normal;
             continue;
         }
-        for k in 0..nr {
-            mm[j * n + k] = con.k[j * nr + k];
-        }
+        mm[j * n..j * n + nr].copy_from_slice(&con.k[j * nr..(j + 1) * nr]);
         mm[j * n + j] += lcp::REGULARISATION * con.k[j * nr + j].abs().max(1e-300);
         match con.kind[j] {
             RowKind::Tangent { normal } => {
@@ -454,15 +484,20 @@ fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: usize) {
             _ => data.lcp_role[j] = lcp::Role::Normal,
         }
     }
+    for j in (0..nr).filter(|&j| inert(j)) {
+        for k in 0..nr {
+            mm[k * n + j] = 0.0;
+        }
+        mm[j * n + j] = 1.0;
+    }
     // warm start: the rows are the same contacts, features and limits as last step's
-    let same_rows = level != Level::Velocity && {
-        let w = &data.lcp_work.warm_rows;
-        w.len() == nr && (0..nr).all(|j| w[j] == row_key(data, j))
-    };
     let warm = std::mem::take(&mut data.lcp_work.warm);
-    lcp::solve(n, &data.lcp_m, &data.lcp_q, &data.lcp_role, same_rows.then_some(&warm[..]), &mut data.force, &mut data.lcp_work, &mut data.stats);
+    let solved = lcp::solve(n, &data.lcp_m, &data.lcp_q, &data.lcp_role, same_rows.then_some(&warm[..]), &mut data.lcp_out, &mut data.force, &mut data.lcp_work, &mut data.stats);
     data.lcp_work.warm = warm;
-    record_warm(data, level);
+    if solved {
+        record_warm(data, level);
+    }
+    solved
 }
 
 /// Keeps the active set of an acceleration-level or time-stepping solve for the next step's

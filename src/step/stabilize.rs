@@ -57,6 +57,8 @@ pub struct StabilizeData {
     /// qpos at the start of a leapfrog step, before its opening drift (nq).
     pub qpos_start: Vec<f64>,
     work: LcpWork,
+    /// Variables the solve leaves out.
+    left_out: Vec<bool>,
     /// Whether `kin` holds the kinematics of (`qpos`, `qvel`).
     cached: bool,
     qpos: Vec<f64>,
@@ -167,9 +169,8 @@ fn gather(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
     if post.coll.contacts.iter().all(|c| c.dist >= -SLOP) {
         return false;
     }
-    if !con.assembled {
-        constraint::responses(m, kin, aba, con);
-    }
+    // the rows' Δq̈ (a solve computes only those of the rows it kept)
+    constraint::responses(m, kin, aba, con, |_, kind| matches!(kind, RowKind::Normal | RowKind::Limit));
     post.gap.clear();
     post.jac.clear();
     post.dqdd.clear();
@@ -306,7 +307,9 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
         }
         post.p.clear();
         post.p.resize(k, 0.0);
-        lcp::solve(k, &post.m, &post.gap, &post.role, None, &mut post.p, &mut post.work, stats);
+        // every variable is a normal row the solve keeps (or an inert one it leaves out), so one solve
+        post.left_out.clear();
+        lcp::solve(k, &post.m, &post.gap, &post.role, None, &mut post.left_out, &mut post.p, &mut post.work, stats);
         post.dq.fill(0.0);
         for a in 0..k {
             let p = post.p[a];
