@@ -253,25 +253,23 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]
     let start = *stats;
     stats.solves += 1;
     out.resize(n, false);
+    // (a contact's normal row comes before its friction rows, its λ after all rows)
     for i in 0..n {
-        if role[i] == Role::Normal && q[i] == 0.0 && !out[i] {
-            out[i] = (0..n).all(|j| j == i || m[i * n + j] == 0.0 && m[j * n + i] == 0.0);
+        match role[i] {
+            Role::Normal if q[i] == 0.0 && !out[i] => out[i] = (0..n).all(|j| j == i || m[i * n + j] == 0.0 && m[j * n + i] == 0.0),
+            Role::Friction { normal, lambda, .. } => (out[i], out[lambda]) = (out[normal], out[normal]),
+            _ => {}
         }
     }
-    for i in 0..n {
-        if let Role::Friction { normal, lambda, .. } = role[i] {
-            out[i] = out[normal];
-            out[lambda] = out[normal];
-        }
+    if !out.contains(&true) {
+        cascade(n, m, q, role, warm, z, work, stats);
+        return true;
     }
     let mut sub = std::mem::take(&mut work.sub);
     sub.keep.clear();
     sub.keep.extend((0..n).filter(|&i| !out[i]));
     let k = sub.keep.len();
-    let solved = if k == n {
-        cascade(n, m, q, role, warm, z, work, stats);
-        true
-    } else {
+    let solved = {
         sub.gather(n, m, q, role, warm);
         let Subproblem { m: sm, q: sq, role: sr, warm: sw, z: sz, .. } = &mut sub;
         if k > 0 {

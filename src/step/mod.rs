@@ -308,8 +308,9 @@ enum Level {
 
 /// Assembles the LCP over all rows plus one λ per friction row and solves it into `data.force`.
 fn solve_rows(m: &Model, data: &mut Data, level: Level) {
-    let n = timed!(data, Stage::Lcp, lcp_vector(m, data, level));
-    let Some(n) = n else {
+    // q, and the rows the solve starts without
+    let n = timed!(data, Stage::Lcp, lcp_vector(m, data, level).map(|n| (n, leave_out(data, level, n))));
+    let Some((n, same_rows)) = n else {
         // every row already satisfied without force (a limit at rest, contacts separating):
         // f = 0 solves the LCP (a friction row's λ takes up its demand) and K is not needed
         data.stats.solves += 1;
@@ -317,7 +318,6 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
         record_warm(data, level);
         return;
     };
-    let same_rows = timed!(data, Stage::Lcp, leave_out(data, level, n));
     // K's columns for the rows kept; more when the answer pushes into a row left out
     loop {
         let Data { kin, aba, con, lcp_out, .. } = data;
