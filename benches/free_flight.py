@@ -5,6 +5,11 @@ with MuJoCo's `subtree_angmom` on each engine's states.
 - a two-link free body whose second link has two hinges with ±10° limits (Euler), random controls
   for 30 s, at three timesteps and in sinew's two constraint modes, beside MuJoCo;
 - gymnasium's humanoid (an RK4 model), random controls, limits on and off, beside MuJoCo;
+- the same humanoid switched to Euler (as sinew's constrained steps are), limits on, 10 s at three
+  timesteps in both constraint modes, beside MuJoCo's Euler;
+- the humanoid, RK4 and switched to Euler, limits on, 10 s: the change of angular momentum
+  summed over each kind of step (free of rows, with rows, with an impact solve), which shows the
+  drift coming from the first-order steps;
 - along the two-link body's acceleration-level trajectory (dt = 3e-3), each constrained step
   redone from the same state by velocity-level time stepping: how much angular momentum (along
   the current momentum) the acceleration-level step adds beyond it, for steps with and without an
@@ -101,6 +106,37 @@ def same_state(xml, seconds):
     return out
 
 
+def by_step_kind(xml, seconds):
+    """Along `seconds` of random controls: per kind of step (no rows, rows, rows and an impact
+    solve; a post-stabilisation projection marked), the count and the summed change of angular
+    momentum (a vector); and |L| at the end."""
+    mj = mujoco.MjModel.from_xml_string(xml)
+    measure = Momentum(mj)
+
+    def momentum(qpos, qvel):
+        measure(qpos, qvel)
+        return measure.d.subtree_angmom[1].copy()
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        m = sinew.Model.from_mjcf_string(xml).with_options(gravity=[0, 0, 0], contact=False)
+    sim = sinew.Sim(m)
+    rng = np.random.default_rng(1)
+    out = {}
+    for k in range(int(round(seconds / mj.opt.timestep))):
+        if k % 10 == 0:
+            sim.ctrl = rng.uniform(-1, 1, m.nu)
+        before, l0 = dict(sim.constraint_stats), momentum(sim.qpos, sim.qvel)
+        sim.step(1)
+        after = sim.constraint_stats
+        kind = ("with rows" if after["rows"] else "without rows") + (", impact solve" if after["impacts"] > before["impacts"] else "") \
+            + (", projected" if after["projections"] > before["projections"] else "")
+        row = out.setdefault(kind, [0, np.zeros(3)])
+        row[0] += 1
+        row[1] += momentum(sim.qpos, sim.qvel) - l0
+    return out, float(np.linalg.norm(momentum(sim.qpos, sim.qvel)))
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--out", default=None)
@@ -125,6 +161,26 @@ def main():
         ours, theirs = drift(m, mj, 33.0, 10)
         lines.append(f"| humanoid, 33 s | {mj.opt.timestep:g} | limits {'on' if limit else 'off'} | {ours} | {theirs} |")
         print(lines[-1], flush=True)
+    euler = open(path).read().replace('integrator="RK4"', 'integrator="Euler"')
+    for dt in (3e-3, 1e-3, 3e-4):
+        xml = euler.replace('timestep="0.003"', f'timestep="{dt}"')
+        mj = mujoco.MjModel.from_xml_string(xml)
+        mj.opt.gravity[:] = 0
+        mj.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT
+        for mode in ("acceleration", "velocity"):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                m = sinew.Model.from_mjcf_string(xml).with_options(gravity=[0, 0, 0], contact=False, constraint_mode=mode)
+            ours, theirs = drift(m, mj, 10.0, max(1, round(0.03 / dt)))
+            lines.append(f"| humanoid switched to Euler, 10 s | {dt:g} | limits on, {mode} | {ours} | {theirs} |")
+            print(lines[-1], flush=True)
+    lines += ["", "| humanoid, limits on, 10 s | kind of step | steps | Σ ΔL (vector) | \\|L\\| at the end |", "|---|---|---|---|---|"]
+    for integrator in ("RK4", "Euler"):
+        xml = open(path).read().replace('integrator="RK4"', f'integrator="{integrator}"')
+        kinds, end = by_step_kind(xml, 10.0)
+        for kind, (n, dl) in sorted(kinds.items()):
+            lines.append(f"| {integrator} | {kind} | {n} | ({dl[0]:+.2f}, {dl[1]:+.2f}, {dl[2]:+.2f}) | {end:.2f} |")
+            print(lines[-1], flush=True)
     lines += ["", "| two links, dt = 0.003, 20 s of constrained steps | steps | Σ (L_acceleration − L_velocity) · L̂ | max \\|Δq̇\\| |",
               "|---|---|---|---|"]
     for kind, (n, gain, dv) in same_state(TWO_LINK.format(dt=3e-3), 20.0).items():
