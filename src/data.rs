@@ -41,6 +41,8 @@ pub struct Data {
     pub lcp_role: Vec<crate::step::lcp::Role>,
     /// LCP variables left out of the solve (held at zero force) and of K.
     pub lcp_out: Vec<bool>,
+    /// Moving average of the solves with rows left out that had to bring one back.
+    pub regrow_rate: f64,
     /// Lemke tableau.
     pub lcp_work: LcpWork,
     /// Solver statistics.
@@ -85,6 +87,7 @@ impl Data {
             lcp_lambda: vec![],
             lcp_role: vec![],
             lcp_out: vec![],
+            regrow_rate: 0.0,
             lcp_work: LcpWork::default(),
             stats: LcpStats::default(),
             impacts: 0,
@@ -101,10 +104,11 @@ impl Data {
         }
     }
 
-    /// Forgets what the last steps leave for the next (friction tangents, the LCP's warm start,
-    /// cached kinematics, rows and forces), so that the next step is a fresh world's.
+    /// Forgets what the last steps leave for the next (friction tangents, the LCP's warm start and
+    /// regrow rate, cached kinematics, rows and forces), so that the next step is a fresh world's.
     pub fn forget_history(&mut self) {
         self.tangents.clear();
+        self.regrow_rate = 0.0;
         self.force.clear();
         self.con.clear();
         self.coll.forget();

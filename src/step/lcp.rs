@@ -80,6 +80,11 @@ struct Subproblem {
     role: Vec<Role>,
     warm: Vec<bool>,
     z: Vec<f64>,
+    /// After an answer that brought rows back: its active set and those rows, which warm-start
+    /// the next solve (the same problem with more rows kept); empty otherwise.
+    retry: Vec<bool>,
+    /// The normal rows the last answer brought back.
+    brought: Vec<usize>,
 }
 
 /// Relative regulariser added to the diagonal of the force rows.
@@ -246,12 +251,19 @@ pub fn residual(n: usize, m: &[f64], q: &[f64], z: &[f64], w: &mut Vec<f64>) -> 
 /// empty: nothing left out), holding the others at zero (module docs): a contact's friction rows
 /// and λ follow its normal, and a row nothing couples to with q = 0 (an inert row) is left out
 /// too. False when the answer pushed into a left-out normal: that row and its contact are then
-/// unmarked in `out`, their columns of M are needed, and the caller solves again (of this
-/// attempt, the statistics keep its pivots and count it in `regrown`).
+/// unmarked in `out` (every row, if this was already such a second solve), their columns of M
+/// are needed, and the caller solves again, which starts from this answer's active set plus the
+/// rows brought back (of this attempt, the statistics keep its pivots and count it in
+/// `regrown`).
 #[allow(clippy::too_many_arguments)]
 pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>, out: &mut Vec<bool>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) -> bool {
     let start = *stats;
     stats.solves += 1;
+    let mut sub = std::mem::take(&mut work.sub);
+    // a solve again after bringing rows back starts from the last answer's active set
+    let mut retry = std::mem::take(&mut sub.retry);
+    let retrying = retry.len() == n;
+    let warm = if retrying { Some(&retry[..]) } else { warm };
     out.resize(n, false);
     // (a contact's normal row comes before its friction rows, its λ after all rows)
     for i in 0..n {
@@ -263,9 +275,11 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]
     }
     if !out.contains(&true) {
         cascade(n, m, q, role, warm, z, work, stats);
+        retry.clear();
+        sub.retry = retry;
+        work.sub = sub;
         return true;
     }
-    let mut sub = std::mem::take(&mut work.sub);
     sub.keep.clear();
     sub.keep.extend((0..n).filter(|&i| !out[i]));
     let k = sub.keep.len();
@@ -281,6 +295,19 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]
         z[i] = sub.z[r];
     }
     let solved = !sub.bring_back(n, m, q, role, out, z);
+    if !solved && retrying {
+        // a second round: every row comes back (a pile of bodies can push one after another)
+        out.fill(false);
+    }
+    retry.clear();
+    if !solved {
+        // the answer's active set, and the normals brought back
+        retry.extend((0..n).map(|i| z[i] > 0.0));
+        for &i in &sub.brought {
+            retry[i] = true;
+        }
+    }
+    sub.retry = retry;
     if solved {
         stats.left_out += (n - k) as u64;
         // each left-out contact's λ: the least that keeps its friction rows' w ≥ 0
@@ -329,9 +356,9 @@ impl Subproblem {
     }
 
     /// Unmarks in `out` each left-out normal row, with its contact, whose w the answer `z` makes
-    /// negative (beyond round-off); whether there was one.
-    fn bring_back(&self, n: usize, m: &[f64], q: &[f64], role: &[Role], out: &mut [bool], z: &[f64]) -> bool {
-        let mut any = false;
+    /// negative (beyond round-off), listing them in `brought`; whether there was one.
+    fn bring_back(&mut self, n: usize, m: &[f64], q: &[f64], role: &[Role], out: &mut [bool], z: &[f64]) -> bool {
+        self.brought.clear();
         for i in 0..n {
             if !out[i] || role[i] != Role::Normal {
                 continue;
@@ -343,7 +370,7 @@ impl Subproblem {
             }
             if wi < -LEFT_OUT_TOLERANCE * scale || wi.is_nan() {
                 out[i] = false;
-                any = true;
+                self.brought.push(i);
             }
         }
         for i in 0..n {
@@ -354,7 +381,7 @@ impl Subproblem {
                 out[lambda] = false;
             }
         }
-        any
+        !self.brought.is_empty()
     }
 }
 
@@ -690,8 +717,9 @@ mod tests {
     #[test]
     fn leaving_out_separating_contacts_still_solves_the_whole_problem() {
         // the same problems with each contact whose normal q ≥ 0 left out at first (its friction
-        // rows and λ follow): the answer passes the whole problem's check, and some left-out
-        // contacts, pushed closed by the others, are brought back
+        // rows and λ follow): the answer passes the whole problem's check, some left-out
+        // contacts, pushed closed by the others, are brought back, and a solve again after that
+        // is settled by the warm start from the last answer at times
         let (mut work, mut stats) = (LcpWork::default(), LcpStats::default());
         for (trial, (n, m, q, role)) in random_pyramid_problems(400).into_iter().enumerate() {
             let mut out: Vec<bool> = (0..n).map(|i| role[i] == Role::Normal && q[i] >= 0.0).collect();
@@ -699,12 +727,40 @@ mod tests {
             let mut attempts = 0;
             while !solve(n, &m, &q, &role, None, &mut out, &mut z, &mut work, &mut stats) {
                 attempts += 1;
-                assert!(attempts <= n, "trial {trial}: more attempts than variables");
+                // a second bringing back brings back every row
+                assert!(attempts <= 2, "trial {trial}: a third solve was needed");
             }
             assert!(residual(n, &m, &q, &z, &mut work.w) <= ACCEPT_RESIDUAL, "trial {trial}: {stats:?}");
         }
         assert_eq!(stats.solves, 400, "{stats:?}");
-        assert!(stats.left_out > 100 && stats.regrown > 10, "{stats:?}");
+        assert!(stats.left_out > 100 && stats.regrown > 10 && stats.warm_starts > 0, "{stats:?}");
+    }
+
+    #[test]
+    fn a_second_bringing_back_brings_back_every_row() {
+        // a chain of four frictionless contacts, each pressing only on the next (K tridiagonal):
+        // the first one's force pushes the second closed, whose force pushes the third, and so
+        // on; all but the first start left out. The second bringing back keeps every row, so the
+        // third solve is the last
+        let n = 4;
+        let mut m = vec![0.0; n * n];
+        for i in 0..n {
+            m[i * n + i] = 1.0;
+            if i + 1 < n {
+                (m[i * n + i + 1], m[(i + 1) * n + i]) = (-0.5, -0.5);
+            }
+        }
+        let q = [-1.0, 0.1, 0.1, 0.1];
+        let role = [Role::Normal; 4];
+        let mut out = vec![false, true, true, true];
+        let (mut z, mut work, mut stats) = ([0.0; 4], LcpWork::default(), LcpStats::default());
+        let mut attempts = 1;
+        while !solve(n, &m, &q, &role, None, &mut out, &mut z, &mut work, &mut stats) {
+            attempts += 1;
+        }
+        assert_eq!((attempts, stats.regrown), (3, 2), "{stats:?}");
+        assert!(z.iter().all(|&f| f > 0.0), "{z:?}");
+        assert!(residual(n, &m, &q, &z, &mut work.w) < 1e-14);
     }
 
     #[test]

@@ -319,22 +319,42 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
         return;
     };
     // K's columns for the rows kept; more when the answer pushes into a row left out
+    let left_any = data.lcp_out.contains(&true);
+    let mut brought_back = false;
     loop {
         let Data { kin, aba, con, lcp_out, .. } = data;
         timed!(data, Stage::Assembly, constraint::responses(m, kin, aba, con, |k, _| !lcp_out[k]));
         if timed!(data, Stage::Lcp, lcp_matrix_and_solve(m, data, level, n, same_rows)) {
             break;
         }
+        brought_back = true;
     }
+    // how often leaving rows out has cost another solve lately: past MAX_REGROW_RATE (a pile of
+    // bodies, whose separating contacts the others keep pushing closed) nothing is left out,
+    // and the rate decays, so that leaving out is tried again later
+    data.regrow_rate = if left_any {
+        (1.0 - REGROW_MEMORY) * data.regrow_rate + REGROW_MEMORY * brought_back as u8 as f64
+    } else {
+        REGROW_DECAY * data.regrow_rate
+    };
 }
+
+/// Weight of the latest solve that left rows out in [`Data::regrow_rate`].
+const REGROW_MEMORY: f64 = 0.1;
+/// Decay of [`Data::regrow_rate`] per solve that left nothing out (from 1 to below
+/// [`MAX_REGROW_RATE`] in about 70 solves).
+const REGROW_DECAY: f64 = 0.99;
+/// Regrow rate above which a solve leaves nothing out.
+const MAX_REGROW_RATE: f64 = 0.5;
 
 /// Marks in `data.lcp_out` the variables the solve starts without: each contact whose q says the
 /// motion without its force separates it (q_n ≥ 0), with its friction rows and λ, unless it
 /// carried force in the warm set (it probably will again). A separating contact keeps no force
 /// unless others push it closed, which the solve checks; its test forces are then never pushed.
 /// Limit rows stay: contact forces push joints into their limits too often (leaving out those
-/// with q ≥ 0 brought one back in 40% of Ant's solves). Returns whether the rows are last step's
-/// (the warm set applies).
+/// with q ≥ 0 brought one back in 40% of Ant's solves). Nothing is left out while the recent
+/// share of solves that had to bring a contact back exceeds [`MAX_REGROW_RATE`]. Returns whether
+/// the rows are last step's (the warm set applies).
 fn leave_out(data: &mut Data, level: Level, n: usize) -> bool {
     let same_rows = level != Level::Velocity && {
         let w = &data.lcp_work.warm_rows;
@@ -343,6 +363,9 @@ fn leave_out(data: &mut Data, level: Level, n: usize) -> bool {
     let (con, q, warm, out) = (&data.con, &data.lcp_q, &data.lcp_work.warm, &mut data.lcp_out);
     out.clear();
     out.resize(n, false);
+    if data.regrow_rate > MAX_REGROW_RATE {
+        return same_rows;
+    }
     for j in 0..con.len() {
         match con.kind[j] {
             RowKind::Normal => out[j] = q[j] >= 0.0 && !(same_rows && warm[j]),
