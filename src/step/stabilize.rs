@@ -307,9 +307,10 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
         }
         post.p.clear();
         post.p.resize(k, 0.0);
-        // every variable is a normal row the solve keeps (or an inert one it leaves out), so one solve
+        // nothing is left out but rows nothing couples to, which cannot be brought back; were
+        // one, M is complete and the solve is simply repeated
         post.left_out.clear();
-        lcp::solve(k, &post.m, &post.gap, &post.role, None, &mut post.left_out, &mut post.p, &mut post.work, stats);
+        while !lcp::solve(k, &post.m, &post.gap, &post.role, None, &mut post.left_out, &mut post.p, &mut post.work, stats) {}
         post.dq.fill(0.0);
         for a in 0..k {
             let p = post.p[a];
