@@ -12,8 +12,8 @@
 //!
 //! Before any of that, rows the caller expects to need no force are left out: the step marks
 //! each contact whose q says the motion without its force separates it (a contact the step's
-//! reach found, or one lifting off), and the solver adds inert rows (nothing couples to them and
-//! q = 0). The cascade solves the principal subproblem without them (a contact's friction rows
+//! reach found, or one lifting off), and each inert row (K_jj ≈ 0, made w = z with q = 0). The
+//! cascade solves the principal subproblem without them (a contact's friction rows
 //! and λ go with its normal); a left-out normal whose w the answer makes negative is brought back
 //! and the caller solves again. The answer solves the whole LCP: a left-out row has z = 0 and
 //! w ≥ 0, its friction rows z = 0 and the λ that keeps their w ≥ 0, and no λ reaches a row
@@ -248,9 +248,8 @@ pub fn residual(n: usize, m: &[f64], q: &[f64], z: &[f64], w: &mut Vec<f64>) -> 
 }
 
 /// Solves the LCP on the variables not marked in `out` (which the caller sizes to n or leaves
-/// empty: nothing left out), holding the others at zero (module docs): a contact's friction rows
-/// and λ follow its normal, and a row nothing couples to with q = 0 (an inert row) is left out
-/// too. False when the answer pushed into a left-out normal: that row and its contact are then
+/// empty: nothing left out), holding the others at zero (module docs); a contact's friction rows
+/// and λ follow its normal. False when the answer pushed into a left-out normal: that row and its contact are then
 /// unmarked in `out` (every row, if this was already such a second solve), their columns of M
 /// are needed, and the caller solves again, which starts from this answer's active set plus the
 /// rows brought back (of this attempt, the statistics keep its pivots and count it in
@@ -265,12 +264,9 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]
     let retrying = retry.len() == n;
     let warm = if retrying { Some(&retry[..]) } else { warm };
     out.resize(n, false);
-    // (a contact's normal row comes before its friction rows, its λ after all rows)
     for i in 0..n {
-        match role[i] {
-            Role::Normal if q[i] == 0.0 && !out[i] => out[i] = (0..n).all(|j| j == i || m[i * n + j] == 0.0 && m[j * n + i] == 0.0),
-            Role::Friction { normal, lambda, .. } => (out[i], out[lambda]) = (out[normal], out[normal]),
-            _ => {}
+        if let Role::Friction { normal, lambda, .. } = role[i] {
+            (out[i], out[lambda]) = (out[normal], out[normal]);
         }
     }
     if !out.contains(&true) {

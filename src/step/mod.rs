@@ -472,16 +472,16 @@ fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: usize, same
     data.lcp_role.resize(n, lcp::Role::Lambda);
     let (mm, q) = (&mut data.lcp_m, &mut data.lcp_q);
     // a row no force can move (K_jj ≈ 0: the out-of-plane friction of a planar model) carries no
-    // force; left in, it makes the LCP degenerate. Decoupled (w = z, q = 0), the solve leaves it
-    // out. Rows whose K column is not computed are left out and read only as rows
+    // force; left in, it makes the LCP degenerate, so the solve leaves it out (w = z, q = 0).
+    // Rows whose K column is not computed are left out already and read only as rows
     let done = &con.column_done;
     let k_max = (0..nr).filter(|&j| done[j]).map(|j| con.k[j * nr + j]).fold(0.0, f64::max);
-    let inert = |j: usize| done[j] && con.k[j * nr + j] <= INERT_ROW * k_max;
     for j in 0..nr {
-        if inert(j) {
+        if done[j] && con.k[j * nr + j] <= INERT_ROW * k_max {
             mm[j * n + j] = 1.0;
             q[j] = 0.0;
             data.lcp_role[j] = lcp::Role::Normal;
+            data.lcp_out[j] = true;
             continue;
         }
         mm[j * n..j * n + nr].copy_from_slice(&con.k[j * nr..(j + 1) * nr]);
@@ -511,12 +511,6 @@ fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: usize, same
             }
             _ => data.lcp_role[j] = lcp::Role::Normal,
         }
-    }
-    for j in (0..nr).filter(|&j| inert(j)) {
-        for k in 0..nr {
-            mm[k * n + j] = 0.0;
-        }
-        mm[j * n + j] = 1.0;
     }
     // warm start: the rows are the same contacts, features and limits as last step's
     let warm = std::mem::take(&mut data.lcp_work.warm);

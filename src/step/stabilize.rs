@@ -307,8 +307,8 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
         }
         post.p.clear();
         post.p.resize(k, 0.0);
-        // nothing is left out but rows nothing couples to, which cannot be brought back; were
-        // one, M is complete and the solve is simply repeated
+        // nothing is left out, so one solve; were rows brought back, M is complete and the solve
+        // is simply repeated
         post.left_out.clear();
         while !lcp::solve(k, &post.m, &post.gap, &post.role, None, &mut post.left_out, &mut post.p, &mut post.work, stats) {}
         post.dq.fill(0.0);
