@@ -38,16 +38,20 @@ TWO_LINK = """<mujoco><option gravity="0 0 0" timestep="{dt}"/><worldbody>
 
 
 class Momentum:
-    """|angular momentum| of the whole tree about its com, by MuJoCo, at a (qpos, qvel)."""
+    """Angular momentum of the whole tree about its com, by MuJoCo, at a (qpos, qvel): its
+    magnitude (a call) or the vector (`vector`)."""
 
     def __init__(self, mj):
         self.m, self.d = mj, mujoco.MjData(mj)
 
-    def __call__(self, qpos, qvel):
+    def vector(self, qpos, qvel):
         self.d.qpos[:], self.d.qvel[:] = qpos, qvel
         mujoco.mj_forward(self.m, self.d)
         mujoco.mj_subtreeVel(self.m, self.d)
-        return float(np.linalg.norm(self.d.subtree_angmom[1]))
+        return self.d.subtree_angmom[1].copy()
+
+    def __call__(self, qpos, qvel):
+        return float(np.linalg.norm(self.vector(qpos, qvel)))
 
 
 def drift(sinew_model, mj, seconds, every):
@@ -78,12 +82,7 @@ def same_state(xml, seconds):
     count, the summed difference of the end angular momenta along the start's, and the largest
     difference of end velocities."""
     mj = mujoco.MjModel.from_xml_string(xml)
-    measure = Momentum(mj)
-    d = measure.d
-
-    def momentum(qpos, qvel):
-        measure(qpos, qvel)
-        return d.subtree_angmom[1].copy()
+    momentum = Momentum(mj).vector
 
     m = sinew.Model.from_mjcf_string(xml)
     sim, probe = sinew.Sim(m), sinew.Sim(m.with_options(constraint_mode="velocity"))
@@ -111,11 +110,7 @@ def by_step_kind(xml, seconds):
     solve; a post-stabilisation projection marked), the count and the summed change of angular
     momentum (a vector); and |L| at the end."""
     mj = mujoco.MjModel.from_xml_string(xml)
-    measure = Momentum(mj)
-
-    def momentum(qpos, qvel):
-        measure(qpos, qvel)
-        return measure.d.subtree_angmom[1].copy()
+    momentum = Momentum(mj).vector
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
