@@ -352,7 +352,7 @@ const MAX_REGROW_RATE: f64 = 0.5;
 /// carried force in the warm set (it probably will again). A separating contact keeps no force
 /// unless others push it closed, which the solve checks; its test forces are then never pushed.
 /// Limit rows stay: contact forces push joints into their limits too often (leaving out those
-/// with q ≥ 0 too made Ant's steps slower). Nothing is left out while the recent
+/// with q ≥ 0 too had many brought back on Ant, for no gain). Nothing is left out while the recent
 /// share of solves that had to bring a contact back exceeds [`MAX_REGROW_RATE`]. Returns whether
 /// the rows are last step's (the warm set applies).
 fn leave_out(data: &mut Data, level: Level, n: usize) -> bool {
