@@ -113,7 +113,7 @@ impl Batch {
             .iter()
             .map(|&s| {
                 let mut d = Data::new(&model);
-                d.rng = mix_seed(s);
+                d.history.rng = mix_seed(s);
                 d
             })
             .collect();
@@ -148,8 +148,8 @@ impl Batch {
 
     /// Re-seeds world `i`'s random stream.
     pub fn seed(&mut self, i: usize, seed: u64) {
-        self.data[i].rng = mix_seed(seed);
-        self.data[i].tangents.clear();
+        self.data[i].history.rng = mix_seed(seed);
+        self.data[i].history.tangents.clear();
     }
 
     /// Advances the active worlds `n` steps in parallel, then writes their sensor outputs and, with

@@ -41,8 +41,6 @@ pub struct Data {
     pub lcp_role: Vec<crate::step::lcp::Role>,
     /// LCP variables left out of the solve (held at zero force) and of K.
     pub lcp_out: Vec<bool>,
-    /// Moving average of the solves with rows left out that had to bring one back.
-    pub regrow_rate: f64,
     /// Lemke tableau.
     pub lcp_work: LcpWork,
     /// Solver statistics.
@@ -53,8 +51,8 @@ pub struct Data {
     pub limit_forced: Vec<bool>,
     /// Post-stabilisation scratch and counters.
     pub post: StabilizeData,
-    /// Friction tangents of the last step, keyed by (geom1, geom2, feature).
-    pub tangents: Vec<((usize, usize, usize), DVec3)>,
+    /// What the next step reads from the steps before it.
+    pub history: History,
     /// Tangents being recorded this step.
     pub tangents_next: Vec<((usize, usize, usize), DVec3)>,
     /// Trajectory feed-forward for motion control: reference velocities then accelerations (2 × nu).
@@ -63,8 +61,6 @@ pub struct Data {
     pub root_com: Vec<(DVec3, f64)>,
     /// Per-node spatial forces, scratch for `sensors` (nnode).
     pub node_force: Vec<crate::math::Force>,
-    /// SplitMix64 state of this world's random tangents.
-    pub rng: u64,
     /// Nanoseconds spent per pipeline stage, in [`crate::step::Stage`] order.
     #[cfg(feature = "stage-timing")]
     pub stage_ns: [u64; crate::step::STAGES],
@@ -87,33 +83,176 @@ impl Data {
             lcp_lambda: vec![],
             lcp_role: vec![],
             lcp_out: vec![],
-            regrow_rate: 0.0,
             lcp_work: LcpWork::default(),
             stats: LcpStats::default(),
             impacts: 0,
             limit_forced: vec![false; 2 * m.njnt],
             post: StabilizeData::new(m),
-            tangents: vec![],
+            history: History::new(),
             tangents_next: vec![],
             feedforward: vec![0.0; 2 * m.nu],
             root_com: vec![(DVec3::ZERO, 0.0); m.nbody],
             node_force: vec![crate::math::Force::ZERO; m.nnode],
-            rng: 0x5EED,
             #[cfg(feature = "stage-timing")]
             stage_ns: [0; crate::step::STAGES],
         }
     }
 
     /// Forgets what the last steps leave for the next (friction tangents, the LCP's warm start and
-    /// regrow rate, cached kinematics, rows and forces), so that the next step is a fresh world's.
+    /// regrow rate, cached kinematics, rows and forces), so that the next step is a fresh world's;
+    /// the random stream runs on.
     pub fn forget_history(&mut self) {
-        self.tangents.clear();
-        self.regrow_rate = 0.0;
+        let h = &mut self.history;
+        h.tangents.clear();
+        h.warm.clear();
+        h.warm_rows.clear();
+        h.regrow_rate = 0.0;
+        self.forget_scratch();
+    }
+
+    /// Makes `history` what the next step reads (the rest of the scratch is forgotten), so that a
+    /// world given the state and history of another steps exactly as that one does.
+    pub fn restore_history(&mut self, history: &History) {
+        self.history.clone_from(history);
+        self.forget_scratch();
+    }
+
+    /// Drops the rows, forces, contacts and cached kinematics of the last step.
+    fn forget_scratch(&mut self) {
         self.force.clear();
         self.con.clear();
         self.coll.forget();
-        self.lcp_work.warm.clear();
-        self.lcp_work.warm_rows.clear();
         self.post.forget();
+    }
+}
+
+/// What a step reads from the steps before it besides time, qpos, qvel and ctrl: the seed's
+/// persistent friction tangents (Kokkevis 2004, §8.1), the LCP's warm start (as MuJoCo's
+/// `qacc_warmstart`) and how often leaving rows out failed lately, and the random stream. With the
+/// state it makes a step's result bit-exact.
+#[derive(Debug, PartialEq)]
+pub struct History {
+    /// Friction tangent of each contact of the last step, keyed by (geom1, geom2, feature).
+    pub tangents: Vec<((usize, usize, usize), DVec3)>,
+    /// Active set of the last accepted acceleration-level (or time-stepping) solve.
+    pub warm: Vec<bool>,
+    /// Identity of the rows `warm` belongs to (kind, and contact or joint: `step::row_key`).
+    pub warm_rows: Vec<(u8, usize, usize, usize, usize)>,
+    /// Moving average of the solves with rows left out that had to bring one back.
+    pub regrow_rate: f64,
+    /// SplitMix64 state of this world's random tangents.
+    pub rng: u64,
+}
+
+impl History {
+    /// A new world's: nothing kept, the default random stream.
+    pub fn new() -> Self {
+        History { tangents: vec![], warm: vec![], warm_rows: vec![], regrow_rate: 0.0, rng: 0x5EED }
+    }
+}
+
+/// Numbers a tangent takes in [`History::to_flat`]: geom1, geom2, feature, then the vector.
+const TANGENT_LEN: usize = 6;
+/// Numbers a warm-start row's identity takes in [`History::to_flat`].
+const ROW_KEY_LEN: usize = 5;
+/// Integers in a flat history are below this (exact in f64).
+const FLAT_INT_MAX: f64 = 9_007_199_254_740_992.0;
+
+impl History {
+    /// Appends the history as float64 numbers (every integer exact): regrow rate, the random
+    /// state as two 32-bit halves, the tangent count T and T × (geom1, geom2, feature, t_x, t_y,
+    /// t_z), the warm start's variable count W and W activities (0 or 1; rows, then their λ),
+    /// and its row count R and R × (kind, three indices and a side).
+    pub fn to_flat(&self, out: &mut Vec<f64>) {
+        out.extend([self.regrow_rate, (self.rng >> 32) as f64, (self.rng & 0xFFFF_FFFF) as f64]);
+        out.push(self.tangents.len() as f64);
+        for &((g1, g2, feature), t) in &self.tangents {
+            out.extend([g1 as f64, g2 as f64, feature as f64, t.x, t.y, t.z]);
+        }
+        out.push(self.warm.len() as f64);
+        out.extend(self.warm.iter().map(|&a| a as u8 as f64));
+        out.push(self.warm_rows.len() as f64);
+        for &(kind, a, b, c, d) in &self.warm_rows {
+            out.extend([kind as f64, a as f64, b as f64, c as f64, d as f64]);
+        }
+    }
+
+    /// Reads what [`History::to_flat`] wrote, checking every number (`ngeom` bounds the tangents'
+    /// geoms); an error names the first that is wrong.
+    pub fn from_flat(v: &[f64], ngeom: usize) -> crate::Result<History> {
+        let bad = |what: String| crate::Error::Input(format!("history: {what}"));
+        let int = |i: usize, what: &str, max: f64| -> crate::Result<u64> {
+            let x = *v.get(i).ok_or_else(|| bad(format!("ends at element {i}, where {what} was expected")))?;
+            if x.fract() != 0.0 || !(0.0..max).contains(&x) {
+                return Err(bad(format!("{what} (element {i}) is {x}, not an integer in [0, {max})")));
+            }
+            Ok(x as u64)
+        };
+        let regrow_rate = *v.first().ok_or_else(|| bad("is empty".into()))?;
+        if !(0.0..=1.0).contains(&regrow_rate) {
+            return Err(bad(format!("regrow rate (element 0) is {regrow_rate}, not in [0, 1]")));
+        }
+        let rng = (int(1, "random state, high half", 4_294_967_296.0)? << 32) | int(2, "random state, low half", 4_294_967_296.0)?;
+        let mut at = 3;
+        let nt = int(at, "tangent count", FLAT_INT_MAX)? as usize;
+        at += 1;
+        let mut tangents = Vec::with_capacity(nt.min(v.len()));
+        for _ in 0..nt {
+            if v.len() < at + TANGENT_LEN {
+                return Err(bad(format!("ends at element {}, inside a tangent", v.len())));
+            }
+            let g = (int(at, "tangent geom1", ngeom as f64)?, int(at + 1, "tangent geom2", ngeom as f64)?, int(at + 2, "tangent feature", FLAT_INT_MAX)?);
+            let t = DVec3::new(v[at + 3], v[at + 4], v[at + 5]);
+            if !t.is_finite() || (t.length() - 1.0).abs() > 1e-9 {
+                return Err(bad(format!("tangent at element {} is {t}, not a unit vector", at + 3)));
+            }
+            tangents.push(((g.0 as usize, g.1 as usize, g.2 as usize), t));
+            at += TANGENT_LEN;
+        }
+        let nw = int(at, "warm-start variable count", FLAT_INT_MAX)? as usize;
+        at += 1;
+        let mut warm = Vec::with_capacity(nw.min(v.len()));
+        for _ in 0..nw {
+            warm.push(int(at, "warm-start activity", 2.0)? == 1);
+            at += 1;
+        }
+        let nr = int(at, "warm-start row count", FLAT_INT_MAX)? as usize;
+        at += 1;
+        if nr > nw {
+            return Err(bad(format!("warm-start row count {nr} exceeds its variable count {nw}")));
+        }
+        let mut warm_rows = Vec::with_capacity(nr);
+        for _ in 0..nr {
+            let key = [0, 1, 2, 3, 4].map(|k| int(at + k, "warm-start row identity", if k == 0 { 3.0 } else { FLAT_INT_MAX }));
+            let [kind, a, b, c, d] = key;
+            warm_rows.push((kind? as u8, a? as usize, b? as usize, c? as usize, d? as usize));
+            at += ROW_KEY_LEN;
+        }
+        if at != v.len() {
+            return Err(bad(format!("has {} numbers, {} more than its counts say", v.len(), v.len() - at)));
+        }
+        Ok(History { tangents, warm, warm_rows, regrow_rate, rng })
+    }
+}
+
+impl Clone for History {
+    fn clone(&self) -> Self {
+        let mut h = History::new();
+        h.clone_from(self);
+        h
+    }
+
+    /// Field by field, keeping the buffers' capacity (a derived `clone_from` reallocates).
+    fn clone_from(&mut self, from: &Self) {
+        self.tangents.clone_from(&from.tangents);
+        self.warm.clone_from(&from.warm);
+        self.warm_rows.clone_from(&from.warm_rows);
+        (self.regrow_rate, self.rng) = (from.regrow_rate, from.rng);
+    }
+}
+
+impl Default for History {
+    fn default() -> Self {
+        History::new()
     }
 }

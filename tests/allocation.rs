@@ -73,7 +73,7 @@ fn run(m: &Model, s: &mut State, steps: usize) {
     s.qpos.copy_from_slice(&m.qpos0);
     s.qvel.fill(0.0);
     s.data.forget_history();
-    s.data.rng = 7;
+    s.data.history.rng = 7;
     let mut x: u64 = 3;
     for k in 0..steps {
         if k % 10 == 0 {

@@ -6,10 +6,11 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use super::errors::{checked_values, diverged, first_nonfinite};
+use super::errors::{as_f64, checked_values, diverged, first_nonfinite, to_py};
 use super::model::PyModel;
 use crate::model::Model;
 use crate::step::kinematics;
+use crate::data::History;
 use crate::Data;
 
 use crate::batch::out_of_range;
@@ -25,6 +26,8 @@ pub struct PySim {
     ctrl: Py<PyArray1<f64>>,
     qacc: Py<PyArray1<f64>>,
     time: f64,
+    /// The history at the start of the running `step` call, restored if it diverges.
+    saved: History,
 }
 
 /// First state entry that is non-finite or beyond `MAX_STATE`, as (array name, index, value).
@@ -60,6 +63,7 @@ impl PySim {
             ctrl: PyArray1::zeros(py, m.nu, false).unbind(),
             qacc: PyArray1::zeros(py, m.nv, false).unbind(),
             time: 0.0,
+            saved: History::new(),
             py_model: model.unbind(),
             model: m,
         }
@@ -147,7 +151,8 @@ impl PySim {
     }
 
     /// Advances `n` steps inside Rust (GIL released). If the state becomes non-finite or exceeds
-    /// 1e10, the world is restored to where this call began and `SimulationError` is raised.
+    /// 1e10, the world (state and history) is restored to where this call began and
+    /// `SimulationError` is raised.
     #[pyo3(signature = (n=1))]
     fn step(&mut self, py: Python<'_>, n: usize) -> PyResult<()> {
         self.check_inputs(py)?;
@@ -157,6 +162,7 @@ impl PySim {
             (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readonly());
         let (qpos, qvel, ctrl) = (qpos.as_slice_mut()?, qvel.as_slice_mut()?, ctrl.as_slice()?);
         let start = (qpos.to_vec(), qvel.to_vec(), self.time);
+        self.saved.clone_from(&data.history);
         let mut time = self.time;
         let failure = py.detach(|| {
             for k in 0..n {
@@ -172,6 +178,7 @@ impl PySim {
             qpos.copy_from_slice(&start.0);
             qvel.copy_from_slice(&start.1);
             self.time = start.2;
+            data.restore_history(&self.saved);
             return Err(diverged(format!(
                 "simulation diverged at t={t:.6} s (step {} of {n}): {name}[{i}] = {v}; state restored to t={:.6} s",
                 k + 1,
@@ -194,37 +201,65 @@ impl PySim {
         Ok(())
     }
 
-    /// Back to qpos0, zero velocity, zero control, time 0, with nothing kept from earlier steps
-    /// (friction tangents, the LCP warm start): it then steps exactly as a new Sim.
+    /// Back to qpos0, zero velocity, zero control and feed-forward, time 0, with nothing kept from
+    /// earlier steps (friction tangents, the LCP warm start, the random stream): it then steps
+    /// exactly as a new Sim.
     fn reset(&mut self, py: Python<'_>) -> PyResult<()> {
         self.qpos.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&self.model.qpos0);
         self.qvel.bind(py).readwrite().as_slice_mut()?.fill(0.0);
         self.ctrl.bind(py).readwrite().as_slice_mut()?.fill(0.0);
         self.qacc.bind(py).readwrite().as_slice_mut()?.fill(0.0);
         self.time = 0.0;
-        self.data.forget_history();
+        self.data.feedforward.fill(0.0);
+        self.data.restore_history(&History::new());
         Ok(())
     }
 
-    /// The full state as one float64 array: [time, qpos (nq), qvel (nv), ctrl (nu)].
-    fn get_state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    /// The state as one float64 array: [time, qpos (nq), qvel (nv), ctrl (nu)], MuJoCo's
+    /// integration state. `full=True` appends the trajectory feed-forward (2 nu) and the history
+    /// the next step reads (friction tangents, the LCP's warm start, the random stream:
+    /// `Data::History`), so that a Sim given it steps bit-identically to this one.
+    #[pyo3(signature = (full=false))]
+    fn get_state<'py>(&self, py: Python<'py>, full: bool) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let mut v = Vec::with_capacity(1 + self.model.nq + self.model.nv + self.model.nu);
         v.push(self.time);
         v.extend_from_slice(self.qpos.bind(py).readonly().as_slice()?);
         v.extend_from_slice(self.qvel.bind(py).readonly().as_slice()?);
         v.extend_from_slice(self.ctrl.bind(py).readonly().as_slice()?);
+        if full {
+            v.extend_from_slice(&self.data.feedforward);
+            self.data.history.to_flat(&mut v);
+        }
         Ok(PyArray1::from_vec(py, v))
     }
 
-    /// Restores a state from `get_state`, bit-exactly. Wrong length or non-finite entries raise
-    /// ValueError and leave the world untouched.
+    /// Restores a state from `get_state`, bit-exactly. A full state (`get_state(full=True)`)
+    /// restores the history too, and the Sim then steps exactly as the one it came from; the
+    /// short one leaves no history (and zero feed-forward), and the Sim steps as a new Sim given
+    /// that state. Bad length or entries raise ValueError and leave the world untouched.
     fn set_state(&mut self, py: Python<'_>, state: Bound<'_, PyAny>) -> PyResult<()> {
         let (nq, nv, nu) = (self.model.nq, self.model.nv, self.model.nu);
-        let v = checked_values(&state, "state", &[1 + nq + nv + nu])?;
+        let short = 1 + nq + nv + nu;
+        let len = as_f64(&state, "state")?.len()?;
+        if len != short && len < short + 2 * nu + 5 {
+            return Err(PyValueError::new_err(format!(
+                "state: expected shape [{short}] (time, qpos, qvel, ctrl) or a full state from get_state(full=True), got length {len}"
+            )));
+        }
+        let v = checked_values(&state, "state", &[len])?;
+        let history = match len == short {
+            true => History::new(),
+            false => History::from_flat(&v[short + 2 * nu..], self.model.ngeom).map_err(|e| to_py(py, e))?,
+        };
         self.time = v[0];
         self.qpos.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&v[1..1 + nq]);
         self.qvel.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&v[1 + nq..1 + nq + nv]);
-        self.ctrl.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&v[1 + nq + nv..]);
+        self.ctrl.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&v[1 + nq + nv..short]);
+        match len == short {
+            true => self.data.feedforward.fill(0.0),
+            false => self.data.feedforward.copy_from_slice(&v[short..short + 2 * nu]),
+        }
+        self.data.restore_history(&history);
         Ok(())
     }
 

@@ -50,10 +50,6 @@ pub struct LcpStats {
 #[derive(Clone, Debug, Default)]
 pub struct LcpWork {
     tab: Vec<f64>,
-    /// Active set of the last accepted acceleration-level solution, and the rows it belongs to.
-    pub warm: Vec<bool>,
-    /// Row signature (kind, source, direction) the warm set belongs to.
-    pub warm_rows: Vec<(u8, usize, usize, usize, usize)>,
     basis: Vec<usize>,
     /// Tableau column of each variable (usize::MAX while basic).
     column: Vec<usize>,

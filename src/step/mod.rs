@@ -212,7 +212,8 @@ fn missed_limits(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool
 }
 
 fn build_rows(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) {
-    let Data { kin, aba, coll, con, tangents, tangents_next, rng, feedforward, qacc, limit_forced, .. } = data;
+    let Data { kin, aba, coll, con, history, tangents_next, feedforward, qacc, limit_forced, .. } = data;
+    let crate::data::History { tangents, rng, .. } = history;
     tangents_next.clear();
     let h = m.opt.timestep;
     constraint::rows(
@@ -332,16 +333,16 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
     // how often leaving rows out has cost another solve lately: past MAX_REGROW_RATE (a pile of
     // bodies, whose separating contacts the others keep pushing closed) nothing is left out,
     // and the rate decays, so that leaving out is tried again later
-    data.regrow_rate = if left_any {
-        (1.0 - REGROW_MEMORY) * data.regrow_rate + REGROW_MEMORY * brought_back as u8 as f64
+    data.history.regrow_rate = if left_any {
+        (1.0 - REGROW_MEMORY) * data.history.regrow_rate + REGROW_MEMORY * brought_back as u8 as f64
     } else {
-        REGROW_DECAY * data.regrow_rate
+        REGROW_DECAY * data.history.regrow_rate
     };
 }
 
-/// Weight of the latest solve that left rows out in [`Data::regrow_rate`].
+/// Weight of the latest solve that left rows out in [`crate::data::History::regrow_rate`].
 const REGROW_MEMORY: f64 = 0.1;
-/// Decay of [`Data::regrow_rate`] per solve that left nothing out (from 1 to below
+/// Decay of [`crate::data::History::regrow_rate`] per solve that left nothing out (from 1 to below
 /// [`MAX_REGROW_RATE`] in about 70 solves).
 const REGROW_DECAY: f64 = 0.99;
 /// Regrow rate above which a solve leaves nothing out.
@@ -357,13 +358,13 @@ const MAX_REGROW_RATE: f64 = 0.5;
 /// the rows are last step's (the warm set applies).
 fn leave_out(data: &mut Data, level: Level, n: usize) -> bool {
     let same_rows = level != Level::Velocity && {
-        let w = &data.lcp_work.warm_rows;
+        let w = &data.history.warm_rows;
         w.len() == data.con.len() && (0..w.len()).all(|j| w[j] == row_key(data, j))
     };
-    let (con, q, warm, out) = (&data.con, &data.lcp_q, &data.lcp_work.warm, &mut data.lcp_out);
+    let (con, q, warm, out) = (&data.con, &data.lcp_q, &data.history.warm, &mut data.lcp_out);
     out.clear();
     out.resize(n, false);
-    if data.regrow_rate > MAX_REGROW_RATE {
+    if data.history.regrow_rate > MAX_REGROW_RATE {
         return same_rows;
     }
     for j in 0..con.len() {
@@ -513,9 +514,8 @@ fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: usize, same
         }
     }
     // warm start: the rows are the same contacts, features and limits as last step's
-    let warm = std::mem::take(&mut data.lcp_work.warm);
-    let solved = lcp::solve(n, &data.lcp_m, &data.lcp_q, &data.lcp_role, same_rows.then_some(&warm[..]), &mut data.lcp_out, &mut data.force, &mut data.lcp_work, &mut data.stats);
-    data.lcp_work.warm = warm;
+    let warm = same_rows.then_some(&data.history.warm[..]);
+    let solved = lcp::solve(n, &data.lcp_m, &data.lcp_q, &data.lcp_role, warm, &mut data.lcp_out, &mut data.force, &mut data.lcp_work, &mut data.stats);
     if solved {
         record_warm(data, level);
     }
@@ -526,12 +526,12 @@ fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: usize, same
 /// warm start.
 fn record_warm(data: &mut Data, level: Level) {
     if level != Level::Velocity {
-        data.lcp_work.warm.clear();
-        data.lcp_work.warm.extend(data.force.iter().map(|&f| f > 0.0));
-        data.lcp_work.warm_rows.clear();
+        data.history.warm.clear();
+        data.history.warm.extend(data.force.iter().map(|&f| f > 0.0));
+        data.history.warm_rows.clear();
         for j in 0..data.con.len() {
             let key = row_key(data, j);
-            data.lcp_work.warm_rows.push(key);
+            data.history.warm_rows.push(key);
         }
     }
 }

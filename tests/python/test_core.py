@@ -76,6 +76,74 @@ def test_state_round_trips_bit_exactly():
     assert np.array_equal(sim.get_state(), after)
 
 
+def ant_on_its_floor(steps, seed=1):
+    """An Ant with pyramid friction under random controls, after `steps` steps: persisting
+    contacts, tangents and warm starts in its history."""
+    m = sinew.Model.from_mjcf(gym_model_path("ant")).with_options(friction="pyramid")
+    sim = sinew.Sim(m)
+    drive(sim, steps, seed)
+    return m, sim
+
+
+def drive(sim, steps, seed):
+    rng = np.random.default_rng(seed)
+    for _ in range(steps // 5):
+        sim.ctrl[:] = rng.uniform(-1, 1, size=sim.model.nu)
+        sim.step(5)
+
+
+def test_full_state_steps_exactly_as_the_sim_it_came_from():
+    m, sim = ant_on_its_floor(200)
+    full = sim.get_state(full=True)
+    short = 1 + m.nq + m.nv + m.nu
+    tangents = int(full[short + 2 * m.nu + 3])
+    assert tangents > 0, "the ant stands on its feet: its contacts keep friction tangents"
+    assert np.array_equal(full[:short], sim.get_state())
+    drive(sim, 300, seed=2)
+    copy = sinew.Sim(m)
+    copy.set_state(full)
+    assert np.array_equal(copy.get_state(full=True), full)
+    drive(copy, 300, seed=2)
+    np.testing.assert_array_equal(copy.get_state(full=True), sim.get_state(full=True))
+
+
+def test_a_short_state_steps_as_a_new_sim_given_it():
+    m, sim = ant_on_its_floor(200)
+    state = sim.get_state()
+    sim.set_state(state)
+    new = sinew.Sim(m)
+    new.set_state(state)
+    assert np.array_equal(sim.get_state(full=True), new.get_state(full=True))
+    drive(sim, 300, seed=2)
+    drive(new, 300, seed=2)
+    np.testing.assert_array_equal(sim.get_state(full=True), new.get_state(full=True))
+
+
+def test_a_bad_history_is_a_value_error_naming_it():
+    m, sim = ant_on_its_floor(100)
+    full = sim.get_state(full=True)
+    h = 1 + m.nq + m.nv + 3 * m.nu  # where the history starts
+    assert int(full[h + 3]) > 0
+    first = h + 4  # the first tangent: geom1, geom2, feature, t
+    cases = {
+        "regrow rate": (h, 2.0),
+        "random state": (h + 1, 0.5),
+        "tangent count": (h + 3, -1.0),
+        "geom1": (first, float(m.ngeom)),
+        "unit vector": (first + 3, 3.0),
+    }
+    for what, (i, value) in cases.items():
+        bad = full.copy()
+        bad[i] = value
+        with pytest.raises(ValueError, match=what):
+            sim.set_state(bad)
+    with pytest.raises(ValueError, match="more than its counts"):
+        sim.set_state(np.append(full, 0.0))
+    with pytest.raises(ValueError, match="ends at element|inside a tangent"):
+        sim.set_state(full[: first + 4])
+    assert np.array_equal(sim.get_state(full=True), full)
+
+
 def test_reset_restores_reference():
     sim = sinew.Sim(sinew.Model.from_mjcf_string(PENDULUM))
     sim.qvel[:] = 3
