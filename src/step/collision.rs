@@ -80,6 +80,9 @@ pub struct CollisionData {
     /// Whether `geom_reach[g]` includes geom g's own bound: it is computed for the geoms of the
     /// pairs that the shared bound does not settle.
     own_reach: Vec<bool>,
+    /// The geoms off the world body, each with whether it is [`fixed`] (a plane): the ones
+    /// [`begin`] resets.
+    moving: Vec<(usize, bool)>,
     /// Bound on the speed of any point of each geom at the end of the step (ngeom).
     pub geom_speed_end: Vec<f64>,
     /// Per [`crate::model::GapPair`]: a lower bound on the distance between its geoms at
@@ -121,7 +124,9 @@ impl CollisionData {
             posed: (0..m.ngeom).map(|g| m.geom_body[g] == 0).collect(),
             group_apart: vec![false; m.plane_groups.len()],
             geom_reach: vec![0.0; m.ngeom],
-            own_reach: vec![false; m.ngeom],
+            // a fixed geom's bound is 0 for good
+            own_reach: (0..m.ngeom).map(|g| fixed(m, g)).collect(),
+            moving: (0..m.ngeom).filter(|&g| m.geom_body[g] != 0).map(|g| (g, fixed(m, g))).collect(),
             geom_speed_end: vec![0.0; m.ngeom],
             pair_gap: vec![f64::NEG_INFINITY; m.gap_pairs.len()],
             qpos_gap: m.qpos0.clone(),
@@ -207,17 +212,18 @@ fn begin(m: &Model, kin: &KinData, out: &mut CollisionData, reach: f64) -> Optio
     }
     judge_groups(m, kin, out, reach);
     let all_apart = out.group_apart.iter().all(|&a| a);
-    for g in 0..m.ngeom {
-        let fixed = fixed(m, g);
-        out.geom_reach[g] = if fixed { 0.0 } else { reach };
-        out.own_reach[g] = fixed;
-        // world geoms stay posed from the start
-        if m.geom_body[g] != 0 {
-            out.axes_posed[g] = false;
-            out.posed[g] = false;
-            if !all_apart {
-                pose(m, kin, out, g);
-            }
+    // world geoms stay posed from the start, and fixed geoms keep the bound 0
+    for &(g, fixed) in &out.moving {
+        if !fixed {
+            out.geom_reach[g] = reach;
+            out.own_reach[g] = false;
+        }
+        out.axes_posed[g] = false;
+        out.posed[g] = false;
+    }
+    if !all_apart {
+        for k in 0..out.moving.len() {
+            pose(m, kin, out, out.moving[k].0);
         }
     }
     Some(all_apart)
@@ -356,15 +362,18 @@ fn travel(m: &Model, qpos: &[f64], out: &mut CollisionData) -> f64 {
         // joints come in body order
         while j < m.njnt && m.jnt_body[j] == b {
             let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
-            let (q, last) = (&qpos[qa..], &out.qpos_gap[qa..]);
+            let last = &out.qpos_gap;
             let angle = |k: usize| {
-                let r = quat_wxyz(&last[k..k + 4]).conjugate() * quat_wxyz(&q[k..k + 4]);
+                let r = quat_wxyz(&last[k..k + 4]).conjugate() * quat_wxyz(&qpos[k..k + 4]);
                 2.0 * r.xyz().length().atan2(r.w.abs())
             };
             t += match m.jnt_type[j] {
-                JointType::Hinge | JointType::Slide => m.dof_arm[da] * (q[0] - last[0]).abs(),
-                JointType::Ball => m.dof_arm[da] * angle(0),
-                JointType::Free => DVec3::new(q[0] - last[0], q[1] - last[1], q[2] - last[2]).length() + m.dof_arm[da + 3] * angle(3),
+                JointType::Hinge | JointType::Slide => m.dof_arm[da] * (qpos[qa] - last[qa]).abs(),
+                JointType::Ball => m.dof_arm[da] * angle(qa),
+                JointType::Free => {
+                    let moved = DVec3::new(qpos[qa] - last[qa], qpos[qa + 1] - last[qa + 1], qpos[qa + 2] - last[qa + 2]);
+                    moved.length() + m.dof_arm[da + 3] * angle(qa + 3)
+                }
             };
             j += 1;
         }
