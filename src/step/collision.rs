@@ -98,6 +98,10 @@ pub struct CollisionData {
     /// Whether every gap pair's common ancestor is below the world, so that the joints above a
     /// child of the world move both its geoms alike.
     gaps_within_trees: bool,
+    /// (qpos address, arm) of each joint that can move a gap pair's geoms relative to each other
+    /// (with `gaps_within_trees`, those below the children of the world), when all are hinges or
+    /// slides: [`quick_travel`] then bounds how far the gaps shrank in one pass over them.
+    quick_arms: Option<Vec<(usize, f64)>>,
     /// Whether `pair_gap` less `shrink` bounds the distances at the configuration of the last
     /// detection (which keeps the gaps only while every plane group is apart).
     gaps_current: bool,
@@ -133,6 +137,7 @@ impl CollisionData {
             body_travel: vec![0.0; m.nbody],
             top_travel: vec![0.0; m.nbody],
             gaps_within_trees: m.gap_pairs.iter().all(|gp| gp.ancestor != 0),
+            quick_arms: quick_arms(m, m.gap_pairs.iter().all(|gp| gp.ancestor != 0)),
             gaps_current: false,
             least_slack: f64::NEG_INFINITY,
             shrink: 0.0,
@@ -294,7 +299,8 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f6
         // the margin is at most p.margin + 2 shared: a larger gap spares the test
         let spare = 2.0 * shared + GAP_TOLERANCE;
         if !m.gap_pairs.is_empty() {
-            let shrink = travel(m, qpos, out);
+            let quick = quick_travel(qpos, out);
+            let shrink = if out.least_slack - quick > spare { quick } else { travel(m, qpos, out) };
             if out.least_slack - shrink > spare {
                 // every gap pair settled at once; the gaps stay those of `qpos_gap`
                 out.shrink = shrink;
@@ -387,6 +393,24 @@ fn travel(m: &Model, qpos: &[f64], out: &mut CollisionData) -> f64 {
     }
     // NaN (an unbounded arm times no change) is no bound
     if unbounded { f64::INFINITY } else { 2.0 * most }
+}
+
+/// The joints [`quick_travel`] sums over, or None when one of them is a ball or free joint.
+fn quick_arms(m: &Model, within_trees: bool) -> Option<Vec<(usize, f64)>> {
+    let counted = (0..m.njnt).filter(|&j| !(within_trees && m.body_parent[m.jnt_body[j]] == 0));
+    counted
+        .map(|j| matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide).then(|| (m.jnt_qposadr[j], m.dof_arm[m.jnt_dofadr[j]])))
+        .collect()
+}
+
+/// A bound on how much any gap shrank since `qpos_gap`, without the bodies' travel: Σ arm |Δq|
+/// over [`CollisionData::quick_arms`] (a pair's distance changes only through the joints on the
+/// paths from its common ancestor to its two bodies, disjoint sets among them); ∞ when there is
+/// no such list.
+fn quick_travel(qpos: &[f64], out: &CollisionData) -> f64 {
+    let Some(arms) = &out.quick_arms else { return f64::INFINITY };
+    let s: f64 = arms.iter().map(|&(qa, arm)| arm * (qpos[qa] - out.qpos_gap[qa]).abs()).sum();
+    if s.is_nan() { f64::INFINITY } else { s }
 }
 
 /// Collision pair k while every plane group is apart: its geoms posed and bounded as needed, the
