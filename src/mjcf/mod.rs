@@ -150,6 +150,8 @@ pub struct GeomSpec {
     pub conaffinity: u32,
     /// Contact dimensionality (1 = frictionless, 3 = sliding friction).
     pub condim: u32,
+    /// Contact priority: the higher geom of a pair sets its condim and friction (MuJoCo's rule).
+    pub priority: i32,
     /// Contact detection margin.
     pub margin: f64,
     /// Source line.

@@ -34,7 +34,7 @@ const JOINT_ATTRS: &[&str] = &[
 ];
 const GEOM_ATTRS: &[&str] = &[
     "name", "class", "type", "size", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "fromto", "density",
-    "mass", "friction", "contype", "conaffinity", "condim", "margin",
+    "mass", "friction", "contype", "conaffinity", "condim", "priority", "margin",
 ];
 const SITE_ATTRS: &[&str] =
     &["name", "class", "type", "size", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "fromto"];
@@ -45,7 +45,7 @@ const INERTIAL_ATTRS: &[&str] =
     &["pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "mass", "diaginertia", "fullinertia"];
 /// Visual and soft-constraint attributes: accepted, no effect on sinew's exact constraints.
 const IGNORED: &[&str] = &[
-    "rgba", "material", "group", "user", "solref", "solimp", "solmix", "solreflimit", "solimplimit", "priority",
+    "rgba", "material", "group", "user", "solref", "solimp", "solmix", "solreflimit", "solimplimit",
     "gap",
 ];
 /// Attributes that change MuJoCo's physics but are not modelled; non-default values give a warning.
@@ -189,6 +189,12 @@ impl<'a, 'd> El<'a, 'd> {
         match self.get(name) {
             None => Ok(default),
             Some(v) => v.trim().parse().map_err(|_| self.err(name, format!("'{v}' is not a non-negative integer"))),
+        }
+    }
+    fn int(&self, name: &str, default: i32) -> Result<i32> {
+        match self.get(name) {
+            None => Ok(default),
+            Some(v) => v.trim().parse().map_err(|_| self.err(name, format!("'{v}' is not an integer"))),
         }
     }
     /// `true`/`false`/`auto` → Some(bool) or None for auto.
@@ -649,6 +655,7 @@ impl<'d> Parser<'d> {
             contype: e.uint("contype", 1)?,
             conaffinity: e.uint("conaffinity", 1)?,
             condim,
+            priority: e.int("priority", 0)?,
             margin: e.nonneg("margin", 0.0)?,
             line: e.line,
         })

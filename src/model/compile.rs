@@ -115,6 +115,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         geom_contype: vec![],
         geom_conaffinity: vec![],
         geom_condim: vec![],
+        geom_priority: vec![],
         geom_margin: vec![],
         site_name: vec![],
         site_body: vec![],
@@ -232,6 +233,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
             m.geom_contype.push(g.contype);
             m.geom_conaffinity.push(g.conaffinity);
             m.geom_condim.push(g.condim);
+            m.geom_priority.push(g.priority);
             m.geom_margin.push(g.margin);
         }
         for s in &body.sites {

@@ -286,6 +286,9 @@ pub struct Model {
     pub geom_conaffinity: Vec<u32>,
     /// Contact dimensionality (ngeom).
     pub geom_condim: Vec<u32>,
+    /// Contact priority (ngeom): a pair takes the higher geom's condim and friction, the larger
+    /// of each at equal priority.
+    pub geom_priority: Vec<i32>,
     /// Contact margin (ngeom).
     pub geom_margin: Vec<f64>,
 

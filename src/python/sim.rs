@@ -299,6 +299,38 @@ impl PySim {
         Ok(out)
     }
 
+    /// The constraint system a step from the current state starts with, computed afresh at it
+    /// (the world and its history are untouched): a dict of `kind` (per row: "normal",
+    /// "friction", "limit" or "motion"), `J` (rows × nv), `K` (rows × rows, every column by unit
+    /// test forces through the articulated-body quantities), `b` (rows,) and `M` (nv × nv, the
+    /// CRBA inertia K is built with: M + h × joint damping, which the constrained step treats
+    /// implicitly), so that K = J M⁻¹ Jᵀ.
+    fn constraint_system<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        use crate::step::constraint::RowKind;
+        self.check_inputs(py)?;
+        let m = &*self.model;
+        let (qpos, qvel, ctrl) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly());
+        let sys = crate::step::constraint_system(m, &self.data, qpos.as_slice()?, qvel.as_slice()?, ctrl.as_slice()?);
+        let nr = sys.kind.len();
+        let d = pyo3::types::PyDict::new(py);
+        let kinds: Vec<&str> = sys
+            .kind
+            .iter()
+            .map(|k| match k {
+                RowKind::Normal => "normal",
+                RowKind::Tangent { .. } => "friction",
+                RowKind::Limit => "limit",
+                RowKind::Motion { .. } => "motion",
+            })
+            .collect();
+        d.set_item("kind", kinds)?;
+        d.set_item("J", PyArray1::from_vec(py, sys.jac).reshape([nr, m.nv])?)?;
+        d.set_item("K", PyArray1::from_vec(py, sys.k).reshape([nr, nr])?)?;
+        d.set_item("b", PyArray1::from_vec(py, sys.b))?;
+        d.set_item("M", PyArray1::from_vec(py, sys.inertia).reshape([m.nv, m.nv])?)?;
+        Ok(d)
+    }
+
     /// Constraint statistics: rows of the last step, LCP solves, pivots, warm starts, regularised
     /// retries, fallbacks, rows left out of solves as separating (summed) and times one was brought
     /// back, residual, impacts, post-stabilisation projections.

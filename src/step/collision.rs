@@ -628,14 +628,25 @@ fn shape(m: &Model, cd: &CollisionData, g: usize) -> Shape {
     }
 }
 
+/// The sliding friction coefficient of a contact between geoms i and j, and whether it has
+/// friction (condim > 1), as MuJoCo combines them: the higher-priority geom's, else the larger of
+/// each (a condim-1 foot on a condim-3 floor has friction).
+pub fn contact_friction(m: &Model, i: usize, j: usize) -> (f64, bool) {
+    let (mu, condim) = match m.geom_priority[i].cmp(&m.geom_priority[j]) {
+        std::cmp::Ordering::Greater => (m.geom_friction[i][0], m.geom_condim[i]),
+        std::cmp::Ordering::Less => (m.geom_friction[j][0], m.geom_condim[j]),
+        std::cmp::Ordering::Equal => (m.geom_friction[i][0].max(m.geom_friction[j][0]), m.geom_condim[i].max(m.geom_condim[j])),
+    };
+    (mu, condim > 1)
+}
+
 /// Narrowphase of geoms i and j: appends the contacts within `margin`. Returns the distance
 /// between the geoms where a pair of spheres and capsules gives it exactly, else −∞.
 fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, i: usize, j: usize, margin: f64) -> f64 {
     pose_axes(m, kin, cd, i);
     pose_axes(m, kin, cd, j);
     let (si, sj) = (shape(m, cd, i), shape(m, cd, j));
-    let mu = m.geom_friction[i][0].max(m.geom_friction[j][0]);
-    let friction = m.geom_condim[i] > 1 && m.geom_condim[j] > 1;
+    let (mu, friction) = contact_friction(m, i, j);
     let add = |cd: &mut CollisionData, g1: usize, g2: usize, feature: usize, pos: DVec3, normal: DVec3, dist: f64| {
         let c = Contact { geom1: g1, geom2: g2, feature, pos, normal, dist, mu, friction };
         if dist > margin || repeats_joint_contact(m, &cd.contacts, &c) {

@@ -362,6 +362,31 @@ pub fn rows(
     }
 }
 
+/// J of the rows (rows × nv, row-major): each row's velocity per unit joint velocity, the row's
+/// spatial forces `jac` read against the motion subspaces of the nodes from each side's node to
+/// the root (a row's velocity is Σ_sides v_node · jac).
+pub fn dense_jacobian(m: &Model, kin: &KinData, out: &ConstraintData) -> Vec<f64> {
+    let nv = m.nv;
+    let mut jm = vec![0.0; out.len() * nv];
+    for j in 0..out.len() {
+        let row = &mut jm[j * nv..(j + 1) * nv];
+        if !out.kind[j].is_contact() {
+            row[out.dof[j].0] = out.dof[j].1;
+            continue;
+        }
+        for side in 0..2 {
+            let mut n = out.node[j][side];
+            while n != WORLD {
+                for r in 0..m.node_nv[n] {
+                    row[m.node_dofadr[n] + r] += kin.s[n][r].dot(&out.jac[j][side]);
+                }
+                n = m.node_parent[n];
+            }
+        }
+    }
+    jm
+}
+
 /// Desired acceleration of actuator a's joint: q̈^d = q̈_ref + kd (q̇_ref − q̇) + kp (q_ref − q).
 #[allow(clippy::too_many_arguments)]
 fn motion_target(m: &Model, a: usize, kp: f64, kd: f64, qpos: &[f64], qvel: &[f64], ctrl: &[f64], feedforward: &[f64]) -> f64 {

@@ -177,6 +177,43 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
     *time += h;
 }
 
+/// The constraint system a step from (qpos, qvel, ctrl) starts with, for inspection (MuJoCo's
+/// `efc_J` and `efc_AR` are the like), at that configuration (leapfrog's step would use its
+/// midpoint's).
+#[derive(Clone, Debug)]
+pub struct ConstraintSystem {
+    /// Row kinds.
+    pub kind: Vec<RowKind>,
+    /// J (rows × nv, row-major): each row's velocity per unit q̇.
+    pub jac: Vec<f64>,
+    /// K (rows × rows, row-major), every column by test forces: each row's acceleration per unit
+    /// force of each row.
+    pub k: Vec<f64>,
+    /// b: each row's acceleration without constraint force.
+    pub b: Vec<f64>,
+    /// The joint-space inertia K is built with (nv × nv, CRBA): M, plus h times the joint damping,
+    /// which the constrained step treats implicitly (K = J (M + h B)⁻¹ Jᵀ).
+    pub inertia: Vec<f64>,
+}
+
+/// Stages 1–5 of [`step`] on a copy of `data` (the world and its history are untouched): the
+/// rows of the state and their J, K and b.
+pub fn constraint_system(m: &Model, data: &Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) -> ConstraintSystem {
+    let mut d = data.clone();
+    let h = m.opt.timestep;
+    kinematics::forward(m, qpos, qvel, &mut d.kin);
+    // the constrained step's dynamics: damping implicit over the step, whatever the integrator
+    dynamics(m, &mut d, qpos, qvel, ctrl, h);
+    collision::collide(m, &d.kin, &d.aba, qpos, qvel, &d.qacc, &mut d.coll);
+    build_rows(m, &mut d, qpos, qvel, ctrl);
+    constraint::assemble(m, &d.kin, &d.aba, &d.qacc, &mut d.con);
+    let mut inertia = crate::dynamics::crba::crba(m, &d.kin);
+    for (k, damping) in m.dof_damping.iter().enumerate() {
+        inertia[k * m.nv + k] += h * damping;
+    }
+    ConstraintSystem { kind: d.con.kind.clone(), jac: constraint::dense_jacobian(m, &d.kin, &d.con), k: d.con.k.clone(), b: d.con.b.clone(), inertia }
+}
+
 /// Appends to the contacts those the step's final velocities q̇ + h q̈ can reach but the first
 /// detection's margin did not cover.
 fn missed_contacts(m: &Model, data: &mut Data, qvel: &[f64]) -> bool {

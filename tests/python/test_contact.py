@@ -155,6 +155,58 @@ def test_gym_models_with_floors_hold_contacts_and_limits_under_random_actions(na
         assert sim.constraint_stats["left_out"] > 0 and sim.constraint_stats["regrown"] > 0
 
 
+@pytest.mark.parametrize("name", ["hopper", "walker2d_v5", "half_cheetah", "ant", "humanoid"])
+def test_test_force_k_equals_j_minv_jt_on_the_gym_models(name):
+    """At states of a random-control run on the floor with contacts, friction and limits: K by
+    unit test forces through the ABA quantities equals J M⁻¹ Jᵀ from CRBA (≤ 1e-9 of K's
+    largest entry; M there includes h × damping, which the step treats implicitly), and that M
+    less h × damping is MuJoCo's mj_fullM at the same qpos (≤ 1e-9 relative)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        m = sinew.Model.from_mjcf(gym_model_path(name)).with_options(friction="pyramid")
+    mj = mujoco.MjModel.from_xml_path(gym_model_path(name))
+    mjd = mujoco.MjData(mj)
+    sim = sinew.Sim(m)
+    rng = np.random.default_rng(3)
+    lo, hi = m.actuator_ctrlrange.T
+    kinds_seen = set()
+    checked = 0
+    for k in range(int(3.0 / m.timestep)):
+        if k % 5 == 0:
+            sim.ctrl[:] = rng.uniform(lo, hi)
+        sim.step()
+        if k % 25:
+            continue
+        system = sim.constraint_system()
+        K, J, M = system["K"], system["J"], system["M"]
+        if "normal" not in system["kind"]:
+            continue
+        kinds_seen.update(system["kind"])
+        scale = np.abs(K).max()
+        np.testing.assert_array_less(np.abs(K - J @ np.linalg.solve(M, J.T)), 1e-9 * scale)
+        mjd.qpos[:] = sim.qpos
+        mujoco.mj_forward(mj, mjd)
+        full = np.zeros((mj.nv, mj.nv))
+        mujoco.mj_fullM(mj, mjd, full)
+        rigid = M - m.timestep * np.diag(mj.dof_damping)
+        np.testing.assert_array_less(np.abs(rigid - full), 1e-9 * np.abs(full).max())
+        checked += 1
+    assert checked >= 5
+    assert {"normal", "friction"} <= kinds_seen, kinds_seen
+
+
+def test_constraint_system_leaves_the_world_alone():
+    m = sinew.Model.from_mjcf_string(BOX.format(dt=0.002))
+    a, b = sinew.Sim(m), sinew.Sim(m)
+    a.step(20)
+    b.step(20)
+    system = a.constraint_system()
+    assert system["kind"][0] == "normal" and system["J"].shape == (len(system["kind"]), m.nv)
+    a.step(50)
+    b.step(50)
+    np.testing.assert_array_equal(a.get_state(full=True), b.get_state(full=True))
+
+
 @pytest.mark.parametrize("mode", ["acceleration", "velocity"])
 @pytest.mark.parametrize("dt", [0.002, 0.01])
 def test_painleve_rod_ends_finite_without_gaining_energy(mode, dt):

@@ -91,3 +91,32 @@ def test_planar_model_gets_in_plane_friction_rows_only(dt):
     assert sim.constraint_stats["rows"] == 3 * len(contacts)
     assert np.abs(sim.qpos - start).max() < 1e-6
     assert all(abs(c["friction_force"][1]) < 1e-12 for c in contacts)
+
+
+@pytest.mark.parametrize(
+    "box, floor, slides",
+    [
+        ('condim="1"', 'condim="3"', False),  # the larger condim: friction, as a hopper's foot on its floor
+        ('condim="3"', 'condim="1"', False),
+        ('condim="1"', 'condim="1"', True),
+        ('condim="3" priority="-1"', 'condim="1"', True),  # the higher-priority geom decides
+        ('condim="1" priority="2"', 'condim="3" friction="2"', True),
+    ],
+)
+def test_contact_friction_combines_condim_and_priority_as_mujoco(box, floor, slides):
+    """A box launched at 2 m/s along a floor: it slides on where the pair is frictionless, stops
+    where it has friction; MuJoCo's own contact dimension for the same pair agrees."""
+    import mujoco
+
+    xml = f"""<mujoco><option timestep="0.002"/><worldbody>
+    <geom name="floor" type="plane" size="50 50 .1" {floor}/>
+    <body pos="0 0 0.1"><freejoint/><geom name="box" type="box" size="0.1 0.1 0.1" {box}/></body>
+    </worldbody></mujoco>"""
+    sim = sinew.Sim(sinew.Model.from_mjcf_string(xml))
+    sim.qvel[0] = 2.0
+    sim.step(1000)
+    assert (sim.qvel[0] > 1.99) == slides, sim.qvel[0]
+    mj = mujoco.MjModel.from_xml_string(xml)
+    d = mujoco.MjData(mj)
+    mujoco.mj_forward(mj, d)
+    assert d.ncon > 0 and (d.contact.dim[0] == 1) == slides
