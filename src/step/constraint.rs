@@ -496,8 +496,9 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
         }
     }
     delta_pass(m, kin, aba, dtau, &mut out.dpa, &mut out.du, &mut out.da, &mut out.dqdd[k * nv..(k + 1) * nv]);
+    // K is symmetric (J M⁻¹ Jᵀ): the rows whose columns are done hold this column's entries
     for j in 0..nr {
-        out.k[j * nr + k] = measure(m, kin, out, j, Measure::Delta { col: k });
+        out.k[j * nr + k] = if out.column_done[j] { out.k[k * nr + j] } else { measure(m, kin, out, j, Measure::Delta { col: k }) };
     }
     out.column_done[k] = true;
 }
