@@ -643,6 +643,13 @@ impl<'d> Parser<'d> {
         if ![1, 3, 4, 6].contains(&condim) {
             return Err(e.err("condim", format!("must be 1, 3, 4 or 6, got {condim}")));
         }
+        if condim > 3 {
+            self.warnings.borrow_mut().push(format!(
+                "<geom> '{}' at line {}: condim={condim} asks for torsional or rolling friction, which sinew does not model (sliding friction only, as condim=3)",
+                e.str("name"),
+                e.line
+            ));
+        }
         Ok(GeomSpec {
             name: e.str("name").to_string(),
             kind,

@@ -247,17 +247,15 @@ impl PySim {
             )));
         }
         let v = checked_values(&state, "state", &[len])?;
-        let history = match len == short {
-            true => History::new(),
-            false => History::from_flat(&v[short + 2 * nu..], self.model.ngeom).map_err(|e| to_py(py, e))?,
-        };
+        let history = if len == short { History::new() } else { History::from_flat(&v[short + 2 * nu..], self.model.ngeom).map_err(|e| to_py(py, e))? };
         self.time = v[0];
         self.qpos.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&v[1..1 + nq]);
         self.qvel.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&v[1 + nq..1 + nq + nv]);
         self.ctrl.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&v[1 + nq + nv..short]);
-        match len == short {
-            true => self.data.feedforward.fill(0.0),
-            false => self.data.feedforward.copy_from_slice(&v[short..short + 2 * nu]),
+        if len == short {
+            self.data.feedforward.fill(0.0);
+        } else {
+            self.data.feedforward.copy_from_slice(&v[short..short + 2 * nu]);
         }
         self.data.restore_history(&history);
         Ok(())
