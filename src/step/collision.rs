@@ -6,7 +6,8 @@
 //! Cylinders collide as capsules of the same radius and half-length, ellipsoids as spheres of their
 //! largest semi-axis (documented approximations). Filtering follows MuJoCo: contype/conaffinity
 //! bits, no contact within a body or between a body and its parent (unless the parent is the
-//! world), `<exclude>` pairs. Friction is the maximum of the pair's, as MuJoCo's default.
+//! world), `<exclude>` pairs. A contact's friction and condim are MuJoCo's: the higher-priority
+//! geom's, else the larger of each.
 //!
 //! The broadphase has two levels. First a world plane is tested against the sphere that holds a
 //! whole subtree of the world's child (`Model::plane_groups`), decided with one O(nv) bound on how
@@ -18,8 +19,11 @@
 //! for sphere and capsule pairs, the exact one at its last test), lowered at each detection by how
 //! far the joints below the two geoms' common ancestor have moved them since (each joint's arm
 //! times its change of position); while the gap exceeds the largest margin the pair can have, the
-//! pair is not tested. When the least gap exceeds that margin by twice the largest travel below a
-//! child of the world, every pair is settled at once and the gaps are kept as they were. A scene
+//! pair is not tested. When the least gap exceeds that margin by a bound on how far the joints
+//! moved any pair (one pass over the hinges and slides below the children of the world where those
+//! are all the joints there, else twice the largest travel below such a child), every pair is
+//! settled at once and the gaps are kept as they were. Poses and bounds are flagged with the
+//! number of the detection they belong to, so a new detection forgets them by counting. A scene
 //! whose floor is far and whose limbs are apart costs a few bounds per step.
 //!
 //! Detection is speculative: a pair within its margin plus the distance its geoms can cover in one
@@ -60,29 +64,32 @@ pub struct Contact {
 /// World poses of all geoms, the pairs' gaps, and the contact list.
 #[derive(Clone, Debug, Default)]
 pub struct CollisionData {
-    /// Geom axes in world (ngeom); a moving geom's are current only where `axes_posed` says so.
+    /// Geom axes in world (ngeom); a moving geom's are current only where `axes_at` says so.
     pub geom_xmat: Vec<DMat3>,
-    /// Whether `geom_xmat[g]` is that of this configuration: the narrowphase poses the axes of
-    /// the geoms it tests, so pairs the broadphase rejects cost no rotation.
-    pub axes_posed: Vec<bool>,
-    /// Geom centre in world (ngeom); a moving geom's is current only where `posed` says so.
+    /// The detection (`stamp`) `geom_xmat[g]` was posed in (u64::MAX: a world geom, posed for
+    /// good): the narrowphase poses the axes of the geoms it tests, so pairs the broadphase
+    /// rejects cost no rotation.
+    axes_at: Vec<u64>,
+    /// Geom centre in world (ngeom); a moving geom's is current only where `posed_at` says so.
     pub geom_xpos: Vec<DVec3>,
-    /// Whether `geom_xpos[g]` (and a plane's axes) is that of this configuration: while every
-    /// plane group is apart, geoms are posed only for the pairs tested.
-    posed: Vec<bool>,
+    /// The detection `geom_xpos[g]` (and a plane's axes) was posed in: while every plane group is
+    /// apart, geoms are posed only for the pairs tested.
+    posed_at: Vec<u64>,
+    /// Number of the current detection: a flag of the last one is forgotten by counting, not by
+    /// clearing every geom's.
+    stamp: u64,
     /// Per [`crate::model::PlaneGroup`]: whether its subtree is apart from its plane.
     group_apart: Vec<bool>,
-    /// Bound on how far any point of each geom can move within the step, from its speed and
-    /// constraint-free acceleration (ngeom), for speculative detection: the smaller of the bound
-    /// shared by all moving geoms and the geom's own where `own_reach` says so, else the shared
-    /// one.
-    pub geom_reach: Vec<f64>,
-    /// Whether `geom_reach[g]` includes geom g's own bound: it is computed for the geoms of the
-    /// pairs that the shared bound does not settle.
-    own_reach: Vec<bool>,
-    /// The geoms off the world body, each with whether it is [`fixed`] (a plane): the ones
-    /// [`begin`] resets.
-    moving: Vec<(usize, bool)>,
+    /// Geom g's own bound on how far any of its points can move within the step, from its speed
+    /// and constraint-free acceleration (ngeom), taken with the bound shared by all moving geoms
+    /// (the smaller): current where `reach_at` says so, else `shared_reach` holds ([`reach`]).
+    /// Fixed geoms: 0.
+    geom_reach: Vec<f64>,
+    /// The detection `geom_reach[g]` was computed in (u64::MAX: a fixed geom): it is computed for
+    /// the geoms of the pairs that the shared bound does not settle.
+    reach_at: Vec<u64>,
+    /// The bound shared by all moving geoms in the current detection.
+    shared_reach: f64,
     /// Bound on the speed of any point of each geom at the end of the step (ngeom).
     pub geom_speed_end: Vec<f64>,
     /// Per [`crate::model::GapPair`]: a lower bound on the distance between its geoms at
@@ -123,14 +130,15 @@ impl CollisionData {
         CollisionData {
             // world geoms never move: their poses are set here once (the world frame is the identity)
             geom_xmat: m.geom_mat.clone(),
-            axes_posed: (0..m.ngeom).map(|g| m.geom_body[g] == 0).collect(),
+            axes_at: (0..m.ngeom).map(|g| if m.geom_body[g] == 0 { u64::MAX } else { 0 }).collect(),
             geom_xpos: m.geom_pos.clone(),
-            posed: (0..m.ngeom).map(|g| m.geom_body[g] == 0).collect(),
+            posed_at: (0..m.ngeom).map(|g| if m.geom_body[g] == 0 { u64::MAX } else { 0 }).collect(),
+            stamp: 0,
             group_apart: vec![false; m.plane_groups.len()],
             geom_reach: vec![0.0; m.ngeom],
             // a fixed geom's bound is 0 for good
-            own_reach: (0..m.ngeom).map(|g| fixed(m, g)).collect(),
-            moving: (0..m.ngeom).filter(|&g| m.geom_body[g] != 0).map(|g| (g, fixed(m, g))).collect(),
+            reach_at: (0..m.ngeom).map(|g| if fixed(m, g) { u64::MAX } else { 0 }).collect(),
+            shared_reach: 0.0,
             geom_speed_end: vec![0.0; m.ngeom],
             pair_gap: vec![f64::NEG_INFINITY; m.gap_pairs.len()],
             qpos_gap: m.qpos0.clone(),
@@ -205,33 +213,55 @@ pub fn geom_pair(m: &Model, i: usize, j: usize) -> GeomPair {
     GeomPair { g1: i, g2: j, test, margin, radii }
 }
 
-/// Clears the contacts and, when the model has pairs to test, decides the plane groups with
-/// `reach` (see [`judge_groups`]) and gives every moving geom the bound `reach`. Unless every
-/// group is apart it poses all moving geoms; else none (they are posed as pairs need them). None
-/// when there is nothing to test, else whether every group is apart.
+/// Clears the contacts and, when the model has pairs to test, starts a detection: decides the
+/// plane groups with `reach` (see [`judge_groups`]), which becomes every moving geom's bound, and
+/// forgets the last detection's poses and bounds (by its `stamp`). Unless every group is apart it
+/// poses all moving geoms; else none (they are posed as pairs need them). None when there is
+/// nothing to test, else whether every group is apart.
 fn begin(m: &Model, kin: &KinData, out: &mut CollisionData, reach: f64) -> Option<bool> {
     out.contacts.clear();
     out.gap_skips = 0;
     if !m.opt.contact || m.collision_pairs.is_empty() {
         return None;
     }
+    out.stamp += 1;
+    out.shared_reach = reach;
     judge_groups(m, kin, out, reach);
     let all_apart = out.group_apart.iter().all(|&a| a);
-    // world geoms stay posed from the start, and fixed geoms keep the bound 0
-    for &(g, fixed) in &out.moving {
-        if !fixed {
-            out.geom_reach[g] = reach;
-            out.own_reach[g] = false;
-        }
-        out.axes_posed[g] = false;
-        out.posed[g] = false;
-    }
     if !all_apart {
-        for k in 0..out.moving.len() {
-            pose(m, kin, out, out.moving[k].0);
+        for g in (0..m.ngeom).filter(|&g| m.geom_body[g] != 0) {
+            pose(m, kin, out, g);
         }
     }
     Some(all_apart)
+}
+
+/// Whether geom g's centre (and a plane's axes) is posed for the current detection.
+#[inline(always)]
+fn posed(cd: &CollisionData, g: usize) -> bool {
+    cd.posed_at[g] >= cd.stamp
+}
+
+/// Whether geom g's own bound is in [`CollisionData::geom_reach`] for the current detection.
+#[inline(always)]
+fn has_own_reach(cd: &CollisionData, g: usize) -> bool {
+    cd.reach_at[g] >= cd.stamp
+}
+
+/// Geom g's bound on how far its points move within the step: its own where computed, else the
+/// shared one.
+#[inline(always)]
+fn reach(cd: &CollisionData, g: usize) -> f64 {
+    if has_own_reach(cd, g) { cd.geom_reach[g] } else { cd.shared_reach }
+}
+
+/// Computes geom g's own bound (with the shared one) unless it already is.
+#[inline(always)]
+fn own_reach_of(m: &Model, kin: &KinData, aba: &AbaData, cd: &mut CollisionData, g: usize) {
+    if !has_own_reach(cd, g) {
+        cd.geom_reach[g] = cd.shared_reach.min(own_reach(m, kin, aba, cd, g));
+        cd.reach_at[g] = cd.stamp;
+    }
 }
 
 /// Decides each plane group: apart when its subtree's sphere stays farther above the plane than
@@ -249,7 +279,7 @@ fn pose(m: &Model, kin: &KinData, cd: &mut CollisionData, g: usize) {
     let b = m.geom_body[g];
     cd.geom_xpos[g] = kin.xpos[b] + kin.xmat[b] * m.geom_pos[g];
     pose_plane(m, kin, cd, g);
-    cd.posed[g] = true;
+    cd.posed_at[g] = cd.stamp;
 }
 
 /// The broadphase reads a plane's normal: its axes are posed with its centre (other geoms' when a
@@ -258,16 +288,16 @@ fn pose(m: &Model, kin: &KinData, cd: &mut CollisionData, g: usize) {
 fn pose_plane(m: &Model, kin: &KinData, cd: &mut CollisionData, g: usize) {
     if m.geom_type[g] == GeomType::Plane {
         cd.geom_xmat[g] = kin.xmat[m.geom_body[g]] * m.geom_mat[g];
-        cd.axes_posed[g] = true;
+        cd.axes_at[g] = cd.stamp;
     }
 }
 
 /// Poses the world axes of geom g for the configuration in `kin`, unless already done (a
 /// sphere's orientation is never read).
 fn pose_axes(m: &Model, kin: &KinData, cd: &mut CollisionData, g: usize) {
-    if !cd.axes_posed[g] && !matches!(m.geom_type[g], GeomType::Sphere | GeomType::Ellipsoid) {
+    if cd.axes_at[g] < cd.stamp && !matches!(m.geom_type[g], GeomType::Sphere | GeomType::Ellipsoid) {
         cd.geom_xmat[g] = kin.xmat[m.geom_body[g]] * m.geom_mat[g];
-        cd.axes_posed[g] = true;
+        cd.axes_at[g] = cd.stamp;
     }
 }
 
@@ -306,25 +336,22 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f6
                 out.shrink = shrink;
                 out.gap_skips = m.gap_pairs.len();
             } else {
-                lower_and_test_gaps(m, kin, aba, qpos, out, shared, spare);
+                lower_and_test_gaps(m, kin, aba, qpos, out, spare);
             }
         }
         for &k in &m.pairs_without_gap {
-            test_lazily(m, kin, aba, out, k, shared, f64::INFINITY);
+            test_lazily(m, kin, aba, out, k, f64::INFINITY);
         }
         return;
     }
     for g in 0..m.ngeom {
-        if !out.own_reach[g] {
-            out.geom_reach[g] = shared.min(own_reach(m, kin, aba, out, g));
-            out.own_reach[g] = true;
-        }
+        own_reach_of(m, kin, aba, out, g);
     }
     for p in &m.collision_pairs {
         // speculative: pairs that could close within this step (which moves a point by
         // lever × (v + h a), lever = h for semi-implicit Euler) count as contacts, so a fast foot
         // is stopped at the surface instead of being found inside it one step later
-        let margin = p.margin + out.geom_reach[p.g1] + out.geom_reach[p.g2];
+        let margin = p.margin + reach(out, p.g1) + reach(out, p.g2);
         if !apart(out, p, margin) {
             pair(m, kin, out, p.g1, p.g2, margin);
         }
@@ -334,7 +361,7 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f6
 /// Each gap pair: its gap lowered by the joints' travel since `qpos_gap` (only the joints below
 /// the common ancestor change the pair's distance), the pair tested where the gap does not exceed
 /// its margin plus `spare`, and the gaps made those of `qpos`.
-fn lower_and_test_gaps(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], out: &mut CollisionData, shared: f64, spare: f64) {
+fn lower_and_test_gaps(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], out: &mut CollisionData, spare: f64) {
     let (mut skips, mut least, mut unknown) = (0, f64::INFINITY, false);
     for (i, gp) in m.gap_pairs.iter().enumerate() {
         let t = &out.body_travel;
@@ -343,7 +370,7 @@ fn lower_and_test_gaps(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], ou
             skips += 1;
             gap
         } else {
-            test_lazily(m, kin, aba, out, gp.pair, shared, gp.margin + spare)
+            test_lazily(m, kin, aba, out, gp.pair, gp.margin + spare)
         };
         out.pair_gap[i] = gap;
         least = least.min(gap - gp.margin);
@@ -416,26 +443,23 @@ fn quick_travel(qpos: &[f64], out: &CollisionData) -> f64 {
 /// Collision pair k while every plane group is apart: its geoms posed and bounded as needed, the
 /// pair tested. Returns a lower bound on the distance between its geoms where it exceeds `spare`
 /// (where it can spare the next test of a [`PairTest::Spheres`] pair), else −∞ or less.
-fn test_lazily(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData, k: usize, shared: f64, spare: f64) -> f64 {
+fn test_lazily(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData, k: usize, spare: f64) -> f64 {
     let p = &m.collision_pairs[k];
     for g in [p.g1, p.g2] {
-        if !out.posed[g] {
+        if !posed(out, g) {
             pose(m, kin, out, g);
         }
     }
     // with the shared bound first, which settles most pairs, then each geom's own
-    if !(out.own_reach[p.g1] && out.own_reach[p.g2]) {
-        if apart(out, p, p.margin + out.geom_reach[p.g1] + out.geom_reach[p.g2]) {
+    if !(has_own_reach(out, p.g1) && has_own_reach(out, p.g2)) {
+        if apart(out, p, p.margin + reach(out, p.g1) + reach(out, p.g2)) {
             return spheres_gap(out, p, spare);
         }
         for g in [p.g1, p.g2] {
-            if !out.own_reach[g] {
-                out.geom_reach[g] = shared.min(own_reach(m, kin, aba, out, g));
-                out.own_reach[g] = true;
-            }
+            own_reach_of(m, kin, aba, out, g);
         }
     }
-    let margin = p.margin + out.geom_reach[p.g1] + out.geom_reach[p.g2];
+    let margin = p.margin + reach(out, p.g1) + reach(out, p.g2);
     if apart(out, p, margin) { spheres_gap(out, p, spare) } else { pair(m, kin, out, p.g1, p.g2, margin) }
 }
 
@@ -486,7 +510,7 @@ pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
     for k in gapped.chain(m.pairs_without_gap.iter().copied()) {
         let p = &m.collision_pairs[k];
         for g in [p.g1, p.g2] {
-            if !out.posed[g] {
+            if !posed(out, g) {
                 pose(m, kin, out, g);
             }
         }
@@ -564,7 +588,7 @@ pub fn reach_again(m: &Model, kin: &KinData, qvel_end: &[f64], v_end: &mut [Moti
 fn end_speeds(m: &Model, kin: &KinData, qvel_end: &[f64], v_end: &mut [Motion], out: &mut CollisionData) {
     super::kinematics::velocities(m, kin, qvel_end, v_end);
     for g in 0..m.ngeom {
-        if !out.posed[g] {
+        if !posed(out, g) {
             pose(m, kin, out, g);
         }
         out.geom_speed_end[g] = if fixed(m, g) {
@@ -583,7 +607,7 @@ fn test_again(m: &Model, kin: &KinData, out: &mut CollisionData, k: usize, lever
     let (i, j) = (p.g1, p.g2);
     let reach = lever * (out.geom_speed_end[i] + out.geom_speed_end[j]);
     let margin = p.margin + reach;
-    if reach <= out.geom_reach[i] + out.geom_reach[j] || apart(out, p, margin) {
+    if reach <= self::reach(out, i) + self::reach(out, j) || apart(out, p, margin) {
         return Some(false);
     }
     let before = out.contacts.len();
