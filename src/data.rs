@@ -41,6 +41,9 @@ pub struct Data {
     pub lcp_role: Vec<crate::step::lcp::Role>,
     /// LCP variables left out of the solve (held at zero force) and of K.
     pub lcp_out: Vec<bool>,
+    /// Active set of this step's impact solve, which warm-starts the force solve on the same rows
+    /// after it (empty: no impact this step, or rows rebuilt since).
+    pub impact_warm: Vec<bool>,
     /// Lemke tableau.
     pub lcp_work: LcpWork,
     /// Solver statistics.
@@ -83,6 +86,7 @@ impl Data {
             lcp_lambda: vec![],
             lcp_role: vec![],
             lcp_out: vec![],
+            impact_warm: vec![],
             lcp_work: LcpWork::default(),
             stats: LcpStats::default(),
             impacts: 0,
@@ -120,6 +124,7 @@ impl Data {
     /// Drops the rows, forces, contacts and cached kinematics of the last step.
     fn forget_scratch(&mut self) {
         self.force.clear();
+        self.impact_warm.clear();
         self.con.clear();
         self.coll.forget();
         self.post.forget();

@@ -357,6 +357,13 @@ impl Model {
         (0..self.njnt).filter(|&j| self.jnt_limited[j] && matches!(self.jnt_type[j], JointType::Hinge | JointType::Slide))
     }
 
+    /// Whether a step can have constraint rows: contacts, joint limits or motion control.
+    pub fn may_constrain(&self) -> bool {
+        (self.opt.contact && !self.collision_pairs.is_empty())
+            || (self.opt.limit && self.limited_joints().next().is_some())
+            || (matches!(self.opt.actuation, Actuation::Trajectory { .. }) && self.nu > 0)
+    }
+
     /// Index of the body named `name`.
     pub fn body_id(&self, name: &str) -> Option<usize> {
         self.body_name.iter().position(|n| n == name)

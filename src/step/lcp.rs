@@ -60,6 +60,8 @@ pub struct LcpWork {
     best: Vec<f64>,
     /// λ variables [`solve_on`] leaves out of the solve.
     free: Vec<bool>,
+    /// The warm start's guessed active set.
+    guess: Vec<bool>,
     /// The subproblem without the rows that need no force.
     sub: Subproblem,
 }
@@ -387,15 +389,12 @@ const LEFT_OUT_TOLERANCE: f64 = 1e-12;
 #[allow(clippy::too_many_arguments)]
 fn cascade(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
     if let Some(prev) = warm.filter(|w| w.len() == n)
-        && solve_on(n, m, q, role, |i| prev[i], work)
+        && let Some(res) = settle(n, m, q, role, prev, work)
     {
-        let res = residual(n, m, q, &work.trial, &mut work.w);
-        if res <= ACCEPT_RESIDUAL {
-            z[..n].copy_from_slice(&work.trial);
-            stats.warm_starts += 1;
-            stats.residual = res;
-            return;
-        }
+        z[..n].copy_from_slice(&work.trial);
+        stats.warm_starts += 1;
+        stats.residual = res;
+        return;
     }
     // Lemke; once more with a stronger regulariser when its answer fails the check (redundant
     // contacts sharing their demand can end the path on a ray), each answer polished and checked
@@ -452,10 +451,47 @@ fn cascade(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>,
     stats.residual = 0.0;
 }
 
+/// Active-set passes from a warm guess at most (each one solve on the set).
+const WARM_PASSES: usize = 3;
+
+/// The warm start: solves on the guessed active set `prev`; while the answer fails the check,
+/// drops the variables it makes negative and adds those whose w it makes negative, and solves
+/// again, up to [`WARM_PASSES`] times (a contact the last step or this step's impact left
+/// inactive now pressing, a joint now driven into its limit). The residual of an answer in
+/// `work.trial` that passes the independent check, or None.
+fn settle(n: usize, m: &[f64], q: &[f64], role: &[Role], prev: &[bool], work: &mut LcpWork) -> Option<f64> {
+    let mut guess = std::mem::take(&mut work.guess);
+    guess.clear();
+    guess.extend_from_slice(&prev[..n]);
+    let mut settled = None;
+    for _ in 0..WARM_PASSES {
+        if !solve_on(n, m, q, role, |i| guess[i], work) {
+            break;
+        }
+        let res = residual(n, m, q, &work.trial, &mut work.w);
+        if res <= ACCEPT_RESIDUAL && work.trial.iter().all(|&x| x >= 0.0) {
+            settled = Some(res);
+            break;
+        }
+        let mut changed = false;
+        for i in 0..n {
+            let now = if guess[i] && !work.free[i] { work.trial[i] > 0.0 } else { work.trial[i] > 0.0 || work.w[i] < 0.0 };
+            changed |= now != guess[i];
+            guess[i] = now;
+        }
+        if !changed {
+            break;
+        }
+    }
+    work.guess = guess;
+    settled
+}
+
 /// Solves on the active set {i : `active(i)`} into `work.trial`: M_AA z_A = −q_A, z = 0 elsewhere.
 /// The λ of a contact whose normal force is inactive is not fixed by its own row (μ·0 − Σ 0 = 0
 /// for any λ, so M_AA would be singular): it is left out and set afterwards to the least value
-/// that keeps the contact's friction rows' w ≥ 0. False when singular or the result is negative.
+/// that keeps the contact's friction rows' w ≥ 0. False when singular or non-finite; the result
+/// may be negative.
 fn solve_on(n: usize, m: &[f64], q: &[f64], role: &[Role], active: impl Fn(usize) -> bool, work: &mut LcpWork) -> bool {
     work.free.clear();
     work.free.resize(n, false);
@@ -484,47 +520,53 @@ fn solve_on(n: usize, m: &[f64], q: &[f64], role: &[Role], active: impl Fn(usize
 }
 
 /// Solves M_AA z_A = −q_A on the active set `work.active` (z = 0 elsewhere) into `work.trial` by
-/// Gaussian elimination with partial pivoting. False when singular or the result is negative.
+/// Gaussian elimination with partial pivoting and back substitution. False when singular or
+/// non-finite.
 fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
     let LcpWork { tab: a, active, trial, .. } = work;
     let k = active.len();
     trial.clear();
     trial.resize(n, 0.0);
     // augmented k × (k + 1) system in the tableau buffer
-    a.clear();
-    a.resize(k * (k + 1), 0.0);
-    for (r, &i) in active.iter().enumerate() {
-        for (c, &j) in active.iter().enumerate() {
-            a[r * (k + 1) + c] = m[i * n + j];
-        }
-        a[r * (k + 1) + k] = -q[i];
-    }
     let w = k + 1;
+    a.clear();
+    for &i in active.iter() {
+        let row = &m[i * n..(i + 1) * n];
+        a.extend(active.iter().map(|&j| row[j]));
+        a.push(-q[i]);
+    }
     for c in 0..k {
         let p = (c..k).max_by(|&x, &y| a[x * w + c].abs().total_cmp(&a[y * w + c].abs())).unwrap();
         if a[p * w + c].abs() < 1e-300 {
             return false;
         }
-        for j in 0..w {
-            a.swap(c * w + j, p * w + j);
+        if p != c {
+            let (top, bottom) = a.split_at_mut(p * w);
+            top[c * w..(c + 1) * w].swap_with_slice(&mut bottom[..w]);
         }
-        // eliminate column c from every other row (Gauss–Jordan)
-        let (before, rest) = a[..k * w].split_at_mut(c * w);
-        let (prow, after) = rest.split_at_mut(w);
-        let inv = 1.0 / prow[c];
-        for row in before.chunks_exact_mut(w).chain(after.chunks_exact_mut(w)) {
+        // eliminate column c below the pivot
+        let (upper, lower) = a[..k * w].split_at_mut((c + 1) * w);
+        let prow = &upper[c * w + c..(c + 1) * w];
+        let inv = 1.0 / prow[0];
+        for row in lower.chunks_exact_mut(w) {
             let f = row[c] * inv;
             if f != 0.0 {
-                for (x, p) in row[c..].iter_mut().zip(&prow[c..]) {
+                for (x, p) in row[c..].iter_mut().zip(prow) {
                     *x -= f * p;
                 }
             }
         }
     }
-    for (r, &i) in active.iter().enumerate() {
-        trial[i] = a[r * (k + 1) + k] / a[r * (k + 1) + r];
+    // back substitution
+    for r in (0..k).rev() {
+        let row = &a[r * w..(r + 1) * w];
+        let mut x = row[k];
+        for (c, &i) in active.iter().enumerate().skip(r + 1) {
+            x -= row[c] * trial[i];
+        }
+        trial[active[r]] = x / row[r];
     }
-    trial.iter().all(|x| x.is_finite() && *x >= 0.0)
+    trial.iter().all(|x| x.is_finite())
 }
 
 /// Re-solves on Lemke's active set A = {z > 0}, removing the round-off the tableau accumulates on
@@ -532,7 +574,7 @@ fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
 /// residual of the z it leaves.
 fn polish(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64], work: &mut LcpWork) -> f64 {
     let before = residual(n, m, q, z, &mut work.w);
-    if z[..n].iter().all(|&x| x <= 0.0) || !solve_on(n, m, q, role, |i| z[i] > 0.0, work) {
+    if z[..n].iter().all(|&x| x <= 0.0) || !solve_on(n, m, q, role, |i| z[i] > 0.0, work) || work.trial.iter().any(|&x| x < 0.0) {
         return before;
     }
     let after = residual(n, m, q, &work.trial, &mut work.w);

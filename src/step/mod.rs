@@ -78,10 +78,12 @@ fn dynamics(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64]
 /// Advances (qpos, qvel, time) by one time step under `ctrl`.
 pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl: &[f64], time: &mut f64) {
     let (h, lever) = (m.opt.timestep, m.opt.lever());
-    // Euler and leapfrog treat damping implicitly (MuJoCo's `Euler`); RK4 stages do not
+    // Euler and leapfrog treat damping implicitly (MuJoCo's `Euler`), and so does a step with
+    // constraint rows, which is semi-implicit Euler: the contacts and rows are chosen with the
+    // accelerations the step integrates. RK4's stages do not (a step without rows redoes them)
     let h_damp = match m.opt.integrator {
-        Integrator::Euler | Integrator::Leapfrog => h,
-        Integrator::Rk4 => 0.0,
+        Integrator::Rk4 if !m.may_constrain() => 0.0,
+        _ => h,
     };
     // leapfrog: the step's dynamics are the midpoint configuration's
     let leapfrog = m.opt.integrator == Integrator::Leapfrog;
@@ -102,16 +104,19 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
         data.force.clear();
         match m.opt.integrator {
             Integrator::Euler | Integrator::Leapfrog => timed!(data, Stage::Integration, integrate::kick_drift(m, qpos, qvel, &data.qacc, h, lever)),
-            Integrator::Rk4 => timed!(data, Stage::Integration, rk4(m, data, qpos, qvel, ctrl, h)),
+            Integrator::Rk4 => {
+                if h_damp != 0.0 {
+                    timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, 0.0));
+                }
+                timed!(data, Stage::Integration, rk4(m, data, qpos, qvel, ctrl, h))
+            }
         }
         *time += h;
         return;
     }
     // with constraints the step is semi-implicit Euler (the seed's scheme) unless leapfrog, RK4's too
-    if h_damp != h {
-        timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, h));
-    }
     let (mut redo, mut impacted) = (false, false);
+    data.impact_warm.clear();
     loop {
         // 5. b; K by test forces once a solve needs it (rows that the constraint-free motion
         // already satisfies need no K)
@@ -150,7 +155,7 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
         // accelerations
         // (with no force, no impulse and the accelerations the rows were chosen with, the motion is
         // the constraint-free one they were chosen for)
-        let pushed = impacted || h_damp != h || data.force.iter().any(|&f| f != 0.0);
+        let pushed = impacted || data.force.iter().any(|&f| f != 0.0);
         let missed = pushed && (missed_limits(m, data, qpos, qvel) | timed!(data, Stage::Collision, missed_contacts(m, data, qvel)));
         if redo || !missed {
             break;
@@ -163,6 +168,7 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
         }
         timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, h));
         timed!(data, Stage::Rows, build_rows(m, data, qpos, qvel, ctrl));
+        data.impact_warm.clear();
     }
     if redo {
         data.limit_forced.fill(false);
@@ -392,13 +398,14 @@ const MAX_REGROW_RATE: f64 = 0.5;
 /// Limit rows stay: contact forces push joints into their limits too often (leaving out those
 /// with q ≥ 0 too had many brought back on Ant, for no gain). Nothing is left out while the recent
 /// share of solves that had to bring a contact back exceeds [`MAX_REGROW_RATE`]. Returns whether
-/// the rows are last step's (the warm set applies).
+/// a warm set applies ([`warm_set`]: `data.impact_warm`, else `data.history.warm`).
 fn leave_out(data: &mut Data, level: Level, n: usize) -> bool {
-    let same_rows = level != Level::Velocity && {
-        let w = &data.history.warm_rows;
-        w.len() == data.con.len() && (0..w.len()).all(|j| w[j] == row_key(data, j))
-    };
-    let (con, q, warm, out) = (&data.con, &data.lcp_q, &data.history.warm, &mut data.lcp_out);
+    let same_rows = level != Level::Velocity
+        && (!data.impact_warm.is_empty() || {
+            let w = &data.history.warm_rows;
+            w.len() == data.con.len() && (0..w.len()).all(|j| w[j] == row_key(data, j))
+        });
+    let (con, q, warm, out) = (&data.con, &data.lcp_q, warm_set(&data.impact_warm, &data.history.warm), &mut data.lcp_out);
     out.clear();
     out.resize(n, false);
     if data.history.regrow_rate > MAX_REGROW_RATE {
@@ -550,8 +557,7 @@ fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: usize, same
             _ => data.lcp_role[j] = lcp::Role::Normal,
         }
     }
-    // warm start: the rows are the same contacts, features and limits as last step's
-    let warm = same_rows.then_some(&data.history.warm[..]);
+    let warm = same_rows.then_some(warm_set(&data.impact_warm, &data.history.warm));
     let solved = lcp::solve(n, &data.lcp_m, &data.lcp_q, &data.lcp_role, warm, &mut data.lcp_out, &mut data.force, &mut data.lcp_work, &mut data.stats);
     if solved {
         record_warm(data, level);
@@ -559,10 +565,20 @@ fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: usize, same
     solved
 }
 
-/// Keeps the active set of an acceleration-level or time-stepping solve for the next step's
-/// warm start.
+/// The active set a force solve starts from: this step's impact solve's on the same rows (a
+/// contact the impact stopped now rests on its force), else last step's, when its rows are the
+/// same contacts, features and limits.
+fn warm_set<'a>(impact: &'a [bool], last_step: &'a [bool]) -> &'a [bool] {
+    if impact.is_empty() { last_step } else { impact }
+}
+
+/// Keeps the active set of a solve: an impact's for the force solve after it, an
+/// acceleration-level or time-stepping one's for the next step's.
 fn record_warm(data: &mut Data, level: Level) {
-    if level != Level::Velocity {
+    if level == Level::Velocity {
+        data.impact_warm.clear();
+        data.impact_warm.extend(data.force.iter().map(|&f| f > 0.0));
+    } else {
         data.history.warm.clear();
         data.history.warm.extend(data.force.iter().map(|&f| f > 0.0));
         data.history.warm_rows.clear();
