@@ -111,6 +111,7 @@ impl Data {
         h.warm.clear();
         h.warm_rows.clear();
         h.regrow_rate = 0.0;
+        h.constrained = true;
         self.forget_scratch();
     }
 
@@ -147,12 +148,15 @@ pub struct History {
     pub regrow_rate: f64,
     /// SplitMix64 state of this world's random tangents.
     pub rng: u64,
+    /// Whether the last step had constraint rows: an RK4 model's next step evaluates its dynamics
+    /// first as a step with rows does (damping implicit), else as RK4's first stage.
+    pub constrained: bool,
 }
 
 impl History {
     /// A new world's: nothing kept, the default random stream.
     pub fn new() -> Self {
-        History { tangents: vec![], warm: vec![], warm_rows: vec![], regrow_rate: 0.0, rng: 0x5EED }
+        History { tangents: vec![], warm: vec![], warm_rows: vec![], regrow_rate: 0.0, rng: 0x5EED, constrained: true }
     }
 }
 
@@ -167,7 +171,8 @@ impl History {
     /// Appends the history as float64 numbers (every integer exact): regrow rate, the random
     /// state as two 32-bit halves, the tangent count T and T × (geom1, geom2, feature, t_x, t_y,
     /// t_z), the warm start's variable count W and W activities (0 or 1; rows, then their λ),
-    /// and its row count R and R × (kind, three indices and a side).
+    /// its row count R and R × (kind, three indices and a side), then whether the last step had
+    /// rows (0 or 1).
     pub fn to_flat(&self, out: &mut Vec<f64>) {
         out.extend([self.regrow_rate, (self.rng >> 32) as f64, (self.rng & 0xFFFF_FFFF) as f64]);
         out.push(self.tangents.len() as f64);
@@ -180,6 +185,7 @@ impl History {
         for &(kind, a, b, c, d) in &self.warm_rows {
             out.extend([kind as f64, a as f64, b as f64, c as f64, d as f64]);
         }
+        out.push(self.constrained as u8 as f64);
     }
 
     /// Reads what [`History::to_flat`] wrote, checking every number (`ngeom` bounds the tangents'
@@ -233,10 +239,12 @@ impl History {
             warm_rows.push((kind? as u8, a? as usize, b? as usize, c? as usize, d? as usize));
             at += ROW_KEY_LEN;
         }
+        let constrained = int(at, "constrained last step", 2.0)? == 1;
+        at += 1;
         if at != v.len() {
             return Err(bad(format!("has {} numbers, {} more than its counts say", v.len(), v.len() - at)));
         }
-        Ok(History { tangents, warm, warm_rows, regrow_rate, rng })
+        Ok(History { tangents, warm, warm_rows, regrow_rate, rng, constrained })
     }
 }
 
@@ -252,7 +260,7 @@ impl Clone for History {
         self.tangents.clone_from(&from.tangents);
         self.warm.clone_from(&from.warm);
         self.warm_rows.clone_from(&from.warm_rows);
-        (self.regrow_rate, self.rng) = (from.regrow_rate, from.rng);
+        (self.regrow_rate, self.rng, self.constrained) = (from.regrow_rate, from.rng, from.constrained);
     }
 }
 

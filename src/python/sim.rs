@@ -217,7 +217,8 @@ impl PySim {
 
     /// The state as one float64 array: [time, qpos (nq), qvel (nv), ctrl (nu)], MuJoCo's
     /// integration state. `full=True` appends the trajectory feed-forward (2 nu) and the history
-    /// the next step reads (friction tangents, the LCP's warm start, the random stream:
+    /// the next step reads (friction tangents, the LCP's warm start, the random stream, whether
+    /// the last step had rows:
     /// `Data::History`), so that a Sim given it steps bit-identically to this one.
     #[pyo3(signature = (full=false))]
     fn get_state<'py>(&self, py: Python<'py>, full: bool) -> PyResult<Bound<'py, PyArray1<f64>>> {

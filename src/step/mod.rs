@@ -79,10 +79,11 @@ fn dynamics(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64]
 pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl: &[f64], time: &mut f64) {
     let (h, lever) = (m.opt.timestep, m.opt.lever());
     // Euler and leapfrog treat damping implicitly (MuJoCo's `Euler`), and so does a step with
-    // constraint rows, which is semi-implicit Euler: the contacts and rows are chosen with the
-    // accelerations the step integrates. RK4's stages do not (a step without rows redoes them)
+    // constraint rows, which is semi-implicit Euler; RK4's stages do not. An RK4 model evaluates
+    // first as the last step needed (contacts and rows are chosen with these accelerations) and
+    // again when this step turns out otherwise
     let h_damp = match m.opt.integrator {
-        Integrator::Rk4 if !m.may_constrain() => 0.0,
+        Integrator::Rk4 if !(m.may_constrain() && data.history.constrained) => 0.0,
         _ => h,
     };
     // leapfrog: the step's dynamics are the midpoint configuration's
@@ -99,6 +100,7 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
     timed!(data, Stage::Collision, collision::collide(m, &data.kin, &data.aba, qpos, qvel, &data.qacc, &mut data.coll));
     // 4. constraint rows: contacts (normal + friction), active limits, motion control
     timed!(data, Stage::Rows, build_rows(m, data, qpos, qvel, ctrl));
+    data.history.constrained = !data.con.is_empty();
     if data.con.is_empty() {
         // nothing to constrain: the plain step
         data.force.clear();
@@ -115,6 +117,9 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
         return;
     }
     // with constraints the step is semi-implicit Euler (the seed's scheme) unless leapfrog, RK4's too
+    if h_damp != h {
+        timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, h));
+    }
     let (mut redo, mut impacted) = (false, false);
     data.impact_warm.clear();
     loop {
@@ -155,7 +160,7 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
         // accelerations
         // (with no force, no impulse and the accelerations the rows were chosen with, the motion is
         // the constraint-free one they were chosen for)
-        let pushed = impacted || data.force.iter().any(|&f| f != 0.0);
+        let pushed = impacted || h_damp != h || data.force.iter().any(|&f| f != 0.0);
         let missed = pushed && (missed_limits(m, data, qpos, qvel) | timed!(data, Stage::Collision, missed_contacts(m, data, qvel)));
         if redo || !missed {
             break;
