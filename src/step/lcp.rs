@@ -62,6 +62,8 @@ pub struct LcpWork {
     free: Vec<bool>,
     /// The warm start's guessed active set.
     guess: Vec<bool>,
+    /// Candidate rows of the ratio test.
+    cand: Vec<usize>,
     /// The subproblem without the rows that need no force.
     sub: Subproblem,
 }
@@ -152,7 +154,7 @@ pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, 
         }
         // complement of the leaving variable enters
         entering = if leaving < n { leaving + n } else { leaving - n };
-        r = ratio_test(&work.tab, cols, n, work.column[entering], &work.basis, &work.column, &mut work.w)?;
+        r = ratio_test(&work.tab, cols, n, work.column[entering], &work.basis, &work.column, (&mut work.w, &mut work.cand))?;
         if !work.tab[r * cols + rhs].is_finite() {
             return None;
         }
@@ -161,39 +163,37 @@ pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, 
 }
 
 /// Lexicographic minimum-ratio test (Cottle, Pang & Stone 1992, §4.9) on the condensed tableau's
-/// column `ce`: the rows with the smallest rhs/d, ties broken by z0 first, then by the columns of
-/// B⁻¹ (the full tableau's w columns: a nonbasic w's tableau column, a basic one's unit column)
-/// over d, so degenerate problems (redundant contacts) cannot cycle.
-fn ratio_test(tab: &[f64], cols: usize, n: usize, ce: usize, basis: &[usize], column: &[usize], cand: &mut Vec<f64>) -> Option<usize> {
+/// column `ce`: the rows whose rhs/d is within round-off of the smallest, ties broken by z0 first,
+/// then by the columns of B⁻¹ (the full tableau's w columns: a nonbasic w's tableau column, a
+/// basic one's unit column) over d, so degenerate problems (redundant contacts) cannot cycle.
+/// `ratio` and `cand` are scratch.
+fn ratio_test(tab: &[f64], cols: usize, n: usize, ce: usize, basis: &[usize], column: &[usize], (ratio, cand): (&mut Vec<f64>, &mut Vec<usize>)) -> Option<usize> {
     let rhs = n + 1;
     let z0 = 2 * n;
     let tol = 1e-11;
-    // candidate rows, kept as indices in `cand` (stored as f64 to reuse the buffer)
-    cand.clear();
+    ratio.clear();
     let mut best = f64::INFINITY;
-    for i in 0..n {
-        let d = tab[i * cols + ce];
-        if d > tol {
-            let ratio = tab[i * cols + rhs] / d;
-            if cand.is_empty() || ratio < best - tol * (1.0 + best.abs()) {
-                best = ratio;
-                cand.clear();
-            }
-            if (ratio - best).abs() <= tol * (1.0 + best.abs()) {
-                cand.push(i as f64);
-            }
-        }
+    for row in tab[..n * cols].chunks_exact(cols) {
+        let d = row[ce];
+        let r = if d > tol { row[rhs] / d } else { f64::INFINITY };
+        best = best.min(r);
+        ratio.push(r);
     }
-    if cand.is_empty() {
+    if best == f64::INFINITY {
         return None;
     }
-    if let Some(&i) = cand.iter().find(|&&i| basis[i as usize] == z0) {
-        return Some(i as usize);
+    let slack = tol * (1.0 + best.abs());
+    cand.clear();
+    cand.extend((0..n).filter(|&i| ratio[i] <= best + slack));
+    if cand.len() == 1 {
+        return Some(cand[0]);
+    }
+    if let Some(&i) = cand.iter().find(|&&i| basis[i] == z0) {
+        return Some(i);
     }
     let mut w = 0;
     while cand.len() > 1 && w < n {
-        let val = |i: f64| {
-            let i = i as usize;
+        let val = |i: usize| {
             let b = match column[w] {
                 usize::MAX => (basis[i] == w) as u8 as f64,
                 c => tab[i * cols + c],
@@ -204,7 +204,7 @@ fn ratio_test(tab: &[f64], cols: usize, n: usize, ce: usize, basis: &[usize], co
         cand.retain(|&i| val(i) <= min + tol * (1.0 + min.abs()));
         w += 1;
     }
-    Some(cand[0] as usize)
+    Some(cand[0])
 }
 
 /// Pivots the condensed tableau (`n` rows of `cols`) on row r, column c: the entering variable of

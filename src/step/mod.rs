@@ -535,7 +535,8 @@ fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: usize, same
             continue;
         }
         mm[j * n..j * n + nr].copy_from_slice(&con.k[j * nr..(j + 1) * nr]);
-        mm[j * n + j] += lcp::REGULARISATION * con.k[j * nr + j].abs().max(1e-300);
+        let kjj = con.k[j * nr + j];
+        mm[j * n + j] = kjj + lcp::REGULARISATION * kjj.abs().max(1e-300);
         match con.kind[j] {
             RowKind::Tangent { normal } => {
                 // (20): (a_t − a_t^d) + λ ≥ 0;  (21): μ f_n − Σ f_t ≥ 0 ⟂ λ ≥ 0
