@@ -40,6 +40,7 @@ static COUNTING: Counting = Counting;
 /// capsule–plane, box–plane and box–box contacts, friction, limits and impacts.
 const SCENE: &str = r#"<mujoco>
   <option timestep="0.004"/>
+  <custom><numeric name="sinew/restitution" data="0.3"/></custom>
   <worldbody>
     <geom type="plane" size="10 10 .1"/>
     <body name="torso" pos="0 0 0.6">

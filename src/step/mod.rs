@@ -131,8 +131,12 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
             solve_rows(m, data, Level::TimeStep);
             apply_to_qacc(m, data, 1.0 / h);
         } else {
-            // 6. impacts: a velocity-level solve over all rows when something approaches
-            if !redo && needs_impact(&data.con, h, lever, constraint::impact_speed(h, m.opt.gravity.length())) {
+            // 6. impacts: a velocity-level solve over all rows when something approaches fast and
+            // rebounds (e > 0). A plastic impact needs none: the force solve's row of a contact or
+            // limit closing within the step asks for the impact's v⁺ = −d/h at the step's end,
+            // with the same K (its q is the impact's over h, up to the arc term: `lcp_vector`),
+            // as it does for slow approaches
+            if !redo && m.opt.restitution > 0.0 && needs_impact(&data.con, h, lever, constraint::impact_speed(h, m.opt.gravity.length())) {
                 impacted = true;
                 data.impacts += 1;
                 solve_rows(m, data, Level::Velocity);
@@ -249,8 +253,8 @@ fn missed_limits(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool
         let [lo, hi] = m.jnt_range[j];
         let v_end = qvel[da] + h * data.qacc[da];
         for (side, (dist, sign)) in [(qpos[qa] - lo, 1.0), (hi - qpos[qa], -1.0)].into_iter().enumerate() {
-            let has_row = (0..data.con.len()).any(|r| data.con.kind[r] == RowKind::Limit && data.con.source[r] == j && data.con.dof[r].1 == sign);
-            if dist + lever * sign * v_end < 0.0 && !has_row {
+            let has_row = || (0..data.con.len()).any(|r| data.con.kind[r] == RowKind::Limit && data.con.source[r] == j && data.con.dof[r].1 == sign);
+            if dist + lever * sign * v_end < 0.0 && !has_row() {
                 data.limit_forced[2 * j + side] = true;
                 any = true;
             }

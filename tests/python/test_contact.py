@@ -89,6 +89,35 @@ def test_ball_rebounds_to_e_squared_of_its_drop_height(dt, mode, integrator):
     assert sim.constraint_stats["impacts"] >= (1 if mode == "acceleration" else 0)
 
 
+THROWN = """<mujoco><option timestep="{dt}"/><worldbody><geom type="plane" size="5 5 .1"/>
+<body pos="0 0 0.5"><freejoint/><geom type="sphere" size="0.1"/></body></worldbody></mujoco>"""
+
+
+@pytest.mark.parametrize("dt", [0.002, 0.01])
+def test_a_plastic_landing_needs_no_impact_solve(dt):
+    """A ball thrown down at the floor with spin-free sliding: with e = 0 the force solve alone
+    lands it (no impact solve) as the impact path does with e → 0: it stays on the floor, and
+    rolls off at 5/7 of its speed (angular momentum about the contact point is conserved)."""
+    ends = {}
+    for e in [0.0, 1e-9]:
+        sim = sinew.Sim(sinew.Model.from_mjcf_string(THROWN.format(dt=dt)).with_options(restitution=e))
+        sim.qvel = np.array([2.0, 0, -3.0, 0, 0, 0])
+        landed, rise, depth = False, 0.0, 0.0
+        for _ in range(round(1.0 / dt)):
+            sim.step()
+            gap = sim.qpos[2] - 0.1
+            landed = landed or gap < 1e-3
+            if landed:
+                rise, depth = max(rise, gap), max(depth, -gap)
+        assert (sim.constraint_stats["impacts"] == 0) == (e == 0.0)
+        assert rise <= 2e-3 and depth <= 1e-4, (e, rise, depth)
+        # within the landing step's discretisation (0.7% at dt = 0.01)
+        assert abs(sim.qvel[0] - 2.0 * 5 / 7) <= 0.01 * 2.0 * 5 / 7, (e, sim.qvel[0])
+        ends[e] = sim.qpos[:3].copy(), sim.qvel[0]
+    assert np.abs(ends[0.0][0] - ends[1e-9][0]).max() <= 1e-3
+    assert abs(ends[0.0][1] - ends[1e-9][1]) <= 1e-4 * ends[0.0][1]
+
+
 def test_contact_list_reports_geometry_and_forces():
     sim = sinew.Sim(sinew.Model.from_mjcf_string(BOX.format(dt=0.002)))
     sim.step(200)
