@@ -44,6 +44,10 @@ pub struct Data {
     /// Active set of this step's impact solve, which warm-starts the force solve on the same rows
     /// after it (empty: no impact this step, or rows rebuilt since).
     pub impact_warm: Vec<bool>,
+    /// The active set the force solve starts from (`step::warm_guess`).
+    pub lcp_warm: Vec<bool>,
+    /// Last step's λ variable of each of its rows that owns one, scratch for `step::warm_guess`.
+    pub warm_lambda: Vec<usize>,
     /// Lemke tableau.
     pub lcp_work: LcpWork,
     /// Solver statistics.
@@ -87,6 +91,8 @@ impl Data {
             lcp_role: vec![],
             lcp_out: vec![],
             impact_warm: vec![],
+            lcp_warm: vec![],
+            warm_lambda: vec![],
             lcp_work: LcpWork::default(),
             stats: LcpStats::default(),
             impacts: 0,

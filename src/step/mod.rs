@@ -362,8 +362,8 @@ enum Level {
 /// Assembles the LCP over all rows plus one λ per friction row and solves it into `data.force`.
 fn solve_rows(m: &Model, data: &mut Data, level: Level) {
     // q, and the rows the solve starts without
-    let n = timed!(data, Stage::Lcp, lcp_vector(m, data, level).map(|n| (n, leave_out(data, level, n))));
-    let Some((n, same_rows)) = n else {
+    let n = timed!(data, Stage::Lcp, lcp_vector(m, data, level).map(|n| (n, leave_out(m, data, level, n))));
+    let Some((n, warm)) = n else {
         // every row already satisfied without force (a limit at rest, contacts separating):
         // f = 0 solves the LCP (a friction row's λ takes up its demand) and K is not needed
         data.stats.solves += 1;
@@ -377,7 +377,7 @@ fn solve_rows(m: &Model, data: &mut Data, level: Level) {
     loop {
         let Data { kin, aba, con, lcp_out, .. } = data;
         timed!(data, Stage::Assembly, constraint::responses(m, kin, aba, con, |k, _| !lcp_out[k]));
-        if timed!(data, Stage::Lcp, lcp_matrix_and_solve(m, data, level, n, same_rows)) {
+        if timed!(data, Stage::Lcp, lcp_matrix_and_solve(m, data, level, n, warm)) {
             break;
         }
         brought_back = true;
@@ -407,22 +407,18 @@ const MAX_REGROW_RATE: f64 = 0.5;
 /// Limit rows stay: contact forces push joints into their limits too often (leaving out those
 /// with q ≥ 0 too had many brought back on Ant, for no gain). Nothing is left out while the recent
 /// share of solves that had to bring a contact back exceeds [`MAX_REGROW_RATE`]. Returns whether
-/// a warm set applies ([`warm_set`]: `data.impact_warm`, else `data.history.warm`).
-fn leave_out(data: &mut Data, level: Level, n: usize) -> bool {
-    let same_rows = level != Level::Velocity
-        && (!data.impact_warm.is_empty() || {
-            let w = &data.history.warm_rows;
-            w.len() == data.con.len() && (0..w.len()).all(|j| w[j] == row_key(data, j))
-        });
-    let (con, q, warm, out) = (&data.con, &data.lcp_q, warm_set(&data.impact_warm, &data.history.warm), &mut data.lcp_out);
+/// a warm set applies ([`warm_guess`]).
+fn leave_out(m: &Model, data: &mut Data, level: Level, n: usize) -> bool {
+    let warm = warm_guess(m, data, level, n);
+    let (con, q, guess, out) = (&data.con, &data.lcp_q, &data.lcp_warm, &mut data.lcp_out);
     out.clear();
     out.resize(n, false);
     if data.history.regrow_rate > MAX_REGROW_RATE {
-        return same_rows;
+        return warm;
     }
     for j in 0..con.len() {
         match con.kind[j] {
-            RowKind::Normal => out[j] = q[j] >= 0.0 && !(same_rows && warm[j]),
+            RowKind::Normal => out[j] = q[j] >= 0.0 && !(warm && guess[j]),
             RowKind::Tangent { normal } => {
                 let left = out[normal];
                 (out[j], out[data.lcp_lambda[normal]]) = (left, left);
@@ -430,7 +426,59 @@ fn leave_out(data: &mut Data, level: Level, n: usize) -> bool {
             _ => {}
         }
     }
-    same_rows
+    warm
+}
+
+/// The active set a force solve starts from, into `data.lcp_warm` (n variables); whether there is
+/// one. After this step's impact solve, on the same rows: its active set (a contact the impact
+/// stopped now rests on its force). Else last step's, read through the rows' identities
+/// ([`row_key`]): a row last step also had keeps its activity, and so does its contact's λ (a
+/// bounded motion row's σ); a new row starts inactive. With the same rows as last step this is
+/// last step's active set as it was.
+fn warm_guess(m: &Model, data: &mut Data, level: Level, n: usize) -> bool {
+    let Data { con, coll, history, impact_warm, lcp_warm: guess, lcp_lambda, warm_lambda: old_lambda, .. } = data;
+    guess.clear();
+    if level == Level::Velocity {
+        return false;
+    }
+    if !impact_warm.is_empty() {
+        guess.extend_from_slice(impact_warm);
+        return true;
+    }
+    let (keys, warm) = (&history.warm_rows, &history.warm);
+    // last step's λ (σ) variable of each owner row, numbered as `lcp_vector` numbers them
+    old_lambda.clear();
+    old_lambda.resize(keys.len(), usize::MAX);
+    let mut next = keys.len();
+    for (i, &(kind, source, _, _, within)) in keys.iter().enumerate() {
+        let owner = match kind {
+            1 if within > 0 => i - within,
+            2 if m.actuator_ctrllimited.get(source) == Some(&true) => i,
+            _ => continue,
+        };
+        if old_lambda[owner] == usize::MAX {
+            old_lambda[owner] = next;
+            next += 1;
+        }
+    }
+    if keys.is_empty() || next != warm.len() {
+        return false;
+    }
+    guess.resize(n, false);
+    // rows keep their order across steps, so each search starts after the last match
+    let mut at = 0;
+    for j in 0..con.len() {
+        let key = row_key(con, &coll.contacts, j);
+        let Some(i) = (0..keys.len()).map(|s| (at + s) % keys.len()).find(|&i| keys[i] == key) else {
+            continue;
+        };
+        at = i + 1;
+        guess[j] = warm[i];
+        if lcp_lambda[j] != usize::MAX && old_lambda[i] != usize::MAX {
+            guess[lcp_lambda[j]] = warm[old_lambda[i]];
+        }
+    }
+    true
 }
 
 /// The LCP's variables (rows, then one λ per contact with friction and one σ per bounded
@@ -516,7 +564,7 @@ fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
 /// M from K and the friction and bound couplings; solves into `data.force` (warm-started when the
 /// rows are last step's). False when the solve brought back rows left out, whose K columns it
 /// needs.
-fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: usize, same_rows: bool) -> bool {
+fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: usize, warm: bool) -> bool {
     let h = m.opt.timestep;
     let con = &data.con;
     let nr = con.len();
@@ -567,19 +615,12 @@ fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: usize, same
             _ => data.lcp_role[j] = lcp::Role::Normal,
         }
     }
-    let warm = same_rows.then_some(warm_set(&data.impact_warm, &data.history.warm));
+    let warm = warm.then_some(&data.lcp_warm[..]);
     let solved = lcp::solve(n, &data.lcp_m, &data.lcp_q, &data.lcp_role, warm, &mut data.lcp_out, &mut data.force, &mut data.lcp_work, &mut data.stats);
     if solved {
         record_warm(data, level);
     }
     solved
-}
-
-/// The active set a force solve starts from: this step's impact solve's on the same rows (a
-/// contact the impact stopped now rests on its force), else last step's, when its rows are the
-/// same contacts, features and limits.
-fn warm_set<'a>(impact: &'a [bool], last_step: &'a [bool]) -> &'a [bool] {
-    if impact.is_empty() { last_step } else { impact }
 }
 
 /// Keeps the active set of a solve: an impact's for the force solve after it, an
@@ -593,7 +634,7 @@ fn record_warm(data: &mut Data, level: Level) {
         data.history.warm.extend(data.force.iter().map(|&f| f > 0.0));
         data.history.warm_rows.clear();
         for j in 0..data.con.len() {
-            let key = row_key(data, j);
+            let key = row_key(&data.con, &data.coll.contacts, j);
             data.history.warm_rows.push(key);
         }
     }
@@ -601,13 +642,12 @@ fn record_warm(data: &mut Data, level: Level) {
 
 /// Identity of row j across steps: kind, contact (geoms, feature) or joint, and position within
 /// its contact.
-fn row_key(data: &Data, j: usize) -> (u8, usize, usize, usize, usize) {
-    let con = &data.con;
+fn row_key(con: &constraint::ConstraintData, contacts: &[collision::Contact], j: usize) -> (u8, usize, usize, usize, usize) {
     match con.kind[j] {
         RowKind::Limit => (0, con.source[j], 0, 0, (con.dof[j].1 > 0.0) as usize),
         RowKind::Motion { .. } => (2, con.source[j], 0, 0, (con.dof[j].1 > 0.0) as usize),
         kind => {
-            let c = &data.coll.contacts[con.source[j]];
+            let c = &contacts[con.source[j]];
             let within = match kind {
                 RowKind::Tangent { normal } => j - normal,
                 _ => 0,
