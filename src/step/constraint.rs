@@ -418,7 +418,7 @@ pub fn refresh(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f6
         if let (RowKind::Motion { .. }, Actuation::Trajectory { kp, kd }) = (out.kind[j], m.opt.actuation) {
             out.desired[j] = out.dof[j].1 * motion_target(m, out.source[j], kp, kd, qpos, qvel, ctrl, feedforward);
         }
-        out.b[j] = measure(m, kin, out, j, Measure::Actual { aba, qacc0 });
+        out.b[j] = measure(m, kin, aba, qacc0, out, j);
     }
 }
 
@@ -433,7 +433,7 @@ pub fn assemble(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], out: &mu
 pub fn bias(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], out: &mut ConstraintData) {
     out.b.clear();
     for j in 0..out.len() {
-        let b = measure(m, kin, out, j, Measure::Actual { aba, qacc0 });
+        let b = measure(m, kin, aba, qacc0, out, j);
         out.b.push(b);
     }
 }
@@ -497,43 +497,39 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     }
     delta_pass(m, kin, aba, dtau, &mut out.dpa, &mut out.du, &mut out.da, &mut out.dqdd[k * nv..(k + 1) * nv]);
     // K is symmetric (J M⁻¹ Jᵀ): the rows whose columns are done hold this column's entries
+    let dqdd = &out.dqdd[k * nv..(k + 1) * nv];
     for j in 0..nr {
-        out.k[j * nr + k] = if out.column_done[j] { out.k[k * nr + j] } else { measure(m, kin, out, j, Measure::Delta { col: k }) };
+        out.k[j * nr + k] = if out.column_done[j] { out.k[k * nr + j] } else { delta_accel(out, dqdd, j) };
     }
     out.column_done[k] = true;
 }
 
-enum Measure<'a> {
-    Actual { aba: &'a AbaData, qacc0: &'a [f64] },
-    Delta { col: usize },
-}
-
-/// Acceleration of row j: from the actual accelerations (b, with velocity-product and gravity
-/// terms) or from the delta accelerations of column `col` (a K entry).
-fn measure(m: &Model, kin: &KinData, cd: &ConstraintData, j: usize, what: Measure) -> f64 {
+/// Acceleration of row j under the test force whose responses are in `cd.da` and `dqdd` (a K
+/// entry): a contact's delta point acceleration projected, Σ_sides δa_n · jac, or a joint row's δq̈.
+#[inline]
+fn delta_accel(cd: &ConstraintData, dqdd: &[f64], j: usize) -> f64 {
     if !cd.kind[j].is_contact() {
         let (dof, sign) = cd.dof[j];
-        return sign
-            * match what {
-                Measure::Actual { qacc0, .. } => qacc0[dof],
-                Measure::Delta { col } => cd.dqdd[col * m.nv + dof],
-            };
+        return sign * dqdd[dof];
     }
-    let aba = match what {
-        // a delta acceleration of the point, projected: Σ_sides δa_n · jac
-        Measure::Delta { .. } => {
-            let [n0, n1] = cd.node[j];
-            let mut acc = 0.0;
-            if n0 != WORLD {
-                acc += cd.da[n0].dot(&cd.jac[j][0]);
-            }
-            if n1 != WORLD {
-                acc += cd.da[n1].dot(&cd.jac[j][1]);
-            }
-            return acc;
-        }
-        Measure::Actual { aba, .. } => aba,
-    };
+    let [n0, n1] = cd.node[j];
+    let mut acc = 0.0;
+    if n0 != WORLD {
+        acc += cd.da[n0].dot(&cd.jac[j][0]);
+    }
+    if n1 != WORLD {
+        acc += cd.da[n1].dot(&cd.jac[j][1]);
+    }
+    acc
+}
+
+/// Acceleration of row j with zero constraint force (its b): from the actual accelerations, with
+/// velocity-product and gravity terms.
+fn measure(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], cd: &ConstraintData, j: usize) -> f64 {
+    if !cd.kind[j].is_contact() {
+        let (dof, sign) = cd.dof[j];
+        return sign * qacc0[dof];
+    }
     let ([n0, n1], [p0, p1]) = (cd.node[j], cd.point[j]);
     let g = m.opt.gravity;
     cd.dir[j].dot(point_accel(kin, &aba.a, g, n0, kin.rel(n0, p0)) - point_accel(kin, &aba.a, g, n1, kin.rel(n1, p1)))

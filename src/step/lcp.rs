@@ -546,16 +546,18 @@ fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
         }
         // eliminate column c below the pivot
         let (upper, lower) = a[..k * w].split_at_mut((c + 1) * w);
-        let prow = &upper[c * w + c..(c + 1) * w];
+        let prow = &mut upper[c * w + c..(c + 1) * w];
         let inv = 1.0 / prow[0];
         for row in lower.chunks_exact_mut(w) {
             let f = row[c] * inv;
             if f != 0.0 {
-                for (x, p) in row[c..].iter_mut().zip(prow) {
+                for (x, p) in row[c..].iter_mut().zip(prow.iter()) {
                     *x -= f * p;
                 }
             }
         }
+        // the pivot's reciprocal, for the back substitution
+        prow[0] = inv;
     }
     // back substitution
     for r in (0..k).rev() {
@@ -564,7 +566,7 @@ fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
         for (c, &i) in active.iter().enumerate().skip(r + 1) {
             x -= row[c] * trial[i];
         }
-        trial[active[r]] = x / row[r];
+        trial[active[r]] = x * row[r];
     }
     trial.iter().all(|x| x.is_finite())
 }

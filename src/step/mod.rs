@@ -469,7 +469,7 @@ fn warm_guess(m: &Model, data: &mut Data, level: Level, n: usize) -> bool {
     let mut at = 0;
     for j in 0..con.len() {
         let key = row_key(con, &coll.contacts, j);
-        let Some(i) = (0..keys.len()).map(|s| (at + s) % keys.len()).find(|&i| keys[i] == key) else {
+        let Some(i) = (at..keys.len()).chain(0..at.min(keys.len())).find(|&i| keys[i] == key) else {
             continue;
         };
         at = i + 1;
