@@ -571,16 +571,12 @@ fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
     trial.iter().all(|x| x.is_finite())
 }
 
-/// Residual of a Lemke answer below which [`polish`] leaves it alone (round-off of a
-/// well-conditioned tableau).
-const POLISHED: f64 = 1e-13;
-
 /// Re-solves on Lemke's active set A = {z > 0}, removing the round-off the tableau accumulates on
-/// degenerate problems (an answer already within [`POLISHED`] is kept); the polished z is kept
-/// only if it lowers the residual. Returns the residual of the z it leaves.
+/// degenerate problems; the polished z is kept only if it lowers the residual. Returns the
+/// residual of the z it leaves.
 fn polish(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64], work: &mut LcpWork) -> f64 {
     let before = residual(n, m, q, z, &mut work.w);
-    if before <= POLISHED || z[..n].iter().all(|&x| x <= 0.0) || !solve_on(n, m, q, role, |i| z[i] > 0.0, work) || work.trial.iter().any(|&x| x < 0.0) {
+    if z[..n].iter().all(|&x| x <= 0.0) || !solve_on(n, m, q, role, |i| z[i] > 0.0, work) || work.trial.iter().any(|&x| x < 0.0) {
         return before;
     }
     let after = residual(n, m, q, &work.trial, &mut work.w);
