@@ -4,7 +4,8 @@
 //! Data flow, in module order:
 //! MJCF text → [`mjcf::parse`] → [`mjcf::ModelSpec`] → [`Model`] (compiled, immutable) →
 //! [`Data`] + qpos/qvel/ctrl (one world) → [`step::step`]: kinematics → ABA → collision →
-//! constraint rows → impact and acceleration LCPs → integration → post-stabilisation.
+//! constraint rows → impact (rebounding contacts) and acceleration LCPs → integration →
+//! post-stabilisation.
 #![warn(missing_docs)]
 // index loops follow the papers' notation (row j, column k, dof i) across several arrays at once
 #![allow(clippy::needless_range_loop)]

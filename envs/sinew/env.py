@@ -22,7 +22,8 @@ Actions (keyword ``action_mode``):
   gear · max|ctrlrange|; ``trajectory_gains=(kp, kd)`` in 1/s² and 1/s (default (100, 20)).
 
 Physics: ``friction="pyramid"`` (default) or ``"seed"`` (the paper's one tangent);
-``constraint_mode="acceleration"`` (default: the seed's impacts then acceleration-level solve) or
+``constraint_mode="acceleration"`` (default: the seed's impact solve for rebounding contacts,
+e > 0, then the acceleration-level solve) or
 ``"velocity"`` (velocity-level time stepping).
 
 Actions that are not finite or beyond ±1e10 (where the control cost alone would overflow the

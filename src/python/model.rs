@@ -186,7 +186,8 @@ impl PyModel {
             FrictionModel::Pyramid => "pyramid",
         }
     }
-    /// "acceleration" (the seed's impact + force solves) or "velocity" (time stepping).
+    /// "acceleration" (the seed's impact solve when a contact rebounds, e > 0, then the force
+    /// solve) or "velocity" (time stepping).
     #[getter]
     fn constraint_mode(&self) -> &'static str {
         match self.inner.opt.constraint_mode {
