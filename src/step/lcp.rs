@@ -751,6 +751,30 @@ mod tests {
     }
 
     #[test]
+    fn a_warm_guess_one_contact_off_is_corrected_without_lemke() {
+        // each problem solved, then solved again from its answer's active set with the first
+        // contact's normal flipped: the warm start's correction passes settle 106 of the 246
+        // (a single solve on the flipped set settles none), every answer checked
+        let (mut work, mut stats) = (LcpWork::default(), LcpStats::default());
+        let (mut tried, mut settled) = (0, 0);
+        for (n, m, q, role) in random_pyramid_problems(400) {
+            let mut z = vec![0.0; n];
+            assert!(solve(n, &m, &q, &role, None, &mut vec![], &mut z, &mut work, &mut stats));
+            let mut guess: Vec<bool> = z.iter().map(|&x| x > 0.0).collect();
+            if !guess[0] {
+                continue;
+            }
+            guess[0] = false;
+            let before = stats.warm_starts;
+            assert!(solve(n, &m, &q, &role, Some(&guess), &mut vec![], &mut z, &mut work, &mut stats));
+            assert!(residual(n, &m, &q, &z, &mut work.w) <= ACCEPT_RESIDUAL, "{stats:?}");
+            tried += 1;
+            settled += (stats.warm_starts - before) as usize;
+        }
+        assert!(tried > 100 && settled * 3 > tried, "{settled} of {tried} settled");
+    }
+
+    #[test]
     fn leaving_out_separating_contacts_still_solves_the_whole_problem() {
         // the same problems with each contact whose normal q ≥ 0 left out at first (its friction
         // rows and λ follow): the answer passes the whole problem's check, some left-out
