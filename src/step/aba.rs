@@ -195,7 +195,7 @@ pub fn forward(m: &Model, kin: &KinData, aba: &mut AbaData, qacc: &mut [f64]) {
 
 /// One node of the outward pass: q̈_i = D_i⁻¹(u_i − U_iᵀ a'_i) into `qacc`, returning
 /// a_i = a'_i + S_i q̈_i. Shared by the main pass and the test-force delta pass.
-#[inline]
+#[inline(always)]
 pub fn joint_accel(m: &Model, kin: &KinData, aba: &AbaData, i: usize, u: &[f64; 6], a_prime: Motion, qacc: &mut [f64]) -> Motion {
     sized!(m.node_nv[i], outward(m, kin, aba, i, u, a_prime, qacc))
 }
