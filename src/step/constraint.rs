@@ -189,6 +189,7 @@ fn node_of_geom(m: &Model, g: usize) -> usize {
 /// World classical acceleration of the point of node `n` at `r` (relative to `kin.origin`), from
 /// the nodes' spatial accelerations `a`, plus `g` (the ABA's accelerations carry the base's
 /// fictitious −g, which `g` adds back; the velocity products alone, J̇ q̇, take none).
+#[inline]
 fn point_accel(kin: &KinData, a: &[Motion], g: DVec3, n: usize, r: DVec3) -> DVec3 {
     if n == WORLD {
         return DVec3::ZERO;
