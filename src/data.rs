@@ -112,13 +112,8 @@ impl Data {
     /// regrow rate, cached kinematics, rows and forces), so that the next step is a fresh world's;
     /// the random stream runs on.
     pub fn forget_history(&mut self) {
-        let h = &mut self.history;
-        h.tangents.clear();
-        h.warm.clear();
-        h.warm_rows.clear();
-        h.regrow_rate = 0.0;
-        h.constrained = true;
-        self.forget_scratch();
+        let fresh = History { rng: self.history.rng, ..History::new() };
+        self.restore_history(&fresh);
     }
 
     /// Makes `history` what the next step reads (the rest of the scratch is forgotten), so that a

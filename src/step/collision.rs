@@ -127,6 +127,7 @@ pub struct CollisionData {
 impl CollisionData {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
+        let gaps_within_trees = m.gap_pairs.iter().all(|gp| gp.ancestor != 0);
         CollisionData {
             // world geoms never move: their poses are set here once (the world frame is the identity)
             geom_xmat: m.geom_mat.clone(),
@@ -144,8 +145,8 @@ impl CollisionData {
             qpos_gap: m.qpos0.clone(),
             body_travel: vec![0.0; m.nbody],
             top_travel: vec![0.0; m.nbody],
-            gaps_within_trees: m.gap_pairs.iter().all(|gp| gp.ancestor != 0),
-            quick_arms: quick_arms(m, m.gap_pairs.iter().all(|gp| gp.ancestor != 0)),
+            gaps_within_trees,
+            quick_arms: quick_arms(m, gaps_within_trees),
             gaps_current: false,
             least_slack: f64::NEG_INFINITY,
             shrink: 0.0,

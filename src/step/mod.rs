@@ -362,7 +362,7 @@ enum Level {
 /// Assembles the LCP over all rows plus one λ per friction row and solves it into `data.force`.
 fn solve_rows(m: &Model, data: &mut Data, level: Level) {
     // q, and the rows the solve starts without
-    let n = timed!(data, Stage::Lcp, lcp_vector(m, data, level).map(|n| (n, leave_out(m, data, level, n))));
+    let n = timed!(data, Stage::Lcp, lcp_vector(m, data, level).map(|n| (n, leave_out(data, level, n))));
     let Some((n, warm)) = n else {
         // every row already satisfied without force (a limit at rest, contacts separating):
         // f = 0 solves the LCP (a friction row's λ takes up its demand) and K is not needed
@@ -408,8 +408,8 @@ const MAX_REGROW_RATE: f64 = 0.5;
 /// with q ≥ 0 too had many brought back on Ant, for no gain). Nothing is left out while the recent
 /// share of solves that had to bring a contact back exceeds [`MAX_REGROW_RATE`]. Returns whether
 /// a warm set applies ([`warm_guess`]).
-fn leave_out(m: &Model, data: &mut Data, level: Level, n: usize) -> bool {
-    let warm = warm_guess(m, data, level, n);
+fn leave_out(data: &mut Data, level: Level, n: usize) -> bool {
+    let warm = warm_guess(data, level, n);
     let (con, q, guess, out) = (&data.con, &data.lcp_q, &data.lcp_warm, &mut data.lcp_out);
     out.clear();
     out.resize(n, false);
@@ -435,7 +435,7 @@ fn leave_out(m: &Model, data: &mut Data, level: Level, n: usize) -> bool {
 /// ([`row_key`]): a row last step also had keeps its activity, and so does its contact's λ (a
 /// bounded motion row's σ); a new row starts inactive. With the same rows as last step this is
 /// last step's active set as it was.
-fn warm_guess(m: &Model, data: &mut Data, level: Level, n: usize) -> bool {
+fn warm_guess(data: &mut Data, level: Level, n: usize) -> bool {
     let Data { con, coll, history, impact_warm, lcp_warm: guess, lcp_lambda, warm_lambda: old_lambda, .. } = data;
     guess.clear();
     if level == Level::Velocity {
@@ -446,22 +446,13 @@ fn warm_guess(m: &Model, data: &mut Data, level: Level, n: usize) -> bool {
         return true;
     }
     let (keys, warm) = (&history.warm_rows, &history.warm);
-    // last step's λ (σ) variable of each owner row, numbered as `lcp_vector` numbers them
-    old_lambda.clear();
-    old_lambda.resize(keys.len(), usize::MAX);
-    let mut next = keys.len();
-    for (i, &(kind, source, _, _, within)) in keys.iter().enumerate() {
-        let owner = match kind {
-            1 if within > 0 => i - within,
-            2 if m.actuator_ctrllimited.get(source) == Some(&true) => i,
-            _ => continue,
-        };
-        if old_lambda[owner] == usize::MAX {
-            old_lambda[owner] = next;
-            next += 1;
-        }
-    }
-    if keys.is_empty() || next != warm.len() {
+    // last step's λ (σ) variable of each owner row, from its rows' identities
+    let old_n = number_lambdas(keys.len(), |i| match keys[i] {
+        (1, _, _, _, within) if within > 0 => Some(i - within),
+        (2, _, _, 1, _) => Some(i),
+        _ => None,
+    }, old_lambda);
+    if keys.is_empty() || old_n != warm.len() {
         return false;
     }
     guess.resize(n, false);
@@ -481,30 +472,39 @@ fn warm_guess(m: &Model, data: &mut Data, level: Level, n: usize) -> bool {
     true
 }
 
+/// Numbers the LCP's λ variables after the `nr` rows, into `lambda` (per row: the λ it owns, or
+/// usize::MAX): one per contact with friction rows, shared by them (eq. 21 sums their forces), and
+/// one σ per torque-bounded motion-control row (the same pattern with a constant bound), in the
+/// order of their rows; `owner(j)` is the row owning row j's λ. Returns the variable count.
+fn number_lambdas(nr: usize, owner: impl Fn(usize) -> Option<usize>, lambda: &mut Vec<usize>) -> usize {
+    lambda.clear();
+    lambda.resize(nr, usize::MAX);
+    let mut n = nr;
+    for j in 0..nr {
+        if let Some(o) = owner(j)
+            && lambda[o] == usize::MAX
+        {
+            lambda[o] = n;
+            n += 1;
+        }
+    }
+    n
+}
+
 /// The LCP's variables (rows, then one λ per contact with friction and one σ per bounded
-/// motion-control row) and its vector q, into `data`; their count, or None when q ≥ 0 on every
-/// row but friction rows.
+/// motion-control row: [`number_lambdas`]) and its vector q, into `data`; their count, or None
+/// when q ≥ 0 on every row but friction rows.
 fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
     let (h, lever) = (m.opt.timestep, m.opt.lever());
     // slower approaches are not impacts and get no restitution: resting contacts do not jitter
     let impact = constraint::impact_speed(h, m.opt.gravity.length());
     let nr = data.con.len();
-    // one λ per contact with friction rows, shared by them (eq. 21 sums their forces), and one σ
-    // per torque-bounded motion-control row (the same pattern with a constant bound)
-    data.lcp_lambda.clear();
-    data.lcp_lambda.resize(nr, usize::MAX);
-    let mut n = nr;
-    for j in 0..nr {
-        let owner = match data.con.kind[j] {
-            RowKind::Tangent { normal } => normal,
-            RowKind::Motion { bounded: true } => j,
-            _ => continue,
-        };
-        if data.lcp_lambda[owner] == usize::MAX {
-            data.lcp_lambda[owner] = n;
-            n += 1;
-        }
-    }
+    let kind = &data.con.kind;
+    let n = number_lambdas(nr, |j| match kind[j] {
+        RowKind::Tangent { normal } => Some(normal),
+        RowKind::Motion { bounded: true } => Some(j),
+        _ => None,
+    }, &mut data.lcp_lambda);
     data.lcp_q.clear();
     data.lcp_q.resize(n, 0.0);
     data.force.clear();
@@ -561,9 +561,9 @@ fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
     (!trivial).then_some(n)
 }
 
-/// M from K and the friction and bound couplings; solves into `data.force` (warm-started when the
-/// rows are last step's). False when the solve brought back rows left out, whose K columns it
-/// needs.
+/// M from K and the friction and bound couplings; solves into `data.force`, from the warm set in
+/// `data.lcp_warm` when `warm` ([`warm_guess`]). False when the solve brought back rows left out,
+/// whose K columns it needs.
 fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: usize, warm: bool) -> bool {
     let h = m.opt.timestep;
     let con = &data.con;
@@ -640,12 +640,13 @@ fn record_warm(data: &mut Data, level: Level) {
     }
 }
 
-/// Identity of row j across steps: kind, contact (geoms, feature) or joint, and position within
-/// its contact.
+/// Identity of row j across steps: kind, then the contact (geoms, feature) and the row's position
+/// within it, or the joint and the side (a motion row: its actuator, whether it is bounded, and
+/// the side).
 fn row_key(con: &constraint::ConstraintData, contacts: &[collision::Contact], j: usize) -> (u8, usize, usize, usize, usize) {
     match con.kind[j] {
         RowKind::Limit => (0, con.source[j], 0, 0, (con.dof[j].1 > 0.0) as usize),
-        RowKind::Motion { .. } => (2, con.source[j], 0, 0, (con.dof[j].1 > 0.0) as usize),
+        RowKind::Motion { bounded } => (2, con.source[j], 0, bounded as usize, (con.dof[j].1 > 0.0) as usize),
         kind => {
             let c = &contacts[con.source[j]];
             let within = match kind {
