@@ -165,6 +165,9 @@ impl History {
 const TANGENT_LEN: usize = 6;
 /// Numbers a warm-start row's identity takes in [`History::to_flat`].
 const ROW_KEY_LEN: usize = 5;
+/// Numbers in the shortest flat history (nothing kept): regrow rate, the random state's two
+/// halves, the tangent, warm-start variable and row counts, and the last step's kind.
+pub const FLAT_HISTORY_MIN: usize = 7;
 /// Integers in a flat history are below this (exact in f64).
 const FLAT_INT_MAX: f64 = 9_007_199_254_740_992.0;
 
@@ -268,5 +271,19 @@ impl Clone for History {
 impl Default for History {
     fn default() -> Self {
         History::new()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_empty_history_flattens_to_the_shortest_flat_history_and_back() {
+        let mut flat = vec![];
+        History::new().to_flat(&mut flat);
+        assert_eq!(flat.len(), FLAT_HISTORY_MIN);
+        assert_eq!(History::from_flat(&flat, 1).unwrap(), History::new());
+        assert!(History::from_flat(&flat[..FLAT_HISTORY_MIN - 1], 1).is_err());
     }
 }

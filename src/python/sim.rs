@@ -242,7 +242,7 @@ impl PySim {
         let (nq, nv, nu) = (self.model.nq, self.model.nv, self.model.nu);
         let short = 1 + nq + nv + nu;
         let len = as_f64(&state, "state")?.len()?;
-        if len != short && len < short + 2 * nu + 5 {
+        if len != short && len < short + 2 * nu + crate::data::FLAT_HISTORY_MIN {
             return Err(PyValueError::new_err(format!(
                 "state: expected shape [{short}] (time, qpos, qvel, ctrl) or a full state from get_state(full=True), got length {len}"
             )));
