@@ -143,8 +143,8 @@ pub struct History {
     pub tangents: Vec<((usize, usize, usize), DVec3)>,
     /// Active set of the last accepted acceleration-level (or time-stepping) solve.
     pub warm: Vec<bool>,
-    /// Identity of the rows `warm` belongs to (kind, and contact or joint: `step::row_key`).
-    pub warm_rows: Vec<(u8, usize, usize, usize, usize)>,
+    /// Identity of the rows `warm` belongs to (`step::row_key`).
+    pub warm_rows: Vec<RowKey>,
     /// Moving average of the solves with rows left out that had to bring one back.
     pub regrow_rate: f64,
     /// SplitMix64 state of this world's random tangents.
@@ -160,6 +160,18 @@ impl History {
         History { tangents: vec![], warm: vec![], warm_rows: vec![], regrow_rate: 0.0, rng: 0x5EED, constrained: true }
     }
 }
+
+/// A constraint row's identity across steps: its kind ([`ROW_LIMIT`], [`ROW_CONTACT`] or
+/// [`ROW_MOTION`]), then a limit's joint, 0, 0 and side; a contact row's geom1, geom2, feature and
+/// position within its contact (0: the normal); a motion row's actuator, 0, whether it is bounded
+/// and side.
+pub type RowKey = (u8, usize, usize, usize, usize);
+/// [`RowKey`] kind of a joint-limit row.
+pub const ROW_LIMIT: u8 = 0;
+/// [`RowKey`] kind of a contact's normal or friction row.
+pub const ROW_CONTACT: u8 = 1;
+/// [`RowKey`] kind of a motion-control row.
+pub const ROW_MOTION: u8 = 2;
 
 /// Numbers a tangent takes in [`History::to_flat`]: geom1, geom2, feature, then the vector.
 const TANGENT_LEN: usize = 6;
@@ -238,7 +250,7 @@ impl History {
         }
         let mut warm_rows = Vec::with_capacity(nr);
         for _ in 0..nr {
-            let key = [0, 1, 2, 3, 4].map(|k| int(at + k, "warm-start row identity", if k == 0 { 3.0 } else { FLAT_INT_MAX }));
+            let key = [0, 1, 2, 3, 4].map(|k| int(at + k, "warm-start row identity", if k == 0 { f64::from(ROW_MOTION) + 1.0 } else { FLAT_INT_MAX }));
             let [kind, a, b, c, d] = key;
             warm_rows.push((kind? as u8, a? as usize, b? as usize, c? as usize, d? as usize));
             at += ROW_KEY_LEN;

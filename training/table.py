@@ -10,7 +10,13 @@ import numpy as np
 
 root = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", "runs")
 rows = [json.load(open(p)) for p in sorted(glob.glob(os.path.join(root, "*", "*", "result.json")))]
-order = lambda env, algo: (env.split("/")[-1], algo, env)
+
+
+def order(env, algo):
+    """Sort key: the task, the algorithm, then sinew before the twin."""
+    return env.split("/")[-1], algo, env
+
+
 print("| environment | algorithm | steps | seed | evaluated return (10 episodes) | training wall time (s) |")
 print("|---|---|---|---|---|---|")
 for r in sorted(rows, key=lambda r: (*order(r["env"], r["algo"]), r["seed"])):

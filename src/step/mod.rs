@@ -11,7 +11,7 @@ pub mod stabilize;
 
 use glam::DVec3;
 
-use crate::data::Data;
+use crate::data::{Data, RowKey, ROW_CONTACT, ROW_LIMIT, ROW_MOTION};
 
 /// Pipeline stages, for the per-stage cost breakdown (cargo feature `stage-timing`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -448,8 +448,8 @@ fn warm_guess(data: &mut Data, level: Level, n: usize) -> bool {
     let (keys, warm) = (&history.warm_rows, &history.warm);
     // last step's λ (σ) variable of each owner row, from its rows' identities
     let old_n = number_lambdas(keys.len(), |i| match keys[i] {
-        (1, _, _, _, within) if within > 0 => Some(i - within),
-        (2, _, _, 1, _) => Some(i),
+        (ROW_CONTACT, _, _, _, within) if within > 0 => Some(i - within),
+        (ROW_MOTION, _, _, 1, _) => Some(i),
         _ => None,
     }, old_lambda);
     if keys.is_empty() || old_n != warm.len() {
@@ -640,20 +640,20 @@ fn record_warm(data: &mut Data, level: Level) {
     }
 }
 
-/// Identity of row j across steps: kind, then the contact (geoms, feature) and the row's position
+/// Identity of row j across steps ([`RowKey`]): kind, then the contact (geoms, feature) and the row's position
 /// within it, or the joint and the side (a motion row: its actuator, whether it is bounded, and
 /// the side).
-fn row_key(con: &constraint::ConstraintData, contacts: &[collision::Contact], j: usize) -> (u8, usize, usize, usize, usize) {
+fn row_key(con: &constraint::ConstraintData, contacts: &[collision::Contact], j: usize) -> RowKey {
     match con.kind[j] {
-        RowKind::Limit => (0, con.source[j], 0, 0, (con.dof[j].1 > 0.0) as usize),
-        RowKind::Motion { bounded } => (2, con.source[j], 0, bounded as usize, (con.dof[j].1 > 0.0) as usize),
+        RowKind::Limit => (ROW_LIMIT, con.source[j], 0, 0, (con.dof[j].1 > 0.0) as usize),
+        RowKind::Motion { bounded } => (ROW_MOTION, con.source[j], 0, bounded as usize, (con.dof[j].1 > 0.0) as usize),
         kind => {
             let c = &contacts[con.source[j]];
             let within = match kind {
                 RowKind::Tangent { normal } => j - normal,
                 _ => 0,
             };
-            (1, c.geom1, c.geom2, c.feature, within)
+            (ROW_CONTACT, c.geom1, c.geom2, c.feature, within)
         }
     }
 }
