@@ -26,6 +26,8 @@ pub mod step;
 pub mod batch;
 pub mod sensors;
 pub mod task;
+// ⑥ pictures
+pub mod render;
 // reference algorithms, used as checks
 pub mod dynamics;
 

@@ -3,16 +3,18 @@
 //! spec into a [`crate::Model`].
 //!
 //! Supported: the elements and attributes used by gymnasium's MuJoCo model files (see README).
-//! Visual-only elements (light, camera, material, texture, visual, asset, size, statistic, sensor)
-//! are accepted and ignored. MuJoCo's soft-constraint parameters (solref, solimp, …) are accepted
+//! What the renderer draws (geom colours, textures, materials, lights, cameras, `<visual>`) is kept
+//! in [`VisualSpec`]; other visual-only elements (size, sensor, …) are accepted and ignored. MuJoCo's soft-constraint parameters (solref, solimp, …) are accepted
 //! and ignored by design: sinew's constraints are exact. Anything else that would change the physics
 //! and is not supported is an error, or a warning in [`ModelSpec::warnings`].
 
 mod parse;
+mod visual;
 
 use glam::{DQuat, DVec3};
 
 pub use parse::parse;
+pub use visual::*;
 
 /// Integration scheme for the constraint-free dynamics.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -154,6 +156,10 @@ pub struct GeomSpec {
     pub priority: i32,
     /// Contact detection margin.
     pub margin: f64,
+    /// Colour (MuJoCo's default [`DEFAULT_GEOM_RGBA`] unless given).
+    pub rgba: [f64; 4],
+    /// Material name.
+    pub material: Option<String>,
     /// Source line.
     pub line: u32,
 }
@@ -201,6 +207,10 @@ pub struct BodySpec {
     pub sites: Vec<SiteSpec>,
     /// Explicit inertial, if given.
     pub inertial: Option<InertialSpec>,
+    /// Cameras in order.
+    pub cameras: Vec<CameraSpec>,
+    /// Lights in order.
+    pub lights: Vec<LightSpec>,
     /// Source line.
     pub line: u32,
 }
@@ -256,6 +266,8 @@ pub struct ModelSpec {
     pub contact_excludes: Vec<(String, String)>,
     /// Contact restitution from `<custom><numeric name="sinew/restitution">`.
     pub restitution: Option<f64>,
+    /// Textures, materials, `<visual>` and `<statistic>`.
+    pub visual: VisualSpec,
     /// Things accepted but not modelled that may change the physics.
     pub warnings: Vec<String>,
 }

@@ -7,6 +7,8 @@ use glam::{DMat3, DQuat, DVec3};
 use roxmltree::{Document, Node};
 
 use super::*;
+
+mod visual;
 use crate::error::{Error, Result};
 
 /// One `<default class>`: attributes per element kind and the parent class.
@@ -34,7 +36,7 @@ const JOINT_ATTRS: &[&str] = &[
 ];
 const GEOM_ATTRS: &[&str] = &[
     "name", "class", "type", "size", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "fromto", "density",
-    "mass", "friction", "contype", "conaffinity", "condim", "priority", "margin",
+    "mass", "friction", "contype", "conaffinity", "condim", "priority", "margin", "rgba", "material",
 ];
 const SITE_ATTRS: &[&str] =
     &["name", "class", "type", "size", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "fromto"];
@@ -83,6 +85,8 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
                 geoms: vec![],
                 sites: vec![],
                 inertial: None,
+                cameras: vec![],
+                lights: vec![],
                 line: line(&doc, root),
             }],
             actuators: vec![],
@@ -90,6 +94,7 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
             settotalmass: None,
             contact_excludes: vec![],
             restitution: None,
+            visual: VisualSpec::default(),
             warnings: vec![],
         },
     };
@@ -115,7 +120,10 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
                     return Err(p.err(e, None, "equality constraints are not supported"));
                 }
             }
-            "size" | "visual" | "asset" | "statistic" | "sensor" | "keyframe" | "extension" => {}
+            "visual" => p.visual(c)?,
+            "asset" => p.asset(c)?,
+            "statistic" => p.statistic(c)?,
+            "size" | "sensor" | "keyframe" | "extension" => {}
             other => return Err(p.err(c, None, format!("unsupported element <{other}>"))),
         }
     }
@@ -479,7 +487,14 @@ impl<'d> Parser<'d> {
                     let i = self.inertial(c)?;
                     self.spec.bodies[body].inertial = Some(i);
                 }
-                "camera" | "light" => {}
+                "camera" => {
+                    let cam = self.camera(c, childclass)?;
+                    self.spec.bodies[body].cameras.push(cam);
+                }
+                "light" => {
+                    let l = self.light(c, childclass)?;
+                    self.spec.bodies[body].lights.push(l);
+                }
                 other => return Err(self.err(c, None, format!("unsupported element <{other}> in a body"))),
             }
         }
@@ -512,6 +527,8 @@ impl<'d> Parser<'d> {
             geoms: vec![],
             sites: vec![],
             inertial: None,
+            cameras: vec![],
+            lights: vec![],
             line: e.line,
         });
         self.body_children(n, id, cc.as_deref())
@@ -664,6 +681,8 @@ impl<'d> Parser<'d> {
             condim,
             priority: e.int("priority", 0)?,
             margin: e.nonneg("margin", 0.0)?,
+            rgba: e.rgba("rgba", DEFAULT_GEOM_RGBA)?,
+            material: e.get("material").map(str::to_string),
             line: e.line,
         })
     }

@@ -134,6 +134,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         plane_groups: vec![],
         gap_pairs: vec![],
         pairs_without_gap: vec![],
+        vis: Default::default(),
         warnings: spec.warnings.clone(),
     };
 
@@ -281,6 +282,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
     m.plane_groups = plane_groups(&mut m);
     check_solvable(&m)?;
     m.motion_plane = motion_plane(&m);
+    m.vis = super::visual::compile(&spec, |n| m.body_id(n))?;
     Ok(m)
 }
 

@@ -10,6 +10,7 @@
 
 mod compile;
 mod inertia;
+pub mod visual;
 
 use glam::{DMat3, DQuat, DVec3};
 
@@ -334,6 +335,8 @@ pub struct Model {
     /// geom of unbounded reach, two planes'): with the gap pairs, the only ones tested while every
     /// group is apart.
     pub pairs_without_gap: Vec<usize>,
+    /// How the model looks (the renderer's; the physics never reads it).
+    pub vis: visual::Visual,
     /// What the model file asks for that sinew does not model.
     pub warnings: Vec<String>,
 }

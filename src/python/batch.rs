@@ -330,6 +330,29 @@ impl PyBatch {
         self.refresh(py, &which)
     }
 
+    /// Draws worlds in parallel: rgb (n, H, W, 3) uint8 and/or depth (n, H, W) float32, a tuple
+    /// when both. `worlds`: None for all, a boolean mask (N,) or a sequence of world indices
+    /// (rendering every 100th world costs a hundredth). `camera` as in `Sim.render`.
+    #[pyo3(signature = (width=480, height=480, camera=None, worlds=None, *, rgb=true, depth=false))]
+    #[allow(clippy::too_many_arguments)]
+    fn render<'py>(
+        &self, py: Python<'py>, width: i64, height: i64, camera: Option<Bound<'py, PyAny>>, worlds: Option<Bound<'py, PyAny>>, rgb: bool, depth: bool,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let which = self.worlds(worlds)?;
+        let (w, h) = super::render::check_size(width, height, which.len())?;
+        let m = self.inner.model.clone();
+        let r = self.py_model.bind(py).get().renderer();
+        let cam = super::render::camera(&m, &r, camera.as_ref())?;
+        let qpos = self.qpos.bind(py).readonly();
+        let all = qpos.as_slice()?;
+        let rows: Vec<&[f64]> = which.iter().map(|&i| &all[i * m.nq..(i + 1) * m.nq]).collect();
+        if let Some((k, v)) = rows.iter().enumerate().find_map(|(k, q)| q.iter().find(|x| crate::batch::out_of_range(**x)).map(|v| (k, *v))) {
+            return Err(PyValueError::new_err(format!("cannot render world {}: its qpos holds {v}", which[k])));
+        }
+        let (c, d) = super::render::draw(py, &m, &r, &rows, cam, w, h, rgb, depth)?;
+        super::render::frames(py, c, d)
+    }
+
     fn __repr__(&self) -> String {
         format!("Batch(model='{}', num_envs={}, num_threads={})", self.inner.model.name, self.inner.len(), self.inner.num_threads())
     }
@@ -357,6 +380,28 @@ impl PyBatch {
                 Ok(v.as_slice()?.iter().enumerate().filter(|(_, x)| **x != 0.0).map(|(i, _)| i).collect())
             }
         }
+    }
+
+    /// World indices from a boolean mask of shape (N,) or a sequence of indices (all when None).
+    fn worlds(&self, worlds: Option<Bound<'_, PyAny>>) -> PyResult<Vec<usize>> {
+        let n = self.inner.len();
+        let Some(w) = worlds else { return Ok((0..n).collect()) };
+        if let Ok(b) = w.cast::<PyArray1<bool>>() {
+            if b.len() != n {
+                return Err(PyValueError::new_err(format!("worlds: a mask needs shape ({n},), got ({},)", b.len())));
+            }
+            return self.chosen(Some(w));
+        }
+        let idx: Vec<i64> = w.extract().map_err(|_| PyValueError::new_err("worlds must be None, a boolean mask or a sequence of world indices"))?;
+        idx.iter()
+            .map(|&i| {
+                if i < 0 || i as usize >= n {
+                    Err(PyValueError::new_err(format!("worlds: index {i} out of range for {n} worlds")))
+                } else {
+                    Ok(i as usize)
+                }
+            })
+            .collect()
     }
 
     fn refresh_poses(&mut self, py: Python<'_>) -> PyResult<()> {

@@ -3,6 +3,7 @@
 mod batch;
 mod errors;
 mod model;
+mod render;
 mod sim;
 mod task;
 

@@ -8,12 +8,27 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use super::errors::{to_py, ModelWarning};
+use crate::render::Renderer;
 use crate::model::{Actuation, ConstraintMode, FrictionModel, Integrator, JointType, Model};
 
 /// A compiled model (MuJoCo's mjModel counterpart). Immutable; share it between simulations.
 #[pyclass(name = "Model", module = "sinew._core", frozen)]
 pub struct PyModel {
     pub inner: Arc<Model>,
+    /// What its frames share, made at the first render.
+    renderer: std::sync::OnceLock<Arc<Renderer>>,
+}
+
+impl PyModel {
+    /// Wraps a compiled model.
+    pub fn new(m: Model) -> Self {
+        PyModel { inner: Arc::new(m), renderer: std::sync::OnceLock::new() }
+    }
+
+    /// The model's renderer, made once.
+    pub fn renderer(&self) -> Arc<Renderer> {
+        self.renderer.get_or_init(|| Arc::new(Renderer::new(&self.inner))).clone()
+    }
 }
 
 fn emit_warnings(py: Python<'_>, m: &Model) -> PyResult<()> {
@@ -40,7 +55,7 @@ impl PyModel {
     fn from_mjcf(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Self> {
         let m = py.detach(|| Model::from_mjcf_file(&path)).map_err(|e| to_py(py, e))?;
         emit_warnings(py, &m)?;
-        Ok(PyModel { inner: Arc::new(m) })
+        Ok(PyModel::new(m))
     }
 
     /// Loads MJCF text.
@@ -48,7 +63,7 @@ impl PyModel {
     fn from_mjcf_string(py: Python<'_>, xml: &str) -> PyResult<Self> {
         let m = Model::from_mjcf(xml).map_err(|e| to_py(py, e))?;
         emit_warnings(py, &m)?;
-        Ok(PyModel { inner: Arc::new(m) })
+        Ok(PyModel::new(m))
     }
 
     /// A copy with some options replaced (the model itself never changes); `integrator` is
@@ -130,7 +145,7 @@ impl PyModel {
                 _ => return Err(PyValueError::new_err(format!("friction must be 'seed' or 'pyramid', got '{f}'"))),
             };
         }
-        Ok(PyModel { inner: Arc::new(m) })
+        Ok(PyModel::new(m))
     }
 
     /// Number of position coordinates.
@@ -363,6 +378,36 @@ impl PyModel {
     #[getter]
     fn warnings(&self) -> Vec<String> {
         self.inner.warnings.clone()
+    }
+
+    /// The model's size (MuJoCo's `stat.extent`, or `<statistic extent>`): the clipping planes are
+    /// `znear`, `zfar` times it.
+    #[getter]
+    fn extent(&self) -> f64 {
+        self.renderer().extent
+    }
+
+    /// Near and far clipping distances of every camera (m): depth images are z-buffer values
+    /// between them.
+    #[getter]
+    fn clip(&self) -> (f64, f64) {
+        let e = self.renderer().extent;
+        (self.inner.vis.znear * e, self.inner.vis.zfar * e)
+    }
+
+    /// Camera names, in camera-id order (empty for unnamed cameras).
+    #[getter]
+    fn camera_names(&self) -> Vec<String> {
+        self.inner.vis.cameras.iter().map(|c| c.name.clone()).collect()
+    }
+
+    /// Geom centres in world (ngeom, 3) at configuration `qpos`.
+    fn geom_xpos<'py>(&self, py: Python<'py>, qpos: Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let m = &self.inner;
+        let q = super::errors::checked_values(&qpos, "qpos", &[m.nq])?;
+        let poses = crate::render::Poses::new(m, &q);
+        let flat: Vec<f64> = (0..m.ngeom).flat_map(|g| poses.geom_xpos(m, g).to_array()).collect();
+        PyArray1::from_vec(py, flat).reshape([m.ngeom, 3])
     }
 
     fn __repr__(&self) -> String {

@@ -141,6 +141,24 @@ impl PySim {
         PyArray1::from_vec(py, flat).reshape([self.model.nbody, 3, 3])
     }
 
+    /// Draws the world: rgb (H, W, 3) uint8 and/or depth (H, W) float32 (MuJoCo's z-buffer
+    /// values, see `Model.clip`), a tuple when both. `camera`: None or -1 for the default free
+    /// camera, a camera id or name, or a dict of free-camera settings.
+    #[pyo3(signature = (width=480, height=480, camera=None, *, rgb=true, depth=false))]
+    fn render<'py>(&self, py: Python<'py>, width: i64, height: i64, camera: Option<Bound<'py, PyAny>>, rgb: bool, depth: bool) -> PyResult<Bound<'py, PyAny>> {
+        let (w, h) = super::render::check_size(width, height, 1)?;
+        let pm = self.py_model.bind(py).get();
+        let r = pm.renderer();
+        let cam = super::render::camera(&self.model, &r, camera.as_ref())?;
+        let qpos = self.qpos.bind(py).readonly();
+        let q = qpos.as_slice()?;
+        if let Some((name, i, v)) = bad_entry(q, &[]) {
+            return Err(PyValueError::new_err(format!("cannot render: {name}[{i}] is {v}")));
+        }
+        let (c, d) = super::render::draw(py, &self.model, &r, &[q], cam, w, h, rgb, depth)?;
+        super::render::one_frame(py, c, d)
+    }
+
     /// Computes qacc for the current state without advancing time.
     fn forward(&mut self, py: Python<'_>) -> PyResult<()> {
         self.check_inputs(py)?;
