@@ -48,6 +48,7 @@ from gymnasium.utils import EzPickle, seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 
 from sinew._core import MAX_STATE, Batch, Model
+from sinew.rendering import RENDER_MODES, Viewer
 from sinew.tasks import ASSETS, TASKS
 
 #: Largest accepted action magnitude: the divergence bound on states.
@@ -153,21 +154,31 @@ class BatchTask:
 
 class SinewEnv(gymnasium.Env, EzPickle):
     """One sinew world with a gymnasium MuJoCo v5 task (see module docstring). Pickles as its
-    constructor arguments, as gymnasium's MuJoCo envs do: unpickled, it is a new env."""
+    constructor arguments, as gymnasium's MuJoCo envs do: unpickled, it is a new env.
 
-    metadata = {"render_modes": []}
+    Rendering takes the twin's keywords (``render_mode``, ``width``, ``height``, ``camera_id``,
+    ``camera_name``, ``default_camera_config``, ``visual_options``); see ``sinew.rendering``."""
 
-    def __init__(self, task: str, render_mode: str | None = None, **kwargs):
-        EzPickle.__init__(self, task, render_mode, **kwargs)
-        if render_mode is not None:
-            raise ValueError("sinew environments do not render")
+    metadata = {"render_modes": RENDER_MODES}
+
+    def __init__(self, task: str, render_mode: str | None = None, width: int = 480, height: int = 480,
+                 camera_id: int | None = None, camera_name: str | None = None,
+                 default_camera_config: dict | None = None, visual_options: dict | None = None, **kwargs):
+        EzPickle.__init__(self, task, render_mode, width, height, camera_id, camera_name, default_camera_config,
+                          visual_options, **kwargs)
         self._core = BatchTask(task, 1, num_threads=1, **kwargs)
+        if default_camera_config is None:
+            default_camera_config = self._core.task.camera
+        self.viewer = Viewer(self._core.model, render_mode, width, height, camera_id, camera_name,
+                             default_camera_config, visual_options)
+        self.render_mode = render_mode
+        self.width, self.height = self.viewer.width, self.viewer.height
         self.action_space = self._core.action_space
         self.observation_space = self._core.observation_space
         self.model = self._core.model
         self.frame_skip = self._core.task.frame_skip
         self.dt = self._core.task.dt
-        self.metadata = {"render_modes": [], "render_fps": int(np.round(1.0 / self.dt))}
+        self.metadata = {"render_modes": RENDER_MODES, "render_fps": int(np.round(1.0 / self.dt))}
         self._needs_reset = True
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
@@ -182,7 +193,19 @@ class SinewEnv(gymnasium.Env, EzPickle):
             raise gymnasium.error.ResetNeeded("call reset() before step()")
         a = self._core.check_actions(action)
         obs, reward, terminated, info = self._core.step(a)
+        if self.render_mode == "human":
+            self.render()
         return obs[0], float(reward[0]), bool(terminated[0]), False, {k: v[0] for k, v in info.items()}
+
+    def render(self):
+        """The frame the twin's ``render()`` returns for this ``render_mode``: RGB (H, W, 3) uint8,
+        depth (H, W) float32, or both as a tuple; None for "human" (drawn in a window) and, with a
+        warning, without a render mode."""
+        frames = self.viewer.render(self._core.batch, [0])
+        return None if frames is None else frames[0]
+
+    def close(self):
+        self.viewer.close()
 
     @property
     def data_qpos(self) -> np.ndarray:
@@ -216,17 +239,25 @@ class SinewVectorEnv(VectorEnv):
     """N sinew worlds of one task as a native gymnasium VectorEnv (next-step autoreset)."""
 
     def __init__(self, task: str, num_envs: int = 1, max_episode_steps: int | None = None,
-                 num_threads: int | None = None, render_mode: str | None = None, **kwargs):
-        if render_mode is not None:
-            raise ValueError("sinew environments do not render")
+                 num_threads: int | None = None, render_mode: str | None = None, width: int = 480,
+                 height: int = 480, camera_id: int | None = None, camera_name: str | None = None,
+                 default_camera_config: dict | None = None, visual_options: dict | None = None, **kwargs):
         self._core = BatchTask(task, num_envs, num_threads=num_threads, **kwargs)
+        if default_camera_config is None:
+            default_camera_config = self._core.task.camera
+        self.viewer = Viewer(self._core.model, render_mode, width, height, camera_id, camera_name,
+                             default_camera_config, visual_options)
+        if render_mode == "human":
+            raise ValueError('the vector env draws many worlds: use render_mode="rgb_array", "depth_array" or '
+                             '"rgbd_tuple" (or a single env for "human")')
+        self.render_mode = render_mode
         self.num_envs = num_envs
         self.single_action_space = self._core.action_space
         self.single_observation_space = self._core.observation_space
         self.action_space = gymnasium.vector.utils.batch_space(self.single_action_space, num_envs)
         self.observation_space = gymnasium.vector.utils.batch_space(self.single_observation_space, num_envs)
         self.max_episode_steps = max_episode_steps or self._core.task.max_episode_steps
-        self.metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": [],
+        self.metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": RENDER_MODES[1:],
                          "render_fps": int(np.round(1.0 / self._core.task.dt))}
         self._rngs = [seeding.np_random()[0] for _ in range(num_envs)]
         self._steps = np.zeros(num_envs, dtype=np.int64)
@@ -275,6 +306,12 @@ class SinewVectorEnv(VectorEnv):
                 info[k][done_before] = v[done_before]
         self._autoreset = terminated | truncated
         return obs, reward, terminated, truncated, self._info(info, stepped, reset_info)
+
+    def render(self):
+        """Every world's frame, drawn in one parallel call, as a tuple (as ``SyncVectorEnv``
+        returns its envs' frames); None without a render mode."""
+        frames = self.viewer.render(self._core.batch, list(range(self.num_envs)))
+        return None if frames is None else tuple(frames)
 
     def _info(self, info: dict, stepped: np.ndarray, reset_info=()) -> dict:
         """gymnasium's vector info: each entry with its mask of the envs that report it (every env

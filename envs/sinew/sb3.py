@@ -16,15 +16,22 @@ from stable_baselines3.common.monitor import Monitor
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv
 
 from sinew.env import BatchTask
+from sinew.rendering import Viewer
 
 
 class SinewVecEnv(VecEnv):
     """N sinew worlds of one task as an SB3 VecEnv."""
 
     def __init__(self, task: str, n_envs: int, max_episode_steps: int, seed: int | None = None,
-                 num_threads: int | None = None, **kwargs):
+                 num_threads: int | None = None, render_mode: str | None = None, width: int = 480, height: int = 480,
+                 camera_id: int | None = None, camera_name: str | None = None,
+                 default_camera_config: dict | None = None, **kwargs):
         self._core = BatchTask(task, n_envs, num_threads=num_threads, **kwargs)
-        self.render_mode = None
+        if render_mode not in (None, "rgb_array"):
+            raise ValueError(f'the SB3 VecEnv renders render_mode="rgb_array" (or None), got {render_mode!r}')
+        self.render_mode = render_mode
+        self._viewer = Viewer(self._core.model, "rgb_array", width, height, camera_id, camera_name,
+                              self._core.task.camera if default_camera_config is None else default_camera_config)
         super().__init__(n_envs, self._core.observation_space, self._core.action_space)
         self.max_episode_steps = max_episode_steps
         self._base_seed = seed
@@ -71,6 +78,10 @@ class SinewVecEnv(VecEnv):
 
     def close(self) -> None:
         pass
+
+    def get_images(self) -> Sequence[np.ndarray]:
+        """Every world's RGB frame, drawn in one parallel call (SB3's ``VecEnv.render`` tiles them)."""
+        return self._viewer.render(self._core.batch, list(range(self.num_envs)))
 
     def get_attr(self, attr_name: str, indices=None) -> list[Any]:
         return [getattr(self, attr_name) for _ in self._get_indices(indices)]

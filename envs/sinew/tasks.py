@@ -24,10 +24,13 @@ class Task:
     xml: str = ""
     frame_skip: int = 1
     max_episode_steps: int = 1000
+    #: The twin's ``DEFAULT_CAMERA_CONFIG``.
+    camera: dict = {}
 
     def __init__(self, model, **kwargs):
         if kwargs:
-            raise TypeError(f"{type(self).__name__} got unexpected keyword arguments {sorted(kwargs)}")
+            # Python's own wording, which wrappers such as TorchRL's GymEnv recognise
+            raise TypeError(f"{type(self).__name__}.__init__() got an unexpected keyword argument '{min(kwargs)}'")
         self.model = model
         self.dt = model.timestep * self.frame_skip
         self.qpos0 = model.qpos0
@@ -83,6 +86,7 @@ def planar_info(qpos):
 
 class InvertedPendulum(Task):
     xml, frame_skip = "inverted_pendulum.xml", 2
+    camera = {"trackbodyid": 0, "distance": 2.04}
 
     def __init__(self, model, reset_noise_scale=0.01, **kw):
         super().__init__(model, **kw)
@@ -94,6 +98,7 @@ class InvertedPendulum(Task):
 
 class InvertedDoublePendulum(Task):
     xml, frame_skip = "inverted_double_pendulum.xml", 5
+    camera = {"trackbodyid": 0, "distance": 4.1225, "lookat": (0.0, 0.0, 0.12250000000000005)}
 
     def __init__(self, model, healthy_reward=10.0, reset_noise_scale=0.1, **kw):
         super().__init__(model, **kw)
@@ -107,6 +112,7 @@ class InvertedDoublePendulum(Task):
 
 class Reacher(Task):
     xml, frame_skip, max_episode_steps = "reacher.xml", 2, 50
+    camera = {"trackbodyid": 0}
 
     def __init__(self, model, reward_dist_weight=1.0, reward_control_weight=1.0, **kw):
         super().__init__(model, **kw)
@@ -155,6 +161,7 @@ class _Healthy(_Planar):
 
 class Hopper(_Healthy):
     xml, frame_skip = "hopper.xml", 4
+    camera = {"trackbodyid": 2, "distance": 3.0, "lookat": (0.0, 0.0, 1.15), "elevation": -20.0}
 
     def __init__(self, model, healthy_state_range=(-100.0, 100.0), **kw):
         super().__init__(model, **kw)
@@ -163,6 +170,7 @@ class Hopper(_Healthy):
 
 class Walker2d(_Healthy):
     xml, frame_skip = "walker2d_v5.xml", 4
+    camera = {"trackbodyid": 2, "distance": 4.0, "lookat": (0.0, 0.0, 1.15), "elevation": -20.0}
 
     def __init__(self, model, healthy_z_range=(0.8, 2.0), healthy_angle_range=(-1.0, 1.0), **kw):
         super().__init__(model, healthy_z_range=healthy_z_range, healthy_angle_range=healthy_angle_range, **kw)
@@ -170,6 +178,7 @@ class Walker2d(_Healthy):
 
 class HalfCheetah(_Planar):
     xml, frame_skip = "half_cheetah.xml", 5
+    camera = {"distance": 4.0}
 
     def __init__(self, model, ctrl_cost_weight=0.1, reset_noise_scale=0.1, **kw):
         super().__init__(model, ctrl_cost_weight=ctrl_cost_weight, reset_noise_scale=reset_noise_scale, **kw)
@@ -184,6 +193,7 @@ class HalfCheetah(_Planar):
 
 class Ant(Task):
     xml, frame_skip = "ant.xml", 5
+    camera = {"distance": 4.0}
 
     def __init__(self, model, forward_reward_weight=1.0, ctrl_cost_weight=0.5, contact_cost_weight=5e-4,
                  healthy_reward=1.0, main_body=1, terminate_when_unhealthy=True, healthy_z_range=(0.2, 1.0),
@@ -211,6 +221,7 @@ class Ant(Task):
 
 class Humanoid(Task):
     xml, frame_skip = "humanoid.xml", 5
+    camera = {"trackbodyid": 1, "distance": 4.0, "lookat": (0.0, 0.0, 2.0), "elevation": -20.0}
 
     def __init__(self, model, forward_reward_weight=1.25, ctrl_cost_weight=0.1, contact_cost_weight=5e-7,
                  contact_cost_range=(-np.inf, 10.0), healthy_reward=5.0, terminate_when_unhealthy=True,

@@ -144,7 +144,7 @@ impl Renderer {
             .for_each(|(k, (rgb, depth))| {
                 let (frame, band) = (k / bands_per_frame, k % bands_per_frame);
                 let y0 = band * BAND;
-                scenes[frame].draw_rows(m, y0, (y0 + BAND).min(height), Frame { rgb, depth });
+                scenes[frame].draw_rows(y0, (y0 + BAND).min(height), Frame { rgb, depth });
             });
     }
 

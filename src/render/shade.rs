@@ -18,14 +18,16 @@ struct Geom {
     rot_t: DMat3,
     /// Bounding radius (∞ for planes).
     rbound: f64,
-    /// The eye in the geom frame.
-    eye: DVec3,
     rgb: DVec3,
     emission: f64,
     specular: f64,
     /// Phong exponent.
     exponent: f64,
+    /// Below this n·h the specular term is under half a grey level: skipped.
+    spec_cut: f64,
     reflectance: f64,
+    /// Index into `Scene::mirrors` of a plane that reflects.
+    mirror: Option<usize>,
     /// Texture colours and the repeat scale of local coordinates, when textured.
     texture: Option<Tex>,
 }
@@ -40,6 +42,27 @@ struct Tex {
     scale: [f64; 2],
 }
 
+/// Geoms binned by the screen tiles (`TILE` pixels square, row-major) they may cover.
+struct Bins {
+    /// Geoms that may cover any pixel (planes, geoms reaching behind the near plane).
+    everywhere: Vec<u32>,
+    /// Each tile's geoms.
+    tiles: Vec<Vec<u32>>,
+}
+
+/// What a mirroring plane shows: the scene seen from the eye's mirror image. The reflected ray
+/// from a point p the eye sees at e + t d is the mirrored eye's ray e' + s d' beyond s = t.
+struct Mirror {
+    /// The solids whose mirrored bounding spheres may cover each screen tile.
+    bins: Bins,
+    /// The mirrored eye in each geom's frame (ngeom; planes unused).
+    eyes: Vec<DVec3>,
+    /// Mirror image of a direction: d − 2 (d·n) n.
+    normal: DVec3,
+    /// The mirrored eye in world.
+    eye: DVec3,
+}
+
 /// A light in world.
 struct Light {
     directional: bool,
@@ -52,6 +75,68 @@ struct Light {
     cos_cutoff: f64,
     exponent: f64,
     castshadow: bool,
+    /// For a directional light that casts shadows, the solids as seen along it.
+    grid: Option<ShadowGrid>,
+}
+
+/// The solids seen along a directional light: each bounding sphere is a disc in a plane ⊥ the
+/// light, and a shadow ray from p can meet the solid only if p's projection lies in its disc.
+/// The discs are binned in a uniform grid over that plane.
+struct ShadowGrid {
+    /// The plane's axes.
+    axes: (DVec3, DVec3),
+    /// Lower corner (u, v) of the grid and its cell size.
+    lo: (f64, f64),
+    cell: f64,
+    nu: usize,
+    nv: usize,
+    /// Each cell's discs: centre (u, v), squared radius, geom.
+    cells: Vec<Vec<(f64, f64, f64, u32)>>,
+}
+
+impl ShadowGrid {
+    fn new(dir: DVec3, geoms: &[Geom], solids: &[u32]) -> Option<ShadowGrid> {
+        if solids.is_empty() {
+            return None;
+        }
+        let e1 = dir.any_orthonormal_vector();
+        let e2 = dir.cross(e1);
+        let discs: Vec<(f64, f64, f64, u32)> =
+            solids.iter().map(|&g| (geoms[g as usize].pos.dot(e1), geoms[g as usize].pos.dot(e2), geoms[g as usize].rbound, g)).collect();
+        let (mut lo, mut hi) = ((f64::INFINITY, f64::INFINITY), (f64::NEG_INFINITY, f64::NEG_INFINITY));
+        for &(u, v, r, _) in &discs {
+            lo = (lo.0.min(u - r), lo.1.min(v - r));
+            hi = (hi.0.max(u + r), hi.1.max(v + r));
+        }
+        // about 32 cells along the longer side
+        let cell = ((hi.0 - lo.0).max(hi.1 - lo.1) / 32.0).max(1e-9);
+        let (nu, nv) = ((((hi.0 - lo.0) / cell) as usize + 1).min(64), (((hi.1 - lo.1) / cell) as usize + 1).min(64));
+        let cell = cell.max((hi.0 - lo.0) / nu as f64).max((hi.1 - lo.1) / nv as f64);
+        let mut cells = vec![vec![]; nu * nv];
+        for &(u, v, r, g) in &discs {
+            let i0 = (((u - r - lo.0) / cell) as usize).min(nu - 1);
+            let i1 = (((u + r - lo.0) / cell) as usize).min(nu - 1);
+            let j0 = (((v - r - lo.1) / cell) as usize).min(nv - 1);
+            let j1 = (((v + r - lo.1) / cell) as usize).min(nv - 1);
+            for j in j0..=j1 {
+                for i in i0..=i1 {
+                    cells[j * nu + i].push((u, v, r * r, g));
+                }
+            }
+        }
+        Some(ShadowGrid { axes: (e1, e2), lo, cell, nu, nv, cells })
+    }
+
+    /// The discs that may hold p's projection.
+    #[inline]
+    fn at(&self, p: DVec3) -> (f64, f64, &[(f64, f64, f64, u32)]) {
+        let (u, v) = (p.dot(self.axes.0), p.dot(self.axes.1));
+        let (fu, fv) = ((u - self.lo.0) / self.cell, (v - self.lo.1) / self.cell);
+        if !(fu >= 0.0 && fv >= 0.0 && fu < self.nu as f64 && fv < self.nv as f64) {
+            return (u, v, &[]);
+        }
+        (u, v, &self.cells[fv as usize * self.nu + fu as usize])
+    }
 }
 
 /// Everything one frame's pixels read.
@@ -64,10 +149,13 @@ pub(super) struct Scene {
     near: f64,
     far: f64,
     geoms: Vec<Geom>,
-    /// Geoms that may cover any pixel (planes, geoms reaching behind the near plane).
-    everywhere: Vec<u32>,
-    /// Geoms whose projected bounding sphere meets each tile (row-major tiles).
-    tiles: Vec<Vec<u32>>,
+    /// The geoms each screen tile may show.
+    primary: Bins,
+    /// The eye in each geom's frame.
+    eyes: Vec<DVec3>,
+    /// Each mirroring plane's reflection (`Geom::mirror`).
+    mirrors: Vec<Mirror>,
+    /// Tiles per image row.
     tiles_x: usize,
     /// Geoms that can block light or be reflected (all but planes).
     solids: Vec<u32>,
@@ -107,14 +195,18 @@ impl Scene {
                 pos,
                 rot_t,
                 rbound: m.geom_rbound[g],
-                eye: rot_t * (view.pos - pos),
                 rgb: DVec3::new(rgba[0], rgba[1], rgba[2]),
                 emission: mat.map_or(0.0, |mt| mt.emission),
                 specular: mat.map_or(0.5, |mt| mt.specular),
                 exponent: 128.0 * mat.map_or(0.5, |mt| mt.shininess),
+                spec_cut: 0.0,
                 reflectance: mat.map_or(0.0, |mt| mt.reflectance),
+                mirror: None,
                 texture,
             });
+        }
+        for g in &mut geoms {
+            g.spec_cut = if g.exponent > 0.0 { (1.0_f64 / 512.0).powf(1.0 / g.exponent) } else { 0.0 };
         }
         let mut all_lights = Vec::with_capacity(lights.len() + 1);
         if v.head_active {
@@ -129,6 +221,7 @@ impl Scene {
                 cos_cutoff: -1.0,
                 exponent: 0.0,
                 castshadow: false,
+                grid: None,
             });
         }
         for &(i, pos, dir) in lights {
@@ -144,14 +237,19 @@ impl Scene {
                 cos_cutoff: l.cos_cutoff,
                 exponent: l.exponent,
                 castshadow: l.castshadow,
+                grid: None,
             });
+        }
+        let solids: Vec<u32> = (0..m.ngeom as u32).filter(|&g| geoms[g as usize].rbound.is_finite()).collect();
+        for l in all_lights.iter_mut().filter(|l| l.directional && l.castshadow) {
+            l.grid = ShadowGrid::new(l.dir, &geoms, &solids);
         }
         let sky = v.skybox.map(|i| {
             let t = &v.textures[i];
             (t.builtin, t.rgb1, t.rgb2)
         });
         let tiles_x = width.div_ceil(TILE);
-        let tiles_y = height.div_ceil(TILE);
+        let eyes = geoms.iter().map(|g| g.rot_t * (view.pos - g.pos)).collect();
         let mut s = Scene {
             view: *view,
             width,
@@ -159,38 +257,54 @@ impl Scene {
             tan_half: (0.5 * view.fovy.to_radians()).tan(),
             near: v.znear * extent,
             far: v.zfar * extent,
-            solids: (0..m.ngeom as u32).filter(|&g| m.geom_type[g as usize] != GeomType::Plane).collect(),
+            solids,
             geoms,
-            everywhere: vec![],
-            tiles: vec![vec![]; tiles_x * tiles_y],
+            primary: Bins { everywhere: vec![], tiles: vec![] },
+            eyes,
+            mirrors: vec![],
             tiles_x,
             lights: all_lights,
             sky,
             eps: 1e-6 * extent,
         };
-        s.bin();
+        s.primary = s.bin(s.geoms.iter().enumerate().map(|(g, geom)| (g as u32, geom.pos, geom.rbound)));
+        for p in 0..s.geoms.len() {
+            if s.geoms[p].kind != GeomType::Plane || s.geoms[p].reflectance <= 0.0 {
+                continue;
+            }
+            let (origin, normal) = (s.geoms[p].pos, s.geoms[p].rot_t.row(2));
+            let mirrored = s.solids.iter().map(|&g| {
+                let c = s.geoms[g as usize].pos;
+                (g, c - 2.0 * (c - origin).dot(normal) * normal, s.geoms[g as usize].rbound)
+            });
+            let bins = s.bin(mirrored);
+            let eye = s.view.pos - 2.0 * (s.view.pos - origin).dot(normal) * normal;
+            let eyes = s.geoms.iter().map(|g| g.rot_t * (eye - g.pos)).collect();
+            s.geoms[p].mirror = Some(s.mirrors.len());
+            s.mirrors.push(Mirror { bins, eyes, normal, eye });
+        }
         s
     }
 
-    /// Puts each geom in the tiles its projected bounding sphere can cover.
-    fn bin(&mut self) {
+    /// The geoms whose bounding spheres (`g`, centre, radius) can cover each screen tile: the
+    /// ones that may cover any pixel, and each tile's list.
+    fn bin(&self, spheres: impl Iterator<Item = (u32, DVec3, f64)>) -> Bins {
         let aspect = self.width as f64 / self.height as f64;
         let (sx, sy) = (self.tan_half * aspect, self.tan_half);
         let tiles_y = self.height.div_ceil(TILE);
-        for (g, geom) in self.geoms.iter().enumerate() {
-            let g = g as u32;
-            if !geom.rbound.is_finite() {
-                self.everywhere.push(g);
+        let mut bins = Bins { everywhere: vec![], tiles: vec![vec![]; self.tiles_x * tiles_y] };
+        for (g, centre, r) in spheres {
+            if !r.is_finite() {
+                bins.everywhere.push(g);
                 continue;
             }
-            let c = geom.pos - self.view.pos;
+            let c = centre - self.view.pos;
             let (x, y, z) = (c.dot(self.view.right), c.dot(self.view.up), c.dot(self.view.forward));
-            let r = geom.rbound;
             if z + r < self.near {
                 continue; // wholly behind the near plane
             }
             if z - r <= self.near.max(1e-9) {
-                self.everywhere.push(g);
+                bins.everywhere.push(g);
                 continue;
             }
             // bounds of x/z and y/z over the sphere, conservative
@@ -212,54 +326,61 @@ impl Scene {
             let (ty0, ty1) = (clamp(r0, tiles_y), clamp(r1, tiles_y));
             for ty in ty0..=ty1 {
                 for tx in tx0..=tx1 {
-                    self.tiles[ty * self.tiles_x + tx].push(g);
+                    bins.tiles[ty * self.tiles_x + tx].push(g);
                 }
             }
         }
+        bins
     }
 
     /// Draws rows `y0..y1` into the band `out` (its rows start at `y0`).
-    pub(super) fn draw_rows(&self, m: &Model, y0: usize, y1: usize, out: Frame<'_>) {
-        let _ = m;
+    pub(super) fn draw_rows(&self, y0: usize, y1: usize, out: Frame<'_>) {
         let (w, h) = (self.width as f64, self.height as f64);
-        let aspect = w / h;
-        let zbuf = |z: f64| (self.far * (z - self.near) / ((self.far - self.near) * z)) as f32;
+        let want_rgb = !out.rgb.is_empty();
+        let want_depth = !out.depth.is_empty();
+        // z-buffer value f (z − n) / ((f − n) z) = a − b / z
+        let (a, b) = (self.far / (self.far - self.near), self.far * self.near / (self.far - self.near));
+        // each column's offset along `right`, so that a ray is a row's base plus a column's offset
+        let (sx, sy) = (2.0 * self.tan_half * w / h / w, 2.0 * self.tan_half / h);
+        let columns: Vec<DVec3> = (0..self.width).map(|x| ((x as f64 + 0.5) * sx - self.tan_half * w / h) * self.view.right).collect();
         for y in y0..y1 {
-            let sy = (1.0 - 2.0 * (y as f64 + 0.5) / h) * self.tan_half;
-            for x in 0..self.width {
-                let sx = (2.0 * (x as f64 + 0.5) / w - 1.0) * self.tan_half * aspect;
-                let d = (self.view.forward + sx * self.view.right + sy * self.view.up).normalize();
-                let cos = d.dot(self.view.forward);
-                let tile = &self.tiles[(y / TILE) * self.tiles_x + x / TILE];
-                let hit = self.first_hit(self.everywhere.iter().chain(tile), self.view.pos, d, self.near / cos, self.far / cos, true);
+            // unnormalised rays with unit depth along the view axis, so that t is that depth
+            let base = self.view.forward + (self.tan_half - (y as f64 + 0.5) * sy) * self.view.up;
+            let tiles = &self.primary.tiles[(y / TILE) * self.tiles_x..];
+            for (x, col) in columns.iter().enumerate() {
+                let d = base + *col;
+                let tile = x / TILE;
+                let candidates = self.primary.everywhere.iter().chain(&tiles[tile]);
+                let hit = self.first_hit(candidates, &self.eyes, d, self.near, self.far);
                 let k = (y - y0) * self.width + x;
-                let (rgb, z) = match hit {
-                    Some((g, t, n)) => (self.shade(g, self.view.pos, d, t, n, true), zbuf(t * cos)),
-                    None => (self.sky(d), 1.0),
-                };
-                if !out.rgb.is_empty() {
+                if want_rgb {
+                    let rgb = match hit {
+                        Some((g, t, n)) => self.shade(g, self.view.pos, d, t, n, Some((y / TILE) * self.tiles_x + tile)),
+                        None => self.sky(d.normalize()),
+                    };
                     for c in 0..3 {
                         out.rgb[3 * k + c] = (rgb[c].clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
                     }
                 }
-                if !out.depth.is_empty() {
-                    out.depth[k] = z;
+                if want_depth {
+                    out.depth[k] = hit.map_or(1.0, |(_, t, _)| (a - b / t) as f32);
                 }
             }
         }
     }
 
-    /// The nearest hit among `candidates` in `[t0, t1)`: geom, ray parameter and world normal.
-    /// From the eye (`primary`) the geoms' eye positions are precomputed.
-    fn first_hit<'a>(&self, candidates: impl Iterator<Item = &'a u32>, o: DVec3, d: DVec3, t0: f64, mut t1: f64, primary: bool) -> Option<(usize, f64, DVec3)> {
+    /// The nearest hit among `candidates` in `[t0, t1)` of the ray from the point whose position
+    /// in each geom's frame `eyes` holds, along `d`: geom, ray parameter and world normal.
+    fn first_hit<'a>(&self, candidates: impl Iterator<Item = &'a u32>, eyes: &[DVec3], d: DVec3, t0: f64, mut t1: f64) -> Option<(usize, f64, DVec3)> {
         let mut best = None;
         for &g in candidates {
             let geom = &self.geoms[g as usize];
-            if !primary && !meets_sphere(geom.pos, geom.rbound, o, d, t0, t1) {
+            let (ol, dl) = (eyes[g as usize], geom.rot_t * d);
+            // the ray's line misses the bounding sphere: |o × d|² > r² |d|²
+            if ol.cross(dl).length_squared() > geom.rbound * geom.rbound * dl.length_squared() {
                 continue;
             }
-            let ol = if primary { geom.eye } else { geom.rot_t * (o - geom.pos) };
-            if let Some((t, n)) = intersect(geom.kind, &geom.size, ol, geom.rot_t * d, t0, t1) {
+            if let Some((t, n)) = intersect(geom.kind, &geom.size, ol, dl, t0, t1) {
                 t1 = t;
                 best = Some((g as usize, t, n));
             }
@@ -267,22 +388,34 @@ impl Scene {
         best.map(|(g, t, n)| (g, t, self.geoms[g].rot_t.transpose() * n))
     }
 
-    /// Whether anything solid lies on the segment from `p` along unit `l` up to `t1`.
-    fn blocked(&self, p: DVec3, l: DVec3, t1: f64) -> bool {
+    /// Whether anything solid lies on the segment from `p` along unit `l` (towards `light`) up to
+    /// `t1`.
+    fn blocked(&self, light: &Light, p: DVec3, l: DVec3, t1: f64) -> bool {
+        let hits = |g: u32| {
+            let geom = &self.geoms[g as usize];
+            intersect(geom.kind, &geom.size, geom.rot_t * (p - geom.pos), geom.rot_t * l, 0.0, t1).is_some()
+        };
+        if light.directional {
+            let Some(grid) = &light.grid else { return false };
+            let (u, v, discs) = grid.at(p);
+            return discs.iter().any(|&(cu, cv, r2, g)| (u - cu) * (u - cu) + (v - cv) * (v - cv) <= r2 && hits(g));
+        }
         self.solids.iter().any(|&g| {
             let geom = &self.geoms[g as usize];
-            meets_sphere(geom.pos, geom.rbound, p, l, 0.0, t1)
-                && intersect(geom.kind, &geom.size, geom.rot_t * (p - geom.pos), geom.rot_t * l, 0.0, t1).is_some()
+            meets_sphere(geom.pos, geom.rbound, p, l, 0.0, t1) && hits(g)
         })
     }
 
-    /// Colour of geom `g` hit at `o + t d` with world normal `n`; `direct` adds shadows and
-    /// reflections (off for what a mirror shows).
-    fn shade(&self, g: usize, o: DVec3, d: DVec3, t: f64, n: DVec3, direct: bool) -> DVec3 {
+    /// Colour of geom `g` hit at `o + t d` with world normal `n`. Seen directly in screen `tile`
+    /// it gets shadows and reflections; what a mirror shows (`tile` None) does not.
+    fn shade(&self, g: usize, o: DVec3, d: DVec3, t: f64, n: DVec3, tile: Option<usize>) -> DVec3 {
+        let direct = tile.is_some();
         let geom = &self.geoms[g];
         let p = o + t * d;
         let n = if n.dot(d) > 0.0 { -n } else { n };
-        let base = geom.rgb * geom.texture.map_or(DVec3::ONE, |tex| texel(&tex, geom.rot_t * (p - geom.pos), geom.rot_t * n));
+        let d_eye = d;
+        let d = d.normalize();
+        let base = geom.rgb * geom.texture.map_or(DVec3::ONE, |tex| texel(&tex, geom.rot_t * (p - geom.pos), || geom.rot_t * n));
         let view = -d;
         let mut c = geom.emission * base;
         let lifted = p + self.eps * n;
@@ -304,19 +437,23 @@ impl Scene {
             }
             c += k * l.ambient * base;
             let ndl = n.dot(to_light);
-            if ndl <= 0.0 || (direct && l.castshadow && self.blocked(lifted, to_light, dist)) {
+            if ndl <= 0.0 || (direct && l.castshadow && self.blocked(l, lifted, to_light, dist)) {
                 continue;
             }
             c += k * ndl * l.diffuse * base;
-            let ndh = n.dot((to_light + view).normalize());
-            if ndh > 0.0 && geom.specular > 0.0 {
-                c += k * geom.specular * ndh.powf(geom.exponent) * l.specular;
+            // n·h > cut, h = (l + v) / |l + v|, tested without the square root
+            let h = to_light + view;
+            let nh = n.dot(h);
+            if geom.specular > 0.0 && nh > 0.0 && nh * nh > geom.spec_cut * geom.spec_cut * h.length_squared() {
+                c += k * geom.specular * phong(nh / h.length(), geom.exponent) * l.specular;
             }
         }
-        if direct && geom.reflectance > 0.0 {
-            let r = d - 2.0 * d.dot(n) * n;
-            if let Some((h, tr, nr)) = self.first_hit(self.solids.iter(), lifted, r, 0.0, self.far, false) {
-                c += geom.reflectance * self.shade(h, lifted, r, tr, nr, false);
+        if let (Some(tile), Some(mi)) = (tile, geom.mirror) {
+            let mirror = &self.mirrors[mi];
+            let dm = d_eye - 2.0 * d_eye.dot(mirror.normal) * mirror.normal;
+            let candidates = mirror.bins.everywhere.iter().chain(&mirror.bins.tiles[tile]);
+            if let Some((h, s, nr)) = self.first_hit(candidates, &mirror.eyes, dm, t * (1.0 + 1e-9), self.far) {
+                c += geom.reflectance * self.shade(h, mirror.eye, dm, s, nr, None);
             }
         }
         c
@@ -332,13 +469,22 @@ impl Scene {
     }
 }
 
+/// x^e, by repeated multiplication for the integer exponents materials usually give.
+#[inline]
+fn phong(x: f64, e: f64) -> f64 {
+    if e == e.trunc() && e <= 1024.0 { x.powi(e as i32) } else { x.powf(e) }
+}
+
 /// Texture colour at local point `p` with local normal `n`: 2D textures tile the geom's xy plane,
 /// cube textures are projected along the normal's dominant axis.
-fn texel(t: &Tex, p: DVec3, n: DVec3) -> DVec3 {
+fn texel(t: &Tex, p: DVec3, n: impl Fn() -> DVec3) -> DVec3 {
+    if t.builtin == Builtin::Flat {
+        return t.rgb1;
+    }
     let (u, v) = match t.kind {
         TextureKind::TwoD => (p.x * t.scale[0], p.y * t.scale[1]),
         _ => {
-            let a = n.abs();
+            let a = n().abs();
             let (u, v) = if a.x >= a.y && a.x >= a.z { (p.y, p.z) } else if a.y >= a.z { (p.x, p.z) } else { (p.x, p.y) };
             (u * t.scale[0], v * t.scale[1])
         }
