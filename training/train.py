@@ -23,16 +23,16 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import hyperparams  # noqa: E402
 
 
-def make_env(env_id: str, n_envs: int, seed: int):
+def make_env(env_id: str, n_envs: int, seed: int, render_mode=None):
     if env_id.startswith("sinew/"):
         import sinew.sb3
 
-        return sinew.sb3.make_vec_env(env_id, n_envs=n_envs, seed=seed, num_threads=1)
+        return sinew.sb3.make_vec_env(env_id, n_envs=n_envs, seed=seed, num_threads=1, render_mode=render_mode)
     from stable_baselines3.common.env_util import make_vec_env
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return make_vec_env(env_id, n_envs=n_envs, seed=seed)
+        return make_vec_env(env_id, n_envs=n_envs, seed=seed, env_kwargs={"render_mode": render_mode})
 
 
 def main():

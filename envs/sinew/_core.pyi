@@ -125,6 +125,20 @@ class Model:
     def actuator_dofadr(self) -> list[int]: ...
     @property
     def warnings(self) -> list[str]: ...
+    @property
+    def extent(self) -> float:
+        """The model's size (MuJoCo's stat.extent); the clipping planes scale with it."""
+    @property
+    def clip(self) -> tuple[float, float]:
+        """Near and far clipping distances (m) that depth images' z-buffer values refer to."""
+    @property
+    def camera_names(self) -> list[str]: ...
+    def geom_xpos(self, qpos: ArrayLike) -> NDArray[np.float64]:
+        """Geom centres in world (ngeom, 3) at configuration qpos."""
+
+#: A camera: None or -1 (the default free camera), a camera id or name, or a dict of free-camera
+#: settings (lookat, distance, azimuth, elevation, and trackbodyid with type="tracking").
+Camera = Union[None, int, str, dict[str, Any]]
 
 class Sim:
     """One simulated world; qpos/qvel/ctrl are float64 arrays stepped in place."""
@@ -168,6 +182,9 @@ class Sim:
         """[time, qpos, qvel, ctrl]; full=True appends the feed-forward and the step's history."""
     def set_state(self, state: ArrayLike) -> None:
         """A short state leaves no history; a full one steps exactly as the Sim it came from."""
+    def render(self, width: int = 480, height: int = 480, camera: Camera = None, *, rgb: bool = True,
+               depth: bool = False) -> Union[NDArray[np.uint8], NDArray[np.float32], tuple[NDArray[np.uint8], NDArray[np.float32]]]:
+        """RGB (H, W, 3) and/or depth (H, W): MuJoCo's z-buffer values from Model.clip."""
 
 class Batch:
     """N worlds of one model stepped in parallel; state arrays are (N, ·) float64, stepped in place.
@@ -211,6 +228,11 @@ class Batch:
               qpos: Optional[ArrayLike] = None, qvel: Optional[ArrayLike] = None) -> None: ...
     def forward_kinematics(self, mask: Optional[ArrayLike] = None) -> None: ...
     def set_task(self, kind: str, **params: Any) -> None: ...
+    def render(self, width: int = 480, height: int = 480, camera: Union[Camera, Sequence[Camera]] = None,
+               worlds: Optional[ArrayLike] = None, *, rgb: bool = True, depth: bool = False
+               ) -> Union[NDArray[np.uint8], NDArray[np.float32], tuple[NDArray[np.uint8], NDArray[np.float32]]]:
+        """Frames of the chosen worlds (all, a boolean mask or indices), drawn in parallel:
+        RGB (n, H, W, 3) and/or depth (n, H, W); `camera` may list one camera per world."""
     @property
     def obs(self) -> Optional[NDArray[np.float64]]: ...
     @property

@@ -56,21 +56,22 @@ class Viewer:
         self.default_camera_config = dict(default_camera_config or {})
         # MuJoCo's visualisation flags (contact points, joints, ...): sinew draws no overlays
         self.visual_options = dict(visual_options or {})
-        self._free: dict | None = None
+        # each world's free camera, set up at its first frame
+        self._free: dict[int, dict] = {}
         self._window = None
 
-    def camera(self, qpos: np.ndarray):
-        """The ``camera`` argument of ``Batch.render`` for a world at ``qpos`` (sets the free camera
-        up at the first frame, as the twin's viewer does when it is created)."""
+    def camera(self, qpos: np.ndarray, world: int = 0):
+        """The ``camera`` argument of ``Batch.render`` for world ``world`` at ``qpos`` (its free
+        camera is set up at its first frame, as the twin's viewer is when it is created)."""
         if self.camera_id >= 0:
             return self.camera_id
-        if self._free is None:
+        if world not in self._free:
             cam = {"lookat": np.median(self.model.geom_xpos(qpos), axis=0).tolist(), "distance": self.model.extent,
                    "azimuth": 90.0, "elevation": -45.0}
             for k, v in self.default_camera_config.items():
                 cam[k] = v.tolist() if isinstance(v, np.ndarray) else v
-            self._free = cam
-        return self._free
+            self._free[world] = cam
+        return self._free[world]
 
     def render(self, batch, worlds: list[int]):
         """The frames of ``worlds`` in this viewer's mode: a list, one per world (None without a
@@ -81,7 +82,7 @@ class Viewer:
                                   "You can specify the render_mode at initialization, "
                                   'e.g. gymnasium.make("sinew/Hopper-v0", render_mode="rgb_array")')
             return None
-        cam = self.camera(batch.qpos[worlds[0]])
+        cam = [self.camera(batch.qpos[i], i) for i in worlds]
         depth = mode in ("depth_array", "rgbd_tuple")
         rgb = mode != "depth_array"
         out = batch.render(self.width, self.height, cam, list(worlds), rgb=rgb, depth=depth)

@@ -332,7 +332,8 @@ impl PyBatch {
 
     /// Draws worlds in parallel: rgb (n, H, W, 3) uint8 and/or depth (n, H, W) float32, a tuple
     /// when both. `worlds`: None for all, a boolean mask (N,) or a sequence of world indices
-    /// (rendering every 100th world costs a hundredth). `camera` as in `Sim.render`.
+    /// (rendering every 100th world costs a hundredth). `camera` as in `Sim.render`, or a list
+    /// of one per rendered world.
     #[pyo3(signature = (width=480, height=480, camera=None, worlds=None, *, rgb=true, depth=false))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
@@ -342,14 +343,14 @@ impl PyBatch {
         let (w, h) = super::render::check_size(width, height, which.len())?;
         let m = self.inner.model.clone();
         let r = self.py_model.bind(py).get().renderer();
-        let cam = super::render::camera(&m, &r, camera.as_ref())?;
+        let cams = super::render::cameras(&m, &r, camera.as_ref(), which.len())?;
         let qpos = self.qpos.bind(py).readonly();
         let all = qpos.as_slice()?;
         let rows: Vec<&[f64]> = which.iter().map(|&i| &all[i * m.nq..(i + 1) * m.nq]).collect();
         if let Some((k, v)) = rows.iter().enumerate().find_map(|(k, q)| q.iter().find(|x| crate::batch::out_of_range(**x)).map(|v| (k, *v))) {
             return Err(PyValueError::new_err(format!("cannot render world {}: its qpos holds {v}", which[k])));
         }
-        let (c, d) = super::render::draw(py, &m, &r, &rows, cam, w, h, rgb, depth)?;
+        let (c, d) = super::render::draw(py, &m, &r, &rows, &cams, w, h, rgb, depth)?;
         super::render::frames(py, c, d)
     }
 

@@ -122,18 +122,32 @@ pub fn default_free(m: &Model, r: &Renderer) -> FreeCamera {
     FreeCamera { lookat: r.center, distance: 1.5 * r.extent, azimuth: m.vis.azimuth, elevation: m.vis.elevation, track_body: None }
 }
 
-/// Draws the worlds at `qpos` rows (each nq long) and returns NumPy arrays: rgb (n, H, W, 3)
-/// uint8 and/or depth (n, H, W) float32, the GIL released while drawing.
+/// One camera per world: a list or tuple of `camera` arguments (one each), else one for all.
+pub fn cameras(m: &Model, r: &Renderer, cam: Option<&Bound<'_, PyAny>>, n: usize) -> PyResult<Vec<CameraChoice>> {
+    if let Some(c) = cam
+        && (c.is_instance_of::<pyo3::types::PyList>() || c.is_instance_of::<pyo3::types::PyTuple>())
+    {
+        let items: Vec<Bound<'_, PyAny>> = c.try_iter()?.collect::<PyResult<_>>()?;
+        if items.len() != n {
+            return Err(PyValueError::new_err(format!("camera: a list needs one camera per rendered world ({n}), got {}", items.len())));
+        }
+        return items.iter().map(|c| camera(m, r, Some(c))).collect();
+    }
+    Ok(vec![camera(m, r, cam)?; n])
+}
+
+/// Draws the worlds at `qpos` rows (each nq long), world k through `cams[k]`, and returns NumPy
+/// arrays: rgb (n, H, W, 3) uint8 and/or depth (n, H, W) float32, the GIL released while drawing.
 #[allow(clippy::too_many_arguments)]
 pub fn draw<'py>(
-    py: Python<'py>, m: &Arc<Model>, r: &Renderer, qpos: &[&[f64]], cam: CameraChoice, width: usize, height: usize, rgb: bool, depth: bool,
+    py: Python<'py>, m: &Arc<Model>, r: &Renderer, qpos: &[&[f64]], cams: &[CameraChoice], width: usize, height: usize, rgb: bool, depth: bool,
 ) -> PyResult<(Option<Bound<'py, PyAny>>, Option<Bound<'py, PyAny>>)> {
     let n = qpos.len();
     let mut rgb_buf = vec![0u8; if rgb { n * height * width * 3 } else { 0 }];
     let mut depth_buf = vec![0f32; if depth { n * height * width } else { 0 }];
     py.detach(|| {
         let poses: Vec<Poses> = qpos.iter().map(|q| Poses::new(m, q)).collect();
-        let worlds: Vec<(&Poses, CameraChoice)> = poses.iter().map(|p| (p, cam)).collect();
+        let worlds: Vec<(&Poses, CameraChoice)> = poses.iter().zip(cams).map(|(p, c)| (p, *c)).collect();
         r.draw(m, &worlds, width, height, &mut rgb_buf, &mut depth_buf);
     });
     let rgb_arr = if rgb { Some(PyArray1::from_vec(py, rgb_buf).reshape([n, height, width, 3])?.into_any()) } else { None };
