@@ -74,7 +74,7 @@ def timesteps(quick):
 
 def free_flight(quick):
     """The humanoid in zero gravity with contacts off, a random control every 10 steps: with its
-    joints held at their limits, semi-implicit Euler's momentum error grows (see the README's known
+    joints held at their limits, semi-implicit Euler's momentum error grows (see docs/physics.md, known
     gaps); without limits it stays small."""
     rows = []
     seconds = 60.0 if not quick else 3.0

@@ -2,7 +2,7 @@
 //! defaults resolved, angles in radians and orientations as quaternions. `model::compile` turns the
 //! spec into a [`crate::Model`].
 //!
-//! Supported: the elements and attributes used by gymnasium's MuJoCo model files (see README).
+//! Supported: the elements and attributes used by gymnasium's MuJoCo model files (docs/mjcf.md).
 //! What the renderer draws (geom colours, textures, materials, lights, cameras, `<visual>`) is kept
 //! in [`VisualSpec`]; other visual-only elements (size, sensor, …) are accepted and ignored. MuJoCo's soft-constraint parameters (solref, solimp, …) are accepted
 //! and ignored by design: sinew's constraints are exact. Anything else that would change the physics
