@@ -270,18 +270,42 @@ struct World<'a> {
 
 /// `n` steps of one world (reset alone if it diverges), then its sensor outputs and, with a task,
 /// its observation, reward terms and termination.
+/// A panic (a bug) leaves the world as the call found it, its history forgotten, and its message
+/// in [`Data::fault`].
 fn env_step(m: &Model, root: &[usize], task: Option<&Task>, n: usize, w: World<'_>) {
     let World { data, qpos, qvel, ctrl, time, diverged, active, mut out, obs, reward, terminated, info } = w;
     *diverged = false;
     if !active {
         return;
     }
+    let fault = &mut data.fault;
+    fault.message = None;
+    fault.qpos.copy_from_slice(qpos);
+    fault.qvel.copy_from_slice(qvel);
+    fault.time = *time;
+    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        let world = World { data: &mut *data, qpos: &mut *qpos, qvel: &mut *qvel, ctrl, time: &mut *time, diverged: &mut *diverged, active, out: out.reborrow(), obs: &mut *obs, reward: &mut *reward, terminated: &mut *terminated, info: &mut *info };
+        env_step_unguarded(m, root, task, n, world)
+    }));
+    if let Err(e) = outcome {
+        let f = &mut data.fault;
+        qpos.copy_from_slice(&f.qpos);
+        qvel.copy_from_slice(&f.qvel);
+        *time = f.time;
+        f.message = Some(crate::error::panic_message(&*e));
+        data.forget_history();
+    }
+}
+
+fn env_step_unguarded(m: &Model, root: &[usize], task: Option<&Task>, n: usize, w: World<'_>) {
+    let World { data, qpos, qvel, ctrl, time, diverged, mut out, obs, reward, terminated, info, .. } = w;
     // the rewarded position before the env step, from the outputs of the state it starts in
     let before = task.map(|t| t.position(m, &out.world_view(qpos, qvel, ctrl)));
     for _ in 0..n {
         step(m, data, qpos, qvel, ctrl, time);
-        if qpos.iter().chain(qvel.iter()).any(|&x| out_of_range(x)) {
+        if qpos.iter().chain(qvel.iter()).any(|&x| out_of_range(x)) || out_of_range(*time) {
             reset_world(m, data, qpos, qvel);
+            *time = 0.0;
             *diverged = true;
             break;
         }

@@ -68,6 +68,8 @@ pub struct Data {
     pub root_com: Vec<(DVec3, f64)>,
     /// Per-node spatial forces, scratch for `sensors` (nnode).
     pub node_force: Vec<crate::math::Force>,
+    /// Where a batch world's step call began, restored if it panics, and the panic's message.
+    pub fault: Fault,
     /// Nanoseconds spent per pipeline stage, in [`crate::step::Stage`] order.
     #[cfg(feature = "stage-timing")]
     pub stage_ns: [u64; crate::step::STAGES],
@@ -103,6 +105,7 @@ impl Data {
             feedforward: vec![0.0; 2 * m.nu],
             root_com: vec![(DVec3::ZERO, 0.0); m.nbody],
             node_force: vec![crate::math::Force::ZERO; m.nnode],
+            fault: Fault { qpos: vec![0.0; m.nq], qvel: vec![0.0; m.nv], time: 0.0, message: None },
             #[cfg(feature = "stage-timing")]
             stage_ns: [0; crate::step::STAGES],
         }
@@ -159,6 +162,20 @@ impl History {
     pub fn new() -> Self {
         History { tangents: vec![], warm: vec![], warm_rows: vec![], regrow_rate: 0.0, rng: 0x5EED, constrained: true }
     }
+}
+
+/// A world's state at the start of a batch step call, and the message of a panic (a bug) that
+/// call met: the world is then put back to this state.
+#[derive(Clone, Debug, Default)]
+pub struct Fault {
+    /// qpos at the start of the call.
+    pub qpos: Vec<f64>,
+    /// qvel at the start of the call.
+    pub qvel: Vec<f64>,
+    /// Time at the start of the call.
+    pub time: f64,
+    /// The panic's message, if the call met one.
+    pub message: Option<String>,
 }
 
 /// A constraint row's identity across steps: its kind ([`ROW_LIMIT`], [`ROW_CONTACT`] or
@@ -255,6 +272,7 @@ impl History {
             warm_rows.push((kind? as u8, a? as usize, b? as usize, c? as usize, d? as usize));
             at += ROW_KEY_LEN;
         }
+        check_rows(&warm_rows).map_err(bad)?;
         let constrained = int(at, "constrained last step", 2.0)? == 1;
         at += 1;
         if at != v.len() {
@@ -262,6 +280,27 @@ impl History {
         }
         Ok(History { tangents, warm, warm_rows, regrow_rate, rng, constrained })
     }
+}
+
+/// Whether warm-start row identities are ones a step records: each once, a limit's and a motion
+/// row's side 0 or 1, a contact's friction row after the normal it belongs to.
+fn check_rows(rows: &[RowKey]) -> Result<(), String> {
+    let mut sorted = rows.to_vec();
+    sorted.sort_unstable();
+    if let Some(w) = sorted.windows(2).find(|w| w[0] == w[1]) {
+        return Err(format!("warm-start row identity {:?} appears more than once", w[0]));
+    }
+    for (i, &(kind, a, b, c, d)) in rows.iter().enumerate() {
+        let ok = match kind {
+            ROW_LIMIT => b == 0 && c == 0 && d <= 1,
+            ROW_MOTION => b == 0 && c <= 1 && d <= 1,
+            _ => d == 0 || (d <= i && rows[i - d] == (ROW_CONTACT, a, b, c, 0)),
+        };
+        if !ok {
+            return Err(format!("warm-start row {i} has identity {:?}, which no step records", rows[i]));
+        }
+    }
+    Ok(())
 }
 
 impl Clone for History {

@@ -36,3 +36,73 @@ impl State {
         &self.data.qacc
     }
 }
+
+/// A world's state as one flat array, as `Sim.get_state` and `Batch.get_state` give it:
+/// [time, qpos (nq), qvel (nv), ctrl (nu)], MuJoCo's integration state, then for a full state the
+/// trajectory feed-forward (2 nu) and the history the next step reads ([`crate::data::History`]).
+pub struct FlatState<'a> {
+    /// Simulated time.
+    pub time: f64,
+    /// Positions.
+    pub qpos: &'a [f64],
+    /// Velocities.
+    pub qvel: &'a [f64],
+    /// Controls.
+    pub ctrl: &'a [f64],
+    /// Feed-forward and history of a full state.
+    pub full: Option<(&'a [f64], crate::data::History)>,
+}
+
+impl<'a> FlatState<'a> {
+    /// Appends the state of a world (`data` given: the full state) to `out`.
+    pub fn write(time: f64, qpos: &[f64], qvel: &[f64], ctrl: &[f64], data: Option<&Data>, out: &mut Vec<f64>) {
+        out.push(time);
+        out.extend_from_slice(qpos);
+        out.extend_from_slice(qvel);
+        out.extend_from_slice(ctrl);
+        if let Some(d) = data {
+            out.extend_from_slice(&d.feedforward);
+            d.history.to_flat(out);
+        }
+    }
+
+    /// Reads a flat state of `m`, checking its length and every number (finite time, qpos, qvel
+    /// and ctrl within the divergence bound; a valid history).
+    pub fn read(m: &Model, v: &'a [f64]) -> crate::Result<FlatState<'a>> {
+        let (nq, nv, nu) = (m.nq, m.nv, m.nu);
+        let short = 1 + nq + nv + nu;
+        let len = v.len();
+        if len != short && len < short + 2 * nu + crate::data::FLAT_HISTORY_MIN {
+            return Err(crate::Error::Input(format!(
+                "state: expected length {short} (time, qpos, qvel, ctrl) or a full state from get_state(full=True), got {len}"
+            )));
+        }
+        if let Some(i) = v[..short].iter().position(|&x| crate::batch::out_of_range(x)) {
+            return Err(crate::Error::Input(format!("state: element {i} is {} (must be finite, within ±{:e})", v[i], crate::batch::MAX_STATE)));
+        }
+        let full = if len == short {
+            None
+        } else {
+            let ff = &v[short..short + 2 * nu];
+            if let Some(i) = ff.iter().position(|x| !x.is_finite()) {
+                return Err(crate::Error::Input(format!("state: feed-forward element {i} is {} (must be finite)", ff[i])));
+            }
+            Some((ff, crate::data::History::from_flat(&v[short + 2 * nu..], m.ngeom)?))
+        };
+        Ok(FlatState { time: v[0], qpos: &v[1..1 + nq], qvel: &v[1 + nq..1 + nq + nv], ctrl: &v[1 + nq + nv..short], full })
+    }
+
+    /// Makes `data` the state's (feed-forward and history; a short state leaves none).
+    pub fn restore(&self, data: &mut Data) {
+        match &self.full {
+            Some((ff, history)) => {
+                data.feedforward.copy_from_slice(ff);
+                data.restore_history(history);
+            }
+            None => {
+                data.feedforward.fill(0.0);
+                data.restore_history(&crate::data::History::new());
+            }
+        }
+    }
+}

@@ -20,6 +20,8 @@ struct Class {
 
 struct Parser<'d> {
     doc: &'d Document<'d>,
+    /// Nesting depth of the `<body>` or `<default>` being read.
+    depth: usize,
     degree: bool,
     eulerseq: [u8; 3],
     autolimits: bool,
@@ -50,6 +52,12 @@ const IGNORED: &[&str] = &[
     "rgba", "material", "group", "user", "solref", "solimp", "solmix", "solreflimit", "solimplimit",
     "gap",
 ];
+/// Deepest nesting of `<body>` or `<default>` elements accepted (gymnasium's models nest at most 7).
+pub const MAX_NESTING: usize = 200;
+
+/// Largest magnitude of any number in a model file: sinew's bound on a state entry.
+pub const MAX_VALUE: f64 = crate::batch::MAX_STATE;
+
 /// Attributes that change MuJoCo's physics but are not modelled; non-default values give a warning.
 const WARN_NONZERO: &[&str] = &["frictionloss", "gravcomp"];
 
@@ -62,6 +70,7 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
     }
     let mut p = Parser {
         doc: &doc,
+        depth: 0,
         degree: true,
         eulerseq: *b"xyz",
         autolimits: true,
@@ -168,6 +177,9 @@ impl<'a, 'd> El<'a, 'd> {
             let x: f64 = tok.parse().map_err(|_| self.err(name, format!("'{tok}' is not a number")))?;
             if !x.is_finite() {
                 return Err(self.err(name, format!("'{tok}' is not finite")));
+            }
+            if x.abs() > MAX_VALUE {
+                return Err(self.err(name, format!("'{tok}' is beyond ±{MAX_VALUE:e}, the largest value sinew accepts")));
             }
             out.push(x);
         }
@@ -319,6 +331,9 @@ impl<'d> Parser<'d> {
             match a.name() {
                 "timestep" => {
                     let h = e.f64("timestep", 0.002)?;
+                    if h > 1.0 {
+                        return Err(e.err("timestep", format!("must lie in (0, 1] s, got {h}")));
+                    }
                     if h <= 0.0 {
                         return Err(e.err("timestep", format!("must be positive, got {h}")));
                     }
@@ -371,6 +386,22 @@ impl<'d> Parser<'d> {
     }
 
     fn default(&mut self, n: Node, parent: Option<String>) -> Result<()> {
+        self.enter(n)?;
+        let out = self.default_class(n, parent);
+        self.depth -= 1;
+        out
+    }
+
+    /// Counts one more level of nesting: an error beyond [`MAX_NESTING`] (the readers recurse).
+    fn enter(&mut self, n: Node) -> Result<()> {
+        if self.depth >= MAX_NESTING {
+            return Err(self.err(n, None, format!("nested more than {MAX_NESTING} levels deep")));
+        }
+        self.depth += 1;
+        Ok(())
+    }
+
+    fn default_class(&mut self, n: Node, parent: Option<String>) -> Result<()> {
         let name = match (n.attribute("class"), &parent) {
             (Some(c), _) => c.to_string(),
             (None, None) => "main".to_string(),
@@ -502,6 +533,13 @@ impl<'d> Parser<'d> {
     }
 
     fn body(&mut self, n: Node, parent: usize, childclass: Option<&str>) -> Result<()> {
+        self.enter(n)?;
+        let out = self.body_at(n, parent, childclass);
+        self.depth -= 1;
+        out
+    }
+
+    fn body_at(&mut self, n: Node, parent: usize, childclass: Option<&str>) -> Result<()> {
         let e = El { node: n, line: line(self.doc, n), defaults: vec![] };
         e.check(BODY_ATTRS, &self.warnings)?;
         if n.attribute("mocap") == Some("true") {

@@ -349,8 +349,12 @@ impl Model {
 
     /// Reads, parses and compiles an MJCF file.
     pub fn from_mjcf_file(path: &std::path::Path) -> crate::Result<Model> {
-        let xml = std::fs::read_to_string(path)
-            .map_err(|e| crate::Error::Io(format!("cannot read MJCF file '{}': {e}", path.display())))?;
+        let bytes = std::fs::read(path).map_err(|e| crate::Error::Io(format!("cannot read MJCF file '{}': {e}", path.display())))?;
+        let xml = String::from_utf8(bytes).map_err(|e| {
+            let at = e.utf8_error().valid_up_to();
+            let line = 1 + e.as_bytes()[..at].iter().filter(|&&b| b == b'\n').count() as u32;
+            crate::Error::Xml { line, message: format!("'{}' is not UTF-8 text (invalid byte at offset {at})", path.display()) }
+        })?;
         Model::from_mjcf(&xml)
     }
 

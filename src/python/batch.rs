@@ -10,6 +10,7 @@ use pyo3::types::PyDict;
 use super::errors::{as_f64, checked_values};
 use super::model::PyModel;
 use crate::batch::{Batch, BatchState, TaskRun};
+use crate::state::FlatState;
 use crate::sensors::Sensors;
 use crate::task::Task;
 
@@ -220,7 +221,13 @@ impl PyBatch {
             None => None,
         };
         let inner = &mut self.inner;
-        py.detach(|| inner.step(st, n, run));
+        py.detach(|| super::errors::guard("Batch.step", || inner.step(st, n, run)))?;
+        let faults: Vec<String> = (0..self.inner.len())
+            .filter_map(|i| self.inner.data[i].fault.message.take().map(|msg| format!("world {i}: {msg}")))
+            .collect();
+        if !faults.is_empty() {
+            return Err(super::errors::internal("Batch.step", format!("{}; those worlds are back where this call found them", faults.join("; "))));
+        }
         Ok(())
     }
 
@@ -330,6 +337,80 @@ impl PyBatch {
         self.refresh(py, &which)
     }
 
+    /// World `i`'s state as `Sim.get_state` gives it: [time, qpos, qvel, ctrl], and with
+    /// `full=True` the feed-forward and the history the next step reads, so that a world (or a
+    /// Sim) given it by `set_state` steps on bit-identically. Without `i`, every world's: an
+    /// (N, 1 + nq + nv + nu) array of short states, or a list of N full ones.
+    #[pyo3(signature = (i=None, full=false))]
+    fn get_state<'py>(&self, py: Python<'py>, i: Option<usize>, full: bool) -> PyResult<Bound<'py, PyAny>> {
+        let m = &*self.inner.model;
+        let (qpos, qvel, ctrl, time) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly(), self.time.bind(py).readonly());
+        let (q, v, c, t) = (qpos.as_slice()?, qvel.as_slice()?, ctrl.as_slice()?, time.as_slice()?);
+        let one = |i: usize| {
+            let mut out = Vec::with_capacity(1 + m.nq + m.nv + m.nu);
+            let d = &self.inner.data[i];
+            FlatState::write(t[i], &q[i * m.nq..(i + 1) * m.nq], &v[i * m.nv..(i + 1) * m.nv], &c[i * m.nu..(i + 1) * m.nu], full.then_some(d), &mut out);
+            out
+        };
+        match i {
+            Some(i) => Ok(PyArray1::from_vec(py, one(self.world(i)?)).into_any()),
+            None if full => Ok(pyo3::types::PyList::new(py, (0..self.inner.len()).map(|i| PyArray1::from_vec(py, one(i))))?.into_any()),
+            None => {
+                let flat: Vec<f64> = (0..self.inner.len()).flat_map(one).collect();
+                Ok(PyArray1::from_vec(py, flat).reshape([self.inner.len(), 1 + m.nq + m.nv + m.nu])?.into_any())
+            }
+        }
+    }
+
+    /// Restores world `i` from a state of `get_state` (of any world, or a Sim, of this model),
+    /// bit-exactly; without `i` every world, from an (N, L) array or a list of N states. A full
+    /// state restores the history too; a short one leaves none. Bad lengths or entries raise
+    /// ValueError naming the world and leave the batch untouched.
+    #[pyo3(signature = (state, i=None))]
+    fn set_state(&mut self, py: Python<'_>, state: Bound<'_, PyAny>, i: Option<usize>) -> PyResult<()> {
+        let m = self.inner.model.clone();
+        let rows: Vec<(usize, Vec<f64>)> = match i {
+            Some(i) => {
+                let len = as_f64(&state, "state")?.len();
+                vec![(self.world(i)?, checked_values(&state, "state", &[len])?)]
+            }
+            None => {
+                let items: Vec<Bound<'_, PyAny>> = state.try_iter()?.collect::<PyResult<_>>()?;
+                if items.len() != self.inner.len() {
+                    return Err(PyValueError::new_err(format!("state: expected one state per world ({}), got {}", self.inner.len(), items.len())));
+                }
+                let mut rows = Vec::with_capacity(items.len());
+                for (k, it) in items.iter().enumerate() {
+                    let len = as_f64(it, "state")?.len();
+                    rows.push((k, checked_values(it, &format!("state of world {k}"), &[len])?));
+                }
+                rows
+            }
+        };
+        // every state checked before any world changes
+        let mut states = Vec::with_capacity(rows.len());
+        for (k, v) in &rows {
+            states.push((*k, FlatState::read(&m, v).map_err(|e| PyValueError::new_err(format!("world {k}: {e}")))?));
+        }
+        {
+            let (mut qpos, mut qvel, mut ctrl, mut time) = (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readwrite(), self.time.bind(py).readwrite());
+            let (q, v, c, t) = (qpos.as_slice_mut()?, qvel.as_slice_mut()?, ctrl.as_slice_mut()?, time.as_slice_mut()?);
+            for (k, st) in &states {
+                t[*k] = st.time;
+                q[k * m.nq..(k + 1) * m.nq].copy_from_slice(st.qpos);
+                v[k * m.nv..(k + 1) * m.nv].copy_from_slice(st.qvel);
+                c[k * m.nu..(k + 1) * m.nu].copy_from_slice(st.ctrl);
+                st.restore(&mut self.inner.data[*k]);
+            }
+            let mut div = self.diverged.bind(py).readwrite();
+            for (k, _) in &states {
+                div.as_slice_mut()?[*k] = false;
+            }
+        }
+        let which: Vec<usize> = states.iter().map(|(k, _)| *k).collect();
+        self.refresh(py, &which)
+    }
+
     /// Draws worlds in parallel: rgb (n, H, W, 3) uint8 and/or depth (n, H, W) float32, a tuple
     /// when both. `worlds`: None for all, a boolean mask (N,) or a sequence of world indices
     /// (rendering every 100th world costs a hundredth). `camera` as in `Sim.render`, or a list
@@ -381,6 +462,14 @@ impl PyBatch {
                 Ok(v.as_slice()?.iter().enumerate().filter(|(_, x)| **x != 0.0).map(|(i, _)| i).collect())
             }
         }
+    }
+
+    /// A world index, checked.
+    fn world(&self, i: usize) -> PyResult<usize> {
+        if i >= self.inner.len() {
+            return Err(PyValueError::new_err(format!("world {i} out of range for {} worlds", self.inner.len())));
+        }
+        Ok(i)
     }
 
     /// World indices from a boolean mask of shape (N,) or a sequence of indices (all when None).

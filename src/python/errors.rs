@@ -81,3 +81,21 @@ pub fn first_nonfinite(v: &[f64]) -> Option<usize> {
 pub fn diverged(msg: String) -> PyErr {
     SimulationError::new_err(msg)
 }
+
+/// Runs `f`, turning a panic (a bug in sinew) into a `SimulationError` that says so: a Rust panic
+/// never reaches Python as a `PanicException` (a `BaseException`).
+pub fn guard<T>(what: &str, f: impl FnOnce() -> T) -> PyResult<T> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).map_err(|e| internal(what, crate::error::panic_message(&*e)))
+}
+
+/// As [`guard`] for loading a model: a panic becomes a `ModelError`.
+pub fn guard_model<T>(what: &str, f: impl FnOnce() -> T) -> PyResult<T> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).map_err(|e| {
+        ModelError::new_err(format!("{what}: internal error in sinew (a bug; please report it with the model): {}", crate::error::panic_message(&*e)))
+    })
+}
+
+/// The error for a panic caught in `what`.
+pub fn internal(what: &str, msg: String) -> PyErr {
+    SimulationError::new_err(format!("{what}: internal error in sinew (a bug; please report it with the model): {msg}"))
+}

@@ -53,7 +53,7 @@ impl PyModel {
     /// Loads an MJCF file.
     #[staticmethod]
     fn from_mjcf(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Self> {
-        let m = py.detach(|| Model::from_mjcf_file(&path)).map_err(|e| to_py(py, e))?;
+        let m = py.detach(|| super::errors::guard_model("Model.from_mjcf", || Model::from_mjcf_file(&path)))?.map_err(|e| to_py(py, e))?;
         emit_warnings(py, &m)?;
         Ok(PyModel::new(m))
     }
@@ -61,7 +61,7 @@ impl PyModel {
     /// Loads MJCF text.
     #[staticmethod]
     fn from_mjcf_string(py: Python<'_>, xml: &str) -> PyResult<Self> {
-        let m = Model::from_mjcf(xml).map_err(|e| to_py(py, e))?;
+        let m = super::errors::guard_model("Model.from_mjcf_string", || Model::from_mjcf(xml))?.map_err(|e| to_py(py, e))?;
         emit_warnings(py, &m)?;
         Ok(PyModel::new(m))
     }

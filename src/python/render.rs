@@ -146,10 +146,12 @@ pub fn draw<'py>(
     let mut rgb_buf = vec![0u8; if rgb { n * height * width * 3 } else { 0 }];
     let mut depth_buf = vec![0f32; if depth { n * height * width } else { 0 }];
     py.detach(|| {
-        let poses: Vec<Poses> = qpos.iter().map(|q| Poses::new(m, q)).collect();
-        let worlds: Vec<(&Poses, CameraChoice)> = poses.iter().zip(cams).map(|(p, c)| (p, *c)).collect();
-        r.draw(m, &worlds, width, height, &mut rgb_buf, &mut depth_buf);
-    });
+        super::errors::guard("render", || {
+            let poses: Vec<Poses> = qpos.iter().map(|q| Poses::new(m, q)).collect();
+            let worlds: Vec<(&Poses, CameraChoice)> = poses.iter().zip(cams).map(|(p, c)| (p, *c)).collect();
+            r.draw(m, &worlds, width, height, &mut rgb_buf, &mut depth_buf);
+        })
+    })?;
     let rgb_arr = if rgb { Some(PyArray1::from_vec(py, rgb_buf).reshape([n, height, width, 3])?.into_any()) } else { None };
     let depth_arr = if depth { Some(PyArray1::from_vec(py, depth_buf).reshape([n, height, width])?.into_any()) } else { None };
     Ok((rgb_arr, depth_arr))

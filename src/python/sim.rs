@@ -11,6 +11,7 @@ use super::model::PyModel;
 use crate::model::Model;
 use crate::step::kinematics;
 use crate::data::History;
+use crate::state::FlatState;
 use crate::Data;
 
 use crate::batch::out_of_range;
@@ -163,7 +164,9 @@ impl PySim {
     fn forward(&mut self, py: Python<'_>) -> PyResult<()> {
         self.check_inputs(py)?;
         let (qpos, qvel, ctrl) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly());
-        crate::step::forward(&self.model, &mut self.data, qpos.as_slice()?, qvel.as_slice()?, ctrl.as_slice()?);
+        let (m, data) = (&self.model, &mut self.data);
+        let (q, v, c) = (qpos.as_slice()?, qvel.as_slice()?, ctrl.as_slice()?);
+        super::errors::guard("Sim.forward", || crate::step::forward(m, data, q, v, c))?;
         self.qacc.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&self.data.qacc);
         Ok(())
     }
@@ -183,14 +186,26 @@ impl PySim {
         self.saved.clone_from(&data.history);
         let mut time = self.time;
         let failure = py.detach(|| {
-            for k in 0..n {
-                crate::step::step(m, data, qpos, qvel, ctrl, &mut time);
-                if let Some(bad) = bad_entry(qpos, qvel) {
-                    return Some((k, bad));
+            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                for k in 0..n {
+                    crate::step::step(m, data, qpos, qvel, ctrl, &mut time);
+                    if let Some(bad) = bad_entry(qpos, qvel).or_else(|| out_of_range(time).then_some(("time", 0, time))) {
+                        return Some((k, bad));
+                    }
                 }
-            }
-            None
+                None
+            }))
         });
+        let failure = match failure {
+            Ok(f) => f,
+            Err(e) => {
+                qpos.copy_from_slice(&start.0);
+                qvel.copy_from_slice(&start.1);
+                self.time = start.2;
+                data.restore_history(&self.saved);
+                return Err(super::errors::internal("Sim.step", crate::error::panic_message(&*e) + &format!("; state restored to t={:.6} s", start.2)));
+            }
+        };
         if let Some((k, (name, i, v))) = failure {
             let t = time;
             qpos.copy_from_slice(&start.0);
@@ -241,14 +256,8 @@ impl PySim {
     #[pyo3(signature = (full=false))]
     fn get_state<'py>(&self, py: Python<'py>, full: bool) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let mut v = Vec::with_capacity(1 + self.model.nq + self.model.nv + self.model.nu);
-        v.push(self.time);
-        v.extend_from_slice(self.qpos.bind(py).readonly().as_slice()?);
-        v.extend_from_slice(self.qvel.bind(py).readonly().as_slice()?);
-        v.extend_from_slice(self.ctrl.bind(py).readonly().as_slice()?);
-        if full {
-            v.extend_from_slice(&self.data.feedforward);
-            self.data.history.to_flat(&mut v);
-        }
+        let (qpos, qvel, ctrl) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly());
+        FlatState::write(self.time, qpos.as_slice()?, qvel.as_slice()?, ctrl.as_slice()?, full.then_some(&self.data), &mut v);
         Ok(PyArray1::from_vec(py, v))
     }
 
@@ -257,26 +266,14 @@ impl PySim {
     /// short one leaves no history (and zero feed-forward), and the Sim steps as a new Sim given
     /// that state. Bad length or entries raise ValueError and leave the world untouched.
     fn set_state(&mut self, py: Python<'_>, state: Bound<'_, PyAny>) -> PyResult<()> {
-        let (nq, nv, nu) = (self.model.nq, self.model.nv, self.model.nu);
-        let short = 1 + nq + nv + nu;
         let len = as_f64(&state, "state")?.len()?;
-        if len != short && len < short + 2 * nu + crate::data::FLAT_HISTORY_MIN {
-            return Err(PyValueError::new_err(format!(
-                "state: expected shape [{short}] (time, qpos, qvel, ctrl) or a full state from get_state(full=True), got length {len}"
-            )));
-        }
         let v = checked_values(&state, "state", &[len])?;
-        let history = if len == short { History::new() } else { History::from_flat(&v[short + 2 * nu..], self.model.ngeom).map_err(|e| to_py(py, e))? };
-        self.time = v[0];
-        self.qpos.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&v[1..1 + nq]);
-        self.qvel.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&v[1 + nq..1 + nq + nv]);
-        self.ctrl.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&v[1 + nq + nv..short]);
-        if len == short {
-            self.data.feedforward.fill(0.0);
-        } else {
-            self.data.feedforward.copy_from_slice(&v[short..short + 2 * nu]);
-        }
-        self.data.restore_history(&history);
+        let st = FlatState::read(&self.model, &v).map_err(|e| to_py(py, e))?;
+        self.time = st.time;
+        self.qpos.bind(py).readwrite().as_slice_mut()?.copy_from_slice(st.qpos);
+        self.qvel.bind(py).readwrite().as_slice_mut()?.copy_from_slice(st.qvel);
+        self.ctrl.bind(py).readwrite().as_slice_mut()?.copy_from_slice(st.ctrl);
+        st.restore(&mut self.data);
         Ok(())
     }
 

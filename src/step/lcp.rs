@@ -179,7 +179,9 @@ fn ratio_test(tab: &[f64], cols: usize, n: usize, ce: usize, basis: &[usize], co
         best = best.min(r);
         ratio.push(r);
     }
-    if best == f64::INFINITY {
+    // no bounded ratio, or a tableau gone non-finite (absurd model parameters): Lemke fails and
+    // the caller falls back
+    if !best.is_finite() || ratio.iter().any(|r| r.is_nan()) {
         return None;
     }
     let slack = tol * (1.0 + best.abs());
@@ -204,7 +206,7 @@ fn ratio_test(tab: &[f64], cols: usize, n: usize, ce: usize, basis: &[usize], co
         cand.retain(|&i| val(i) <= min + tol * (1.0 + min.abs()));
         w += 1;
     }
-    Some(cand[0])
+    cand.first().copied()
 }
 
 /// Pivots the condensed tableau (`n` rows of `cols`) on row r, column c: the entering variable of

@@ -448,7 +448,7 @@ fn warm_guess(data: &mut Data, level: Level, n: usize) -> bool {
     let (keys, warm) = (&history.warm_rows, &history.warm);
     // last step's λ (σ) variable of each owner row, from its rows' identities
     let old_n = number_lambdas(keys.len(), |i| match keys[i] {
-        (ROW_CONTACT, _, _, _, within) if within > 0 => Some(i - within),
+        (ROW_CONTACT, _, _, _, within) if within > 0 => i.checked_sub(within),
         (ROW_MOTION, _, _, 1, _) => Some(i),
         _ => None,
     }, old_lambda);
