@@ -74,7 +74,7 @@ impl<'a> FlatState<'a> {
         let len = v.len();
         if len != short && len < short + 2 * nu + crate::data::FLAT_HISTORY_MIN {
             return Err(crate::Error::Input(format!(
-                "state: expected length {short} (time, qpos, qvel, ctrl) or a full state from get_state(full=True), got {len}"
+                "state: expected shape [{short}] (time, qpos, qvel, ctrl) or a full state from get_state(full=True), got length {len}"
             )));
         }
         if let Some(i) = v[..short].iter().position(|&x| crate::batch::out_of_range(x)) {

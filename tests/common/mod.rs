@@ -1,6 +1,8 @@
 //! Shared helpers for the integration tests: a seeded RNG, random MJCF trees, assertions.
 #![allow(dead_code)]
 
+pub mod fuzz;
+
 use sinew::math::{DVec3, Force};
 use sinew::model::{JointType, Model};
 use sinew::step::kinematics::KinData;
