@@ -1,6 +1,8 @@
 //! A short run of the mutation fuzzer (`examples/fuzz.rs` runs it for as long as you like): no
 //! input panics, hangs or leaves a non-finite value the divergence check misses.
 
+#![allow(clippy::needless_range_loop)]
+
 mod common;
 
 use common::fuzz;

@@ -431,8 +431,7 @@ impl PyBatch {
         if let Some((k, v)) = rows.iter().enumerate().find_map(|(k, q)| q.iter().find(|x| crate::batch::out_of_range(**x)).map(|v| (k, *v))) {
             return Err(PyValueError::new_err(format!("cannot render world {}: its qpos holds {v}", which[k])));
         }
-        let (c, d) = super::render::draw(py, &m, &r, &rows, &cams, w, h, rgb, depth)?;
-        super::render::frames(py, c, d)
+        super::render::draw(py, &m, &r, &rows, &cams, w, h, rgb, depth, false)
     }
 
     fn __repr__(&self) -> String {

@@ -136,12 +136,17 @@ pub fn cameras(m: &Model, r: &Renderer, cam: Option<&Bound<'_, PyAny>>, n: usize
     Ok(vec![camera(m, r, cam)?; n])
 }
 
-/// Draws the worlds at `qpos` rows (each nq long), world k through `cams[k]`, and returns NumPy
-/// arrays: rgb (n, H, W, 3) uint8 and/or depth (n, H, W) float32, the GIL released while drawing.
+/// Draws the worlds at `qpos` rows (each nq long), world k through `cams[k]`, the GIL released,
+/// and returns rgb (n, H, W, 3) uint8 and/or depth (n, H, W) float32, a tuple when both (`single`:
+/// one world, without the leading axis).
 #[allow(clippy::too_many_arguments)]
 pub fn draw<'py>(
     py: Python<'py>, m: &Arc<Model>, r: &Renderer, qpos: &[&[f64]], cams: &[CameraChoice], width: usize, height: usize, rgb: bool, depth: bool,
-) -> PyResult<(Option<Bound<'py, PyAny>>, Option<Bound<'py, PyAny>>)> {
+    single: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    if !rgb && !depth {
+        return Err(PyValueError::new_err("nothing to render: rgb and depth are both False"));
+    }
     let n = qpos.len();
     let mut rgb_buf = vec![0u8; if rgb { n * height * width * 3 } else { 0 }];
     let mut depth_buf = vec![0f32; if depth { n * height * width } else { 0 }];
@@ -152,22 +157,19 @@ pub fn draw<'py>(
             r.draw(m, &worlds, width, height, &mut rgb_buf, &mut depth_buf);
         })
     })?;
-    let rgb_arr = if rgb { Some(PyArray1::from_vec(py, rgb_buf).reshape([n, height, width, 3])?.into_any()) } else { None };
-    let depth_arr = if depth { Some(PyArray1::from_vec(py, depth_buf).reshape([n, height, width])?.into_any()) } else { None };
-    Ok((rgb_arr, depth_arr))
-}
-
-/// Frames as returned: one array, or (rgb, depth) when both were drawn.
-pub fn frames<'py>(py: Python<'py>, rgb: Option<Bound<'py, PyAny>>, depth: Option<Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyAny>> {
-    match (rgb, depth) {
-        (Some(c), Some(d)) => Ok(pyo3::types::PyTuple::new(py, [c, d])?.into_any()),
-        (Some(a), None) | (None, Some(a)) => Ok(a),
-        (None, None) => Err(PyValueError::new_err("nothing to render: rgb and depth are both False")),
+    let mut out = vec![];
+    if rgb {
+        out.push(PyArray1::from_vec(py, rgb_buf).reshape([n, height, width, 3])?.into_any());
+    }
+    if depth {
+        out.push(PyArray1::from_vec(py, depth_buf).reshape([n, height, width])?.into_any());
+    }
+    if single {
+        out = out.into_iter().map(|a| a.get_item(0)).collect::<PyResult<_>>()?;
+    }
+    match out.len() {
+        1 => Ok(out.remove(0)),
+        _ => Ok(pyo3::types::PyTuple::new(py, out)?.into_any()),
     }
 }
 
-/// As [`frames`], the leading axis of one frame removed.
-pub fn one_frame<'py>(py: Python<'py>, rgb: Option<Bound<'py, PyAny>>, depth: Option<Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyAny>> {
-    let first = |a: Option<Bound<'py, PyAny>>| a.map(|a| a.get_item(0)).transpose();
-    frames(py, first(rgb)?, first(depth)?)
-}

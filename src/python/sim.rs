@@ -156,8 +156,7 @@ impl PySim {
         if let Some((name, i, v)) = bad_entry(q, &[]) {
             return Err(PyValueError::new_err(format!("cannot render: {name}[{i}] is {v}")));
         }
-        let (c, d) = super::render::draw(py, &self.model, &r, &[q], &[cam], w, h, rgb, depth)?;
-        super::render::one_frame(py, c, d)
+        super::render::draw(py, &self.model, &r, &[q], &[cam], w, h, rgb, depth, true)
     }
 
     /// Computes qacc for the current state without advancing time.

@@ -79,6 +79,10 @@ struct Light {
     grid: Option<ShadowGrid>,
 }
 
+/// A solid seen along a light: centre (u, v) in the plane ⊥ the light, squared bounding radius,
+/// geom.
+type Disc = (f64, f64, f64, u32);
+
 /// The solids seen along a directional light: each bounding sphere is a disc in a plane ⊥ the
 /// light, and a shadow ray from p can meet the solid only if p's projection lies in its disc.
 /// The discs are binned in a uniform grid over that plane.
@@ -91,7 +95,7 @@ struct ShadowGrid {
     nu: usize,
     nv: usize,
     /// Each cell's discs: centre (u, v), squared radius, geom.
-    cells: Vec<Vec<(f64, f64, f64, u32)>>,
+    cells: Vec<Vec<Disc>>,
 }
 
 impl ShadowGrid {
@@ -101,7 +105,7 @@ impl ShadowGrid {
         }
         let e1 = dir.any_orthonormal_vector();
         let e2 = dir.cross(e1);
-        let discs: Vec<(f64, f64, f64, u32)> =
+        let discs: Vec<Disc> =
             solids.iter().map(|&g| (geoms[g as usize].pos.dot(e1), geoms[g as usize].pos.dot(e2), geoms[g as usize].rbound, g)).collect();
         let (mut lo, mut hi) = ((f64::INFINITY, f64::INFINITY), (f64::NEG_INFINITY, f64::NEG_INFINITY));
         for &(u, v, r, _) in &discs {
@@ -129,7 +133,7 @@ impl ShadowGrid {
 
     /// The discs that may hold p's projection.
     #[inline]
-    fn at(&self, p: DVec3) -> (f64, f64, &[(f64, f64, f64, u32)]) {
+    fn at(&self, p: DVec3) -> (f64, f64, &[Disc]) {
         let (u, v) = (p.dot(self.axes.0), p.dot(self.axes.1));
         let (fu, fv) = ((u - self.lo.0) / self.cell, (v - self.lo.1) / self.cell);
         if !(fu >= 0.0 && fv >= 0.0 && fu < self.nu as f64 && fv < self.nv as f64) {
