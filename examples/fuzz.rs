@@ -5,10 +5,11 @@
 //! stepped. Prints the tally; with `--out`, writes it as a Markdown table. Exits 1 on any panic,
 //! hang or silent non-finite value.
 
-#[path = "../tests/common/fuzz.rs"]
-#[allow(dead_code)]
-mod fuzz;
+#[path = "../tests/common/mod.rs"]
+#[allow(clippy::needless_range_loop)]
+mod common;
 
+use common::fuzz;
 use rayon::prelude::*;
 
 fn main() {

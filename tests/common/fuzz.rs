@@ -13,6 +13,8 @@ use sinew::sensors::{self, Sensors};
 use sinew::state::FlatState;
 use sinew::{Model, State};
 
+use super::Rng;
+
 /// An input taking longer than this counts as a hang.
 pub const HANG: Duration = Duration::from_secs(10);
 
@@ -62,25 +64,6 @@ impl Tally {
     }
 }
 
-/// SplitMix64.
-pub struct Rng(pub u64);
-
-impl Rng {
-    pub fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    pub fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-    pub fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 const SPECIAL: &[&str] = &[
     "nan", "inf", "-inf", "1e308", "-1e308", "1e10", "-1e10", "9e9", "0", "-0", "-1", "1e-300", "5e-324", "2147483648",
     "18446744073709551616", "abc", "", "1 2 3 4 5 6 7", "0x10", "1e", ".", "-",
@@ -91,6 +74,13 @@ const SNIPPETS: &[&str] = &[
     "<light dir=\"0 0 0\"/>", "<material name=\"geom\"/>", "<texture builtin=\"checker\"/>", "<![CDATA[x]]>", "&amp;", "&bogus;",
     "<?xml version=\"1.0\"?>", "<!-- -->", "\u{0}", "é", "<inertial mass=\"0\" diaginertia=\"0 0 0\"/>",
 ];
+
+impl Rng {
+    /// Uniform in 0..n, 0 when n is 0.
+    fn below_or0(&mut self, n: usize) -> usize {
+        if n == 0 { 0 } else { self.below(n) }
+    }
+}
 
 /// Byte offsets of the numbers in `s`.
 fn numbers(s: &str) -> Vec<(usize, usize)> {
@@ -125,47 +115,47 @@ fn floor(s: &str, mut i: usize) -> usize {
 /// many still load and exercise the step.
 pub fn mutate_xml(rng: &mut Rng, seed: &str) -> String {
     let mut s = seed.to_string();
-    let (count, kinds) = if rng.below(2) == 0 { (1, 3) } else { (1 + rng.below(4), 8) };
+    let (count, kinds) = if rng.below_or0(2) == 0 { (1, 3) } else { (1 + rng.below_or0(4), 8) };
     for _ in 0..count {
         let n = s.len().max(1);
-        match rng.below(kinds) {
+        match rng.below_or0(kinds) {
             0 | 1 => {
                 let nums = numbers(&s);
-                if let Some(&(a, b)) = nums.get(rng.below(nums.len())) {
-                    s.replace_range(a..b, SPECIAL[rng.below(SPECIAL.len())]);
+                if let Some(&(a, b)) = nums.get(rng.below_or0(nums.len())) {
+                    s.replace_range(a..b, SPECIAL[rng.below_or0(SPECIAL.len())]);
                 }
             }
             2 => {
                 let nums = numbers(&s);
-                if let Some(&(a, b)) = nums.get(rng.below(nums.len()))
+                if let Some(&(a, b)) = nums.get(rng.below_or0(nums.len()))
                     && let Ok(x) = s[a..b].parse::<f64>()
                 {
-                    let k = 10f64.powf(rng.unit() * 12.0 - 6.0) * if rng.below(4) == 0 { -1.0 } else { 1.0 };
+                    let k = 10f64.powf(rng.uniform(0.0, 1.0) * 12.0 - 6.0) * if rng.below_or0(4) == 0 { -1.0 } else { 1.0 };
                     s.replace_range(a..b, &format!("{}", x * k));
                 }
             }
             3 => {
-                let a = floor(&s, rng.below(n));
-                let b = floor(&s, a + rng.below(200));
+                let a = floor(&s, rng.below_or0(n));
+                let b = floor(&s, a + rng.below_or0(200));
                 s.replace_range(a..b, "");
             }
             4 => {
-                let a = floor(&s, rng.below(n));
-                let b = floor(&s, a + rng.below(300));
+                let a = floor(&s, rng.below_or0(n));
+                let b = floor(&s, a + rng.below_or0(300));
                 let dup = s[a..b].to_string();
                 s.insert_str(b, &dup);
             }
             5 => {
-                let a = floor(&s, rng.below(n));
-                s.insert_str(a, SNIPPETS[rng.below(SNIPPETS.len())]);
+                let a = floor(&s, rng.below_or0(n));
+                s.insert_str(a, SNIPPETS[rng.below_or0(SNIPPETS.len())]);
             }
             6 => {
-                let a = floor(&s, rng.below(n));
+                let a = floor(&s, rng.below_or0(n));
                 s.truncate(a);
             }
             _ => {
                 // deep nesting
-                let depth = [10, 150, 250, 3000][rng.below(4)];
+                let depth = [10, 150, 250, 3000][rng.below_or0(4)];
                 if let Some(a) = s.find("<worldbody>") {
                     let inner = format!("{}<geom size=\"0.1\"/>{}", "<body><joint/>".repeat(depth), "</body>".repeat(depth));
                     s.insert_str(a + "<worldbody>".len(), &inner);
@@ -191,7 +181,7 @@ fn run_steps(m: &Model, s: &mut State, steps: usize, rng: &mut Rng, t: &mut Tall
     for k in 0..steps {
         if k % 5 == 0 {
             for (c, r) in s.ctrl.iter_mut().zip(&m.actuator_ctrlrange) {
-                *c = r[0] + (r[1] - r[0]) * rng.unit();
+                *c = r[0] + (r[1] - r[0]) * rng.uniform(0.0, 1.0);
             }
         }
         s.step(m);
@@ -214,8 +204,7 @@ pub fn model_input(seed: &str, input_seed: u64, steps: usize) -> Tally {
     let mut t = Tally { models: 1, ..Tally::default() };
     let mut rng = Rng(input_seed);
     let xml = mutate_xml(&mut rng, seed);
-    let start = Instant::now();
-    let outcome = catch_unwind(AssertUnwindSafe(|| {
+    guarded(&mut t, &format!("model input {input_seed}"), || {
         let mut inner = Tally::default();
         if let Ok(m) = Model::from_mjcf(&xml)
             && m.nq > 0
@@ -224,19 +213,24 @@ pub fn model_input(seed: &str, input_seed: u64, steps: usize) -> Tally {
             simulate(&m, steps, &mut rng, &mut inner, &format!("model input {input_seed}"));
         }
         inner
-    }));
-    match outcome {
+    });
+    t
+}
+
+/// Runs `f` into `t`, counting a panic or a run slower than [`HANG`] as a failure of `label`.
+fn guarded(t: &mut Tally, label: &str, f: impl FnOnce() -> Tally) {
+    let start = Instant::now();
+    match catch_unwind(AssertUnwindSafe(f)) {
         Ok(inner) => t.add(&inner),
         Err(e) => {
             t.panics += 1;
-            t.failures.push(format!("model input {input_seed}: panic: {}", sinew::error::panic_message(&*e)));
+            t.failures.push(format!("{label}: panic: {}", sinew::error::panic_message(&*e)));
         }
     }
     if start.elapsed() > HANG {
         t.hangs += 1;
-        t.failures.push(format!("model input {input_seed}: took {:?}", start.elapsed()));
+        t.failures.push(format!("{label}: took {:?}", start.elapsed()));
     }
-    t
 }
 
 /// A full state of `m` after `steps` random-control steps, flat.
@@ -256,35 +250,34 @@ pub fn state_input(m: &Model, saved: &[f64], input_seed: u64, steps: usize) -> T
     let mut rng = Rng(input_seed);
     let mut v = saved.to_vec();
     let specials = [f64::NAN, f64::INFINITY, -1.0, 0.0, 1.0, 2.0, 1e300, -1e300, 0.5, 4294967296.0, 9.1e15];
-    for _ in 0..1 + rng.below(4) {
+    for _ in 0..1 + rng.below_or0(4) {
         let n = v.len();
         if n == 0 {
             break;
         }
-        match rng.below(6) {
+        match rng.below_or0(6) {
             0 | 1 => {
-                let i = rng.below(n);
-                v[i] = specials[rng.below(specials.len())];
+                let i = rng.below_or0(n);
+                v[i] = specials[rng.below_or0(specials.len())];
             }
             2 => {
-                let i = rng.below(n);
-                v[i] += (rng.below(5) as f64) - 2.0;
+                let i = rng.below_or0(n);
+                v[i] += (rng.below_or0(5) as f64) - 2.0;
             }
             3 => {
-                let (a, b) = (rng.below(n), rng.below(n));
+                let (a, b) = (rng.below_or0(n), rng.below_or0(n));
                 v.swap(a, b);
             }
             4 => {
-                let a = rng.below(n);
-                let len = rng.below(12).min(n - a);
+                let a = rng.below_or0(n);
+                let len = rng.below_or0(12).min(n - a);
                 let chunk: Vec<f64> = v[a..a + len].to_vec();
                 v.splice(a..a, chunk);
             }
-            _ => v.truncate(rng.below(n + 1)),
+            _ => v.truncate(rng.below_or0(n + 1)),
         }
     }
-    let start = Instant::now();
-    let outcome = catch_unwind(AssertUnwindSafe(|| {
+    guarded(&mut t, &format!("state input {input_seed}"), || {
         let mut inner = Tally::default();
         if let Ok(st) = FlatState::read(m, &v) {
             inner.accepted += 1;
@@ -297,18 +290,7 @@ pub fn state_input(m: &Model, saved: &[f64], input_seed: u64, steps: usize) -> T
             run_steps(m, &mut s, steps, &mut rng, &mut inner, &format!("state input {input_seed}"));
         }
         inner
-    }));
-    match outcome {
-        Ok(inner) => t.add(&inner),
-        Err(e) => {
-            t.panics += 1;
-            t.failures.push(format!("state input {input_seed}: panic: {}", sinew::error::panic_message(&*e)));
-        }
-    }
-    if start.elapsed() > HANG {
-        t.hangs += 1;
-        t.failures.push(format!("state input {input_seed}: took {:?}", start.elapsed()));
-    }
+    });
     t
 }
 
