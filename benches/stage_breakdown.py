@@ -21,7 +21,7 @@ def main():
     ap.add_argument("--out", default=None)
     args = ap.parse_args()
     root = os.path.join(os.path.dirname(__file__), "..")
-    cmd = ["cargo", "run", "--quiet", "--release", "--features", "stage-timing", "--example", "stage_breakdown", "--"]
+    cmd = ["cargo", "run", "--quiet", "--profile", "wheel", "--features", "stage-timing", "--example", "stage_breakdown", "--"]
     table = subprocess.run(cmd + [os.path.join(ASSETS, m + ".xml") for m in MODELS], cwd=root, check=True, capture_output=True, text=True).stdout
     print(table, end="")
     if args.out:

@@ -3,7 +3,7 @@
 //! Prints a Markdown row per model: steps/s with the timers on, then each stage's share of the
 //! timed total. Needs the `stage-timing` feature; `benches/stage_breakdown.py` runs it on the
 //! gymnasium models:
-//! `cargo run --release --features stage-timing --example stage_breakdown -- model.xml…`
+//! `cargo run --profile wheel --features stage-timing --example stage_breakdown -- model.xml…`
 
 use sinew::step::{STAGES, STAGE_NAMES};
 

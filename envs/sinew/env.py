@@ -55,6 +55,41 @@ from sinew.tasks import ASSETS, TASKS
 MAX_ACTION = MAX_STATE
 
 
+def _model_path(xml_file: str) -> str:
+    """As gymnasium's MujocoEnv resolves ``xml_file``: a path when it starts with ".", "/" or "~",
+    else a file of gymnasium's bundled assets."""
+    if xml_file.startswith((".", "/", "~")):
+        return os.path.expanduser(xml_file)
+    return os.path.join(ASSETS, xml_file)
+
+
+class WorldData:
+    """One world's arrays with MuJoCo's ``MjData`` names (``env.unwrapped.data``): qpos, qvel and
+    ctrl are writable views (call ``env.unwrapped.set_state`` or ``forward`` after writing qpos or
+    qvel); the body quantities are those of the last step or reset."""
+
+    def __init__(self, batch, i: int):
+        self._b, self._i = batch, i
+
+    qpos = property(lambda self: self._b.qpos[self._i])
+    qvel = property(lambda self: self._b.qvel[self._i])
+    ctrl = property(lambda self: self._b.ctrl[self._i])
+    time = property(lambda self: float(self._b.time[self._i]))
+    xpos = property(lambda self: self._b.xpos[self._i])
+    xmat = property(lambda self: self._b.xmat[self._i])
+    xipos = property(lambda self: self._b.xipos[self._i])
+    cvel = property(lambda self: self._b.cvel[self._i])
+    cinert = property(lambda self: self._b.cinert[self._i])
+    cfrc_ext = property(lambda self: self._b.cfrc_ext[self._i])
+    qfrc_constraint = property(lambda self: self._b.qfrc_constraint[self._i])
+
+    def forward(self) -> None:
+        """Recomputes the body quantities (and the observation) for qpos and qvel as written."""
+        mask = np.zeros(self._b.num_envs, dtype=bool)
+        mask[self._i] = True
+        self._b.forward_kinematics(mask)
+
+
 class BatchTask:
     """A task over N worlds: reset with per-world generators, step with a batch of actions."""
 
@@ -64,7 +99,8 @@ class BatchTask:
         if task not in TASKS:
             raise ValueError(f"unknown task {task!r}; known: {sorted(TASKS)}")
         cls = TASKS[task]
-        path = xml_file or os.path.join(ASSETS, cls.xml)
+        frame_skip = task_kwargs.pop("frame_skip", None)
+        path = _model_path(xml_file or cls.xml)
         model = Model.from_mjcf(path).with_options(friction=friction, constraint_mode=constraint_mode)
         if action_mode == "pd":
             model = model.with_options(pd_gains=tuple(pd_gains))
@@ -74,6 +110,11 @@ class BatchTask:
             raise ValueError(f"action_mode must be 'torque', 'pd' or 'trajectory', got {action_mode!r}")
         self.model = model
         self.task = cls(self.model, **task_kwargs)
+        if frame_skip is not None:
+            if isinstance(frame_skip, bool) or not isinstance(frame_skip, (int, np.integer)) or frame_skip < 1:
+                raise ValueError(f"frame_skip must be a positive integer, got {frame_skip!r}")
+            self.task.frame_skip = int(frame_skip)
+            self.task.dt = self.model.timestep * self.task.frame_skip
         self.num_envs = num_envs
         self.batch = Batch(self.model, num_envs, seed=0, num_threads=num_threads)
         # the generator that last seeded each world's physics stream
@@ -153,8 +194,9 @@ class BatchTask:
 
 
 class SinewEnv(gymnasium.Env, EzPickle):
-    """One sinew world with a gymnasium MuJoCo v5 task (see module docstring). Pickles as its
-    constructor arguments, as gymnasium's MuJoCo envs do: unpickled, it is a new env.
+    """One sinew world with a gymnasium MuJoCo v5 task (see module docstring). Pickles (and
+    deep-copies) as its constructor arguments plus its world's full state and random generator:
+    the copy steps on bit-identically.
 
     Rendering takes the twin's keywords (``render_mode``, ``width``, ``height``, ``camera_id``,
     ``camera_name``, ``default_camera_config``, ``visual_options``); see ``sinew.rendering``."""
@@ -173,6 +215,11 @@ class SinewEnv(gymnasium.Env, EzPickle):
                              default_camera_config, visual_options)
         self.render_mode = render_mode
         self.width, self.height = self.viewer.width, self.viewer.height
+        # the twin's attribute names for its parameters (reward weights, ranges, noise)
+        for k, v in self._core.task.kwargs.items():
+            setattr(self, "_" + k, v)
+        if hasattr(self._core.task, "noise"):
+            self._reset_noise_scale = self._core.task.noise
         self.action_space = self._core.action_space
         self.observation_space = self._core.observation_space
         self.model = self._core.model
@@ -197,6 +244,23 @@ class SinewEnv(gymnasium.Env, EzPickle):
             self.render()
         return obs[0], float(reward[0]), bool(terminated[0]), False, {k: v[0] for k, v in info.items()}
 
+    def __getstate__(self):
+        state = EzPickle.__getstate__(self)
+        core = self._core
+        seeded = self._np_random is not None and core._seeded_by[0] is self._np_random
+        state["_sinew"] = (core.batch.get_state(0, full=True), self._np_random, self._np_random_seed, seeded,
+                           self._needs_reset, dict(self.viewer._free))
+        return state
+
+    def __setstate__(self, state):
+        world, rng, rng_seed, seeded, needs_reset, free = state.pop("_sinew")
+        EzPickle.__setstate__(self, state)
+        self._core.batch.set_state(world, 0)
+        self._np_random, self._np_random_seed = rng, rng_seed
+        self._core._seeded_by[0] = rng if seeded else None
+        self._needs_reset = needs_reset
+        self.viewer._free = free
+
     def render(self):
         """The frame the twin's ``render()`` returns for this ``render_mode``: RGB (H, W, 3) uint8,
         depth (H, W) float32, or both as a tuple; None for "human" (drawn in a window) and, with a
@@ -217,11 +281,62 @@ class SinewEnv(gymnasium.Env, EzPickle):
         """The world's qvel (MuJoCo layout)."""
         return self._core.batch.qvel[0]
 
+    @property
+    def data(self) -> WorldData:
+        """The world's arrays under MuJoCo's ``MjData`` names (see ``WorldData``)."""
+        return WorldData(self._core.batch, 0)
+
+    @property
+    def init_qpos(self) -> np.ndarray:
+        """The reference configuration, as the twin's ``init_qpos``."""
+        return self.model.qpos0.copy()
+
+    @property
+    def init_qvel(self) -> np.ndarray:
+        """Zero velocities, as the twin's ``init_qvel``."""
+        return np.zeros(self.model.nv)
+
+    def state_vector(self) -> np.ndarray:
+        """qpos and qvel together, as MujocoEnv.state_vector."""
+        return np.concatenate([self.data_qpos, self.data_qvel])
+
+    def get_body_com(self, body_name: str) -> np.ndarray:
+        """The body's frame origin in world, as MujocoEnv.get_body_com (MuJoCo's ``xpos``)."""
+        names = self.model.body_names
+        if body_name not in names:
+            raise KeyError(f"no body named {body_name!r}; bodies: {names}")
+        return self._core.batch.xpos[0, names.index(body_name)].copy()
+
+    def do_simulation(self, ctrl, n_frames: int) -> None:
+        """Sets the controls and advances ``n_frames`` physics steps, as MujocoEnv.do_simulation."""
+        c = np.asarray(ctrl, dtype=np.float64)
+        if c.shape != (self.model.nu,):
+            raise ValueError(f"Action dimension mismatch. Expected {(self.model.nu,)}, found {c.shape}")
+        self._core.check_actions(c)
+        self._core.batch.ctrl[0] = c
+        self._core.batch.step(int(n_frames))
+
     def set_state(self, qpos, qvel) -> None:
         """Sets qpos and qvel, as MujocoEnv.set_state."""
+        qpos, qvel = np.asarray(qpos, dtype=np.float64), np.asarray(qvel, dtype=np.float64)
+        if qpos.shape != (self.model.nq,) or qvel.shape != (self.model.nv,):
+            raise ValueError(f"set_state needs qpos ({self.model.nq},) and qvel ({self.model.nv},), got {qpos.shape} and {qvel.shape}")
         self._core.batch.qpos[0] = qpos
         self._core.batch.qvel[0] = qvel
         self._core.batch.forward_kinematics()
+
+
+def _reset_mask(mask, n: int) -> np.ndarray:
+    """``options["reset_mask"]`` checked as ``SyncVectorEnv`` checks it."""
+    if not isinstance(mask, np.ndarray):
+        raise TypeError(f"`options['reset_mask']` must be a numpy array, got {type(mask)}")
+    if mask.shape != (n,):
+        raise ValueError(f"`options['reset_mask']` must have shape `({n},)`, got {mask.shape}")
+    if mask.dtype != np.bool_:
+        raise TypeError(f"`options['reset_mask']` must have `dtype=np.bool_`, got {mask.dtype}")
+    if not mask.any():
+        raise ValueError(f"`options['reset_mask']` must contain a boolean array with at least one True value, got reset_mask={mask}")
+    return mask
 
 
 def _seeds(seed, n):
@@ -236,12 +351,25 @@ def _seeds(seed, n):
 
 
 class SinewVectorEnv(VectorEnv):
-    """N sinew worlds of one task as a native gymnasium VectorEnv (next-step autoreset)."""
+    """N sinew worlds of one task as a native gymnasium VectorEnv, with gymnasium's three autoreset
+    modes (``autoreset_mode``: next-step, the default; same-step; disabled, where the caller resets
+    ended worlds with ``reset(options={"reset_mask": mask})``), each equal step by step to
+    ``SyncVectorEnv`` in that mode over single sinew envs."""
 
     def __init__(self, task: str, num_envs: int = 1, max_episode_steps: int | None = None,
                  num_threads: int | None = None, render_mode: str | None = None, width: int = 480,
                  height: int = 480, camera_id: int | None = None, camera_name: str | None = None,
-                 default_camera_config: dict | None = None, visual_options: dict | None = None, **kwargs):
+                 default_camera_config: dict | None = None, visual_options: dict | None = None,
+                 autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP, **kwargs):
+        self._args = dict(task=task, num_envs=num_envs, max_episode_steps=max_episode_steps, num_threads=num_threads,
+                          render_mode=render_mode, width=width, height=height, camera_id=camera_id,
+                          camera_name=camera_name, default_camera_config=default_camera_config,
+                          visual_options=visual_options, autoreset_mode=autoreset_mode, **kwargs)
+        try:
+            self.autoreset_mode = AutoresetMode(autoreset_mode)
+        except ValueError:
+            raise ValueError(f"autoreset_mode must be one of {[m.value for m in AutoresetMode]} (or AutoresetMode), "
+                             f"got {autoreset_mode!r}") from None
         self._core = BatchTask(task, num_envs, num_threads=num_threads, **kwargs)
         if default_camera_config is None:
             default_camera_config = self._core.task.camera
@@ -257,7 +385,7 @@ class SinewVectorEnv(VectorEnv):
         self.action_space = gymnasium.vector.utils.batch_space(self.single_action_space, num_envs)
         self.observation_space = gymnasium.vector.utils.batch_space(self.single_observation_space, num_envs)
         self.max_episode_steps = max_episode_steps or self._core.task.max_episode_steps
-        self.metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": RENDER_MODES[1:],
+        self.metadata = {"autoreset_mode": self.autoreset_mode, "render_modes": RENDER_MODES[1:],
                          "render_fps": int(np.round(1.0 / self._core.task.dt))}
         self._rngs = [seeding.np_random()[0] for _ in range(num_envs)]
         self._steps = np.zeros(num_envs, dtype=np.int64)
@@ -267,17 +395,32 @@ class SinewVectorEnv(VectorEnv):
         self._all.flags.writeable = False
 
     def reset(self, *, seed=None, options=None):
-        for i, s in enumerate(_seeds(seed, self.num_envs)):
-            if s is not None or seed is None and self._rngs[i] is None:
-                self._rngs[i] = seeding.np_random(s)[0]
-        idx = np.arange(self.num_envs)
-        self._core.reset_worlds(idx, self._rngs)
-        self._steps[:] = 0
-        self._autoreset[:] = False
+        """Resets every world, or with ``options={"reset_mask": mask}`` (a bool array of shape
+        (num_envs,)) those where the mask is true; seeds as ``SyncVectorEnv`` takes them."""
+        mask = None if not options or "reset_mask" not in options else _reset_mask(options["reset_mask"], self.num_envs)
+        idx = np.arange(self.num_envs) if mask is None else np.flatnonzero(mask)
+        seeds = _seeds(seed, self.num_envs)
+        for i in idx:
+            if seeds[i] is not None or self._rngs[i] is None:
+                self._rngs[i] = seeding.np_random(seeds[i])[0]
+        self._core.reset_worlds(idx, [self._rngs[i] for i in idx])
+        self._steps[idx] = 0
+        self._autoreset[idx] = False
         reset_info = self._core.reset_info()
-        return self._core.observe(), self._info(reset_info, self._all, reset_info)
+        if mask is None:
+            return self._core.observe(), self._info(reset_info, self._all, reset_info)
+        # only the reset worlds report, as SyncVectorEnv's masked reset
+        info = {}
+        for k, v in reset_info.items():
+            info[k], info["_" + k] = np.where(mask, v, np.zeros_like(v)), mask.copy()
+        return self._core.observe(), info
 
     def step(self, actions):
+        if self.autoreset_mode == AutoresetMode.SAME_STEP:
+            return self._step_same(actions)
+        if self.autoreset_mode == AutoresetMode.DISABLED and self._autoreset.any():
+            raise ValueError(f"autoreset is disabled and worlds {np.flatnonzero(self._autoreset).tolist()} ended their "
+                             'episodes: reset them with reset(options={"reset_mask": mask}) before stepping')
         a = self._core.check_actions(actions)
         # worlds that ended on the previous call are reset below instead of stepped
         done_before = np.flatnonzero(self._autoreset)
@@ -306,6 +449,46 @@ class SinewVectorEnv(VectorEnv):
                 info[k][done_before] = v[done_before]
         self._autoreset = terminated | truncated
         return obs, reward, terminated, truncated, self._info(info, stepped, reset_info)
+
+    def __getstate__(self):
+        core = self._core
+        seeded = [s is r for s, r in zip(core._seeded_by, self._rngs)]
+        return {"args": self._args, "worlds": core.batch.get_state(full=True), "rngs": self._rngs, "seeded": seeded,
+                "steps": self._steps, "autoreset": self._autoreset, "free": dict(self.viewer._free)}
+
+    def __setstate__(self, state):
+        """A copy: the same construction, then every world's full state, generator and counters."""
+        self.__init__(**state["args"])
+        self._core.batch.set_state(state["worlds"])
+        self._rngs = state["rngs"]
+        self._core._seeded_by = [r if s else None for r, s in zip(self._rngs, state["seeded"])]
+        self._steps, self._autoreset = state["steps"].copy(), state["autoreset"].copy()
+        self.viewer._free = state["free"]
+
+    def _step_same(self, actions):
+        """Same-step autoreset: a world that ends is reset within the step; its final observation
+        and step info are in ``info["final_obs"]`` and ``info["final_info"]``."""
+        obs, reward, terminated, info = self._core.step(self._core.check_actions(actions))
+        self._steps += 1
+        truncated = (self._steps >= self.max_episode_steps) & ~terminated
+        infos = self._info(info, self._all)
+        ended = np.flatnonzero(terminated | truncated)
+        if len(ended):
+            final = [(i, obs[i].copy(), {k: v[i] for k, v in info.items()}) for i in ended]
+            self._core.reset_worlds(ended, [self._rngs[i] for i in ended])
+            obs = self._core.observe()
+            self._steps[ended] = 0
+            reset_info = self._core.reset_info()
+            # gymnasium's _add_info writes into the masks: give it copies of the shared one
+            infos = {k: v.copy() if k.startswith("_") else v for k, v in infos.items()}
+            # an ended world reports its step only in final_info, as SyncVectorEnv's same-step does
+            for k in info:
+                infos[k][ended] = 0
+                infos["_" + k][ended] = False
+            for i, final_obs, final_info in final:
+                infos = self._add_info(infos, {"final_obs": final_obs, "final_info": final_info}, i)
+                infos = self._add_info(infos, {k: v[i] for k, v in reset_info.items()}, i)
+        return obs, reward, terminated, truncated, infos
 
     def render(self):
         """Every world's frame, drawn in one parallel call, as a tuple (as ``SyncVectorEnv``

@@ -34,6 +34,8 @@ pub struct PyBatch {
     cinert: Py<PyArray3<f64>>,
     cvel: Py<PyArray3<f64>>,
     task: Option<TaskArrays>,
+    /// The task's kind and parameters as given to `set_task` (for pickling).
+    task_args: Option<(String, Py<PyDict>)>,
 }
 
 /// A task set on a batch and its output arrays.
@@ -86,6 +88,7 @@ impl PyBatch {
             cinert: PyArray3::zeros(py, [num_envs, m.nbody, 10], false).unbind(),
             cvel: PyArray3::zeros(py, [num_envs, m.nbody, 6], false).unbind(),
             task: None,
+            task_args: None,
         };
         b.refresh_poses(py)?;
         Ok(b)
@@ -239,7 +242,9 @@ impl PyBatch {
     #[pyo3(signature = (kind, **params))]
     fn set_task(&mut self, py: Python<'_>, kind: &str, params: Option<Bound<'_, PyDict>>) -> PyResult<()> {
         let m = self.inner.model.clone();
-        let task = super::task::parse(&m, kind, params.unwrap_or_else(|| PyDict::new(py)))?;
+        let params = params.unwrap_or_else(|| PyDict::new(py));
+        let task = super::task::parse(&m, kind, params.clone())?;
+        self.task_args = Some((kind.to_string(), params.copy()?.unbind()));
         let n = self.inner.len();
         self.task = Some(TaskArrays {
             obs: PyArray2::zeros(py, [n, task.obs_dim(&m)], false).unbind(),
@@ -411,6 +416,18 @@ impl PyBatch {
         self.refresh(py, &which)
     }
 
+    /// Pickles as its model, size, threads, task and every world's full state: a copy steps on
+    /// bit-identically.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<super::Reduced<'py>> {
+        let task = self.task_args.as_ref().map(|(k, p)| (k.clone(), p.clone_ref(py)));
+        let states = self.get_state(py, None, true)?;
+        // what the last step left in the output arrays (contact forces among them), which a
+        // state alone does not give back
+        let outputs = self.clone_outputs(py)?;
+        let args = (self.py_model.clone_ref(py), self.inner.len(), self.inner.num_threads(), task, states, outputs).into_pyobject(py)?;
+        Ok((py.import("sinew._pickle")?.getattr("batch")?, args))
+    }
+
     /// Draws worlds in parallel: rgb (n, H, W, 3) uint8 and/or depth (n, H, W) float32, a tuple
     /// when both. `worlds`: None for all, a boolean mask (N,) or a sequence of world indices
     /// (rendering every 100th world costs a hundredth). `camera` as in `Sim.render`, or a list
@@ -461,6 +478,32 @@ impl PyBatch {
                 Ok(v.as_slice()?.iter().enumerate().filter(|(_, x)| **x != 0.0).map(|(i, _)| i).collect())
             }
         }
+    }
+
+    /// Copies of the sensor, task and divergence output arrays, by attribute name.
+    fn clone_outputs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        let arrays: [(&str, Bound<'py, PyAny>); 9] = [
+            ("xpos", self.xpos.bind(py).clone().into_any()),
+            ("xmat", self.xmat.bind(py).clone().into_any()),
+            ("xipos", self.xipos.bind(py).clone().into_any()),
+            ("xvel", self.xvel.bind(py).clone().into_any()),
+            ("cfrc_ext", self.cfrc_ext.bind(py).clone().into_any()),
+            ("qfrc_constraint", self.qfrc_constraint.bind(py).clone().into_any()),
+            ("cinert", self.cinert.bind(py).clone().into_any()),
+            ("cvel", self.cvel.bind(py).clone().into_any()),
+            ("diverged", self.diverged.bind(py).clone().into_any()),
+        ];
+        for (k, a) in arrays {
+            d.set_item(k, a.call_method0("copy")?)?;
+        }
+        if let Some(t) = &self.task {
+            d.set_item("obs", t.obs.bind(py).call_method0("copy")?)?;
+            d.set_item("reward", t.reward.bind(py).call_method0("copy")?)?;
+            d.set_item("terminated", t.terminated.bind(py).call_method0("copy")?)?;
+            d.set_item("info", t.info.bind(py).call_method0("copy")?)?;
+        }
+        Ok(d)
     }
 
     /// A world index, checked.

@@ -9,6 +9,9 @@ mod task;
 
 use pyo3::prelude::*;
 
+/// What `__reduce__` returns: the function that rebuilds an object and its arguments.
+type Reduced<'py> = (Bound<'py, PyAny>, Bound<'py, pyo3::types::PyTuple>);
+
 /// The compiled extension module `sinew._core`.
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {

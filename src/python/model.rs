@@ -15,14 +15,16 @@ use crate::model::{Actuation, ConstraintMode, FrictionModel, Integrator, JointTy
 #[pyclass(name = "Model", module = "sinew._core", frozen)]
 pub struct PyModel {
     pub inner: Arc<Model>,
+    /// The MJCF text it was compiled from (its options may have changed since: `inner.opt`).
+    source: Arc<str>,
     /// What its frames share, made at the first render.
     renderer: std::sync::OnceLock<Arc<Renderer>>,
 }
 
 impl PyModel {
-    /// Wraps a compiled model.
-    pub fn new(m: Model) -> Self {
-        PyModel { inner: Arc::new(m), renderer: std::sync::OnceLock::new() }
+    /// Wraps a model compiled from `source`.
+    pub fn new(m: Model, source: Arc<str>) -> Self {
+        PyModel { inner: Arc::new(m), source, renderer: std::sync::OnceLock::new() }
     }
 
     /// The model's renderer, made once.
@@ -55,7 +57,9 @@ impl PyModel {
     fn from_mjcf(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Self> {
         let m = py.detach(|| super::errors::guard_model("Model.from_mjcf", || Model::from_mjcf_file(&path)))?.map_err(|e| to_py(py, e))?;
         emit_warnings(py, &m)?;
-        Ok(PyModel::new(m))
+        // the file parsed as UTF-8 text a moment ago
+        let source = std::fs::read_to_string(&path).map_err(|e| to_py(py, crate::Error::Io(format!("cannot read '{}': {e}", path.display()))))?;
+        Ok(PyModel::new(m, source.into()))
     }
 
     /// Loads MJCF text.
@@ -63,7 +67,7 @@ impl PyModel {
     fn from_mjcf_string(py: Python<'_>, xml: &str) -> PyResult<Self> {
         let m = super::errors::guard_model("Model.from_mjcf_string", || Model::from_mjcf(xml))?.map_err(|e| to_py(py, e))?;
         emit_warnings(py, &m)?;
-        Ok(PyModel::new(m))
+        Ok(PyModel::new(m, xml.into()))
     }
 
     /// A copy with some options replaced (the model itself never changes); `integrator` is
@@ -99,8 +103,8 @@ impl PyModel {
             };
         }
         if let Some(g) = gravity {
-            if g.iter().any(|x| !x.is_finite()) {
-                return Err(PyValueError::new_err("gravity must be finite"));
+            if g.iter().any(|x| crate::batch::out_of_range(*x)) {
+                return Err(PyValueError::new_err(format!("gravity must be finite and within ±{:e}, as in a model file", crate::batch::MAX_STATE)));
             }
             m.opt.gravity = glam::DVec3::from_array(g);
         }
@@ -117,8 +121,8 @@ impl PyModel {
             m.opt.limit = l;
         }
         if let Some((kp, kd)) = trajectory_gains {
-            if !(kp.is_finite() && kd.is_finite() && kp >= 0.0 && kd >= 0.0) {
-                return Err(PyValueError::new_err(format!("trajectory_gains must be finite and non-negative, got ({kp}, {kd})")));
+            if !(kp >= 0.0 && kd >= 0.0 && kp <= crate::batch::MAX_STATE && kd <= crate::batch::MAX_STATE) {
+                return Err(PyValueError::new_err(format!("trajectory_gains must lie in [0, 1e10], got ({kp}, {kd})")));
             }
             if pd_gains.is_some() {
                 return Err(PyValueError::new_err("give pd_gains or trajectory_gains, not both"));
@@ -133,8 +137,8 @@ impl PyModel {
             };
         }
         if let Some((kp, kd)) = pd_gains {
-            if !(kp.is_finite() && kd.is_finite() && kp >= 0.0 && kd >= 0.0) {
-                return Err(PyValueError::new_err(format!("pd_gains must be finite and non-negative, got ({kp}, {kd})")));
+            if !(kp >= 0.0 && kd >= 0.0 && kp <= crate::batch::MAX_STATE && kd <= crate::batch::MAX_STATE) {
+                return Err(PyValueError::new_err(format!("pd_gains must lie in [0, 1e10], got ({kp}, {kd})")));
             }
             m.opt.actuation = Actuation::Pd { kp, kd };
         }
@@ -145,7 +149,7 @@ impl PyModel {
                 _ => return Err(PyValueError::new_err(format!("friction must be 'seed' or 'pyramid', got '{f}'"))),
             };
         }
-        Ok(PyModel::new(m))
+        Ok(PyModel::new(m, self.source.clone()))
     }
 
     /// Number of position coordinates.
@@ -408,6 +412,33 @@ impl PyModel {
         let poses = crate::render::Poses::new(m, &q);
         let flat: Vec<f64> = (0..m.ngeom).flat_map(|g| poses.geom_xpos(m, g).to_array()).collect();
         PyArray1::from_vec(py, flat).reshape([m.ngeom, 3])
+    }
+
+    /// Pickles as its MJCF text and options (`sinew._pickle.model` rebuilds it).
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<super::Reduced<'py>> {
+        let o = &self.inner.opt;
+        let d = pyo3::types::PyDict::new(py);
+        d.set_item("timestep", o.timestep)?;
+        d.set_item("integrator", integrator_name(o.integrator))?;
+        d.set_item("gravity", o.gravity.to_array())?;
+        d.set_item("restitution", o.restitution)?;
+        d.set_item("contact", o.contact)?;
+        d.set_item("limit", o.limit)?;
+        d.set_item("friction", match o.friction {
+            FrictionModel::OneTangent => "seed",
+            FrictionModel::Pyramid => "pyramid",
+        })?;
+        d.set_item("constraint_mode", match o.constraint_mode {
+            ConstraintMode::Acceleration => "acceleration",
+            ConstraintMode::Velocity => "velocity",
+        })?;
+        match o.actuation {
+            Actuation::Motor => {}
+            Actuation::Pd { kp, kd } => d.set_item("pd_gains", (kp, kd))?,
+            Actuation::Trajectory { kp, kd } => d.set_item("trajectory_gains", (kp, kd))?,
+        }
+        let args = pyo3::types::PyTuple::new(py, [self.source.to_string().into_pyobject(py)?.into_any(), d.into_any()])?;
+        Ok((py.import("sinew._pickle")?.getattr("model")?, args))
     }
 
     fn __repr__(&self) -> String {

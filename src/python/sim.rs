@@ -276,6 +276,12 @@ impl PySim {
         Ok(())
     }
 
+    /// Pickles as its model and full state: a copy steps on bit-identically.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<super::Reduced<'py>> {
+        let args = pyo3::types::PyTuple::new(py, [self.py_model.bind(py).clone().into_any(), self.get_state(py, true)?.into_any()])?;
+        Ok((py.import("sinew._pickle")?.getattr("sim")?, args))
+    }
+
     /// Contacts of the last step: dicts with geom1, geom2, body1, body2, pos, normal, dist (m,
     /// negative when penetrating), normal_force and friction_force (world vector, N).
     #[getter]

@@ -265,3 +265,97 @@ def test_pd_actuation_servos_to_the_target_within_the_motor_limit():
     assert sim.qpos[0] == pytest.approx(0.5, abs=1e-6)
     with pytest.raises(ValueError):
         m.with_options(pd_gains=(-1.0, 0.0))
+
+
+def test_model_sim_and_batch_pickle_and_copy_with_their_full_state():
+    import copy
+    import pickle
+
+    from conftest import gym_model_path
+
+    m = sinew.Model.from_mjcf(gym_model_path("ant")).with_options(friction="seed", pd_gains=(4.0, 0.2))
+    m2 = pickle.loads(pickle.dumps(m))
+    assert repr(m2) == repr(m) and m2.timestep == m.timestep
+    sim = sinew.Sim(m)
+    sim.ctrl[:] = 0.3
+    sim.step(150)
+    twin = pickle.loads(pickle.dumps(sim))
+    deep = copy.deepcopy(sim)
+    for s in (sim, twin, deep):
+        s.step(100)
+    assert np.array_equal(sim.qpos, twin.qpos) and np.array_equal(sim.qpos, deep.qpos) and sim.time == twin.time
+    from sinew.tasks import Ant
+
+    b = sinew.Batch(m, 3, num_threads=2)
+    b.set_task("Ant", **Ant(m).params())
+    b.ctrl[:] = np.linspace(-0.5, 0.5, 3 * m.nu).reshape(3, m.nu)
+    b.step(40)
+    c = pickle.loads(pickle.dumps(b))
+    assert c.num_threads == 2 and np.array_equal(c.obs, b.obs)
+    b.step(60)
+    c.step(60)
+    assert np.array_equal(b.qpos, c.qpos) and np.array_equal(b.reward, c.reward)
+
+
+def test_envs_pickle_and_deep_copy_with_their_state():
+    import copy
+    import pickle
+
+    import gymnasium as gym
+
+    env = gym.make("sinew/Hopper-v0").unwrapped
+    env.reset(seed=4)
+    rng = np.random.default_rng(1)
+    for _ in range(30):
+        env.step(rng.uniform(-1, 1, 3))
+    for dup in (lambda e: copy.deepcopy(e), lambda e: pickle.loads(pickle.dumps(e))):
+        dup = dup(env)
+        for _ in range(300):
+            a = rng.uniform(-1, 1, 3)
+            r1, r2 = env.step(a), dup.step(a)
+            assert np.array_equal(r1[0], r2[0]) and r1[1:4] == r2[1:4]
+            if r1[2]:
+                assert np.array_equal(env.reset()[0], dup.reset()[0]), "the generators continue alike"
+    venv = gym.make_vec("sinew/Hopper-v0", num_envs=3, vectorization_mode="vector_entry_point")
+    venv.reset(seed=0)
+    venv.step(rng.uniform(-1, 1, (3, 3)))
+    vdup = pickle.loads(pickle.dumps(venv))
+    for _ in range(200):
+        a = rng.uniform(-1, 1, (3, 3))
+        r1, r2 = venv.step(a), vdup.step(a)
+        for x, y in zip(r1[:4], r2[:4]):
+            assert np.array_equal(x, y)
+
+
+def _step_copy(sim_and_n):
+    sim, n = sim_and_n
+    sim.step(n)
+    return sim
+
+
+def test_sims_and_envs_ship_to_other_processes():
+    import multiprocessing
+
+    import gymnasium as gym
+    from gymnasium.vector import AsyncVectorEnv, SyncVectorEnv
+
+    from conftest import gym_model_path
+
+    sim = sinew.Sim(sinew.Model.from_mjcf(gym_model_path("ant")))
+    sim.step(20)
+    with multiprocessing.get_context("fork").Pool(1) as pool:
+        remote = pool.map(_step_copy, [(sim, 50)])[0]
+    sim.step(50)
+    assert np.array_equal(remote.qpos, sim.qpos) and remote.get_state(full=True).tolist() == sim.get_state(full=True).tolist()
+    fns = [lambda: gym.make("sinew/Hopper-v0")] * 2
+    a, s = AsyncVectorEnv(fns), SyncVectorEnv(fns)
+    oa, _ = a.reset(seed=0)
+    os_, _ = s.reset(seed=0)
+    assert np.array_equal(oa, os_)
+    rng = np.random.default_rng(0)
+    for _ in range(30):
+        act = rng.uniform(-1, 1, (2, 3))
+        ra, rs = a.step(act), s.step(act)
+        for x, y in zip(ra[:4], rs[:4]):
+            assert np.array_equal(x, y)
+    a.close()

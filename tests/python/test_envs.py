@@ -450,3 +450,85 @@ def test_position_action_modes_target_joint_positions(mode):
     assert np.abs(q - target).max() < 0.15  # servo pulls the joints toward the targets under load
     with pytest.raises(ValueError, match="action_mode"):
         gym.make("sinew/Hopper-v0", action_mode="velocity")
+
+
+def _same(a, b, path="info"):
+    """Vector infos equal: the same entries and masks, and equal values wherever the mask says an
+    env reports one (SyncVectorEnv leaves None or 0 elsewhere), nested dicts recursively."""
+    assert set(a) == set(b), (path, set(a) ^ set(b))
+    for k in (k for k in a if not k.startswith("_")):
+        x, y, mask = a[k], b[k], np.asarray(b["_" + k])
+        assert np.array_equal(np.asarray(a["_" + k]), mask), (path, "_" + k)
+        if isinstance(x, dict):
+            _same(x, y, f"{path}[{k}]")
+            continue
+        for i in np.flatnonzero(mask):
+            assert np.array_equal(np.asarray(x[i], dtype=float), np.asarray(y[i], dtype=float)), (path, k, i)
+
+
+@pytest.mark.parametrize("mode", ["SameStep", "Disabled", "NextStep"])
+def test_vector_env_equals_sync_vector_env_in_each_autoreset_mode(mode):
+    from gymnasium.vector import AutoresetMode, SyncVectorEnv
+
+    n = 4
+    ours = gym.make_vec("sinew/Hopper-v0", num_envs=n, vectorization_mode="vector_entry_point", autoreset_mode=mode)
+    theirs = SyncVectorEnv([lambda: gym.make("sinew/Hopper-v0") for _ in range(n)], autoreset_mode=AutoresetMode(mode))
+    assert ours.metadata["autoreset_mode"] == AutoresetMode(mode)
+    o1, i1 = ours.reset(seed=3)
+    o2, i2 = theirs.reset(seed=3)
+    assert np.array_equal(o1, o2)
+    _same(i1, i2)
+    rng = np.random.default_rng(0)
+    ended = 0
+    for t in range(120):
+        a = rng.uniform(-1, 1, size=(n, 3))
+        r1, r2 = ours.step(a), theirs.step(a)
+        for x, y in zip(r1[:4], r2[:4]):
+            assert np.array_equal(x, y), t
+        _same(r1[4], r2[4])
+        done = r1[2] | r1[3]
+        ended += done.sum()
+        if mode == "Disabled" and done.any():
+            with pytest.raises(ValueError, match="reset them"):
+                ours.step(a)
+            o1, i1 = ours.reset(options={"reset_mask": done})
+            o2, i2 = theirs.reset(options={"reset_mask": done})
+            assert np.array_equal(o1, o2)
+            _same(i1, i2)
+    assert ended >= 4, "episodes ended, so the autoreset path ran"
+
+
+def test_reset_mask_is_checked_as_sync_vector_env_checks_it():
+    env = gym.make_vec("sinew/Hopper-v0", num_envs=2, vectorization_mode="vector_entry_point")
+    env.reset(seed=0)
+    with pytest.raises(TypeError):
+        env.reset(options={"reset_mask": [True, False]})
+    with pytest.raises(ValueError):
+        env.reset(options={"reset_mask": np.zeros(2, dtype=bool)})
+    with pytest.raises(ValueError, match="autoreset_mode"):
+        gym.make_vec("sinew/Hopper-v0", num_envs=2, vectorization_mode="vector_entry_point", autoreset_mode="sometimes")
+
+
+def test_mujoco_env_parity_attributes_and_keywords():
+    env = gym.make("sinew/Hopper-v0", frame_skip=2, xml_file="hopper.xml").unwrapped
+    ref = gym.make("Hopper-v5", frame_skip=2).unwrapped
+    assert env.frame_skip == 2 and env.dt == pytest.approx(ref.dt)
+    assert env._forward_reward_weight == ref._forward_reward_weight
+    assert env._healthy_z_range == ref._healthy_z_range and env._reset_noise_scale == ref._reset_noise_scale
+    env.reset(seed=1)
+    ref.reset(seed=1)
+    assert np.array_equal(env.init_qpos, ref.init_qpos) and np.array_equal(env.init_qvel, ref.init_qvel)
+    assert np.array_equal(env.state_vector(), ref.state_vector())
+    env.set_state(ref.data.qpos, ref.data.qvel)
+    for name in ("torso", "foot"):
+        assert np.allclose(env.get_body_com(name), ref.get_body_com(name), atol=1e-12)
+    assert np.allclose(env.data.xpos, ref.data.xpos, atol=1e-12)
+    assert env.data.time == 0
+    env.do_simulation(np.zeros(3), 5)
+    assert env.data.time == pytest.approx(5 * env.model.timestep)
+    with pytest.raises(ValueError, match="mismatch"):
+        env.do_simulation(np.zeros(4), 1)
+    with pytest.raises(TypeError, match="unexpected keyword argument 'frameskip'"):
+        gym.make("sinew/Hopper-v0", frameskip=1)
+    with pytest.raises(ValueError, match="frame_skip"):
+        gym.make("sinew/Hopper-v0", frame_skip=0)

@@ -1,0 +1,27 @@
+"""Rebuilding pickled ``Model``, ``Sim`` and ``Batch`` objects (their ``__reduce__`` names these)."""
+
+from sinew._core import Batch, Model, Sim
+
+
+def model(xml: str, options: dict) -> Model:
+    """The model compiled from ``xml`` with ``options`` (``Model.with_options`` keywords)."""
+    return Model.from_mjcf_string(xml).with_options(**options)
+
+
+def sim(m: Model, state) -> Sim:
+    """A Sim of ``m`` in the full ``state``."""
+    s = Sim(m)
+    s.set_state(state)
+    return s
+
+
+def batch(m: Model, num_envs: int, num_threads: int, task, states, outputs: dict) -> Batch:
+    """A batch of ``m`` with ``task`` (kind, parameters) set, every world in its full state and
+    the output arrays as the last step left them."""
+    b = Batch(m, num_envs, num_threads=num_threads)
+    if task is not None:
+        b.set_task(task[0], **task[1])
+    b.set_state(states)
+    for name, values in outputs.items():
+        getattr(b, name)[...] = values
+    return b
