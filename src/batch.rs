@@ -91,14 +91,6 @@ pub struct BatchState<'a> {
     pub out: Sensors<'a>,
 }
 
-/// SplitMix64 finaliser: a well-mixed 64-bit value from a seed.
-pub fn mix_seed(seed: u64) -> u64 {
-    let mut z = seed.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
-
 impl Batch {
     /// `seeds.len()` worlds; world i draws its random friction tangents from `seeds[i]`.
     /// `num_threads` = None uses all cores (`std::thread::available_parallelism`).
@@ -113,7 +105,7 @@ impl Batch {
             .iter()
             .map(|&s| {
                 let mut d = Data::new(&model);
-                d.history.rng = mix_seed(s);
+                d.history.rng = crate::math::splitmix64(s);
                 d
             })
             .collect();
@@ -148,7 +140,7 @@ impl Batch {
 
     /// Re-seeds world `i`'s random stream.
     pub fn seed(&mut self, i: usize, seed: u64) {
-        self.data[i].history.rng = mix_seed(seed);
+        self.data[i].history.rng = crate::math::splitmix64(seed);
         self.data[i].history.tangents.clear();
     }
 

@@ -44,9 +44,9 @@ pub struct Data {
     /// Active set of this step's impact solve, which warm-starts the force solve on the same rows
     /// after it (empty: no impact this step, or rows rebuilt since).
     pub impact_warm: Vec<bool>,
-    /// The active set the force solve starts from (`step::warm_guess`).
+    /// The active set the force solve starts from (`step::solve::warm_guess`).
     pub lcp_warm: Vec<bool>,
-    /// Last step's λ variable of each of its rows that owns one, scratch for `step::warm_guess`.
+    /// Last step's λ variable of each of its rows that owns one, scratch for `step::solve::warm_guess`.
     pub warm_lambda: Vec<usize>,
     /// Lemke tableau.
     pub lcp_work: LcpWork,
@@ -146,7 +146,7 @@ pub struct History {
     pub tangents: Vec<((usize, usize, usize), DVec3)>,
     /// Active set of the last accepted acceleration-level (or time-stepping) solve.
     pub warm: Vec<bool>,
-    /// Identity of the rows `warm` belongs to (`step::row_key`).
+    /// Identity of the rows `warm` belongs to (`step::solve::row_key`).
     pub warm_rows: Vec<RowKey>,
     /// Moving average of the solves with rows left out that had to bring one back.
     pub regrow_rate: f64,

@@ -8,6 +8,19 @@ pub use glam::{DMat3, DQuat, DVec3};
 pub use inertia::{ArtInertia, SpatialInertia};
 pub use spatial::{Force, Motion, Xform};
 
+/// SplitMix64's output for `state` (Steele, Lea & Flood 2014): a well-mixed 64-bit value; the
+/// stream advances its state by [`SPLITMIX_GAMMA`] per draw.
+#[inline]
+pub fn splitmix64(state: u64) -> u64 {
+    let mut z = state.wrapping_add(SPLITMIX_GAMMA);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// SplitMix64's increment (2⁶⁴ / φ).
+pub const SPLITMIX_GAMMA: u64 = 0x9E37_79B9_7F4A_7C15;
+
 /// Skew-symmetric cross-product matrix: `skew(a) * b == a.cross(b)`.
 #[inline]
 pub fn skew(a: DVec3) -> DMat3 {

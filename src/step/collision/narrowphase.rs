@@ -1,0 +1,154 @@
+//! The narrowphase: each geom as a shape in world, one arm per unordered pair of shapes, and
+//! MuJoCo's rule for a pair's friction and condim.
+
+use super::*;
+
+#[derive(Clone, Copy)]
+pub(super) enum Shape {
+    Plane { p: DVec3, n: DVec3 },
+    Sphere { c: DVec3, r: f64 },
+    Segment { a: DVec3, b: DVec3, r: f64 },
+    Box { c: DVec3, rot: DMat3, half: DVec3 },
+}
+
+pub(super) fn shape(m: &Model, cd: &CollisionData, g: usize) -> Shape {
+    let (p, r, s) = (cd.geom_xpos[g], cd.geom_xmat[g], m.geom_size[g]);
+    match m.geom_type[g] {
+        GeomType::Plane => Shape::Plane { p, n: r.col(2) },
+        GeomType::Sphere => Shape::Sphere { c: p, r: s[0] },
+        GeomType::Ellipsoid => Shape::Sphere { c: p, r: s[0].max(s[1]).max(s[2]) },
+        GeomType::Capsule | GeomType::Cylinder => {
+            let h = r.col(2) * s[1];
+            Shape::Segment { a: p - h, b: p + h, r: s[0] }
+        }
+        GeomType::Box => Shape::Box { c: p, rot: r, half: DVec3::from_array(s) },
+    }
+}
+
+/// The sliding friction coefficient of a contact between geoms i and j, and whether it has
+/// friction (condim > 1), as MuJoCo combines them: the higher-priority geom's, else the larger of
+/// each (a condim-1 foot on a condim-3 floor has friction).
+pub fn contact_friction(m: &Model, i: usize, j: usize) -> (f64, bool) {
+    let (mu, condim) = match m.geom_priority[i].cmp(&m.geom_priority[j]) {
+        std::cmp::Ordering::Greater => (m.geom_friction[i][0], m.geom_condim[i]),
+        std::cmp::Ordering::Less => (m.geom_friction[j][0], m.geom_condim[j]),
+        std::cmp::Ordering::Equal => (m.geom_friction[i][0].max(m.geom_friction[j][0]), m.geom_condim[i].max(m.geom_condim[j])),
+    };
+    (mu, condim > 1)
+}
+
+/// Narrowphase of geoms i and j: appends the contacts within `margin`. Returns the distance
+/// between the geoms where a pair of spheres and capsules gives it exactly, else −∞.
+pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, i: usize, j: usize, margin: f64) -> f64 {
+    pose_axes(m, kin, cd, i);
+    pose_axes(m, kin, cd, j);
+    let (si, sj) = (shape(m, cd, i), shape(m, cd, j));
+    let (mu, friction) = contact_friction(m, i, j);
+    let add = |cd: &mut CollisionData, g1: usize, g2: usize, feature: usize, pos: DVec3, normal: DVec3, dist: f64| {
+        let c = Contact { geom1: g1, geom2: g2, feature, pos, normal, dist, mu, friction };
+        if dist > margin || repeats_joint_contact(m, &cd.contacts, &c) {
+            return;
+        }
+        if cd.contacts.len() < MAX_CONTACTS {
+            cd.contacts.push(c);
+        } else if let Some(widest) = (0..MAX_CONTACTS).max_by(|&a, &b| cd.contacts[a].dist.total_cmp(&cd.contacts[b].dist)) {
+            // full: the deepest are kept
+            if cd.contacts[widest].dist > dist {
+                cd.contacts[widest] = c;
+            }
+        }
+    };
+    // order so that a plane, if any, is geom2 (the normal then points out of the plane)
+    let (g1, g2, s1, s2) = match (si, sj) {
+        (Shape::Plane { .. }, _) => (j, i, sj, si),
+        _ => (i, j, si, sj),
+    };
+    match (s1, s2) {
+        (Shape::Sphere { c, r }, Shape::Plane { p, n }) => {
+            let d = (c - p).dot(n) - r;
+            add(cd, g1, g2, 0, c - n * (r + 0.5 * d), n, d);
+        }
+        (Shape::Segment { a, b, r }, Shape::Plane { p, n }) => {
+            for (k, e) in [a, b].into_iter().enumerate() {
+                let d = (e - p).dot(n) - r;
+                add(cd, g1, g2, k, e - n * (r + 0.5 * d), n, d);
+            }
+        }
+        (Shape::Box { c, rot, half }, Shape::Plane { p, n }) => {
+            for k in 0..8 {
+                let sx = if k & 1 == 0 { -1.0 } else { 1.0 };
+                let sy = if k & 2 == 0 { -1.0 } else { 1.0 };
+                let sz = if k & 4 == 0 { -1.0 } else { 1.0 };
+                let corner = c + rot * DVec3::new(sx * half.x, sy * half.y, sz * half.z);
+                let d = (corner - p).dot(n);
+                add(cd, g1, g2, k, corner - n * (0.5 * d), n, d);
+            }
+        }
+        (Shape::Sphere { c: c1, r: r1 }, Shape::Sphere { c: c2, r: r2 }) => {
+            let (pos, n, d) = spheres(c1, r1, c2, r2);
+            add(cd, g1, g2, 0, pos, n, d);
+            return d;
+        }
+        (Shape::Sphere { c, r }, Shape::Segment { a, b, r: rs }) => {
+            let q = closest_on_segment(a, b, c);
+            let (pos, n, d) = spheres(c, r, q, rs);
+            add(cd, g1, g2, 0, pos, n, d);
+            return d;
+        }
+        (Shape::Segment { a, b, r: rs }, Shape::Sphere { c, r }) => {
+            let q = closest_on_segment(a, b, c);
+            let (pos, n, d) = spheres(q, rs, c, r);
+            add(cd, g1, g2, 0, pos, n, d);
+            return d;
+        }
+        (Shape::Segment { a: a1, b: b1, r: r1 }, Shape::Segment { a: a2, b: b2, r: r2 }) => {
+            let (p1, p2) = closest_segments(a1, b1, a2, b2);
+            let (pos, n, d) = spheres(p1, r1, p2, r2);
+            add(cd, g1, g2, 0, pos, n, d);
+            return d;
+        }
+        (Shape::Sphere { c, r }, Shape::Box { c: bc, rot, half }) => {
+            let (n, d) = point_box(c, bc, rot, half, c - bc);
+            add(cd, g1, g2, 0, c - n * (r + 0.5 * (d - r)), n, d - r);
+        }
+        (Shape::Box { c: bc, rot, half }, Shape::Sphere { c, r }) => {
+            let (n, d) = point_box(c, bc, rot, half, c - bc);
+            add(cd, g1, g2, 0, c - n * (r + 0.5 * (d - r)), -n, d - r);
+        }
+        (Shape::Segment { a, b, r }, Shape::Box { c: bc, rot, half }) => {
+            for (k, p) in segment_box_points(a, b, bc, rot, half).into_iter().enumerate().filter(|&(k, p)| k < 2 || (p.distance(a) > 1e-9 && p.distance(b) > 1e-9)) {
+                let (n, d) = point_box(p, bc, rot, half, (a + b) * 0.5 - bc);
+                add(cd, g1, g2, k, p - n * (r + 0.5 * (d - r)), n, d - r);
+            }
+        }
+        (Shape::Box { c: bc, rot, half }, Shape::Segment { a, b, r }) => {
+            for (k, p) in segment_box_points(a, b, bc, rot, half).into_iter().enumerate().filter(|&(k, p)| k < 2 || (p.distance(a) > 1e-9 && p.distance(b) > 1e-9)) {
+                let (n, d) = point_box(p, bc, rot, half, (a + b) * 0.5 - bc);
+                add(cd, g1, g2, k, p - n * (r + 0.5 * (d - r)), -n, d - r);
+            }
+        }
+        (Shape::Box { c: c1, rot: r1, half: h1 }, Shape::Box { c: c2, rot: r2, half: h2 }) => {
+            let (points, count) = box_box(c1, r1, h1, c2, r2, h2, margin);
+            for &(feature, pos, n, d) in &points[..count] {
+                add(cd, g1, g2, feature, pos, n, d);
+            }
+        }
+        _ => {}
+    }
+    f64::NEG_INFINITY
+}
+
+/// Whether `c` repeats a contact of the parent or child body at the same point with the same
+/// normal against the same geom, as where two capsules meet at a joint touch the floor together.
+/// The joint's anchor moves with both bodies, so the two rows would be identical and K singular.
+pub(super) fn repeats_joint_contact(m: &Model, contacts: &[Contact], c: &Contact) -> bool {
+    let b = m.geom_body[c.geom1];
+    let tol = 1e-9 * m.geom_rbound[c.geom1];
+    contacts.iter().any(|o| {
+        let ob = m.geom_body[o.geom1];
+        o.geom2 == c.geom2
+            && (m.body_parent[ob] == b || m.body_parent[b] == ob)
+            && o.pos.distance(c.pos) <= tol
+            && o.normal.dot(c.normal) > 1.0 - 1e-12
+    })
+}

@@ -1,0 +1,216 @@
+//! Closest points and contacts of primitive pairs in world coordinates: box–box by separating
+//! axes, a point or segment against a box, spheres, segments.
+
+use glam::{DMat3, DVec3};
+
+/// Box–box contacts by the separating-axis test (Gottschalk, Lin & Manocha, *OBBTree*, 1996), as
+/// ODE's `dBoxBox`: of the 15 candidate axes, the one of least penetration (or widest gap) is the
+/// normal, a face axis preferred unless an edge axis is clearly better. Face axis: the other box's
+/// face most opposed to it is clipped against the reference face's rectangle (Sutherland–Hodgman),
+/// up to 8 points. Edge axis: the closest points of the two supporting edges, one point. Returns
+/// (feature, point, normal from box 2 to box 1, signed distance) for points within `margin`.
+#[allow(clippy::type_complexity)]
+pub(super) fn box_box(c1: DVec3, r1: DMat3, h1: DVec3, c2: DVec3, r2: DMat3, h2: DVec3, margin: f64) -> ([(usize, DVec3, DVec3, f64); 8], usize) {
+    let mut out = [(0, DVec3::ZERO, DVec3::ZERO, 0.0); 8];
+    let d = c1 - c2;
+    let radius = |axis: DVec3, rot: DMat3, half: DVec3| (0..3).map(|k| half[k] * axis.dot(rot.col(k)).abs()).sum::<f64>();
+    let gap = |axis: DVec3| axis.dot(d).abs() - radius(axis, r1, h1) - radius(axis, r2, h2);
+    // best face axis: (gap, reference box is box 1, axis index)
+    let mut face = (f64::NEG_INFINITY, false, 0);
+    for (on1, rot) in [(true, r1), (false, r2)] {
+        for k in 0..3 {
+            let s = gap(rot.col(k));
+            if s > face.0 {
+                face = (s, on1, k);
+            }
+        }
+    }
+    let mut edge = (f64::NEG_INFINITY, 0, 0, DVec3::ZERO);
+    for i in 0..3 {
+        for j in 0..3 {
+            let axis = r1.col(i).cross(r2.col(j));
+            let len = axis.length();
+            if len > 1e-6 {
+                let s = gap(axis / len);
+                if s > edge.0 {
+                    edge = (s, i, j, axis / len);
+                }
+            }
+        }
+    }
+    let scale = h1.max_element() + h2.max_element();
+    if edge.0 > face.0 + 0.05 * face.0.abs() + 1e-9 * scale {
+        if edge.0 > margin {
+            return (out, 0);
+        }
+        let (_, i, j, axis) = edge;
+        let n = if axis.dot(d) >= 0.0 { axis } else { -axis };
+        // the edge of each box nearest the other
+        let sgn = |x: f64| if x >= 0.0 { 1.0 } else { -1.0 };
+        let mut p1 = c1;
+        let mut p2 = c2;
+        for k in 0..3 {
+            if k != i {
+                p1 -= r1.col(k) * (h1[k] * sgn(n.dot(r1.col(k))));
+            }
+            if k != j {
+                p2 += r2.col(k) * (h2[k] * sgn(n.dot(r2.col(k))));
+            }
+        }
+        let (e1, e2) = (r1.col(i) * h1[i], r2.col(j) * h2[j]);
+        let (q1, q2) = closest_segments(p1 - e1, p1 + e1, p2 - e2, p2 + e2);
+        out[0] = (32 + 3 * i + j, (q1 + q2) * 0.5, n, n.dot(q1 - q2));
+        return (out, 1);
+    }
+    if face.0 > margin {
+        return (out, 0);
+    }
+    // reference box R (whose face gives the normal) and other box O
+    let (_, ref1, a) = face;
+    let ((cr, rr, hr), (co, ro, ho)) = if ref1 { ((c1, r1, h1), (c2, r2, h2)) } else { ((c2, r2, h2), (c1, r1, h1)) };
+    let toward = co - cr;
+    let nf = if rr.col(a).dot(toward) >= 0.0 { rr.col(a) } else { -rr.col(a) };
+    let face_centre = cr + nf * hr[a];
+    // incident face of O: the one most opposed to nf, corners in cyclic order
+    let k = (0..3).max_by(|&x, &y| nf.dot(ro.col(x)).abs().total_cmp(&nf.dot(ro.col(y)).abs())).unwrap();
+    let ni = if ro.col(k).dot(nf) > 0.0 { -ro.col(k) } else { ro.col(k) };
+    let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
+    let (u, v) = (ro.col(k1) * ho[k1], ro.col(k2) * ho[k2]);
+    let centre = co + ni * ho[k];
+    let mut poly = [DVec3::ZERO; 8];
+    let mut len = 4;
+    poly[..4].copy_from_slice(&[centre + u + v, centre - u + v, centre - u - v, centre + u - v]);
+    // clip by the reference face's four side planes: (p − c_R)·e ≤ h
+    let (a1, a2) = ((a + 1) % 3, (a + 2) % 3);
+    for (e, h) in [(rr.col(a1), hr[a1]), (-rr.col(a1), hr[a1]), (rr.col(a2), hr[a2]), (-rr.col(a2), hr[a2])] {
+        let mut next = [DVec3::ZERO; 8];
+        let mut n_next = 0;
+        for idx in 0..len {
+            let (p, q) = (poly[idx], poly[(idx + 1) % len]);
+            let (sp, sq) = ((p - cr).dot(e) - h, (q - cr).dot(e) - h);
+            if sp <= 0.0 && n_next < 8 {
+                next[n_next] = p;
+                n_next += 1;
+            }
+            if ((sp < 0.0 && sq > 0.0) || (sp > 0.0 && sq < 0.0)) && n_next < 8 {
+                next[n_next] = p + (q - p) * (sp / (sp - sq));
+                n_next += 1;
+            }
+        }
+        poly = next;
+        len = n_next;
+        if len == 0 {
+            return (out, 0);
+        }
+    }
+    // normal from box 2 to box 1: nf points from R to O
+    let n = if ref1 { -nf } else { nf };
+    let mut count = 0;
+    let tol = 1e-9 * scale;
+    for (idx, &p) in poly[..len].iter().enumerate() {
+        let depth = nf.dot(p - face_centre);
+        // clipping through a vertex within round-off yields it twice
+        let repeat = out[..count].iter().any(|o| o.1.distance(p - nf * (0.5 * depth)) <= tol);
+        if depth <= margin && !repeat {
+            out[count] = (16 * ref1 as usize + idx, p - nf * (0.5 * depth), n, depth);
+            count += 1;
+        }
+    }
+    (out, count)
+}
+
+/// Signed distance of point `p` from a box and the unit normal pointing from the box toward `p`.
+/// Inside (or on) the box it leaves through the face of least penetration; faces tied within
+/// round-off (a corner resting exactly on an edge) are decided by `hint`, a world direction from
+/// the box toward whatever `p` belongs to.
+pub(super) fn point_box(p: DVec3, c: DVec3, rot: DMat3, half: DVec3, hint: DVec3) -> (DVec3, f64) {
+    let local = rot.transpose() * (p - c);
+    let q = local.abs() - half;
+    let tol = 1e-9 * half.max_element();
+    if q.max_element() > tol {
+        let closest = local.clamp(-half, half);
+        let d = local - closest;
+        let len = d.length();
+        return (rot * (d / len), len);
+    }
+    let h = rot.transpose() * hint;
+    let top = q.max_element();
+    let mut axis = 0;
+    let mut best = f64::NEG_INFINITY;
+    for k in 0..3 {
+        let score = h[k].abs() / half[k];
+        if q[k] >= top - tol && score > best {
+            best = score;
+            axis = k;
+        }
+    }
+    let mut n = DVec3::ZERO;
+    n[axis] = if local[axis] >= 0.0 { 1.0 } else { -1.0 };
+    (rot * n, q[axis].min(0.0))
+}
+
+/// Points of segment [a, b] to test against a box as sphere centres: both ends and the segment
+/// point nearest the box (alternating projections between segment and box).
+pub(super) fn segment_box_points(a: DVec3, b: DVec3, c: DVec3, rot: DMat3, half: DVec3) -> [DVec3; 3] {
+    let mut p = closest_on_segment(a, b, c);
+    for _ in 0..8 {
+        let local = rot.transpose() * (p - c);
+        let on_box = c + rot * local.clamp(-half, half);
+        p = closest_on_segment(a, b, on_box);
+    }
+    [a, b, p]
+}
+
+/// Contact between two spheres: (point, normal from 2 to 1, signed distance).
+pub(super) fn spheres(c1: DVec3, r1: f64, c2: DVec3, r2: f64) -> (DVec3, DVec3, f64) {
+    let d = c1 - c2;
+    let len = d.length();
+    let n = if len > 1e-12 { d / len } else { DVec3::Z };
+    let dist = len - r1 - r2;
+    (c2 + n * (r2 + 0.5 * dist), n, dist)
+}
+
+pub(super) fn closest_on_segment(a: DVec3, b: DVec3, p: DVec3) -> DVec3 {
+    let ab = b - a;
+    let l2 = ab.length_squared();
+    if l2 < 1e-24 {
+        return a;
+    }
+    a + ab * ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
+}
+
+/// Closest points between segments [a1, b1] and [a2, b2] (Ericson, *Real-Time Collision
+/// Detection*, 2005, §5.1.9).
+pub(super) fn closest_segments(a1: DVec3, b1: DVec3, a2: DVec3, b2: DVec3) -> (DVec3, DVec3) {
+    let (d1, d2, r) = (b1 - a1, b2 - a2, a1 - a2);
+    let (a, e, f) = (d1.length_squared(), d2.length_squared(), d2.dot(r));
+    let (s, t);
+    if a <= 1e-24 && e <= 1e-24 {
+        return (a1, a2);
+    }
+    if a <= 1e-24 {
+        s = 0.0;
+        t = (f / e).clamp(0.0, 1.0);
+    } else {
+        let c = d1.dot(r);
+        if e <= 1e-24 {
+            t = 0.0;
+            s = (-c / a).clamp(0.0, 1.0);
+        } else {
+            let b = d1.dot(d2);
+            let denom = a * e - b * b;
+            let mut s0 = if denom > 1e-24 { ((b * f - c * e) / denom).clamp(0.0, 1.0) } else { 0.0 };
+            let mut t0 = (b * s0 + f) / e;
+            if t0 < 0.0 {
+                t0 = 0.0;
+                s0 = (-c / a).clamp(0.0, 1.0);
+            } else if t0 > 1.0 {
+                t0 = 1.0;
+                s0 = ((b - c) / a).clamp(0.0, 1.0);
+            }
+            s = s0;
+            t = t0;
+        }
+    }
+    (a1 + d1 * s, a2 + d2 * t)
+}

@@ -1,0 +1,92 @@
+//! Stage 4 — the step's constraint rows: contacts with their friction tangents (the seed's
+//! static tangent kept per contact, else one drawn from the world's random stream), reachable
+//! limits and motion control; and the limits and contacts a constrained motion reaches without a
+//! row, added for a second solve.
+
+use super::*;
+
+/// Appends to the contacts those the step's final velocities q̇ + h q̈ can reach but the first
+/// detection's margin did not cover.
+pub(super) fn missed_contacts(m: &Model, data: &mut Data, qvel: &[f64]) -> bool {
+    if !m.opt.contact || m.collision_pairs.is_empty() {
+        return false;
+    }
+    let h = m.opt.timestep;
+    let Data { kin, coll, post, qacc, .. } = data;
+    for ((e, v), a) in post.vel_end.iter_mut().zip(qvel).zip(qacc.iter()) {
+        *e = v + h * a;
+    }
+    // post.kin is free until the post-stabilisation check, which recomputes it
+    collision::reach_again(m, kin, &post.vel_end, &mut post.kin.v, coll)
+}
+
+/// Marks in `data.limit_forced` each limit without a row that q̇ + h q̈ would cross within the step.
+pub(super) fn missed_limits(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
+    let mut any = false;
+    for j in m.limited_joints() {
+        let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
+        let [lo, hi] = m.jnt_range[j];
+        let v_end = qvel[da] + h * data.qacc[da];
+        for (side, (dist, sign)) in [(qpos[qa] - lo, 1.0), (hi - qpos[qa], -1.0)].into_iter().enumerate() {
+            let has_row = || (0..data.con.len()).any(|r| data.con.kind[r] == RowKind::Limit && data.con.source[r] == j && data.con.dof[r].1 == sign);
+            if dist + lever * sign * v_end < 0.0 && !has_row() {
+                data.limit_forced[2 * j + side] = true;
+                any = true;
+            }
+        }
+    }
+    any
+}
+
+pub(super) fn build_rows(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) {
+    let Data { kin, aba, coll, con, history, tangents_next, feedforward, qacc, limit_forced, .. } = data;
+    let crate::data::History { tangents, rng, .. } = history;
+    tangents_next.clear();
+    let h = m.opt.timestep;
+    constraint::rows(
+        m,
+        kin,
+        aba,
+        qpos,
+        qvel,
+        qacc,
+        limit_forced,
+        ctrl,
+        feedforward,
+        &coll.contacts,
+        |ci, n, vt, at| {
+            let c = &coll.contacts[ci];
+            let key = (c.geom1, c.geom2, c.feature);
+            let speed = vt.length();
+            // the slip the step would give the contact without constraint forces
+            let slip = vt + h * at;
+            // dynamic friction opposes sliding (Kokkevis 2004, §8.1); a contact at rest that the
+            // step would set slipping is treated alike (sinew's choice: a fixed tangent across the
+            // slip lets it creep); otherwise static friction reuses the last valid tangent of a
+            // persisting contact, or a random one for a new contact, as the seed does
+            let t = if speed > constraint::SLIDING_SPEED {
+                -vt / speed
+            } else if slip.length() > constraint::SLIDING_SPEED {
+                -slip / slip.length()
+            } else if let Some((_, t)) = tangents.iter().find(|(k, t)| *k == key && t.dot(n).abs() < 1e-6) {
+                *t
+            } else {
+                random_tangent(rng, n)
+            };
+            tangents_next.push((key, t));
+            t
+        },
+        con,
+    );
+    std::mem::swap(tangents, tangents_next);
+}
+
+/// A unit vector orthogonal to `n` at a random angle, from the world's own SplitMix64 stream.
+pub(super) fn random_tangent(state: &mut u64, n: DVec3) -> DVec3 {
+    let z = crate::math::splitmix64(*state);
+    *state = state.wrapping_add(crate::math::SPLITMIX_GAMMA);
+    let angle = (z >> 11) as f64 / (1u64 << 53) as f64 * std::f64::consts::TAU;
+    let (a, b) = n.any_orthonormal_pair();
+    a * angle.cos() + b * angle.sin()
+}

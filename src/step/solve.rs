@@ -1,0 +1,334 @@
+//! Stages 5–7 — the constraint solve: the LCP posed from the rows (q, the rows left out, the
+//! warm start read through the rows' identities, K by test forces), solved by `lcp`, and its
+//! forces or impulses applied to q̈ or q̇.
+
+use super::*;
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum Level {
+    /// The seed's impact solve.
+    Velocity,
+    /// The seed's per-step force solve.
+    Acceleration,
+    /// Velocity-level time stepping: impulses over the whole step.
+    TimeStep,
+}
+
+/// Assembles the LCP over all rows plus one λ per friction row and solves it into `data.force`.
+pub(super) fn solve_rows(m: &Model, data: &mut Data, level: Level) {
+    // q, and the rows the solve starts without
+    let n = timed!(data, Stage::Lcp, lcp_vector(m, data, level).map(|n| (n, leave_out(data, level, n))));
+    let Some((n, warm)) = n else {
+        // every row already satisfied without force (a limit at rest, contacts separating):
+        // f = 0 solves the LCP (a friction row's λ takes up its demand) and K is not needed
+        data.stats.solves += 1;
+        data.stats.residual = 0.0;
+        record_warm(data, level);
+        return;
+    };
+    // K's columns for the rows kept; more when the answer pushes into a row left out
+    let left_any = data.lcp_out.contains(&true);
+    let mut brought_back = false;
+    loop {
+        let Data { kin, aba, con, lcp_out, .. } = data;
+        timed!(data, Stage::Assembly, constraint::responses(m, kin, aba, con, |k, _| !lcp_out[k]));
+        if timed!(data, Stage::Lcp, lcp_matrix_and_solve(m, data, level, n, warm)) {
+            break;
+        }
+        brought_back = true;
+    }
+    // how often leaving rows out has cost another solve lately: past MAX_REGROW_RATE (a pile of
+    // bodies, whose separating contacts the others keep pushing closed) nothing is left out,
+    // and the rate decays, so that leaving out is tried again later
+    data.history.regrow_rate = if left_any {
+        (1.0 - REGROW_MEMORY) * data.history.regrow_rate + REGROW_MEMORY * brought_back as u8 as f64
+    } else {
+        REGROW_DECAY * data.history.regrow_rate
+    };
+}
+
+/// Weight of the latest solve that left rows out in [`crate::data::History::regrow_rate`].
+pub(super) const REGROW_MEMORY: f64 = 0.1;
+/// Decay of [`crate::data::History::regrow_rate`] per solve that left nothing out (from 1 to below
+/// [`MAX_REGROW_RATE`] in about 70 solves).
+pub(super) const REGROW_DECAY: f64 = 0.99;
+/// Regrow rate above which a solve leaves nothing out.
+pub(super) const MAX_REGROW_RATE: f64 = 0.5;
+
+/// Marks in `data.lcp_out` the variables the solve starts without: each contact whose q says the
+/// motion without its force separates it (q_n ≥ 0), with its friction rows and λ, unless it
+/// carried force in the warm set (it probably will again). A separating contact keeps no force
+/// unless others push it closed, which the solve checks; its test forces are then never pushed.
+/// Limit rows stay: contact forces push joints into their limits too often (leaving out those
+/// with q ≥ 0 too had many brought back on Ant, for no gain). Nothing is left out while the recent
+/// share of solves that had to bring a contact back exceeds [`MAX_REGROW_RATE`]. Returns whether
+/// a warm set applies ([`warm_guess`]).
+pub(super) fn leave_out(data: &mut Data, level: Level, n: usize) -> bool {
+    let warm = warm_guess(data, level, n);
+    let (con, q, guess, out) = (&data.con, &data.lcp_q, &data.lcp_warm, &mut data.lcp_out);
+    out.clear();
+    out.resize(n, false);
+    if data.history.regrow_rate > MAX_REGROW_RATE {
+        return warm;
+    }
+    for j in 0..con.len() {
+        match con.kind[j] {
+            RowKind::Normal => out[j] = q[j] >= 0.0 && !(warm && guess[j]),
+            RowKind::Tangent { normal } => {
+                let left = out[normal];
+                (out[j], out[data.lcp_lambda[normal]]) = (left, left);
+            }
+            _ => {}
+        }
+    }
+    warm
+}
+
+/// The active set a force solve starts from, into `data.lcp_warm` (n variables); whether there is
+/// one. After this step's impact solve, on the same rows: its active set (a contact the impact
+/// stopped now rests on its force). Else last step's, read through the rows' identities
+/// ([`row_key`]): a row last step also had keeps its activity, and so does its contact's λ (a
+/// bounded motion row's σ); a new row starts inactive. With the same rows as last step this is
+/// last step's active set as it was.
+pub(super) fn warm_guess(data: &mut Data, level: Level, n: usize) -> bool {
+    let Data { con, coll, history, impact_warm, lcp_warm: guess, lcp_lambda, warm_lambda: old_lambda, .. } = data;
+    guess.clear();
+    if level == Level::Velocity {
+        return false;
+    }
+    if !impact_warm.is_empty() {
+        guess.extend_from_slice(impact_warm);
+        return true;
+    }
+    let (keys, warm) = (&history.warm_rows, &history.warm);
+    // last step's λ (σ) variable of each owner row, from its rows' identities
+    let old_n = number_lambdas(keys.len(), |i| match keys[i] {
+        (ROW_CONTACT, _, _, _, within) if within > 0 => i.checked_sub(within),
+        (ROW_MOTION, _, _, 1, _) => Some(i),
+        _ => None,
+    }, old_lambda);
+    if keys.is_empty() || old_n != warm.len() {
+        return false;
+    }
+    guess.resize(n, false);
+    // rows keep their order across steps, so each search starts after the last match
+    let mut at = 0;
+    for j in 0..con.len() {
+        let key = row_key(con, &coll.contacts, j);
+        let Some(i) = (at..keys.len()).chain(0..at.min(keys.len())).find(|&i| keys[i] == key) else {
+            continue;
+        };
+        at = i + 1;
+        guess[j] = warm[i];
+        if lcp_lambda[j] != usize::MAX && old_lambda[i] != usize::MAX {
+            guess[lcp_lambda[j]] = warm[old_lambda[i]];
+        }
+    }
+    true
+}
+
+/// Numbers the LCP's λ variables after the `nr` rows, into `lambda` (per row: the λ it owns, or
+/// usize::MAX): one per contact with friction rows, shared by them (eq. 21 sums their forces), and
+/// one σ per torque-bounded motion-control row (the same pattern with a constant bound), in the
+/// order of their rows; `owner(j)` is the row owning row j's λ. Returns the variable count.
+pub(super) fn number_lambdas(nr: usize, owner: impl Fn(usize) -> Option<usize>, lambda: &mut Vec<usize>) -> usize {
+    lambda.clear();
+    lambda.resize(nr, usize::MAX);
+    let mut n = nr;
+    for j in 0..nr {
+        if let Some(o) = owner(j)
+            && lambda[o] == usize::MAX
+        {
+            lambda[o] = n;
+            n += 1;
+        }
+    }
+    n
+}
+
+/// The LCP's variables (rows, then one λ per contact with friction and one σ per bounded
+/// motion-control row: [`number_lambdas`]) and its vector q, into `data`; their count, or None
+/// when q ≥ 0 on every row but friction rows.
+pub(super) fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
+    // slower approaches are not impacts and get no restitution: resting contacts do not jitter
+    let impact = constraint::impact_speed(h, m.opt.gravity.length());
+    let nr = data.con.len();
+    let kind = &data.con.kind;
+    let n = number_lambdas(nr, |j| match kind[j] {
+        RowKind::Tangent { normal } => Some(normal),
+        RowKind::Motion { bounded: true } => Some(j),
+        _ => None,
+    }, &mut data.lcp_lambda);
+    data.lcp_q.clear();
+    data.lcp_q.resize(n, 0.0);
+    data.force.clear();
+    data.force.resize(n, 0.0);
+    let con = &data.con;
+    let q = &mut data.lcp_q;
+    // contact points and centres move on arcs the rows' linear prediction leaves out: the
+    // end-of-step targets add `con.lift` (`constraint::arc_lift`)
+    for j in 0..nr {
+        let (vel, dist) = (con.vel[j], con.dist[j]);
+        // desired values: acceleration a^d, or velocity change Δv^d for impacts
+        let desired = match (con.kind[j], level) {
+            // motion control: the trajectory's acceleration; impacts leave the joint's velocity alone
+            (RowKind::Motion { .. }, Level::Acceleration) => con.desired[j],
+            (RowKind::Motion { .. }, Level::Velocity) => 0.0,
+            (RowKind::Motion { .. }, Level::TimeStep) => h * (con.desired[j] - con.b[j]),
+            (RowKind::Tangent { .. }, Level::Acceleration) => -vel / h,
+            (RowKind::Tangent { .. }, Level::Velocity) => -vel,
+            // time stepping: end-of-step velocity v⁺ (tangents: 0; normals: close the gap or remove
+            // a fraction of the penetration; restitution for fast approach) against the predicted
+            // constraint-free v_p = v + h b
+            (RowKind::Tangent { .. }, Level::TimeStep) => -(vel + h * con.b[j]),
+            (_, Level::TimeStep) => {
+                let mut target = if dist > 0.0 { -dist / lever } else { constraint::correction_velocity(dist, h) } + con.lift[j];
+                if -vel > impact && dist + lever * vel < 0.0 && m.opt.restitution > 0.0 {
+                    target = target.max(rebound(vel, dist, con.b[j], m.opt.restitution, h));
+                }
+                target - (vel + h * con.b[j])
+            }
+            (_, Level::Acceleration) => {
+                let target = if dist > 0.0 { -dist / lever } else { constraint::correction_velocity(dist, h) } + con.lift[j];
+                (target - vel) / h
+            }
+            // end-of-step velocity v⁺ for a row that closes within this step: the rebound with
+            // restitution, else −d/h, which just closes the gap (v_p: velocity predicted at the
+            // step's end without constraint forces)
+            (_, Level::Velocity) => {
+                let e = if -vel > impact { m.opt.restitution } else { 0.0 };
+                let vp = vel + h * con.b[j];
+                let gap = dist.max(0.0) / lever;
+                if approaching(vel, dist, vp, lever, impact) {
+                    if e > 0.0 { rebound(vel, dist, con.b[j], e, h) - vp } else { -gap - vp }
+                } else {
+                    (-gap - vp).min(0.0)
+                }
+            }
+        };
+        q[j] = match level {
+            Level::Acceleration => con.b[j] - desired,
+            Level::Velocity | Level::TimeStep => -desired,
+        };
+    }
+    let trivial = (0..nr).all(|j| q[j] >= 0.0 || matches!(con.kind[j], RowKind::Tangent { .. }));
+    (!trivial).then_some(n)
+}
+
+/// M from K and the friction and bound couplings; solves into `data.force`, from the warm set in
+/// `data.lcp_warm` when `warm` ([`warm_guess`]). False when the solve brought back rows left out,
+/// whose K columns it needs.
+pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: usize, warm: bool) -> bool {
+    let h = m.opt.timestep;
+    let con = &data.con;
+    let nr = con.len();
+    data.lcp_m.clear();
+    data.lcp_m.resize(n * n, 0.0);
+    data.lcp_role.clear();
+    data.lcp_role.resize(n, lcp::Role::Lambda);
+    let (mm, q) = (&mut data.lcp_m, &mut data.lcp_q);
+    // a row no force can move (K_jj ≈ 0: the out-of-plane friction of a planar model) carries no
+    // force; left in, it makes the LCP degenerate, so the solve leaves it out (w = z, q = 0).
+    // Rows whose K column is not computed are left out already and read only as rows
+    let done = &con.column_done;
+    let k_max = (0..nr).filter(|&j| done[j]).map(|j| con.k[j * nr + j]).fold(0.0, f64::max);
+    for j in 0..nr {
+        if done[j] && con.k[j * nr + j] <= INERT_ROW * k_max {
+            mm[j * n + j] = 1.0;
+            q[j] = 0.0;
+            data.lcp_role[j] = lcp::Role::Normal;
+            data.lcp_out[j] = true;
+            continue;
+        }
+        mm[j * n..j * n + nr].copy_from_slice(&con.k[j * nr..(j + 1) * nr]);
+        let kjj = con.k[j * nr + j];
+        mm[j * n + j] = kjj + lcp::REGULARISATION * kjj.abs().max(1e-300);
+        match con.kind[j] {
+            RowKind::Tangent { normal } => {
+                // (20): (a_t − a_t^d) + λ ≥ 0;  (21): μ f_n − Σ f_t ≥ 0 ⟂ λ ≥ 0
+                let lam = data.lcp_lambda[normal];
+                mm[j * n + lam] = 1.0;
+                mm[lam * n + normal] = con.mu[j];
+                mm[lam * n + j] = -1.0;
+                data.lcp_role[j] = lcp::Role::Friction { normal, lambda: lam, mu: con.mu[j] };
+            }
+            RowKind::Motion { bounded: true } => {
+                // (a − a^d) + σ ≥ 0 ⟂ f ≥ 0;  f_max − f ≥ 0 ⟂ σ ≥ 0, f_max a force (an impulse per step
+                // when time stepping, none during an impact)
+                let sigma = data.lcp_lambda[j];
+                let cap = con.cap[j] * match level {
+                    Level::Acceleration => 1.0,
+                    Level::TimeStep => h,
+                    Level::Velocity => 0.0,
+                };
+                mm[j * n + sigma] = 1.0;
+                mm[sigma * n + j] = -1.0;
+                q[sigma] = cap;
+                data.lcp_role[j] = lcp::Role::Bounded { lambda: sigma, cap };
+            }
+            _ => data.lcp_role[j] = lcp::Role::Normal,
+        }
+    }
+    let warm = warm.then_some(&data.lcp_warm[..]);
+    let solved = lcp::solve(n, &data.lcp_m, &data.lcp_q, &data.lcp_role, warm, &mut data.lcp_out, &mut data.force, &mut data.lcp_work, &mut data.stats);
+    if solved {
+        record_warm(data, level);
+    }
+    solved
+}
+
+/// Keeps the active set of a solve: an impact's for the force solve after it, an
+/// acceleration-level or time-stepping one's for the next step's.
+pub(super) fn record_warm(data: &mut Data, level: Level) {
+    if level == Level::Velocity {
+        data.impact_warm.clear();
+        data.impact_warm.extend(data.force.iter().map(|&f| f > 0.0));
+    } else {
+        data.history.warm.clear();
+        data.history.warm.extend(data.force.iter().map(|&f| f > 0.0));
+        data.history.warm_rows.clear();
+        for j in 0..data.con.len() {
+            let key = row_key(&data.con, &data.coll.contacts, j);
+            data.history.warm_rows.push(key);
+        }
+    }
+}
+
+/// Identity of row j across steps ([`RowKey`]): kind, then the contact (geoms, feature) and the row's position
+/// within it, or the joint and the side (a motion row: its actuator, whether it is bounded, and
+/// the side).
+pub(super) fn row_key(con: &constraint::ConstraintData, contacts: &[collision::Contact], j: usize) -> RowKey {
+    match con.kind[j] {
+        RowKind::Limit => (ROW_LIMIT, con.source[j], 0, 0, (con.dof[j].1 > 0.0) as usize),
+        RowKind::Motion { bounded } => (ROW_MOTION, con.source[j], 0, bounded as usize, (con.dof[j].1 > 0.0) as usize),
+        kind => {
+            let c = &contacts[con.source[j]];
+            let within = match kind {
+                RowKind::Tangent { normal } => j - normal,
+                _ => 0,
+            };
+            (ROW_CONTACT, c.geom1, c.geom2, c.feature, within)
+        }
+    }
+}
+
+/// q̈ += scale · Σ_k f_k Δq̈⁽ᵏ⁾.
+pub(super) fn apply_to_qacc(m: &Model, data: &mut Data, scale: f64) {
+    let mut qacc = std::mem::take(&mut data.qacc);
+    apply(m, data, &mut qacc, scale);
+    data.qacc = qacc;
+}
+
+/// target += scale · Σ_k f_k Δq̈⁽ᵏ⁾ (forces into accelerations, or impulses into velocities).
+pub(super) fn apply(m: &Model, data: &Data, target: &mut [f64], scale: f64) {
+    let nv = m.nv;
+    for k in 0..data.con.len() {
+        let f = data.force[k] * scale;
+        if f != 0.0 {
+            for (t, d) in target.iter_mut().zip(&data.con.dqdd[k * nv..(k + 1) * nv]) {
+                *t += f * d;
+            }
+        }
+    }
+}
