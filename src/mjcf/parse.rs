@@ -3,12 +3,16 @@
 use std::cell::RefCell;
 use std::collections::HashMap;
 
-use glam::{DMat3, DQuat, DVec3};
+use glam::{DQuat, DVec3};
 use roxmltree::{Document, Node};
 
 use super::*;
 
+mod elements;
+mod orientation;
 mod visual;
+
+use orientation::quat_z_to;
 use crate::error::{Error, Result};
 
 /// One `<default class>`: attributes per element kind and the parent class.
@@ -439,64 +443,6 @@ impl<'d> Parser<'d> {
         Ok(())
     }
 
-    /// Orientation from quat / axisangle / euler / xyaxes / zaxis (at most one).
-    fn orientation(&self, e: &El) -> Result<DQuat> {
-        let given: Vec<&str> =
-            ["quat", "axisangle", "euler", "xyaxes", "zaxis"].into_iter().filter(|a| e.node.attribute(*a).is_some()).collect();
-        if given.len() > 1 {
-            return Err(e.err(given[1], format!("conflicts with '{}': give one orientation", given[0])));
-        }
-        if let Some(q) = e.arr::<4>("quat")? {
-            let q = DQuat::from_xyzw(q[1], q[2], q[3], q[0]);
-            if q.length() < 1e-12 {
-                return Err(e.err("quat", "zero quaternion"));
-            }
-            return Ok(q.normalize());
-        }
-        if let Some(a) = e.arr::<4>("axisangle")? {
-            let axis = DVec3::new(a[0], a[1], a[2]);
-            if axis.length() < 1e-12 {
-                return Err(e.err("axisangle", "zero axis"));
-            }
-            return Ok(DQuat::from_axis_angle(axis.normalize(), self.angle(a[3])));
-        }
-        if let Some(a) = e.arr::<3>("euler")? {
-            let mut q = DQuat::IDENTITY;
-            for (i, &c) in self.eulerseq.iter().enumerate() {
-                let axis = match c.to_ascii_lowercase() {
-                    b'x' => DVec3::X,
-                    b'y' => DVec3::Y,
-                    _ => DVec3::Z,
-                };
-                let r = DQuat::from_axis_angle(axis, self.angle(a[i]));
-                q = if c.is_ascii_lowercase() { q * r } else { r * q };
-            }
-            return Ok(q);
-        }
-        if let Some(a) = e.arr::<6>("xyaxes")? {
-            let x = DVec3::new(a[0], a[1], a[2]);
-            let y = DVec3::new(a[3], a[4], a[5]);
-            if x.length() < 1e-12 {
-                return Err(e.err("xyaxes", "zero x axis"));
-            }
-            let x = x.normalize();
-            let y = y - x * x.dot(y);
-            if y.length() < 1e-12 {
-                return Err(e.err("xyaxes", "y axis parallel to x axis"));
-            }
-            let y = y.normalize();
-            return Ok(DQuat::from_mat3(&DMat3::from_cols(x, y, x.cross(y))).normalize());
-        }
-        if let Some(z) = e.arr::<3>("zaxis")? {
-            let z = DVec3::from_array(z);
-            if z.length() < 1e-12 {
-                return Err(e.err("zaxis", "zero axis"));
-            }
-            return Ok(quat_z_to(z.normalize()));
-        }
-        Ok(DQuat::IDENTITY)
-    }
-
     fn body_children(&mut self, n: Node, body: usize, childclass: Option<&str>) -> Result<()> {
         for c in n.children().filter(Node::is_element) {
             match c.tag_name().name() {
@@ -755,101 +701,4 @@ impl<'d> Parser<'d> {
         Ok(InertialSpec { mass, pos: e.vec3("pos", DVec3::ZERO)?, quat: self.orientation(&e)?, inertia })
     }
 
-    fn actuators(&mut self, n: Node) -> Result<()> {
-        for c in n.children().filter(Node::is_element) {
-            if !c.has_tag_name("motor") {
-                return Err(self.err(c, None, format!("unsupported actuator <{}>: only <motor> is", c.tag_name().name())));
-            }
-            let e = self.el(c, None)?;
-            for t in ["tendon", "site", "jointinparent", "body"] {
-                if c.attribute(t).is_some() {
-                    return Err(e.err(t, "only joint transmissions are supported"));
-                }
-            }
-            e.check(MOTOR_ATTRS, &self.warnings)?;
-            let joint = e.get("joint").ok_or_else(|| e.err("joint", "required"))?.to_string();
-            let gear = e.nums("gear")?.unwrap_or_else(|| vec![1.0]);
-            if gear.is_empty() || gear.len() > 6 || gear[1..].iter().any(|&g| g != 0.0) {
-                return Err(e.err("gear", "only a scalar gear is supported for joint transmissions"));
-            }
-            let ctrlrange = e.arr::<2>("ctrlrange")?.unwrap_or([0.0, 0.0]);
-            let forcerange = e.arr::<2>("forcerange")?.unwrap_or([0.0, 0.0]);
-            let ctrllimited = e.tristate("ctrllimited")?.unwrap_or(self.autolimits && e.has("ctrlrange"));
-            let forcelimited = e.tristate("forcelimited")?.unwrap_or(self.autolimits && e.has("forcerange"));
-            if ctrllimited && ctrlrange[0] >= ctrlrange[1] {
-                return Err(e.err("ctrlrange", format!("limited control needs ctrlrange[0] < ctrlrange[1], got {ctrlrange:?}")));
-            }
-            if forcelimited && forcerange[0] >= forcerange[1] {
-                return Err(e.err("forcerange", format!("needs forcerange[0] < forcerange[1], got {forcerange:?}")));
-            }
-            self.spec.actuators.push(ActuatorSpec {
-                name: e.str("name").to_string(),
-                joint,
-                gear: gear[0],
-                ctrlrange,
-                ctrllimited,
-                forcerange,
-                forcelimited,
-                line: e.line,
-            });
-        }
-        Ok(())
-    }
-
-    fn custom(&mut self, n: Node) -> Result<()> {
-        for c in n.children().filter(|c| c.has_tag_name("numeric")) {
-            if c.attribute("name") == Some("sinew/restitution") {
-                let e = El { node: c, line: line(self.doc, c), defaults: vec![] };
-                let r = e.f64("data", 0.0)?;
-                if !(0.0..=1.0).contains(&r) {
-                    return Err(e.err("data", format!("restitution must lie in [0, 1], got {r}")));
-                }
-                self.spec.restitution = Some(r);
-            }
-        }
-        Ok(())
-    }
-
-    /// Fixed tendons without stiffness, damping, friction or limits have no physical effect and are
-    /// accepted (gymnasium's humanoid has two); any other tendon is an error.
-    fn tendon(&mut self, n: Node) -> Result<()> {
-        for c in n.children().filter(Node::is_element) {
-            if !c.has_tag_name("fixed") {
-                return Err(self.err(c, None, "only passive fixed tendons are supported"));
-            }
-            for a in c.attributes() {
-                let inert = match a.name() {
-                    "name" | "class" | "rgba" | "group" | "solreflimit" | "solimplimit" | "width" | "material" => true,
-                    "limited" => a.value() == "false",
-                    "stiffness" | "damping" | "frictionloss" => a.value().trim().parse::<f64>() == Ok(0.0),
-                    _ => false,
-                };
-                if !inert {
-                    return Err(self.err(c, Some(a.name()), "tendon physics (stiffness, damping, limits) is not supported"));
-                }
-            }
-        }
-        Ok(())
-    }
-
-    fn contact(&mut self, n: Node) -> Result<()> {
-        for c in n.children().filter(Node::is_element) {
-            if !c.has_tag_name("exclude") {
-                return Err(self.err(c, None, "only <exclude> is supported in <contact>"));
-            }
-            let (Some(b1), Some(b2)) = (c.attribute("body1"), c.attribute("body2")) else {
-                return Err(self.err(c, Some("body1"), "body1 and body2 are required"));
-            };
-            self.spec.contact_excludes.push((b1.to_string(), b2.to_string()));
-        }
-        Ok(())
-    }
-}
-
-/// The shortest rotation taking +z to the unit vector `z` (MuJoCo's `mju_quatZ2Vec`).
-fn quat_z_to(z: DVec3) -> DQuat {
-    if z.z < -1.0 + 1e-14 {
-        return DQuat::from_xyzw(1.0, 0.0, 0.0, 0.0);
-    }
-    DQuat::from_rotation_arc(DVec3::Z, z)
 }
