@@ -25,7 +25,8 @@ pub fn intersect(kind: GeomType, size: &[f64; 3], o: DVec3, d: DVec3, t0: f64, t
 
 /// The plane z = 0 seen from its front (+z) side, bounded by half-sizes `size[0..2]` where
 /// positive, as MuJoCo draws it.
-fn plane(size: &[f64; 3], o: DVec3, d: DVec3, t0: f64, t1: f64) -> Option<Hit> {
+#[inline]
+pub fn plane(size: &[f64; 3], o: DVec3, d: DVec3, t0: f64, t1: f64) -> Option<Hit> {
     if o.z <= 0.0 || d.z >= 0.0 {
         return None;
     }

@@ -4,7 +4,7 @@
 
 use glam::{DMat3, DVec3};
 
-use super::raycast::{intersect, meets_sphere};
+use super::raycast::{intersect, meets_sphere, plane};
 use super::{Frame, Poses, View, TILE};
 use crate::model::visual::{Builtin, TextureKind};
 use crate::model::{GeomType, Model};
@@ -379,7 +379,16 @@ impl Scene {
         let mut best = None;
         for &g in candidates {
             let geom = &self.geoms[g as usize];
-            let (ol, dl) = (eyes[g as usize], geom.rot_t * d);
+            let ol = eyes[g as usize];
+            let dl = geom.rot_t * d;
+            if geom.kind == GeomType::Plane {
+                // no bounding sphere to test against
+                if let Some((t, n)) = plane(&geom.size, ol, dl, t0, t1) {
+                    t1 = t;
+                    best = Some((g as usize, t, n));
+                }
+                continue;
+            }
             // the ray's line misses the bounding sphere: |o × d|² > r² |d|²
             if ol.cross(dl).length_squared() > geom.rbound * geom.rbound * dl.length_squared() {
                 continue;
