@@ -9,6 +9,8 @@ from numpy.typing import ArrayLike, NDArray
 __version__: str
 #: A world whose state leaves ±MAX_STATE (or goes non-finite) has diverged.
 MAX_STATE: float
+#: Largest frame width or height accepted by `render`, in pixels.
+MAX_RENDER_SIDE: int
 
 class ModelError(ValueError):
     """Malformed or unsupported model; carries ``element``, ``attribute`` and ``line`` when known."""

@@ -20,9 +20,9 @@ from typing import Any
 import gymnasium
 import numpy as np
 
+from sinew._core import MAX_RENDER_SIDE as MAX_SIDE
+
 RENDER_MODES = ["human", "rgb_array", "depth_array", "rgbd_tuple"]
-#: Largest frame side accepted (pixels).
-MAX_SIDE = 16384
 
 
 def check_render_args(render_mode, width, height) -> None:

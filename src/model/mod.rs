@@ -349,13 +349,7 @@ impl Model {
 
     /// Reads, parses and compiles an MJCF file.
     pub fn from_mjcf_file(path: &std::path::Path) -> crate::Result<Model> {
-        let bytes = std::fs::read(path).map_err(|e| crate::Error::Io(format!("cannot read MJCF file '{}': {e}", path.display())))?;
-        let xml = String::from_utf8(bytes).map_err(|e| {
-            let at = e.utf8_error().valid_up_to();
-            let line = 1 + e.as_bytes()[..at].iter().filter(|&&b| b == b'\n').count() as u32;
-            crate::Error::Xml { line, message: format!("'{}' is not UTF-8 text (invalid byte at offset {at})", path.display()) }
-        })?;
-        Model::from_mjcf(&xml)
+        Model::from_mjcf(&read_mjcf_file(path)?)
     }
 
     /// Hinge and slide joints with a range: the joints limits act on (ball and free joints' ranges
@@ -375,4 +369,15 @@ impl Model {
     pub fn body_id(&self, name: &str) -> Option<usize> {
         self.body_name.iter().position(|n| n == name)
     }
+}
+
+/// The text of an MJCF file: an `Io` error when it cannot be read, an `Xml` error naming the line
+/// when it is not UTF-8.
+pub fn read_mjcf_file(path: &std::path::Path) -> crate::Result<String> {
+    let bytes = std::fs::read(path).map_err(|e| crate::Error::Io(format!("cannot read MJCF file '{}': {e}", path.display())))?;
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        let line = 1 + e.as_bytes()[..at].iter().filter(|&&b| b == b'\n').count() as u32;
+        crate::Error::Xml { line, message: format!("'{}' is not UTF-8 text (invalid byte at offset {at})", path.display()) }
+    })
 }

@@ -55,10 +55,14 @@ impl PyModel {
     /// Loads an MJCF file.
     #[staticmethod]
     fn from_mjcf(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Self> {
-        let m = py.detach(|| super::errors::guard_model("Model.from_mjcf", || Model::from_mjcf_file(&path)))?.map_err(|e| to_py(py, e))?;
+        let loaded = py.detach(|| {
+            super::errors::guard_model("Model.from_mjcf", || {
+                let source = crate::model::read_mjcf_file(&path)?;
+                Model::from_mjcf(&source).map(|m| (m, source))
+            })
+        })?;
+        let (m, source) = loaded.map_err(|e| to_py(py, e))?;
         emit_warnings(py, &m)?;
-        // the file parsed as UTF-8 text a moment ago
-        let source = std::fs::read_to_string(&path).map_err(|e| to_py(py, crate::Error::Io(format!("cannot read '{}': {e}", path.display()))))?;
         Ok(PyModel::new(m, source.into()))
     }
 

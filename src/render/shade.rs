@@ -181,6 +181,7 @@ impl Scene {
             let rot_t = rot.transpose();
             let rgba = v.geom_rgba[g];
             let mat = v.geom_material[g].map(|i| &v.materials[i]);
+            let exponent = 128.0 * mat.map_or(0.5, |mt| mt.shininess);
             let texture = mat.and_then(|mt| {
                 let t = &v.textures[mt.texture?];
                 // MuJoCo: a 2D texture spans a plane's extent texrepeat times (per metre when
@@ -202,15 +203,12 @@ impl Scene {
                 rgb: DVec3::new(rgba[0], rgba[1], rgba[2]),
                 emission: mat.map_or(0.0, |mt| mt.emission),
                 specular: mat.map_or(0.5, |mt| mt.specular),
-                exponent: 128.0 * mat.map_or(0.5, |mt| mt.shininess),
-                spec_cut: 0.0,
+                exponent,
+                spec_cut: if exponent > 0.0 { (1.0_f64 / 512.0).powf(1.0 / exponent) } else { 0.0 },
                 reflectance: mat.map_or(0.0, |mt| mt.reflectance),
                 mirror: None,
                 texture,
             });
-        }
-        for g in &mut geoms {
-            g.spec_cut = if g.exponent > 0.0 { (1.0_f64 / 512.0).powf(1.0 / g.exponent) } else { 0.0 };
         }
         let mut all_lights = Vec::with_capacity(lights.len() + 1);
         if v.head_active {

@@ -1,11 +1,7 @@
 import os
 
-# MuJoCo picks its GL platform when first imported: headless EGL for the renderer comparisons
-# (test_render.py), whichever test imports it first (MUJOCO_GL=osmesa also works)
-os.environ.setdefault("MUJOCO_GL", "egl")
-
-import gymnasium  # noqa: E402
-import pytest  # noqa: E402
+import gymnasium
+import pytest
 
 ASSETS = os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets")
 
