@@ -1,9 +1,13 @@
 //! Stage 8 for RK4 models — classical fourth-order Runge–Kutta over (qpos, qvel) on a step
-//! without constraint rows.
+//! without constraint rows; ball and free rotations by Runge–Kutta–Munthe-Kaas, which keeps the
+//! fourth order on SO(3) (Munthe-Kaas 1998; Hairer, Lubich & Wanner 2006, §IV.8.2).
 
 use super::*;
+use crate::model::JointType;
 
-/// Classical RK4 over the whole (qpos, qvel) state, quaternions composed on the manifold.
+/// Classical RK4 over the whole (qpos, qvel) state. A rotation's stage state is `q₀ exp(uᵢ)`
+/// with `uᵢ = h Σⱼ Aᵢⱼ Kⱼ` and `Kⱼ = dexp⁻¹(ωⱼ)` at `uⱼ`: adding body-frame angular
+/// velocities taken at different orientations as if they were one vector would be second order.
 pub(super) fn rk4(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl: &[f64], h: f64) {
     use integrate::{integrate_pos, RK4_A, RK4_B};
     let mut rk = std::mem::take(&mut data.rk4);
@@ -31,6 +35,7 @@ pub(super) fn rk4(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64]
         dynamics(m, data, &rk.qpos, &rk.qvel, ctrl, 0.0);
         rk.kv[i].copy_from_slice(&rk.qvel);
         rk.ka[i].copy_from_slice(&data.qacc);
+        lie_algebra_velocity(m, &mut rk.kv[i], &rk.dv, h);
     }
     rk.dv.fill(0.0);
     for j in 0..4 {
@@ -43,4 +48,21 @@ pub(super) fn rk4(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64]
     // report the acceleration at the start of the step
     data.qacc.copy_from_slice(&rk.ka[0]);
     data.rk4 = rk;
+}
+
+/// Replaces each ball or free rotation's body-frame angular velocity ω in `kv` by the rate of
+/// its rotation vector u = h·`dv` (q = q₀ exp(u)): u̇ = dexp⁻¹₋ᵤ(ω) = ω + ½ u×ω + ¹⁄₁₂ u×(u×ω),
+/// truncated after the terms RK4's order needs (Hairer, Lubich & Wanner 2006, Lemma III.4.2).
+fn lie_algebra_velocity(m: &Model, kv: &mut [f64], dv: &[f64], h: f64) {
+    for j in 0..m.njnt {
+        let da = match m.jnt_type[j] {
+            JointType::Ball => m.jnt_dofadr[j],
+            JointType::Free => m.jnt_dofadr[j] + 3,
+            JointType::Hinge | JointType::Slide => continue,
+        };
+        let u = h * DVec3::new(dv[da], dv[da + 1], dv[da + 2]);
+        let w = DVec3::new(kv[da], kv[da + 1], kv[da + 2]);
+        let k = w + 0.5 * u.cross(w) + u.cross(u.cross(w)) / 12.0;
+        kv[da..da + 3].copy_from_slice(&k.to_array());
+    }
 }
