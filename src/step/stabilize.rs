@@ -4,8 +4,8 @@
 //! so no energy is added) move by δq = Σ p_k Δq̈⁽ᵏ⁾ with p ≥ 0 solving the LCP
 //! J_j δq + d_j ≥ 0 ⟂ p_j ≥ 0 over the step's contact normals (gaps detected afresh), contacts
 //! that penetrate now but had no row (their Δq̈ by a test force through the step's ABA
-//! quantities), and limit rows (the step's, and any the projection would cross), so that no joint
-//! is pushed past its limit.
+//! quantities), and limit rows (the step's, any the projection would cross, and any joint the
+//! step carried past its limit by more than [`LIMIT_SLOP`], which the projection brings back).
 //!
 //! Why: a contact row makes its predicted gap close at the step's end, and the prediction carries
 //! the arcs a turning body's point and a sphere's or capsule's centre move on to second order
@@ -19,6 +19,7 @@ use crate::data::Data;
 use crate::math::{Force, Motion};
 use crate::model::{Model, WORLD};
 
+use super::aba::AbaData;
 use super::collision::{self, CollisionData};
 use super::constraint::{self, RowKind};
 use super::integrate::integrate_pos;
@@ -27,6 +28,9 @@ use super::lcp::{self, LcpWork, Role};
 
 /// Penetration left to the Baumgarte term (m).
 pub const SLOP: f64 = 1e-4;
+/// Limit violation left to the Baumgarte term (rad or m): the contact solve can turn a joint that
+/// had no limit row (it was moving away from its limit) back past it.
+pub const LIMIT_SLOP: f64 = 1e-5;
 /// Passes of check and projection at most per step (the LCP uses the ABA of the step's start).
 const PASSES: usize = 3;
 
@@ -117,7 +121,7 @@ impl StabilizeData {
 /// and Δq̈ in `data.con` and the kinematics and ABA quantities of the step's start. The
 /// projection's LCP counts in `data.stats`.
 pub fn project(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &[f64]) {
-    if !(0..data.con.len()).any(|j| data.con.kind[j] == RowKind::Normal) {
+    if !(0..data.con.len()).any(|j| data.con.kind[j] == RowKind::Normal) && !m.limited_joints().any(|j| violation(m, qpos, j).is_some()) {
         return;
     }
     for _ in 0..PASSES {
@@ -158,15 +162,31 @@ pub fn kinematics_of(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) {
     post.cached = false;
 }
 
-/// Checks the configuration `qpos`: false when no contact penetrates beyond [`SLOP`], else true
-/// with the projection rows filled.
+/// Limit row sign and (negative) gap of joint j when it is past a limit by more than [`LIMIT_SLOP`].
+fn violation(m: &Model, qpos: &[f64], j: usize) -> Option<(f64, f64)> {
+    if !m.opt.limit {
+        return None;
+    }
+    let q = qpos[m.jnt_qposadr[j]];
+    let [lo, hi] = m.jnt_range[j];
+    if q < lo - LIMIT_SLOP {
+        Some((1.0, q - lo))
+    } else if q > hi + LIMIT_SLOP {
+        Some((-1.0, hi - q))
+    } else {
+        None
+    }
+}
+
+/// Checks the configuration `qpos`: false when no contact penetrates beyond [`SLOP`] and no joint
+/// is past a limit beyond [`LIMIT_SLOP`], else true with the projection rows filled.
 fn gather(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
     let Data { kin, aba, con, coll, post, .. } = data;
     let nv = m.nv;
     kinematics::forward(m, qpos, qvel, &mut post.kin);
     collision::penetrations(m, &post.kin, &mut post.coll);
     // every row's gap below is a fresh detection's or at least zero
-    if post.coll.contacts.iter().all(|c| c.dist >= -SLOP) {
+    if post.coll.contacts.iter().all(|c| c.dist >= -SLOP) && !m.limited_joints().any(|j| violation(m, qpos, j).is_some()) {
         return false;
     }
     // the rows' Δq̈ (a solve computes only those of the rows it kept)
@@ -240,20 +260,43 @@ fn gather(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
         constraint::delta_pass(m, kin, aba, None, &mut post.dpa, &mut post.du, &mut post.da, &mut post.dqdd[start..]);
         post.limit.push(None);
     }
-    // the step's limit rows take part so the projection cannot push a joint past its limit (nor
-    // deeper into a violation it already has)
+    // the step's limit rows take part so the projection cannot push a joint past its limit, and
+    // brings back one the step carried past it
     for j in (0..con.len()).filter(|&j| con.kind[j] == RowKind::Limit) {
         let (joint, (dof, sign)) = (con.source[j], con.dof[j]);
         let q = qpos[m.jnt_qposadr[joint]];
         let [lo, hi] = m.jnt_range[joint];
-        post.gap.push((if sign > 0.0 { q - lo } else { hi - q }).max(0.0));
+        let gap = if sign > 0.0 { q - lo } else { hi - q };
+        post.gap.push(if gap < -LIMIT_SLOP { gap } else { gap.max(0.0) });
         let start = post.jac.len();
         post.jac.resize(start + nv, 0.0);
         post.jac[start + dof] = sign;
         post.dqdd.extend_from_slice(&con.dqdd[j * nv..(j + 1) * nv]);
         post.limit.push(Some((joint, sign)));
     }
+    // limits the step crossed without a row: a unit test torque each
+    for joint in m.limited_joints() {
+        if let Some((sign, gap)) = violation(m, qpos, joint) {
+            if !post.limit.contains(&Some((joint, sign))) {
+                push_limit_row(m, kin, aba, post, joint, sign, gap);
+            }
+        }
+    }
     true
+}
+
+/// Appends the projection row of joint `joint`'s limit (row sign `sign`, gap `gap`), its Δq̈ by a
+/// unit test torque through the step's ABA quantities.
+fn push_limit_row(m: &Model, kin: &KinData, aba: &AbaData, post: &mut StabilizeData, joint: usize, sign: f64, gap: f64) {
+    let (nv, dof) = (m.nv, m.jnt_dofadr[joint]);
+    post.gap.push(gap);
+    let start = post.jac.len();
+    post.jac.resize(start + nv, 0.0);
+    post.jac[start + dof] = sign;
+    post.dpa.fill(Force::ZERO);
+    post.dqdd.resize(start + nv, 0.0);
+    constraint::delta_pass(m, kin, aba, Some((dof, sign)), &mut post.dpa, &mut post.du, &mut post.da, &mut post.dqdd[start..]);
+    post.limit.push(Some((joint, sign)));
 }
 
 /// Appends the row's J (nv) for node forces `jac`: τ = Jᵀ f, carried to the root as RNEA's
@@ -326,15 +369,7 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
         let mut added = false;
         for j in m.limited_joints() {
             if let Some((sign, room, _)) = crossing(m, qpos, &post.dq, &post.limit, j) {
-                let dof = m.jnt_dofadr[j];
-                post.gap.push(room);
-                let start = post.jac.len();
-                post.jac.resize(start + nv, 0.0);
-                post.jac[start + dof] = sign;
-                post.dpa.fill(Force::ZERO);
-                post.dqdd.resize(start + nv, 0.0);
-                constraint::delta_pass(m, kin, aba, Some((dof, sign)), &mut post.dpa, &mut post.du, &mut post.da, &mut post.dqdd[start..]);
-                post.limit.push(Some((j, sign)));
+                push_limit_row(m, kin, aba, post, j, sign, room);
                 added = true;
             }
         }
