@@ -1,6 +1,7 @@
 //! Analytic contact and limit scenes (impacts, restitution, friction thresholds), each over every
 //! integrator, both constraint modes and both time steps where they apply.
 
+#![allow(clippy::needless_range_loop)] // tests/common follows the math's index notation
 mod common;
 
 use common::Rng;

@@ -276,10 +276,8 @@ fn gather(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
     }
     // limits the step crossed without a row: a unit test torque each
     for joint in m.limited_joints() {
-        if let Some((sign, gap)) = violation(m, qpos, joint) {
-            if !post.limit.contains(&Some((joint, sign))) {
-                push_limit_row(m, kin, aba, post, joint, sign, gap);
-            }
+        if let Some((sign, gap)) = violation(m, qpos, joint).filter(|&(sign, _)| !post.limit.contains(&Some((joint, sign)))) {
+            push_limit_row(m, kin, aba, post, joint, sign, gap);
         }
     }
     true
