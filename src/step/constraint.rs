@@ -60,16 +60,19 @@ pub fn correction_velocity(dist: f64, h: f64) -> f64 {
     -dist / (5.0 * h).max(CORRECTION_TIME)
 }
 
-/// End-of-step velocity a row at gap `dist`, moving at `vel`, asks for without restitution: the
-/// velocity that just closes a gap over `lever` ([`crate::model::Options::lever`]), or the
-/// correction of a penetration. Under leapfrog the gap is the midpoint's, and the part of a
-/// penetration that the step's own opening drift (h − lever) made gets no correcting velocity,
-/// which would rebound a plastic impact; post-stabilisation moves it out.
-pub fn closing_velocity(dist: f64, vel: f64, h: f64, lever: f64) -> f64 {
+/// End-of-step velocity a row at gap `dist` asks for without restitution: the velocity that just
+/// closes a gap over `lever` ([`crate::model::Options::lever`]), or the correction of a
+/// penetration. Under leapfrog the gap is the midpoint's, where a penetration is mostly the step's
+/// own opening drift past the contact: it gets no correcting velocity, which would rebound a
+/// plastic impact (the start of the step does not tell, once an impact has changed the
+/// velocities); post-stabilisation moves what exceeds its slop out.
+pub fn closing_velocity(dist: f64, h: f64, lever: f64) -> f64 {
     if dist > 0.0 {
         -dist / lever
+    } else if lever < h {
+        0.0
     } else {
-        correction_velocity((dist - (h - lever) * vel).min(0.0), h)
+        correction_velocity(dist, h)
     }
 }
 

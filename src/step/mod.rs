@@ -136,35 +136,29 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
         // 5. b; K by test forces once a solve needs it (rows that the constraint-free motion
         // already satisfies need no K)
         timed!(data, Stage::Rows, constraint::bias(m, &data.kin, &data.aba, &data.qacc, &mut data.con));
-        if m.opt.constraint_mode == ConstraintMode::Velocity {
-            // 6'. one impulse solve: q̈ = q̈₀ + Σ p_k Δq̈⁽ᵏ⁾ / h
-            solve_rows(m, data, Level::TimeStep);
-            apply_to_qacc(m, data, 1.0 / h);
-        } else {
-            // 6. impacts: a velocity-level solve over all rows when something approaches fast and
-            // rebounds (e > 0). A plastic impact needs none: the force solve's row of a contact or
-            // limit closing within the step asks for the impact's v⁺ = −d/h at the step's end,
-            // with the same K (its q is the impact's over h, up to the arc term: `lcp_vector`),
-            // as it does for slow approaches
-            if !redo && m.opt.restitution > 0.0 && needs_impact(&data.con, h, lever, constraint::impact_speed(h, m.opt.gravity.length())) {
+        // 6. impacts: while something approaches fast and rebounds (e > 0), a velocity-level solve
+        // over the rows it touches, each collision of a sequence in a pass of its own. A plastic
+        // impact needs none: the force solve's row of a contact or limit closing within the step
+        // asks for the impact's v⁺ = −d/h at the step's end, with the same K (its q is the
+        // impact's over h, up to the arc term: `lcp_vector`), as it does for slow approaches
+        if m.opt.restitution > 0.0 {
+            let speed = constraint::impact_speed(h, m.opt.gravity.length());
+            for _ in 0..MAX_IMPACT_PASSES {
+                if !needs_impact(&data.con, h, lever, speed) {
+                    break;
+                }
                 impacted = true;
                 data.impacts += 1;
                 solve_rows(m, data, Level::Velocity);
                 apply(m, data, qvel, 1.0);
-                // same configuration, so the same rows, K and articulated inertias. The applied
-                // forces (damping, servos) are those of the new velocities; the velocity-product
-                // bias forces stay those of the step's start, as velocity-level time stepping has
-                // them (re-evaluated at the post-impact velocities they made a free-floating body
-                // gain angular momentum at every impact: benches/free_flight.py); then the rows'
-                // velocities and b anew
-                timed!(data, Stage::Impact, {
-                    forces::applied(m, qpos, qvel, ctrl, &mut data.qfrc_applied);
-                    aba::backward_bias(m, &data.kin, &data.qfrc_applied, &mut data.aba);
-                    aba::forward(m, &data.kin, &mut data.aba, &mut data.qacc);
-                    kinematics::forward_velocity(m, qvel, &mut data.kin);
-                    constraint::refresh(m, &data.kin, &data.aba, qpos, qvel, ctrl, &data.feedforward, &data.qacc, &mut data.con);
-                });
+                timed!(data, Stage::Impact, new_velocities(m, data, qpos, qvel, ctrl));
             }
+        }
+        if m.opt.constraint_mode == ConstraintMode::Velocity {
+            // 7'. one impulse solve: q̈ = q̈₀ + Σ p_k Δq̈⁽ᵏ⁾ / h
+            solve_rows(m, data, Level::TimeStep);
+            apply_to_qacc(m, data, 1.0 / h);
+        } else {
             // 7. constraint forces at the acceleration level, added to q̈
             solve_rows(m, data, Level::Acceleration);
             apply_to_qacc(m, data, 1.0);
@@ -200,6 +194,22 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
     }
     timed!(data, Stage::Projection, stabilize::project(m, data, qpos, qvel));
     *time += h;
+}
+
+/// Impact passes at most per step (a sequence of collisions, one per pass).
+const MAX_IMPACT_PASSES: usize = 16;
+
+/// After an impulse has changed q̇ in the same configuration (same rows, K and articulated
+/// inertias): the applied forces (damping, servos) of the new velocities, the velocity-product
+/// bias forces kept from the step's start, as velocity-level time stepping has them
+/// (re-evaluated at the post-impact velocities they made a free-floating body gain angular
+/// momentum at every impact: benches/free_flight.py), then the rows' velocities and b anew.
+fn new_velocities(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) {
+    forces::applied(m, qpos, qvel, ctrl, &mut data.qfrc_applied);
+    aba::backward_bias(m, &data.kin, &data.qfrc_applied, &mut data.aba);
+    aba::forward(m, &data.kin, &mut data.aba, &mut data.qacc);
+    kinematics::forward_velocity(m, qvel, &mut data.kin);
+    constraint::refresh(m, &data.kin, &data.aba, qpos, qvel, ctrl, &data.feedforward, &data.qacc, &mut data.con);
 }
 
 /// The constraint system a step from (qpos, qvel, ctrl) starts with, for inspection (MuJoCo's

@@ -183,14 +183,14 @@ pub(super) fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usi
             // constraint-free v_p = v + h b
             (RowKind::Tangent { .. }, Level::TimeStep) => -(vel + h * con.b[j]),
             (_, Level::TimeStep) => {
-                let mut target = constraint::closing_velocity(dist, vel, h, lever) + con.lift[j];
+                let mut target = constraint::closing_velocity(dist, h, lever) + con.lift[j];
                 if -vel > impact && dist + lever * vel < 0.0 && m.opt.restitution > 0.0 {
-                    target = target.max(rebound(vel, dist, con.b[j], m.opt.restitution, h));
+                    target = target.max(rebound(vel, dist, con.b[j], m.opt.restitution, h, m.opt.integrator));
                 }
                 target - (vel + h * con.b[j])
             }
             (_, Level::Acceleration) => {
-                let target = constraint::closing_velocity(dist, vel, h, lever) + con.lift[j];
+                let target = constraint::closing_velocity(dist, h, lever) + con.lift[j];
                 (target - vel) / h
             }
             // end-of-step velocity v⁺ for a row that closes within this step: the rebound with
@@ -201,7 +201,7 @@ pub(super) fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usi
                 let vp = vel + h * con.b[j];
                 let gap = dist.max(0.0) / lever;
                 if approaching(vel, dist, vp, lever, impact) {
-                    if e > 0.0 { rebound(vel, dist, con.b[j], e, h) - vp } else { -gap - vp }
+                    if e > 0.0 { rebound(vel, dist, con.b[j], e, h, m.opt.integrator) - vp } else { -gap - vp }
                 } else {
                     (-gap - vp).min(0.0)
                 }
@@ -214,6 +214,23 @@ pub(super) fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usi
     }
     let trivial = (0..nr).all(|j| q[j] >= 0.0 || matches!(con.kind[j], RowKind::Tangent { .. }));
     (!trivial).then_some(n)
+}
+
+/// Whether row j takes no part in an impact solve: a contact (its friction rows too) or limit
+/// that is not itself approaching fast. The rows that approach together are resolved together
+/// (a simultaneous impact); a row that an impact sets approaching gets a pass of its own after it
+/// (sequential collisions: a ball resting on a ball dropped on the floor leaves at about 2v, the
+/// last of a line of balls with the first one's speed), each pass keeping what its restitution
+/// keeps.
+fn apart(m: &Model, con: &constraint::ConstraintData, j: usize) -> bool {
+    let r = match con.kind[j] {
+        RowKind::Tangent { normal } => normal,
+        RowKind::Normal | RowKind::Limit => j,
+        RowKind::Motion { .. } => return false,
+    };
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
+    let impact = constraint::impact_speed(h, m.opt.gravity.length());
+    !approaching(con.vel[r], con.dist[r], con.vel[r] + h * con.b[r], lever, impact)
 }
 
 /// M from K and the friction and bound couplings; solves into `data.force`, from the warm set in
@@ -234,7 +251,7 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: 
     let done = &con.column_done;
     let k_max = (0..nr).filter(|&j| done[j]).map(|j| con.k[j * nr + j]).fold(0.0, f64::max);
     for j in 0..nr {
-        if done[j] && con.k[j * nr + j] <= INERT_ROW * k_max {
+        if (done[j] && con.k[j * nr + j] <= INERT_ROW * k_max) || (level == Level::Velocity && apart(m, con, j)) {
             mm[j * n + j] = 1.0;
             q[j] = 0.0;
             data.lcp_role[j] = lcp::Role::Normal;
