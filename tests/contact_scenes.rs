@@ -206,3 +206,83 @@ fn a_ball_resting_on_a_ball_leaves_the_floor_bounce_at_twice_the_speed() {
         assert!((at_top / e0 - 1.0).abs() < tolerance, "{integrator:?} {mode:?} dt {dt}: energy {at_top} at the apex, {e0} at the start");
     });
 }
+
+/// Acceleration along the slope (from the velocity, which semi-implicit Euler makes exact under
+/// constant acceleration) and largest |yaw rate| of a box released on a plane tilted `ratio`
+/// times its friction angle (µ = 0.5; the slope as tilted gravity), over `seconds`.
+fn box_on_slope(ratio: f64, friction: FrictionModel, integrator: Integrator, mode: ConstraintMode, dt: f64, seconds: f64) -> (f64, f64) {
+    let mu: f64 = 0.5;
+    let theta = ratio * mu.atan();
+    let xml = format!(
+        "<mujoco><option gravity=\"{} 0 {}\"/><worldbody><geom type=\"plane\" size=\"50 50 .1\" friction=\"{mu}\"/>\
+         <body pos=\"0 0 0.1\"><freejoint/><geom type=\"box\" size=\"0.1 0.1 0.1\" mass=\"1\" friction=\"{mu}\"/></body></worldbody></mujoco>",
+        9.81 * theta.sin(),
+        -9.81 * theta.cos()
+    );
+    let mut m = model(&xml, integrator, mode, dt, 0.0);
+    m.opt.friction = friction;
+    let mut s = State::new(&m);
+    let mut yaw = 0.0f64;
+    for _ in 0..(seconds / dt).round() as usize {
+        s.step(&m);
+        yaw = yaw.max(s.qvel[5].abs());
+    }
+    (s.qvel[0] / s.time, yaw)
+}
+
+#[test]
+fn a_box_past_its_friction_angle_slides_at_the_coulomb_rate_and_below_it_holds() {
+    // tan θ = r µ: a = g (sin θ − µ cos θ) past the angle (0.2% of g at r = 1.005), rest below
+    // it, and the box never turns
+    for friction in [FrictionModel::OneTangent, FrictionModel::Pyramid] {
+        for ratio in [0.99, 1.005, 1.05, 1.5] {
+            every_scheme(|integrator, mode, dt| {
+                let (a, yaw) = box_on_slope(ratio, friction, integrator, mode, dt, 1.0);
+                let theta = ratio * 0.5f64.atan();
+                let exact = (9.81 * (theta.sin() - 0.5 * theta.cos())).max(0.0);
+                let scheme = format!("{friction:?} slope {ratio} × friction angle {integrator:?} {mode:?} dt {dt}");
+                assert!((a - exact).abs() <= 0.02 * exact + 1e-6, "{scheme}: acceleration {a}, Coulomb {exact}");
+                assert!(yaw < 1e-9, "{scheme}: yaw rate {yaw}");
+            });
+        }
+    }
+}
+
+/// Vertical acceleration (from the velocity) of a 1 kg box squeezed between two plates, each
+/// pushed by a motor with force `squeeze` (µ = 0.5): it holds while 2 µ F ≥ m g.
+fn grasp(squeeze: f64, friction: FrictionModel, integrator: Integrator, mode: ConstraintMode, dt: f64) -> f64 {
+    let plate = |name: &str, x: f64| {
+        format!(
+            "<body name=\"{name}\" pos=\"{x} 0 1\"><joint name=\"{name}\" type=\"slide\" axis=\"1 0 0\"/>\
+             <geom type=\"box\" size=\"0.01 0.1 0.1\" mass=\"1\" friction=\"0.5\"/></body>"
+        )
+    };
+    let xml = format!(
+        "<mujoco><worldbody>{}{}<body pos=\"0 0 1\"><freejoint/><geom type=\"box\" size=\"0.05 0.05 0.05\" mass=\"1\" friction=\"0.5\"/></body>\
+         </worldbody><actuator><motor joint=\"left\" gear=\"1\"/><motor joint=\"right\" gear=\"-1\"/></actuator></mujoco>",
+        plate("left", -0.06),
+        plate("right", 0.06)
+    );
+    let mut m = model(&xml, integrator, mode, dt, 0.0);
+    m.opt.friction = friction;
+    let mut s = State::new(&m);
+    s.ctrl.fill(squeeze);
+    for _ in 0..(1.0 / dt).round() as usize {
+        s.step(&m);
+    }
+    s.qvel[2 + 2] / s.time
+}
+
+#[test]
+fn a_grasp_holds_with_one_percent_to_spare_and_slips_at_the_coulomb_rate_without() {
+    // F = 1.01 m g / 2µ holds the box still; F = 0.99 m g / 2µ lets it slide down at g − 2µF/m
+    for friction in [FrictionModel::OneTangent, FrictionModel::Pyramid] {
+        every_scheme(|integrator, mode, dt| {
+            for ratio in [1.01, 0.99] {
+                let a = grasp(ratio * 9.81, friction, integrator, mode, dt);
+                let exact = -(9.81 * (1.0 - ratio)).max(0.0);
+                assert!((a - exact).abs() <= 0.02 * exact.abs() + 1e-6, "{friction:?} squeeze {ratio} × enough {integrator:?} {mode:?} dt {dt}: acceleration {a}, Coulomb {exact}");
+            }
+        });
+    }
+}

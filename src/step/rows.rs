@@ -58,16 +58,16 @@ pub(super) fn build_rows(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64],
         |ci, n, vt, at| {
             let c = &coll.contacts[ci];
             let key = (c.geom1, c.geom2, c.feature);
-            let speed = vt.length();
             // the slip the step would give the contact without constraint forces
             let slip = vt + h * at;
-            // dynamic friction opposes sliding (Kokkevis 2004, §8.1); a contact at rest that the
-            // step would set slipping is treated alike (sinew's choice: a fixed tangent across the
-            // slip lets it creep); otherwise static friction reuses the last valid tangent of a
-            // persisting contact, or a random one for a new contact, as the seed does
-            let t = if speed > constraint::SLIDING_SPEED {
-                -vt / speed
-            } else if slip.length() > constraint::SLIDING_SPEED {
+            // friction opposes that slip: sliding (Kokkevis 2004, §8.1) and a contact at rest that
+            // the step would set slipping alike. Not the sliding velocity alone: near the slip
+            // threshold it is tiny, and its direction at each of a body's contacts swings with
+            // the body's spin, so friction along it turns the body to and fro, each step the other
+            // way (a box on a slope just past its friction angle). A contact the step leaves at
+            // rest keeps the last valid tangent of a persisting contact, or a random one when new,
+            // as the seed does
+            let t = if slip.length() > constraint::SLIDING_SPEED {
                 -slip / slip.length()
             } else if let Some((_, t)) = tangents.iter().find(|(k, t)| *k == key && t.dot(n).abs() < 1e-6) {
                 *t
