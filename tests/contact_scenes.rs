@@ -286,3 +286,52 @@ fn a_grasp_holds_with_one_percent_to_spare_and_slips_at_the_coulomb_rate_without
         });
     }
 }
+
+/// A 0.2 × 0.2 × 0.6 m box (µ = 1) on a slope `ratio` times its tipping angle (tan θ = 1/3, the
+/// slope as tilted gravity): its largest tilt over 2 s, and how far its downhill bottom edge slid
+/// while it tipped (up to a tilt of 30°, while the edge needs far less than µ = 1).
+fn tipping_box(ratio: f64, friction: FrictionModel, integrator: Integrator, mode: ConstraintMode, dt: f64) -> (f64, f64) {
+    let theta = ratio * (1.0f64 / 3.0).atan();
+    let xml = format!(
+        "<mujoco><option gravity=\"{} 0 {}\"/><worldbody><geom type=\"plane\" size=\"50 50 .1\" friction=\"1\"/>\
+         <body pos=\"0 0 0.3\"><freejoint/><geom type=\"box\" size=\"0.1 0.1 0.3\" mass=\"1\" friction=\"1\"/></body></worldbody></mujoco>",
+        9.81 * theta.sin(),
+        -9.81 * theta.cos()
+    );
+    let mut m = model(&xml, integrator, mode, dt, 0.0);
+    m.opt.friction = friction;
+    let mut s = State::new(&m);
+    let edge = |s: &State| {
+        let q = glam::DQuat::from_xyzw(s.qpos[4], s.qpos[5], s.qpos[6], s.qpos[3]);
+        s.qpos[0] + (q * glam::DVec3::new(0.1, 0.0, -0.3)).x
+    };
+    let x0 = edge(&s);
+    let (mut tilt, mut slid) = (0.0f64, 0.0f64);
+    for _ in 0..(2.0 / dt).round() as usize {
+        s.step(&m);
+        let q = glam::DQuat::from_xyzw(s.qpos[4], s.qpos[5], s.qpos[6], s.qpos[3]);
+        let up = q * glam::DVec3::Z;
+        tilt = tilt.max(up.z.clamp(-1.0, 1.0).acos());
+        if tilt < 30f64.to_radians() {
+            slid = slid.max((edge(&s) - x0).abs());
+        }
+    }
+    (tilt, slid)
+}
+
+#[test]
+fn a_box_tips_over_its_edge_without_sliding_just_past_its_tipping_angle() {
+    // µ = 1 is three times what holding the edge needs: past the tipping angle by 1% the box
+    // tips about its downhill edge, which stays put; 1% short of it the box stays upright
+    for friction in [FrictionModel::OneTangent, FrictionModel::Pyramid] {
+        every_scheme(|integrator, mode, dt| {
+            let (tilt, slid) = tipping_box(1.01, friction, integrator, mode, dt);
+            let (still, _) = tipping_box(0.99, friction, integrator, mode, dt);
+            let scheme = format!("{friction:?} {integrator:?} {mode:?} dt {dt}");
+            eprintln!("{scheme}: tips to {:.1}°, edge slid {slid:.2e} m; short of the angle {still:.2e} rad", tilt.to_degrees());
+            assert!(tilt > 60f64.to_radians(), "{scheme}: 1% past the tipping angle the box tilts only {tilt} rad");
+            assert!(slid < 1e-4, "{scheme}: the pivot edge slides {slid} m");
+            assert!(still < 1e-6, "{scheme}: 1% short of the tipping angle the box tilts {still} rad");
+        });
+    }
+}
