@@ -58,7 +58,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
             contact: spec.option.contact,
             limit: spec.option.limit,
             restitution: spec.restitution.unwrap_or(0.0),
-            friction: super::FrictionModel::OneTangent,
+            friction: super::FrictionModel::Pyramid,
             actuation: super::Actuation::Motor,
             constraint_mode: super::ConstraintMode::Acceleration,
         },

@@ -51,15 +51,18 @@ def stack_drift(dt, mode, friction, seconds=10.0, integrator="Euler"):
     return worst, sim
 
 
+@pytest.mark.parametrize("friction, rows_per_corner", [("seed", 2), ("pyramid", 5)])
 @pytest.mark.parametrize("mode", ["acceleration", "velocity"])
 @pytest.mark.parametrize("dt", [0.002, 0.01])
-def test_resting_box_does_not_sink_or_slide(dt, mode):
-    sim = sinew.Sim(sinew.Model.from_mjcf_string(BOX.format(dt=dt)).with_options(constraint_mode=mode))
+def test_resting_box_does_not_sink_or_slide(dt, mode, friction, rows_per_corner):
+    model = sinew.Model.from_mjcf_string(BOX.format(dt=dt)).with_options(constraint_mode=mode, friction=friction)
+    sim = sinew.Sim(model)
     sim.step(int(10 / dt))
     assert 0.1 - sim.qpos[2] <= 0.05e-3
     assert np.abs(sim.qpos[:2]).max() <= 1e-9
     stats = sim.constraint_stats
-    assert stats["rows"] == 8  # four corners: a normal and a friction row each
+    # four corners: a normal and one friction row each (seed), or four (pyramid)
+    assert stats["rows"] == 4 * rows_per_corner
     assert stats["fallback_pgs"] == 0 and stats["fallback_zero"] == 0
 
 
