@@ -61,18 +61,15 @@ pub fn correction_velocity(dist: f64, h: f64) -> f64 {
 }
 
 /// End-of-step velocity a row at gap `dist` asks for without restitution: the velocity that just
-/// closes a gap over `lever` ([`crate::model::Options::lever`]), or the correction of a
-/// penetration. Under leapfrog the gap is the midpoint's, where a penetration is mostly the step's
-/// own opening drift past the contact: it gets no correcting velocity, which would rebound a
-/// plastic impact (the start of the step does not tell, once an impact has changed the
-/// velocities); post-stabilisation moves what exceeds its slop out.
-pub fn closing_velocity(dist: f64, h: f64, lever: f64) -> f64 {
+/// closes a gap over `lever` ([`crate::model::Options::lever`]), or the correction of the
+/// penetration `dist_start` the step began with ([`ConstraintData::dist_start`]; under leapfrog
+/// the gap is the midpoint's, and a penetration its opening drift made gets no correcting
+/// velocity, which would rebound a plastic impact: post-stabilisation moves it out).
+pub fn closing_velocity(dist: f64, dist_start: f64, h: f64, lever: f64) -> f64 {
     if dist > 0.0 {
         -dist / lever
-    } else if lever < h {
-        0.0
     } else {
-        correction_velocity(dist, h)
+        correction_velocity(dist_start.min(0.0), h)
     }
 }
 
@@ -107,6 +104,9 @@ pub struct ConstraintData {
     pub cap: Vec<f64>,
     /// Signed distance (normal and limit rows).
     pub dist: Vec<f64>,
+    /// The distance before leapfrog's opening drift, dist − (h − lever)·(the row's velocity at the
+    /// step's starting q̇), which an impact does not change; = dist for the other integrators.
+    pub dist_start: Vec<f64>,
     /// Velocity added to a normal row's end-of-step target (zero for the other rows) so that the
     /// gap after q ← q ⊕ lever q̇⁺ is at least the row's linear prediction (`arc_lift`).
     pub lift: Vec<f64>,
@@ -172,6 +172,7 @@ impl ConstraintData {
         self.desired.clear();
         self.cap.clear();
         self.dist.clear();
+        self.dist_start.clear();
         self.lift.clear();
         self.centre.clear();
         self.source.clear();
@@ -191,6 +192,7 @@ impl ConstraintData {
         self.desired.push(0.0);
         self.cap.push(f64::INFINITY);
         self.dist.push(0.0);
+        self.dist_start.push(0.0);
         self.lift.push(0.0);
         self.centre.push(point);
         self.source.push(source);
@@ -300,6 +302,7 @@ pub fn rows(
         out.vel[normal_row] = c.normal.dot(vrel);
         out.jac[normal_row] = jacobian(nodes, [r; 2], [c.normal; 2]);
         out.dist[normal_row] = c.dist;
+        out.dist_start[normal_row] = c.dist;
         // a sphere's or capsule's surface is a radius from its centre along the normal (+n points
         // into geom1; `pos` lies midway between the surfaces)
         let centre = |g: usize, sign: f64, n: usize, p: DVec3| match m.geom_type[g] {
@@ -356,6 +359,7 @@ pub fn rows(
                     out.push(RowKind::Limit, [WORLD, WORLD], [DVec3::ZERO; 2], DVec3::ZERO, (da, sign), 0.0, j);
                     out.vel[r] = v;
                     out.dist[r] = dist;
+                    out.dist_start[r] = dist;
                 }
             }
         }

@@ -100,6 +100,7 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
     let leapfrog = m.opt.integrator == Integrator::Leapfrog;
     if leapfrog {
         data.post.qpos_start.copy_from_slice(qpos);
+        data.post.qvel_start.copy_from_slice(qvel);
         timed!(data, Stage::Integration, integrate::integrate_pos(m, qpos, qvel, 0.5 * h));
     }
     // 1. poses and velocities

@@ -80,6 +80,25 @@ pub(super) fn build_rows(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64],
         con,
     );
     std::mem::swap(tangents, tangents_next);
+    // leapfrog's rows are built at the midpoint: each gap before the opening drift, from the
+    // velocities the drift moved with (an impact since has changed q̇, not the drift)
+    let lever = m.opt.lever();
+    if lever < h {
+        let post = &mut data.post;
+        kinematics::velocities(m, &data.kin, &post.qvel_start, &mut post.v_start);
+        let con = &mut data.con;
+        for j in 0..con.len() {
+            let vel_start = match con.kind[j] {
+                RowKind::Normal => {
+                    let side = |s: usize| if con.node[j][s] == crate::model::WORLD { 0.0 } else { post.v_start[con.node[j][s]].dot(&con.jac[j][s]) };
+                    side(0) + side(1)
+                }
+                RowKind::Limit => con.dof[j].1 * post.qvel_start[con.dof[j].0],
+                _ => continue,
+            };
+            con.dist_start[j] = con.dist[j] - (h - lever) * vel_start;
+        }
+    }
 }
 
 /// A unit vector orthogonal to `n` at a random angle, from the world's own SplitMix64 stream.

@@ -183,14 +183,14 @@ pub(super) fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usi
             // constraint-free v_p = v + h b
             (RowKind::Tangent { .. }, Level::TimeStep) => -(vel + h * con.b[j]),
             (_, Level::TimeStep) => {
-                let mut target = constraint::closing_velocity(dist, h, lever) + con.lift[j];
+                let mut target = constraint::closing_velocity(dist, con.dist_start[j], h, lever) + con.lift[j];
                 if -vel > impact && dist + lever * vel < 0.0 && m.opt.restitution > 0.0 {
                     target = target.max(rebound(vel, dist, con.b[j], m.opt.restitution, h, m.opt.integrator));
                 }
                 target - (vel + h * con.b[j])
             }
             (_, Level::Acceleration) => {
-                let target = constraint::closing_velocity(dist, h, lever) + con.lift[j];
+                let target = constraint::closing_velocity(dist, con.dist_start[j], h, lever) + con.lift[j];
                 (target - vel) / h
             }
             // end-of-step velocity v⁺ for a row that closes within this step: the rebound with

@@ -60,6 +60,11 @@ pub struct StabilizeData {
     pub vel_end: Vec<f64>,
     /// qpos at the start of a leapfrog step, before its opening drift (nq).
     pub qpos_start: Vec<f64>,
+    /// qvel at the start of a leapfrog step (nv), which its opening drift moved with, and the
+    /// nodes' spatial velocities of it at the midpoint (scratch for `step::rows`).
+    pub qvel_start: Vec<f64>,
+    /// See `qvel_start`.
+    pub v_start: Vec<Motion>,
     work: LcpWork,
     /// Variables the solve leaves out.
     left_out: Vec<bool>,
@@ -83,6 +88,8 @@ impl StabilizeData {
             da: vec![Motion::ZERO; m.nnode],
             vel_end: vec![0.0; m.nv],
             qpos_start: vec![0.0; m.nq],
+            qvel_start: vec![0.0; m.nv],
+            v_start: vec![Motion::ZERO; m.nnode],
             ..Default::default()
         }
     }
