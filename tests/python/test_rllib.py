@@ -42,3 +42,20 @@ def test_two_env_runner_processes_train_and_sample_what_one_process_samples(loca
     assert len(remote) == 2 and all(len(r) >= 4 for r in remote)
     assert remote == here
     assert remote[0] != remote[1]  # the two runners' seeds differ
+
+
+def test_ray_ships_a_sim_that_steps_on_bit_identically(local_ray):
+    import sinew
+    from conftest import gym_model_path
+
+    sim = sinew.Sim(sinew.Model.from_mjcf(gym_model_path("hopper")))
+    sim.step(10)
+
+    @ray.remote
+    def step(s):
+        s.step(50)
+        return s
+
+    remote = ray.get(step.remote(sim))
+    sim.step(50)
+    assert remote.get_state(full=True).tolist() == sim.get_state(full=True).tolist()
