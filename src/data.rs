@@ -178,17 +178,63 @@ pub struct Fault {
     pub message: Option<String>,
 }
 
-/// A constraint row's identity across steps: its kind ([`ROW_LIMIT`], [`ROW_CONTACT`] or
-/// [`ROW_MOTION`]), then a limit's joint, 0, 0 and side; a contact row's geom1, geom2, feature and
-/// position within its contact (0: the normal); a motion row's actuator, 0, whether it is bounded
-/// and side.
-pub type RowKey = (u8, usize, usize, usize, usize);
-/// [`RowKey`] kind of a joint-limit row.
-pub const ROW_LIMIT: u8 = 0;
-/// [`RowKey`] kind of a contact's normal or friction row.
-pub const ROW_CONTACT: u8 = 1;
-/// [`RowKey`] kind of a motion-control row.
-pub const ROW_MOTION: u8 = 2;
+/// A constraint row's identity across steps, through which a step reads the last step's active
+/// set (`step::solve::warm_guess`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum RowKey {
+    /// A joint limit: the joint, and whether it is the lower limit (the row pushes q up).
+    Limit {
+        /// Joint.
+        joint: usize,
+        /// Lower limit.
+        lower: bool,
+    },
+    /// A row of a contact: the pair's geoms and feature, and the row's place in the contact (0:
+    /// the normal, then its friction rows).
+    Contact {
+        /// First geom.
+        geom1: usize,
+        /// Second geom.
+        geom2: usize,
+        /// The pair's contact feature.
+        feature: usize,
+        /// Place within the contact.
+        within: usize,
+    },
+    /// A motion-control row: the actuator, whether its force is bounded, and whether it pushes
+    /// the joint forward.
+    Motion {
+        /// Actuator.
+        actuator: usize,
+        /// Bounded force.
+        bounded: bool,
+        /// Positive direction.
+        positive: bool,
+    },
+}
+
+impl RowKey {
+    /// Five integers (kind 0 limit, 1 contact, 2 motion; then the kind's fields, zeros filling),
+    /// as [`History::to_flat`] writes them.
+    fn to_flat(self) -> [u64; 5] {
+        match self {
+            RowKey::Limit { joint, lower } => [0, joint as u64, 0, 0, lower as u64],
+            RowKey::Contact { geom1, geom2, feature, within } => [1, geom1 as u64, geom2 as u64, feature as u64, within as u64],
+            RowKey::Motion { actuator, bounded, positive } => [2, actuator as u64, 0, bounded as u64, positive as u64],
+        }
+    }
+
+    /// The key [`RowKey::to_flat`] wrote, or None for integers no key writes.
+    fn from_flat([kind, a, b, c, d]: [u64; 5]) -> Option<RowKey> {
+        let flag = |x: u64| (x <= 1).then_some(x == 1);
+        match kind {
+            0 if b == 0 && c == 0 => Some(RowKey::Limit { joint: a as usize, lower: flag(d)? }),
+            1 => Some(RowKey::Contact { geom1: a as usize, geom2: b as usize, feature: c as usize, within: d as usize }),
+            2 if b == 0 => Some(RowKey::Motion { actuator: a as usize, bounded: flag(c)?, positive: flag(d)? }),
+            _ => None,
+        }
+    }
+}
 
 /// Numbers a tangent takes in [`History::to_flat`]: geom1, geom2, feature, then the vector.
 const TANGENT_LEN: usize = 6;
@@ -215,8 +261,8 @@ impl History {
         out.push(self.warm.len() as f64);
         out.extend(self.warm.iter().map(|&a| a as u8 as f64));
         out.push(self.warm_rows.len() as f64);
-        for &(kind, a, b, c, d) in &self.warm_rows {
-            out.extend([kind as f64, a as f64, b as f64, c as f64, d as f64]);
+        for key in &self.warm_rows {
+            out.extend(key.to_flat().map(|x| x as f64));
         }
         out.push(self.constrained as u8 as f64);
     }
@@ -267,9 +313,12 @@ impl History {
         }
         let mut warm_rows = Vec::with_capacity(nr);
         for _ in 0..nr {
-            let key = [0, 1, 2, 3, 4].map(|k| int(at + k, "warm-start row identity", if k == 0 { f64::from(ROW_MOTION) + 1.0 } else { FLAT_INT_MAX }));
-            let [kind, a, b, c, d] = key;
-            warm_rows.push((kind? as u8, a? as usize, b? as usize, c? as usize, d? as usize));
+            let mut flat = [0; ROW_KEY_LEN];
+            for (k, x) in flat.iter_mut().enumerate() {
+                *x = int(at + k, "warm-start row identity", FLAT_INT_MAX)?;
+            }
+            let key = RowKey::from_flat(flat).ok_or_else(|| bad(format!("warm-start row identity {flat:?} at element {at} is none a step records")))?;
+            warm_rows.push(key);
             at += ROW_KEY_LEN;
         }
         check_rows(&warm_rows).map_err(bad)?;
@@ -290,11 +339,12 @@ fn check_rows(rows: &[RowKey]) -> Result<(), String> {
     if let Some(w) = sorted.windows(2).find(|w| w[0] == w[1]) {
         return Err(format!("warm-start row identity {:?} appears more than once", w[0]));
     }
-    for (i, &(kind, a, b, c, d)) in rows.iter().enumerate() {
-        let ok = match kind {
-            ROW_LIMIT => b == 0 && c == 0 && d <= 1,
-            ROW_MOTION => b == 0 && c <= 1 && d <= 1,
-            _ => d == 0 || (d <= i && rows[i - d] == (ROW_CONTACT, a, b, c, 0)),
+    for (i, &key) in rows.iter().enumerate() {
+        let ok = match key {
+            RowKey::Contact { geom1, geom2, feature, within } if within > 0 => {
+                within <= i && rows[i - within] == RowKey::Contact { geom1, geom2, feature, within: 0 }
+            }
+            _ => true,
         };
         if !ok {
             return Err(format!("warm-start row {i} has identity {:?}, which no step records", rows[i]));

@@ -12,7 +12,7 @@ pub mod stabilize;
 
 use glam::DVec3;
 
-use crate::data::{Data, RowKey, ROW_CONTACT, ROW_LIMIT, ROW_MOTION};
+use crate::data::{Data, RowKey};
 
 /// Pipeline stages, for the per-stage cost breakdown (cargo feature `stage-timing`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -103,8 +103,8 @@ pub(super) fn warm_guess(data: &mut Data, level: Level, n: usize) -> bool {
     let (keys, warm) = (&history.warm_rows, &history.warm);
     // last step's λ (σ) variable of each owner row, from its rows' identities
     let old_n = number_lambdas(keys.len(), |i| match keys[i] {
-        (ROW_CONTACT, _, _, _, within) if within > 0 => i.checked_sub(within),
-        (ROW_MOTION, _, _, 1, _) => Some(i),
+        RowKey::Contact { within, .. } if within > 0 => i.checked_sub(within),
+        RowKey::Motion { bounded: true, .. } => Some(i),
         _ => None,
     }, old_lambda);
     if keys.is_empty() || old_n != warm.len() {
@@ -312,20 +312,18 @@ pub(super) fn record_warm(data: &mut Data, level: Level) {
     }
 }
 
-/// Identity of row j across steps ([`RowKey`]): kind, then the contact (geoms, feature) and the row's position
-/// within it, or the joint and the side (a motion row: its actuator, whether it is bounded, and
-/// the side).
+/// Identity of row j across steps ([`RowKey`]).
 pub(super) fn row_key(con: &constraint::ConstraintData, contacts: &[collision::Contact], j: usize) -> RowKey {
     match con.kind[j] {
-        RowKind::Limit => (ROW_LIMIT, con.source[j], 0, 0, (con.dof[j].1 > 0.0) as usize),
-        RowKind::Motion { bounded } => (ROW_MOTION, con.source[j], 0, bounded as usize, (con.dof[j].1 > 0.0) as usize),
+        RowKind::Limit => RowKey::Limit { joint: con.source[j], lower: con.dof[j].1 > 0.0 },
+        RowKind::Motion { bounded } => RowKey::Motion { actuator: con.source[j], bounded, positive: con.dof[j].1 > 0.0 },
         kind => {
             let c = &contacts[con.source[j]];
             let within = match kind {
                 RowKind::Tangent { normal } => j - normal,
                 _ => 0,
             };
-            (ROW_CONTACT, c.geom1, c.geom2, c.feature, within)
+            RowKey::Contact { geom1: c.geom1, geom2: c.geom2, feature: c.feature, within }
         }
     }
 }
