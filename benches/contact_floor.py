@@ -10,12 +10,11 @@ import os
 import time
 import warnings
 
-import gymnasium
 import numpy as np
 
 import sinew
+from sinew.tasks import ASSETS  # gymnasium's model files: one definition
 
-ASSETS = os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets")
 
 
 def main():

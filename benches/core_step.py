@@ -15,13 +15,12 @@ import os
 import time
 import warnings
 
-import gymnasium
 import mujoco
 import numpy as np
 
 import sinew
+from sinew.tasks import ASSETS  # gymnasium's model files: one definition
 
-ASSETS = os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets")
 MODELS = ["inverted_pendulum", "inverted_double_pendulum", "reacher", "swimmer", "hopper", "half_cheetah", "ant", "humanoid"]
 
 

@@ -11,7 +11,7 @@ use common::fuzz;
 fn mutated_models_and_states_never_panic_hang_or_go_silently_non_finite() {
     // gymnasium's model files when Python can say where they are, and sinew's own in any case
     let dir = std::process::Command::new("python3")
-        .args(["-c", "import gymnasium, os; print(os.path.join(os.path.dirname(gymnasium.__file__), 'envs', 'mujoco', 'assets'))"])
+        .args(["-c", "from sinew.tasks import ASSETS; print(ASSETS)"])
         .output()
         .ok()
         .filter(|o| o.status.success())

@@ -1,9 +1,8 @@
 import os
 
-import gymnasium
 import pytest
 
-ASSETS = os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets")
+from sinew.tasks import ASSETS  # gymnasium's model files: one definition
 
 #: gymnasium's MuJoCo model files that sinew must load unchanged
 GYM_MODELS = [
