@@ -1,7 +1,7 @@
 """Analytic scenes of the classes sinew was inexact on, each beside MuJoCo on the same MJCF where
 MuJoCo can pose it (it has no restitution coefficient): a box just past and short of its friction
 angle, a grasp with 1% more and 1% less squeeze than it needs, a box just past and short of its
-tipping angle, a torque-free top under RK4, three spheres colliding in sequence and a ball
+tipping angle, a torque-free top under RK4, a limited chain landing, a plastic ball, three spheres colliding in sequence and a ball
 resting on a ball dropped on the floor (e = 1). The Rust tests in `tests/contact_scenes.rs` and
 `tests/conservation.rs` assert the same scenes over every integrator and mode.
 
@@ -35,6 +35,21 @@ STACK = """<mujoco><option timestep="{dt}"/><worldbody><geom type="plane" size="
 <body pos="0 0 1.2"><freejoint/><geom type="box" size="0.2 0.2 0.2" mass="3"/></body>
 <body pos="0 0 1.5"><freejoint/><geom type="sphere" size="0.1" mass="1"/></body></worldbody></mujoco>"""
 STACK = STACK.replace('type="box" size="0.2 0.2 0.2"', 'type="sphere" size="0.2"')
+BALL = """<mujoco><option timestep="{dt}"/><worldbody><geom type="plane" size="5 5 .1"/>
+<body pos="0 0 1"><freejoint/><geom type="sphere" size="0.1" mass="1"/></body></worldbody></mujoco>"""
+
+
+def limited_chain(n=10, height=0.6):
+    """tests/contact_scenes.rs's chain: thin capsules on hinges limited to ±30°, landing bent."""
+    xml = ('<mujoco><option timestep="{dt}"/><worldbody><geom type="plane" size="10 10 .1"/>'
+           f'<body pos="0 0 {height}" euler="0 20 0"><freejoint/><geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.01" mass="0.1"/>')
+    for k in range(1, n):
+        xml += (f'<body pos="0.2 0 0" euler="0 {25 if k % 2 == 0 else -25} 0"><joint type="hinge" axis="0 1 0" limited="true" range="-30 30"/>'
+                '<geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.01" mass="0.1"/>')
+    return xml + "</body>" * n + "</worldbody></mujoco>"
+
+
+CHAIN = limited_chain()
 
 
 class Sinew:
@@ -162,6 +177,28 @@ def euclidean_top(t=5.0, h=1e-4):
     return x[:4]
 
 
+def chain_limits(engine, dt):
+    """Largest violation of a ±30° limit at the end of any step while the chain lands (degrees)."""
+    w = make(engine, CHAIN, dt)
+    worst = [0.0]
+    w.run(1.5, lambda q, v: worst.__setitem__(0, max(worst[0], np.degrees(np.abs(q[7:]).max()) - 30)))
+    return f"{max(worst[0], 0.0):.1e}°"
+
+
+def plastic_ball(engine, dt):
+    """Largest upward speed of a ball dropped 0.9 m once it has touched the floor (no restitution)."""
+    w = make(engine, BALL, dt)
+    state = {"touched": False, "up": 0.0}
+
+    def each(q, v):
+        state["touched"] |= q[2] < 0.101
+        if state["touched"]:
+            state["up"] = max(state["up"], v[2])
+
+    w.run(2.0, each)
+    return f"{state['up']:.1e} m/s"
+
+
 def spheres(dt, mode):
     w = make(Sinew, SPHERES, dt)
     w.sim = sinew.Sim(sinew.Model.from_mjcf_string(SPHERES.format(dt=dt)).with_options(restitution=1.0, constraint_mode=mode))
@@ -197,6 +234,8 @@ def main():
             (st, ss), (mt, ms) = tipping(Sinew, dt, ratio), tipping(MuJoCo, dt, ratio)
             lines.append(f"| box {ratio} × its tipping angle (µ = 1): tilt in 2 s; edge slid before 30° | {dt} | {st}; {ss} | {mt}; {ms} |")
         lines.append(f"| torque-free top (I = 1, 2, 3), RK4: quaternion error after 5 s | {dt} | {top(Sinew, dt)} | {top(MuJoCo, dt)} |")
+        lines.append(f"| 10-link chain with ±30° limits landing: worst limit violation at a step's end | {dt} | {chain_limits(Sinew, dt)} | {chain_limits(MuJoCo, dt)} |")
+        lines.append(f"| ball dropped 0.9 m, no restitution: largest upward speed after touching | {dt} | {plastic_ball(Sinew, dt)} | {plastic_ball(MuJoCo, dt)} |")
     lines += ["", "MuJoCo has no restitution coefficient; sinew alone, e = 1:", "",
               "| scene | dt | constraint mode | result |", "|---|---|---|---|"]
     for dt in (0.002, 0.01):
