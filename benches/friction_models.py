@@ -11,6 +11,7 @@ import time
 import numpy as np
 
 import sinew
+from emit import emit
 from sinew.tasks import ASSETS
 
 MODELS = ["hopper", "walker2d_v5", "half_cheetah", "ant", "humanoid"]
@@ -41,11 +42,7 @@ def main():
     for name in MODELS:
         seed, pyramid = steps_per_second(name, "seed"), steps_per_second(name, "pyramid")
         lines.append(f"| {name} | {seed:,.0f} | {pyramid:,.0f} | {seed / pyramid - 1:+.0%} |")
-    text = "\n".join(lines) + "\n"
-    print(text)
-    if args.out:
-        with open(args.out, "w") as f:
-            f.write(text)
+    emit("\n".join(lines) + "\n", args.out)
 
 
 if __name__ == "__main__":

@@ -15,6 +15,7 @@ import mujoco
 import numpy as np
 
 import sinew
+from emit import emit
 
 MU = 0.5
 SLOPE = """<mujoco><option timestep="{dt}" gravity="{gx} 0 {gz}"/><worldbody>
@@ -243,11 +244,7 @@ def main():
             v, ke, p = spheres(dt, mode)
             lines.append(f"| three spheres 1 mm apart, the first at 1 m/s: velocities; kinetic energy kept; momentum error | {dt} | {mode} | {v}; {ke}; {p} |")
             lines.append(f"| 1 kg ball resting on a 3 kg ball, dropped 1 m: the small ball's rise (2v: 4 m) | {dt} | {mode} | {stack(dt, mode)} |")
-    text = "\n".join(lines) + "\n"
-    print(text)
-    if args.out:
-        with open(args.out, "w") as f:
-            f.write(text)
+    emit("\n".join(lines) + "\n", args.out)
 
 
 if __name__ == "__main__":
