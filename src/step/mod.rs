@@ -88,14 +88,7 @@ pub(super) fn dynamics(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], c
 /// Advances (qpos, qvel, time) by one time step under `ctrl`.
 pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl: &[f64], time: &mut f64) {
     let (h, lever) = (m.opt.timestep, m.opt.lever());
-    // Euler and leapfrog treat damping implicitly (MuJoCo's `Euler`), and so does a step with
-    // constraint rows, which is semi-implicit Euler; RK4's stages do not. An RK4 model evaluates
-    // first as the last step needed (contacts and rows are chosen with these accelerations) and
-    // again when this step turns out otherwise
-    let h_damp = match m.opt.integrator {
-        Integrator::Rk4 if !(m.may_constrain() && data.history.constrained) => 0.0,
-        _ => h,
-    };
+    let h_damp = damping_horizon(m, data);
     // leapfrog: the step's dynamics are the midpoint configuration's
     let leapfrog = m.opt.integrator == Integrator::Leapfrog;
     if leapfrog {
@@ -113,48 +106,69 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
     timed!(data, Stage::Rows, build_rows(m, data, qpos, qvel, ctrl));
     data.history.constrained = !data.con.is_empty();
     if data.con.is_empty() {
-        // nothing to constrain: the plain step
-        data.force.clear();
-        match m.opt.integrator {
-            Integrator::Euler | Integrator::Leapfrog => timed!(data, Stage::Integration, integrate::kick_drift(m, qpos, qvel, &data.qacc, h, lever)),
-            Integrator::Rk4 => {
-                if h_damp != 0.0 {
-                    timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, 0.0));
-                }
-                timed!(data, Stage::Integration, rk4(m, data, qpos, qvel, ctrl, h))
-            }
+        // 8. nothing to constrain: the plain step
+        free_step(m, data, qpos, qvel, ctrl, h_damp);
+    } else {
+        // 5–7. b, K, impacts and the constraint solve, into q̈ (and q̇ for impacts)
+        constrain(m, data, qpos, qvel, ctrl, h_damp);
+        // 8. integrate: semi-implicit Euler (the seed's scheme; RK4's constrained steps too), or
+        // leapfrog's closing kick and drift
+        timed!(data, Stage::Integration, integrate::kick_drift(m, qpos, qvel, &data.qacc, h, lever));
+        // 9. limits leapfrog's drift crossed, penetration and limits the linearised rows missed
+        if leapfrog {
+            timed!(data, Stage::Projection, stabilize::hold_limits(m, &data.post, qpos));
         }
-        *time += h;
-        return;
+        timed!(data, Stage::Projection, stabilize::project(m, data, qpos, qvel));
     }
-    // with constraints the step is semi-implicit Euler (the seed's scheme) unless leapfrog, RK4's too
+    *time += h;
+}
+
+/// The horizon over which a step treats joint damping implicitly. Euler and leapfrog treat it
+/// implicitly (MuJoCo's `Euler`), and so does a step with constraint rows, which is
+/// semi-implicit Euler; RK4's stages do not (0). An RK4 model evaluates first as the last step
+/// needed (contacts and rows are chosen with these accelerations) and again when this step
+/// turns out otherwise.
+fn damping_horizon(m: &Model, data: &Data) -> f64 {
+    match m.opt.integrator {
+        Integrator::Rk4 if !(m.may_constrain() && data.history.constrained) => 0.0,
+        _ => m.opt.timestep,
+    }
+}
+
+/// Stage 8 of a step without constraint rows, from the dynamics evaluated with damping over
+/// `h_damp`.
+fn free_step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl: &[f64], h_damp: f64) {
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
+    data.force.clear();
+    match m.opt.integrator {
+        Integrator::Euler | Integrator::Leapfrog => timed!(data, Stage::Integration, integrate::kick_drift(m, qpos, qvel, &data.qacc, h, lever)),
+        Integrator::Rk4 => {
+            if h_damp != 0.0 {
+                timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, 0.0));
+            }
+            timed!(data, Stage::Integration, rk4(m, data, qpos, qvel, ctrl, h))
+        }
+    }
+}
+
+/// Stages 5–7 with the rows of stage 4: b, impacts, the constraint solve into q̈ (impacts into
+/// q̇). A limit or contact without a row that the constrained motion would reach (pushed there
+/// by contact forces, say) gets its row and the solve runs once more from the constraint-free
+/// accelerations.
+fn constrain(m: &Model, data: &mut Data, qpos: &[f64], qvel: &mut [f64], ctrl: &[f64], h_damp: f64) {
+    let h = m.opt.timestep;
+    // with constraints the step is semi-implicit Euler: damping implicit over the step
     if h_damp != h {
         timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, h));
     }
-    let (mut redo, mut impacted) = (false, false);
+    let mut redo = false;
     data.impact_warm.clear();
     loop {
         // 5. b; K by test forces once a solve needs it (rows that the constraint-free motion
         // already satisfies need no K)
         timed!(data, Stage::Rows, constraint::bias(m, &data.kin, &data.aba, &data.qacc, &mut data.con));
-        // 6. impacts: while something approaches fast and rebounds (e > 0), a velocity-level solve
-        // over the rows it touches, each collision of a sequence in a pass of its own. A plastic
-        // impact needs none: the force solve's row of a contact or limit closing within the step
-        // asks for the impact's v⁺ = −d/h at the step's end, with the same K (its q is the
-        // impact's over h, up to the arc term: `lcp_vector`), as it does for slow approaches
-        if m.opt.restitution > 0.0 {
-            let speed = constraint::impact_speed(h, m.opt.gravity.length());
-            for _ in 0..MAX_IMPACT_PASSES {
-                if !needs_impact(&data.con, h, lever, speed) {
-                    break;
-                }
-                impacted = true;
-                data.impacts += 1;
-                solve_rows(m, data, Level::Velocity);
-                apply(m, data, qvel, 1.0);
-                timed!(data, Stage::Impact, new_velocities(m, data, qpos, qvel, ctrl));
-            }
-        }
+        // 6. impacts (e > 0)
+        let impacted = impacts(m, data, qpos, qvel, ctrl);
         if m.opt.constraint_mode == ConstraintMode::Velocity {
             // 7'. one impulse solve: q̈ = q̈₀ + Σ p_k Δq̈⁽ᵏ⁾ / h
             solve_rows(m, data, Level::TimeStep);
@@ -164,11 +178,8 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
             solve_rows(m, data, Level::Acceleration);
             apply_to_qacc(m, data, 1.0);
         }
-        // a limit or contact without a row that the constrained motion would reach (pushed there
-        // by contact forces, say): add its row and solve once more from the constraint-free
-        // accelerations
-        // (with no force, no impulse and the accelerations the rows were chosen with, the motion is
-        // the constraint-free one they were chosen for)
+        // with no force, no impulse and the accelerations the rows were chosen with, the motion
+        // is the constraint-free one they were chosen for: nothing can have been missed
         let pushed = impacted || h_damp != h || data.force.iter().any(|&f| f != 0.0);
         let missed = pushed && (missed_limits(m, data, qpos, qvel) | timed!(data, Stage::Collision, missed_contacts(m, data, qvel)));
         if redo || !missed {
@@ -187,30 +198,6 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
     if redo {
         data.limit_forced.fill(false);
     }
-    // 8. integrate
-    timed!(data, Stage::Integration, integrate::kick_drift(m, qpos, qvel, &data.qacc, h, lever));
-    // 9. limits leapfrog's drift crossed, penetration the linearised rows missed
-    if leapfrog {
-        timed!(data, Stage::Projection, stabilize::hold_limits(m, &data.post, qpos));
-    }
-    timed!(data, Stage::Projection, stabilize::project(m, data, qpos, qvel));
-    *time += h;
-}
-
-/// Impact passes at most per step (a sequence of collisions, one per pass).
-const MAX_IMPACT_PASSES: usize = 16;
-
-/// After an impulse has changed q̇ in the same configuration (same rows, K and articulated
-/// inertias): the applied forces (damping, servos) of the new velocities, the velocity-product
-/// bias forces kept from the step's start, as velocity-level time stepping has them
-/// (re-evaluated at the post-impact velocities they made a free-floating body gain angular
-/// momentum at every impact: benches/free_flight.py), then the rows' velocities and b anew.
-fn new_velocities(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) {
-    forces::applied(m, qpos, qvel, ctrl, &mut data.qfrc_applied);
-    aba::backward_bias(m, &data.kin, &data.qfrc_applied, &mut data.aba);
-    aba::forward(m, &data.kin, &mut data.aba, &mut data.qacc);
-    kinematics::forward_velocity(m, qvel, &mut data.kin);
-    constraint::refresh(m, &data.kin, &data.aba, qpos, qvel, ctrl, &data.feedforward, &data.qacc, &mut data.con);
 }
 
 /// The constraint system a step from (qpos, qvel, ctrl) starts with, for inspection (MuJoCo's
