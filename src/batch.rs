@@ -17,8 +17,7 @@ use crate::sensors::{self, Sensors};
 use crate::step::step;
 use crate::task::Task;
 
-/// Largest magnitude a state entry may reach before the world counts as diverged (MuJoCo's mjMAXVAL).
-pub const MAX_STATE: f64 = 1e10;
+pub use crate::math::MAX_STATE;
 
 /// Most threads a batch accepts (a thread each costs its stack; beyond this a count is a mistake).
 pub const MAX_THREADS: usize = 1024;

@@ -17,8 +17,8 @@ pub mod math;
 pub mod mjcf;
 // ② compiled model
 pub mod model;
-// ③ state and scratch
-pub mod data;
+// ③ state and scratch (a world's per-stage scratch lives with the step: `step::data`)
+pub use step::data;
 pub mod state;
 // ④ the step
 pub mod step;

@@ -21,6 +21,10 @@ pub fn splitmix64(state: u64) -> u64 {
 /// SplitMix64's increment (2⁶⁴ / φ).
 pub const SPLITMIX_GAMMA: u64 = 0x9E37_79B9_7F4A_7C15;
 
+/// Largest magnitude a state entry may reach before the world counts as diverged (MuJoCo's
+/// mjMAXVAL), and the largest number the loader and the options accept.
+pub const MAX_STATE: f64 = 1e10;
+
 /// Skew-symmetric cross-product matrix: `skew(a) * b == a.cross(b)`.
 #[inline]
 pub fn skew(a: DVec3) -> DMat3 {

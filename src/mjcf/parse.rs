@@ -60,7 +60,7 @@ const IGNORED: &[&str] = &[
 pub const MAX_NESTING: usize = 200;
 
 /// Largest magnitude of any number in a model file: sinew's bound on a state entry.
-pub const MAX_VALUE: f64 = crate::batch::MAX_STATE;
+pub const MAX_VALUE: f64 = crate::math::MAX_STATE;
 
 /// Attributes that change MuJoCo's physics but are not modelled; non-default values give a warning.
 const WARN_NONZERO: &[&str] = &["frictionloss", "gravcomp"];

@@ -229,7 +229,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
             m.geom_pos.push(g.pos);
             m.geom_quat.push(g.quat);
             m.geom_mat.push(DMat3::from_quat(g.quat));
-            m.geom_rbound.push(crate::step::collision::geom_rbound(g.kind, g.size));
+            m.geom_rbound.push(super::pairs::geom_rbound(g.kind, g.size));
             m.geom_friction.push(g.friction);
             m.geom_contype.push(g.contype);
             m.geom_conaffinity.push(g.conaffinity);
@@ -272,16 +272,19 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
 
     for i in 0..m.ngeom {
         for j in i + 1..m.ngeom {
-            if crate::step::collision::can_collide(&m, i, j) {
-                m.collision_pairs.push(crate::step::collision::geom_pair(&m, i, j));
+            if super::pairs::can_collide(&m, i, j) {
+                m.collision_pairs.push(super::pairs::geom_pair(&m, i, j));
             }
         }
     }
     m.body_reach = body_reaches(&m);
     m.dof_arm = dof_arms(&m);
     m.plane_groups = plane_groups(&mut m);
-    check_solvable(&m)?;
-    m.motion_plane = motion_plane(&m);
+    // the forward dynamics at qpos0, as MuJoCo's mj_setConst runs it
+    let mut data = crate::Data::new(&m);
+    crate::step::forward(&m, &mut data, &m.qpos0, &vec![0.0; m.nv], &vec![0.0; m.nu]);
+    check_solvable(&m, &data)?;
+    m.motion_plane = motion_plane(&m, &data.kin);
     m.vis = super::visual::compile(&spec, |n| m.body_id(n))?;
     Ok(m)
 }
@@ -392,9 +395,8 @@ fn plane_groups(m: &mut Model) -> Vec<PlaneGroup> {
 
 /// The normal every hinge axis is parallel to and every slide axis perpendicular to, in world at
 /// the reference configuration (rotations about that normal keep it so), or None.
-fn motion_plane(m: &Model) -> Option<DVec3> {
-    let mut kin = crate::step::kinematics::KinData::new(m);
-    crate::step::kinematics::forward(m, &m.qpos0, &vec![0.0; m.nv], &mut kin);
+/// `kin`: the kinematics at qpos0.
+fn motion_plane(m: &Model, kin: &crate::step::kinematics::KinData) -> Option<DVec3> {
     // a hinge's or slide's axis in world: its subspace column's rotation or translation part
     let world_axis = |j: usize| {
         let n = m.jnt_node[j];
@@ -411,12 +413,9 @@ fn motion_plane(m: &Model) -> Option<DVec3> {
 }
 
 /// Every joint must move some mass: the articulated inertia seen by each dof at the reference
-/// configuration must be positive definite, or the forward dynamics would divide by zero.
-fn check_solvable(m: &Model) -> Result<()> {
-    let mut data = crate::Data::new(m);
-    let qvel = vec![0.0; m.nv];
-    let ctrl = vec![0.0; m.nu];
-    crate::step::forward(m, &mut data, &m.qpos0, &qvel, &ctrl);
+/// configuration must be positive definite, or the forward dynamics would divide by zero
+/// (`data`: the forward dynamics at qpos0).
+fn check_solvable(m: &Model, data: &crate::Data) -> Result<()> {
     if let Some(n) = data.aba.singular_node {
         let j0 = m.node_jntadr[n];
         let names: Vec<String> = m.jnt_name[j0..j0 + m.node_jntnum[n]].iter().map(|s| format!("'{s}'")).collect();

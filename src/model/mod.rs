@@ -10,6 +10,7 @@
 
 mod compile;
 mod inertia;
+mod pairs;
 pub mod visual;
 
 use glam::{DMat3, DQuat, DVec3};

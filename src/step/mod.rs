@@ -3,6 +3,7 @@
 
 pub mod aba;
 pub mod collision;
+pub mod data;
 pub mod constraint;
 pub mod forces;
 pub mod integrate;

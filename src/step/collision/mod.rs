@@ -38,11 +38,9 @@ use super::aba::AbaData;
 use super::kinematics::KinData;
 use crate::math::Motion;
 
-mod filter;
 mod narrowphase;
 mod shapes;
 
-pub use filter::{can_collide, geom_pair, geom_rbound};
 pub use narrowphase::contact_friction;
 use narrowphase::*;
 use shapes::*;
