@@ -10,6 +10,7 @@ resting on a ball dropped on the floor (e = 1). The Rust tests in `tests/contact
 
 import argparse
 import math
+import os
 
 import mujoco
 import numpy as np
@@ -18,46 +19,20 @@ import sinew
 from emit import emit
 
 MU = 0.5
-SLOPE = """<mujoco><option timestep="{dt}" gravity="{gx} 0 {gz}"/><worldbody>
-<geom type="plane" size="50 50 .1" friction="{mu}"/>
-<body pos="0 0 {z}"><freejoint/><geom type="box" size="{size}" mass="1" friction="{mu}"/></body></worldbody></mujoco>"""
-GRASP = """<mujoco><option timestep="{dt}"/><worldbody>
-<body name="left" pos="-0.06 0 1"><joint name="left" type="slide" axis="1 0 0"/><geom type="box" size="0.01 0.1 0.1" mass="1" friction="0.5"/></body>
-<body name="right" pos="0.06 0 1"><joint name="right" type="slide" axis="1 0 0"/><geom type="box" size="0.01 0.1 0.1" mass="1" friction="0.5"/></body>
-<body pos="0 0 1"><freejoint/><geom type="box" size="0.05 0.05 0.05" mass="1" friction="0.5"/></body></worldbody>
-<actuator><motor joint="left" gear="1"/><motor joint="right" gear="-1"/></actuator></mujoco>"""
-TOP = """<mujoco><option timestep="{dt}" integrator="RK4" gravity="0 0 0"/><worldbody>
-<body><freejoint/><inertial pos="0 0 0" mass="1" diaginertia="1 2 3"/></body></worldbody></mujoco>"""
-SPHERES = """<mujoco><option timestep="{dt}" gravity="0 0 0"/><worldbody>
-<body><freejoint/><geom type="sphere" size="0.1" mass="1"/></body>
-<body pos="0.201 0 0"><freejoint/><geom type="sphere" size="0.1" mass="1"/></body>
-<body pos="0.402 0 0"><freejoint/><geom type="sphere" size="0.1" mass="1"/></body></worldbody></mujoco>"""
-STACK = """<mujoco><option timestep="{dt}"/><worldbody><geom type="plane" size="5 5 .1"/>
-<body pos="0 0 1.2"><freejoint/><geom type="box" size="0.2 0.2 0.2" mass="3"/></body>
-<body pos="0 0 1.5"><freejoint/><geom type="sphere" size="0.1" mass="1"/></body></worldbody></mujoco>"""
-STACK = STACK.replace('type="box" size="0.2 0.2 0.2"', 'type="sphere" size="0.2"')
-BALL = """<mujoco><option timestep="{dt}"/><worldbody><geom type="plane" size="5 5 .1"/>
-<body pos="0 0 1"><freejoint/><geom type="sphere" size="0.1" mass="1"/></body></worldbody></mujoco>"""
+SCENES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "scenes")
 
 
-def limited_chain(n=10, height=0.6):
-    """tests/contact_scenes.rs's chain: thin capsules on hinges limited to ±30°, landing bent."""
-    xml = ('<mujoco><option timestep="{dt}"/><worldbody><geom type="plane" size="10 10 .1"/>'
-           f'<body pos="0 0 {height}" euler="0 20 0"><freejoint/><geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.01" mass="0.1"/>')
-    for k in range(1, n):
-        xml += (f'<body pos="0.2 0 0" euler="0 {25 if k % 2 == 0 else -25} 0"><joint type="hinge" axis="0 1 0" limited="true" range="-30 30"/>'
-                '<geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.01" mass="0.1"/>')
-    return xml + "</body>" * n + "</worldbody></mujoco>"
-
-
-CHAIN = limited_chain()
+def scene(name, **values):
+    """The MJCF of tests/scenes/NAME (shared with the Rust tests), each {key} replaced by its value."""
+    with open(os.path.join(SCENES, name)) as f:
+        return f.read().format(**values)
 
 
 class Sinew:
     name = "sinew"
 
-    def __init__(self, xml, **options):
-        self.sim = sinew.Sim(sinew.Model.from_mjcf_string(xml).with_options(**options))
+    def __init__(self, xml, dt, **options):
+        self.sim = sinew.Sim(sinew.Model.from_mjcf_string(xml).with_options(timestep=dt, **options))
 
     def run(self, seconds, each=None):
         steps = int(round(seconds / self.dt))
@@ -80,8 +55,9 @@ class Sinew:
 class MuJoCo:
     name = "MuJoCo"
 
-    def __init__(self, xml, **_):
+    def __init__(self, xml, dt, **_):
         self.model = mujoco.MjModel.from_xml_string(xml)
+        self.model.opt.timestep = dt
         self.data = mujoco.MjData(self.model)
 
     def run(self, seconds, each=None):
@@ -101,8 +77,8 @@ class MuJoCo:
             self.data.ctrl[:] = ctrl
 
 
-def make(engine, xml, dt, **fmt):
-    world = engine(xml.format(dt=dt, **fmt))
+def make(engine, name, dt, options=None, **values):
+    world = engine(scene(name, **values), dt, **(options or {}))
     world.dt = dt
     return world
 
@@ -111,7 +87,7 @@ def slope(engine, dt, ratio):
     """Acceleration down the slope over Coulomb's g (sin θ − µ cos θ) (the speed after 1 s where
     Coulomb's answer is rest), and the largest yaw rate."""
     theta = ratio * math.atan(MU)
-    w = make(engine, SLOPE, dt, gx=9.81 * math.sin(theta), gz=-9.81 * math.cos(theta), mu=MU, z=0.1, size="0.1 0.1 0.1")
+    w = make(engine, "slope_box.xml", dt, gx=9.81 * math.sin(theta), gz=-9.81 * math.cos(theta), mu=MU, z=0.1, size="0.1 0.1 0.1")
     yaw = [0.0]
     w.run(1.0, lambda q, v: yaw.__setitem__(0, max(yaw[0], abs(v[5]))))
     exact = 9.81 * (math.sin(theta) - MU * math.cos(theta))
@@ -120,7 +96,7 @@ def slope(engine, dt, ratio):
 
 
 def grasp(engine, dt, ratio):
-    w = make(engine, GRASP, dt)
+    w = make(engine, "grasp.xml", dt)
     w.set(ctrl=[ratio * 9.81, ratio * 9.81])
     w.run(1.0)
     exact = -9.81 * max(0.0, 1 - ratio)
@@ -131,7 +107,7 @@ def grasp(engine, dt, ratio):
 def tipping(engine, dt, ratio):
     """Largest tilt in 2 s (degrees) and how far the downhill edge slid up to a tilt of 30°."""
     theta = ratio * math.atan(1 / 3)
-    w = make(engine, SLOPE, dt, gx=9.81 * math.sin(theta), gz=-9.81 * math.cos(theta), mu=1, z=0.3, size="0.1 0.1 0.3")
+    w = make(engine, "slope_box.xml", dt, gx=9.81 * math.sin(theta), gz=-9.81 * math.cos(theta), mu=1, z=0.3, size="0.1 0.1 0.3")
 
     def edge(q):
         rot = np.zeros(9)
@@ -153,7 +129,7 @@ def tipping(engine, dt, ratio):
 
 def top(engine, dt):
     """Quaternion error after 5 s against a reference RK4 of q̇ = ½ q ⊗ ω, I ω̇ = −ω × I ω at 1e-4."""
-    w = make(engine, TOP, dt)
+    w = make(engine, "top.xml", dt, joint="free")
     w.set(qvel=[0, 0, 0, 1.0, 0.1, 0.2])
     w.run(5.0)
     return f"{np.abs(w.qpos[3:] - REFERENCE_TOP).max():.1e}"
@@ -180,7 +156,7 @@ def euclidean_top(t=5.0, h=1e-4):
 
 def chain_limits(engine, dt):
     """Largest violation of a ±30° limit at the end of any step while the chain lands (degrees)."""
-    w = make(engine, CHAIN, dt)
+    w = make(engine, "limited_chain.xml", dt)
     worst = [0.0]
     w.run(1.5, lambda q, v: worst.__setitem__(0, max(worst[0], np.degrees(np.abs(q[7:]).max()) - 30)))
     return f"{max(worst[0], 0.0):.1e}°"
@@ -188,7 +164,7 @@ def chain_limits(engine, dt):
 
 def plastic_ball(engine, dt):
     """Largest upward speed of a ball dropped 0.9 m once it has touched the floor (no restitution)."""
-    w = make(engine, BALL, dt)
+    w = make(engine, "ball.xml", dt)
     state = {"touched": False, "up": 0.0}
 
     def each(q, v):
@@ -201,8 +177,7 @@ def plastic_ball(engine, dt):
 
 
 def spheres(dt, mode):
-    w = make(Sinew, SPHERES, dt)
-    w.sim = sinew.Sim(sinew.Model.from_mjcf_string(SPHERES.format(dt=dt)).with_options(restitution=1.0, constraint_mode=mode))
+    w = make(Sinew, "three_spheres.xml", dt, dict(restitution=1.0, constraint_mode=mode), m1=1, m2=1, m3=1)
     w.set(qvel=np.r_[1.0, np.zeros(17)])
     w.run(0.5)
     v = w.qvel[[0, 6, 12]]
@@ -210,8 +185,7 @@ def spheres(dt, mode):
 
 
 def stack(dt, mode):
-    w = make(Sinew, STACK, dt)
-    w.sim = sinew.Sim(sinew.Model.from_mjcf_string(STACK.format(dt=dt)).with_options(restitution=1.0, constraint_mode=mode))
+    w = make(Sinew, "ball_on_ball.xml", dt, dict(restitution=1.0, constraint_mode=mode))
     best = {"top": 0.0}
     w.run(1.6, lambda q, v: best.__setitem__("top", max(best["top"], q[9])))
     return f"{best['top'] - 0.5:.3f} m"

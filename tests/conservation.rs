@@ -151,14 +151,13 @@ fn rk4_rotates_free_and_ball_joints_to_fourth_order() {
     // a torque-free body with I = (1, 2, 3), on a free joint and on a ball joint: the quaternion
     // error after 5 s falls 16-fold as dt halves
     let reference = euclidean_top([1.0, 2.0, 3.0], [1.0, 0.1, 0.2], 5.0, 1e-5);
-    for joint in ["<freejoint/>", "<joint type=\"ball\"/>"] {
+    // tests/scenes/top.xml, shared with benches/physics_scenes.py
+    let template = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/scenes/top.xml")).unwrap();
+    for joint in ["free", "ball"] {
         let mut errors = vec![];
         for dt in [0.01f64, 0.005] {
-            let xml = format!(
-                "<mujoco><option integrator=\"RK4\" timestep=\"{dt}\" gravity=\"0 0 0\"/><worldbody>\
-                 <body>{joint}<inertial pos=\"0 0 0\" mass=\"1\" diaginertia=\"1 2 3\"/></body></worldbody></mujoco>"
-            );
-            let m = Model::from_mjcf(&xml).unwrap();
+            let mut m = Model::from_mjcf(&template.replace("{joint}", joint)).unwrap();
+            m.opt.timestep = dt;
             let (qa, da) = (m.jnt_qposadr[0] + if m.nq == 7 { 3 } else { 0 }, m.jnt_dofadr[0] + if m.nv == 6 { 3 } else { 0 });
             let mut s = State::new(&m);
             s.qvel[da..da + 3].copy_from_slice(&[1.0, 0.1, 0.2]);

@@ -12,6 +12,17 @@ const INTEGRATORS: [Integrator; 3] = [Integrator::Euler, Integrator::Leapfrog, I
 const MODES: [ConstraintMode; 2] = [ConstraintMode::Acceleration, ConstraintMode::Velocity];
 const STEPS: [f64; 2] = [0.002, 0.01];
 
+/// The MJCF of `tests/scenes/NAME` (shared with `benches/physics_scenes.py`), each `{key}` replaced
+/// by its value.
+fn scene(name: &str, values: &[(&str, String)]) -> String {
+    let path = format!("{}/tests/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+    let mut xml = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    for (key, value) in values {
+        xml = xml.replace(&format!("{{{key}}}"), value);
+    }
+    xml
+}
+
 fn model(xml: &str, integrator: Integrator, mode: ConstraintMode, dt: f64, restitution: f64) -> Model {
     let mut m = Model::from_mjcf(xml).unwrap();
     m.opt.integrator = integrator;
@@ -32,9 +43,6 @@ fn every_scheme(mut f: impl FnMut(Integrator, ConstraintMode, f64)) {
     }
 }
 
-const BALL: &str = "<mujoco><worldbody><geom type=\"plane\" size=\"5 5 .1\"/>\
-    <body pos=\"0 0 1\"><freejoint/><geom type=\"sphere\" size=\"0.1\" mass=\"1\"/></body></worldbody></mujoco>";
-
 #[test]
 fn plastic_impacts_do_not_rebound() {
     // e = 0: a ball dropped 0.9 m stays on the floor, a pendulum swung into its limit in zero
@@ -43,7 +51,7 @@ fn plastic_impacts_do_not_rebound() {
         <joint type=\"hinge\" axis=\"0 1 0\" limited=\"true\" range=\"-30 30\"/>\
         <geom type=\"capsule\" fromto=\"0 0 0 0 0 -1\" size=\"0.05\" mass=\"1\"/></body></worldbody></mujoco>";
     every_scheme(|integrator, mode, dt| {
-        let m = model(BALL, integrator, mode, dt, 0.0);
+        let m = model(&scene("ball.xml", &[]), integrator, mode, dt, 0.0);
         let mut s = State::new(&m);
         let (mut touched, mut up) = (false, 0.0f64);
         for _ in 0..(2.0 / dt) as usize {
@@ -70,29 +78,11 @@ fn plastic_impacts_do_not_rebound() {
     });
 }
 
-/// A chain of `n` thin capsules on hinges limited to ±30°, its free root `height` above the floor,
-/// tilted and bent so links land one after another.
-fn limited_chain(n: usize, height: f64) -> String {
-    let mut xml = format!(
-        "<mujoco><worldbody><geom type=\"plane\" size=\"10 10 .1\"/>\
-         <body pos=\"0 0 {height}\" euler=\"0 20 0\"><freejoint/><geom type=\"capsule\" fromto=\"0 0 0 0.2 0 0\" size=\"0.01\" mass=\"0.1\"/>"
-    );
-    for k in 1..n {
-        xml += &format!(
-            "<body pos=\"0.2 0 0\" euler=\"0 {} 0\"><joint type=\"hinge\" axis=\"0 1 0\" limited=\"true\" range=\"-30 30\"/>\
-             <geom type=\"capsule\" fromto=\"0 0 0 0.2 0 0\" size=\"0.01\" mass=\"0.1\"/>",
-            if k % 2 == 0 { 25 } else { -25 }
-        );
-    }
-    xml += &"</body>".repeat(n);
-    xml + "</worldbody></mujoco>"
-}
-
 #[test]
 fn limits_hold_while_contacts_act() {
     // a joint moving away from its limit has no limit row, and the contact forces of the landing
     // can turn it back past the limit: every limit holds within 1e-4 rad at the end of every step
-    let xml = limited_chain(10, 0.6);
+    let xml = scene("limited_chain.xml", &[]);
     for friction in [FrictionModel::OneTangent, FrictionModel::Pyramid] {
         for restitution in [0.0, 0.5] {
             for seed in 1..9 {
@@ -144,13 +134,7 @@ fn collisions_of_bodies_apart_are_sequential_and_keep_momentum() {
     // resolved at its own time, so the velocities are the sequential answer, momentum is kept to
     // round-off and, with e = 1, kinetic energy within 1%
     for (mass, e) in [([1.0, 1.0, 1.0], 1.0), ([1.0, 2.0, 0.5], 1.0), ([2.0, 1.0, 3.0], 0.6)] {
-        let xml = format!(
-            "<mujoco><option gravity=\"0 0 0\"/><worldbody>\
-             <body><freejoint/><geom type=\"sphere\" size=\"0.1\" mass=\"{}\"/></body>\
-             <body pos=\"0.201 0 0\"><freejoint/><geom type=\"sphere\" size=\"0.1\" mass=\"{}\"/></body>\
-             <body pos=\"0.402 0 0\"><freejoint/><geom type=\"sphere\" size=\"0.1\" mass=\"{}\"/></body></worldbody></mujoco>",
-            mass[0], mass[1], mass[2]
-        );
+        let xml = scene("three_spheres.xml", &[("m1", mass[0].to_string()), ("m2", mass[1].to_string()), ("m3", mass[2].to_string())]);
         let expected = sequential_collisions(&mass, vec![1.0, 0.0, 0.0], e);
         every_scheme(|integrator, mode, dt| {
             let m = model(&xml, integrator, mode, dt, e);
@@ -178,9 +162,7 @@ fn a_ball_resting_on_a_ball_leaves_the_floor_bounce_at_twice_the_speed() {
     // a 1 kg ball on a 3 kg ball, dropped 1 m with e = 1: the big ball's bounce off the floor,
     // then the balls' collision (2 v for the small ball, 0 for the big one), so the small ball
     // rises 4 times as high as it fell, and the energy stays within 1%
-    let xml = "<mujoco><worldbody><geom type=\"plane\" size=\"5 5 .1\"/>\
-        <body pos=\"0 0 1.2\"><freejoint/><geom type=\"sphere\" size=\"0.2\" mass=\"3\"/></body>\
-        <body pos=\"0 0 1.5\"><freejoint/><geom type=\"sphere\" size=\"0.1\" mass=\"1\"/></body></worldbody></mujoco>";
+    let xml = &scene("ball_on_ball.xml", &[]);
     every_scheme(|integrator, mode, dt| {
         let m = model(xml, integrator, mode, dt, 1.0);
         let mut s = State::new(&m);
@@ -207,18 +189,26 @@ fn a_ball_resting_on_a_ball_leaves_the_floor_bounce_at_twice_the_speed() {
     });
 }
 
+/// `slope_box.xml`: a box of half-sizes `size` and friction `mu` on a slope of angle `theta` (tilted
+/// gravity).
+fn slope_box(theta: f64, mu: f64, size: [f64; 3]) -> String {
+    let values = [
+        ("gx", (9.81 * theta.sin()).to_string()),
+        ("gz", (-9.81 * theta.cos()).to_string()),
+        ("mu", mu.to_string()),
+        ("z", size[2].to_string()),
+        ("size", format!("{} {} {}", size[0], size[1], size[2])),
+    ];
+    scene("slope_box.xml", &values)
+}
+
 /// Acceleration along the slope (from the velocity, which semi-implicit Euler makes exact under
 /// constant acceleration) and largest |yaw rate| of a box released on a plane tilted `ratio`
 /// times its friction angle (µ = 0.5; the slope as tilted gravity), over `seconds`.
 fn box_on_slope(ratio: f64, friction: FrictionModel, integrator: Integrator, mode: ConstraintMode, dt: f64, seconds: f64) -> (f64, f64) {
     let mu: f64 = 0.5;
     let theta = ratio * mu.atan();
-    let xml = format!(
-        "<mujoco><option gravity=\"{} 0 {}\"/><worldbody><geom type=\"plane\" size=\"50 50 .1\" friction=\"{mu}\"/>\
-         <body pos=\"0 0 0.1\"><freejoint/><geom type=\"box\" size=\"0.1 0.1 0.1\" mass=\"1\" friction=\"{mu}\"/></body></worldbody></mujoco>",
-        9.81 * theta.sin(),
-        -9.81 * theta.cos()
-    );
+    let xml = slope_box(theta, mu, [0.1, 0.1, 0.1]);
     let mut m = model(&xml, integrator, mode, dt, 0.0);
     m.opt.friction = friction;
     let mut s = State::new(&m);
@@ -251,18 +241,7 @@ fn a_box_past_its_friction_angle_slides_at_the_coulomb_rate_and_below_it_holds()
 /// Vertical acceleration (from the velocity) of a 1 kg box squeezed between two plates, each
 /// pushed by a motor with force `squeeze` (µ = 0.5): it holds while 2 µ F ≥ m g.
 fn grasp(squeeze: f64, friction: FrictionModel, integrator: Integrator, mode: ConstraintMode, dt: f64) -> f64 {
-    let plate = |name: &str, x: f64| {
-        format!(
-            "<body name=\"{name}\" pos=\"{x} 0 1\"><joint name=\"{name}\" type=\"slide\" axis=\"1 0 0\"/>\
-             <geom type=\"box\" size=\"0.01 0.1 0.1\" mass=\"1\" friction=\"0.5\"/></body>"
-        )
-    };
-    let xml = format!(
-        "<mujoco><worldbody>{}{}<body pos=\"0 0 1\"><freejoint/><geom type=\"box\" size=\"0.05 0.05 0.05\" mass=\"1\" friction=\"0.5\"/></body>\
-         </worldbody><actuator><motor joint=\"left\" gear=\"1\"/><motor joint=\"right\" gear=\"-1\"/></actuator></mujoco>",
-        plate("left", -0.06),
-        plate("right", 0.06)
-    );
+    let xml = scene("grasp.xml", &[]);
     let mut m = model(&xml, integrator, mode, dt, 0.0);
     m.opt.friction = friction;
     let mut s = State::new(&m);
@@ -292,12 +271,7 @@ fn a_grasp_holds_with_one_percent_to_spare_and_slips_at_the_coulomb_rate_without
 /// while it tipped (up to a tilt of 30°, while the edge needs far less than µ = 1).
 fn tipping_box(ratio: f64, friction: FrictionModel, integrator: Integrator, mode: ConstraintMode, dt: f64) -> (f64, f64) {
     let theta = ratio * (1.0f64 / 3.0).atan();
-    let xml = format!(
-        "<mujoco><option gravity=\"{} 0 {}\"/><worldbody><geom type=\"plane\" size=\"50 50 .1\" friction=\"1\"/>\
-         <body pos=\"0 0 0.3\"><freejoint/><geom type=\"box\" size=\"0.1 0.1 0.3\" mass=\"1\" friction=\"1\"/></body></worldbody></mujoco>",
-        9.81 * theta.sin(),
-        -9.81 * theta.cos()
-    );
+    let xml = slope_box(theta, 1.0, [0.1, 0.1, 0.3]);
     let mut m = model(&xml, integrator, mode, dt, 0.0);
     m.opt.friction = friction;
     let mut s = State::new(&m);
