@@ -28,8 +28,8 @@ pub enum FrictionModel {
     /// the step's constraint-free slip, else the last valid or a random one.
     OneTangent,
     /// Six conditions per contact: ±t₁, ±t₂ and one λ (a four-sided friction pyramid). The
-    /// default: it resists a push across its first tangent, which one tangent cannot, for 0–17%
-    /// more time per step on the gymnasium models (`benches/friction_models.py`).
+    /// default: it resists a push across its first tangent, which one tangent cannot, for some
+    /// more time per step (`results/friction_models.md`).
     Pyramid,
 }
 
