@@ -75,7 +75,7 @@ pub fn closing_velocity(dist: f64, dist_start: f64, h: f64, lever: f64) -> f64 {
 
 /// See [`correction_velocity`] (s).
 pub const CORRECTION_TIME: f64 = 0.05;
-/// Tangential speed above which friction is dynamic (tangent opposite to sliding).
+/// Slip speed (`step::rows`) above which friction takes the direction opposite the slip.
 pub const SLIDING_SPEED: f64 = 1e-6;
 
 /// The rows of one step and their K, b and desired values, with scratch for the test forces.
@@ -416,6 +416,17 @@ fn motion_target(m: &Model, a: usize, kp: f64, kd: f64, qpos: &[f64], qvel: &[f6
     feedforward[m.nu + a] + kd * (feedforward[a] - qvel[da]) + kp * (ctrl[a] - qpos[qa])
 }
 
+/// Row j's velocity J_j q̇, from the nodes' spatial velocities `v` of that `qvel`.
+pub fn row_velocity(out: &ConstraintData, j: usize, v: &[Motion], qvel: &[f64]) -> f64 {
+    match out.kind[j] {
+        RowKind::Normal | RowKind::Tangent { .. } => {
+            let side = |s: usize| if out.node[j][s] == WORLD { 0.0 } else { v[out.node[j][s]].dot(&out.jac[j][s]) };
+            side(0) + side(1)
+        }
+        RowKind::Limit | RowKind::Motion { .. } => out.dof[j].1 * qvel[out.dof[j].0],
+    }
+}
+
 /// After an impulse has changed the velocities but not the configuration: the rows' velocities,
 /// motion-control targets and b at the new velocities, with the ABA of the new state. K and Δq̈
 /// depend on the configuration only and are kept.
@@ -428,14 +439,7 @@ pub fn refresh(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f6
         if out.kind[j] == RowKind::Normal {
             out.lift[j] = arc_lift(kin, out, j, m.opt.timestep, m.opt.lever());
         }
-        out.vel[j] = match out.kind[j] {
-            RowKind::Normal | RowKind::Tangent { .. } => {
-                let [n0, n1] = out.node[j];
-                let side = |n: usize, s: usize| if n == WORLD { 0.0 } else { kin.v[n].dot(&out.jac[j][s]) };
-                side(n0, 0) + side(n1, 1)
-            }
-            RowKind::Limit | RowKind::Motion { .. } => out.dof[j].1 * qvel[out.dof[j].0],
-        };
+        out.vel[j] = row_velocity(out, j, &kin.v, qvel);
         if let (RowKind::Motion { .. }, Actuation::Trajectory { kp, kd }) = (out.kind[j], m.opt.actuation) {
             out.desired[j] = out.dof[j].1 * motion_target(m, out.source[j], kp, kd, qpos, qvel, ctrl, feedforward);
         }

@@ -46,7 +46,6 @@ fn new_velocities(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: 
     constraint::refresh(m, &data.kin, &data.aba, qpos, qvel, ctrl, &data.feedforward, &data.qacc, &mut data.con);
 }
 
-
 /// needImpact (Kokkevis 2004, §8.1): a contact or limit approaching fast enough to close within this step.
 pub(super) fn needs_impact(con: &constraint::ConstraintData, h: f64, lever: f64, speed: f64) -> bool {
     (0..con.len()).any(|j| {

@@ -87,15 +87,8 @@ pub(super) fn build_rows(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64],
         let post = &mut data.post;
         kinematics::velocities(m, &data.kin, &post.qvel_start, &mut post.v_start);
         let con = &mut data.con;
-        for j in 0..con.len() {
-            let vel_start = match con.kind[j] {
-                RowKind::Normal => {
-                    let side = |s: usize| if con.node[j][s] == crate::model::WORLD { 0.0 } else { post.v_start[con.node[j][s]].dot(&con.jac[j][s]) };
-                    side(0) + side(1)
-                }
-                RowKind::Limit => con.dof[j].1 * post.qvel_start[con.dof[j].0],
-                _ => continue,
-            };
+        for j in (0..con.len()).filter(|&j| matches!(con.kind[j], RowKind::Normal | RowKind::Limit)) {
+            let vel_start = constraint::row_velocity(con, j, &post.v_start, &post.qvel_start);
             con.dist_start[j] = con.dist[j] - (h - lever) * vel_start;
         }
     }

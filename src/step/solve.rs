@@ -222,15 +222,15 @@ pub(super) fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usi
 /// (sequential collisions: a ball resting on a ball dropped on the floor leaves at about 2v, the
 /// last of a line of balls with the first one's speed), each pass keeping what its restitution
 /// keeps.
-fn apart(m: &Model, con: &constraint::ConstraintData, j: usize) -> bool {
+/// `impact`: [`constraint::impact_speed`].
+fn apart(m: &Model, con: &constraint::ConstraintData, j: usize, impact: f64) -> bool {
     let r = match con.kind[j] {
         RowKind::Tangent { normal } => normal,
         RowKind::Normal | RowKind::Limit => j,
         RowKind::Motion { .. } => return false,
     };
-    let (h, lever) = (m.opt.timestep, m.opt.lever());
-    let impact = constraint::impact_speed(h, m.opt.gravity.length());
-    !approaching(con.vel[r], con.dist[r], con.vel[r] + h * con.b[r], lever, impact)
+    let h = m.opt.timestep;
+    !approaching(con.vel[r], con.dist[r], con.vel[r] + h * con.b[r], m.opt.lever(), impact)
 }
 
 /// M from K and the friction and bound couplings; solves into `data.force`, from the warm set in
@@ -250,8 +250,9 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: 
     // Rows whose K column is not computed are left out already and read only as rows
     let done = &con.column_done;
     let k_max = (0..nr).filter(|&j| done[j]).map(|j| con.k[j * nr + j]).fold(0.0, f64::max);
+    let impact = constraint::impact_speed(h, m.opt.gravity.length());
     for j in 0..nr {
-        if (done[j] && con.k[j * nr + j] <= INERT_ROW * k_max) || (level == Level::Velocity && apart(m, con, j)) {
+        if (done[j] && con.k[j * nr + j] <= INERT_ROW * k_max) || (level == Level::Velocity && apart(m, con, j, impact)) {
             mm[j * n + j] = 1.0;
             q[j] = 0.0;
             data.lcp_role[j] = lcp::Role::Normal;
