@@ -16,6 +16,8 @@ struct Geom {
     pos: DVec3,
     /// World axes, transposed: world → geom frame.
     rot_t: DMat3,
+    /// World axes: geom frame → world.
+    rot: DMat3,
     /// Bounding radius (∞ for planes).
     rbound: f64,
     rgb: DVec3,
@@ -23,6 +25,8 @@ struct Geom {
     specular: f64,
     /// Phong exponent.
     exponent: f64,
+    /// The exponent when it is a small integer (the usual case): powers by squaring.
+    exponent_int: Option<u32>,
     /// Below this n·h the specular term is under half a grey level: skipped.
     spec_cut: f64,
     reflectance: f64,
@@ -40,6 +44,8 @@ struct Tex {
     rgb2: DVec3,
     /// Repeats per metre along the texture's two axes.
     scale: [f64; 2],
+    /// A 2D texture's axes in world, times `scale`: its coordinates are (p − pos)·axes.
+    axes: [DVec3; 2],
 }
 
 /// Geoms binned by the screen tiles (`TILE` pixels square, row-major) they may cover.
@@ -63,9 +69,18 @@ struct Mirror {
     eye: DVec3,
 }
 
-/// A light in world.
-struct Light {
-    directional: bool,
+/// A directional light in world (the headlight is one).
+struct DirLight {
+    /// Unit direction towards the light.
+    to_light: DVec3,
+    diffuse: DVec3,
+    specular: DVec3,
+    /// The solids as seen along the light, when it casts shadows.
+    shadows: Option<ShadowGrid>,
+}
+
+/// A point or spot light in world.
+struct SpotLight {
     pos: DVec3,
     dir: DVec3,
     ambient: DVec3,
@@ -75,8 +90,6 @@ struct Light {
     cos_cutoff: f64,
     exponent: f64,
     castshadow: bool,
-    /// For a directional light that casts shadows, the solids as seen along it.
-    grid: Option<ShadowGrid>,
 }
 
 /// A solid seen along a light: centre (u, v) in the plane ⊥ the light, squared bounding radius,
@@ -163,7 +176,10 @@ pub(super) struct Scene {
     tiles_x: usize,
     /// Geoms that can block light or be reflected (all but planes).
     solids: Vec<u32>,
-    lights: Vec<Light>,
+    /// The directional lights' summed ambient colour (it does not depend on the surface).
+    ambient: DVec3,
+    directional: Vec<DirLight>,
+    spots: Vec<SpotLight>,
     /// Sky colour below (rgb2) and above (rgb1), or black.
     sky: Option<(Builtin, DVec3, DVec3)>,
     /// Offset of shadow and reflection rays off the surface.
@@ -192,59 +208,51 @@ impl Scene {
                     TextureKind::TwoD => [mt.texrepeat[0] / span(0), mt.texrepeat[1] / span(1)],
                     _ => [mt.texrepeat[0], mt.texrepeat[1]],
                 };
-                Some(Tex { kind: t.kind, builtin: t.builtin, rgb1: t.rgb1, rgb2: t.rgb2, scale })
+                Some(Tex { kind: t.kind, builtin: t.builtin, rgb1: t.rgb1, rgb2: t.rgb2, scale, axes: [rot.x_axis * scale[0], rot.y_axis * scale[1]] })
             });
             geoms.push(Geom {
                 kind: m.geom_type[g],
                 size: m.geom_size[g],
                 pos,
                 rot_t,
+                rot,
                 rbound: m.geom_rbound[g],
                 rgb: DVec3::new(rgba[0], rgba[1], rgba[2]),
                 emission: mat.map_or(0.0, |mt| mt.emission),
                 specular: mat.map_or(0.5, |mt| mt.specular),
                 exponent,
+                exponent_int: (exponent == exponent.trunc() && (0.0..=1024.0).contains(&exponent)).then_some(exponent as u32),
                 spec_cut: if exponent > 0.0 { (1.0_f64 / 512.0).powf(1.0 / exponent) } else { 0.0 },
                 reflectance: mat.map_or(0.0, |mt| mt.reflectance),
                 mirror: None,
                 texture,
             });
         }
-        let mut all_lights = Vec::with_capacity(lights.len() + 1);
+        let solids: Vec<u32> = (0..m.ngeom as u32).filter(|&g| geoms[g as usize].rbound.is_finite()).collect();
+        let (mut ambient, mut directional, mut spots) = (DVec3::ZERO, vec![], vec![]);
         if v.head_active {
-            all_lights.push(Light {
-                directional: true,
-                pos: view.pos,
-                dir: view.forward,
-                ambient: v.head_ambient,
-                diffuse: v.head_diffuse,
-                specular: v.head_specular,
-                attenuation: [1.0, 0.0, 0.0],
-                cos_cutoff: -1.0,
-                exponent: 0.0,
-                castshadow: false,
-                grid: None,
-            });
+            ambient += v.head_ambient;
+            directional.push(DirLight { to_light: -view.forward, diffuse: v.head_diffuse, specular: v.head_specular, shadows: None });
         }
         for &(i, pos, dir) in lights {
             let l = &v.lights[i];
-            all_lights.push(Light {
-                directional: l.directional,
-                pos,
-                dir,
-                ambient: l.ambient,
-                diffuse: l.diffuse,
-                specular: l.specular,
-                attenuation: l.attenuation,
-                cos_cutoff: l.cos_cutoff,
-                exponent: l.exponent,
-                castshadow: l.castshadow,
-                grid: None,
-            });
-        }
-        let solids: Vec<u32> = (0..m.ngeom as u32).filter(|&g| geoms[g as usize].rbound.is_finite()).collect();
-        for l in all_lights.iter_mut().filter(|l| l.directional && l.castshadow) {
-            l.grid = ShadowGrid::new(l.dir, &geoms, &solids);
+            if l.directional {
+                ambient += l.ambient;
+                let shadows = if l.castshadow { ShadowGrid::new(dir, &geoms, &solids) } else { None };
+                directional.push(DirLight { to_light: -dir, diffuse: l.diffuse, specular: l.specular, shadows });
+            } else {
+                spots.push(SpotLight {
+                    pos,
+                    dir,
+                    ambient: l.ambient,
+                    diffuse: l.diffuse,
+                    specular: l.specular,
+                    attenuation: l.attenuation,
+                    cos_cutoff: l.cos_cutoff,
+                    exponent: l.exponent,
+                    castshadow: l.castshadow,
+                });
+            }
         }
         let sky = v.skybox.map(|i| {
             let t = &v.textures[i];
@@ -265,7 +273,9 @@ impl Scene {
             eyes,
             mirrors: vec![],
             tiles_x,
-            lights: all_lights,
+            ambient,
+            directional,
+            spots,
             sky,
             eps: 1e-6 * extent,
         };
@@ -358,7 +368,7 @@ impl Scene {
                 if want_rgb {
                     let rgb = match hit {
                         Some((g, t, n)) => self.shade(g, self.view.pos, d, t, n, Some((y / TILE) * self.tiles_x + tile)),
-                        None => self.sky(d.normalize()),
+                        None => self.sky(d),
                     };
                     for c in 0..3 {
                         out.rgb[3 * k + c] = (rgb[c].clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
@@ -396,24 +406,27 @@ impl Scene {
                 best = Some((g as usize, t, n));
             }
         }
-        best.map(|(g, t, n)| (g, t, self.geoms[g].rot_t.transpose() * n))
+        best.map(|(g, t, n)| (g, t, self.geoms[g].rot * n))
     }
 
-    /// Whether anything solid lies on the segment from `p` along unit `l` (towards `light`) up to
-    /// `t1`.
-    fn blocked(&self, light: &Light, p: DVec3, l: DVec3, t1: f64) -> bool {
-        let hits = |g: u32| {
-            let geom = &self.geoms[g as usize];
-            intersect(geom.kind, &geom.size, geom.rot_t * (p - geom.pos), geom.rot_t * l, 0.0, t1).is_some()
-        };
-        if light.directional {
-            let Some(grid) = &light.grid else { return false };
-            let (u, v, discs) = grid.at(p);
-            return discs.iter().any(|&(cu, cv, r2, g)| (u - cu) * (u - cu) + (v - cv) * (v - cv) <= r2 && hits(g));
-        }
+    /// Whether geom `g` lies on the segment from `p` along `l` up to `t1`.
+    #[inline]
+    fn meets(&self, g: u32, p: DVec3, l: DVec3, t1: f64) -> bool {
+        let geom = &self.geoms[g as usize];
+        intersect(geom.kind, &geom.size, geom.rot_t * (p - geom.pos), geom.rot_t * l, 0.0, t1).is_some()
+    }
+
+    /// Whether anything solid lies between `p` and a directional light whose solids `grid` holds.
+    fn shadowed(&self, grid: &ShadowGrid, p: DVec3, to_light: DVec3) -> bool {
+        let (u, v, discs) = grid.at(p);
+        discs.iter().any(|&(cu, cv, r2, g)| (u - cu) * (u - cu) + (v - cv) * (v - cv) <= r2 && self.meets(g, p, to_light, f64::INFINITY))
+    }
+
+    /// Whether anything solid lies on the segment from `p` along unit `l` up to `t1`.
+    fn blocked(&self, p: DVec3, l: DVec3, t1: f64) -> bool {
         self.solids.iter().any(|&g| {
             let geom = &self.geoms[g as usize];
-            meets_sphere(geom.pos, geom.rbound, p, l, 0.0, t1) && hits(g)
+            meets_sphere(geom.pos, geom.rbound, p, l, 0.0, t1) && self.meets(g, p, l, t1)
         })
     }
 
@@ -423,45 +436,51 @@ impl Scene {
         let direct = tile.is_some();
         let geom = &self.geoms[g];
         let p = o + t * d;
-        let n = if n.dot(d) > 0.0 { -n } else { n };
-        let d_eye = d;
-        let d = d.normalize();
-        let base = geom.rgb * geom.texture.map_or(DVec3::ONE, |tex| texel(&tex, geom.rot_t * (p - geom.pos), || geom.rot_t * n));
-        let view = -d;
-        let mut c = geom.emission * base;
+        let view = -d / d.length();
+        let n = if n.dot(view) < 0.0 { -n } else { n };
+        let base = match &geom.texture {
+            None => geom.rgb,
+            Some(tex) => geom.rgb * texel(tex, p - geom.pos, || geom.rot_t * (p - geom.pos), || geom.rot_t * n),
+        };
+        let mut c = geom.emission * base + self.ambient * base;
         let lifted = p + self.eps * n;
-        for l in &self.lights {
-            let (to_light, dist) = if l.directional { (-l.dir, f64::INFINITY) } else {
-                let v = l.pos - p;
-                let dist = v.length();
-                (v / dist, dist)
-            };
-            let mut k = 1.0;
-            if !l.directional {
-                let [a0, a1, a2] = l.attenuation;
-                k /= (a0 + a1 * dist + a2 * dist * dist).max(1e-12);
-                let cos = -to_light.dot(l.dir);
-                k *= if cos < l.cos_cutoff { 0.0 } else { cos.max(0.0).powf(l.exponent) };
+        let specular = |to_light: DVec3| {
+            // n·h > cut, h = (l + v) / |l + v|, tested without the square root
+            let h = to_light + view;
+            let nh = n.dot(h);
+            if geom.specular > 0.0 && nh > 0.0 && nh * nh > geom.spec_cut * geom.spec_cut * h.length_squared() {
+                geom.specular * phong(nh / h.length(), geom.exponent, geom.exponent_int)
+            } else {
+                0.0
             }
+        };
+        for l in &self.directional {
+            let ndl = n.dot(l.to_light);
+            if ndl <= 0.0 || (direct && l.shadows.as_ref().is_some_and(|grid| self.shadowed(grid, lifted, l.to_light))) {
+                continue;
+            }
+            c += ndl * l.diffuse * base + specular(l.to_light) * l.specular;
+        }
+        for l in &self.spots {
+            let v = l.pos - p;
+            let dist = v.length();
+            let to_light = v / dist;
+            let [a0, a1, a2] = l.attenuation;
+            let cos = -to_light.dot(l.dir);
+            let k = if cos < l.cos_cutoff { 0.0 } else { cos.max(0.0).powf(l.exponent) } / (a0 + a1 * dist + a2 * dist * dist).max(1e-12);
             if k == 0.0 {
                 continue;
             }
             c += k * l.ambient * base;
             let ndl = n.dot(to_light);
-            if ndl <= 0.0 || (direct && l.castshadow && self.blocked(l, lifted, to_light, dist)) {
+            if ndl <= 0.0 || (direct && l.castshadow && self.blocked(lifted, to_light, dist)) {
                 continue;
             }
-            c += k * ndl * l.diffuse * base;
-            // n·h > cut, h = (l + v) / |l + v|, tested without the square root
-            let h = to_light + view;
-            let nh = n.dot(h);
-            if geom.specular > 0.0 && nh > 0.0 && nh * nh > geom.spec_cut * geom.spec_cut * h.length_squared() {
-                c += k * geom.specular * phong(nh / h.length(), geom.exponent) * l.specular;
-            }
+            c += k * (ndl * l.diffuse * base + specular(to_light) * l.specular);
         }
         if let (Some(tile), Some(mi)) = (tile, geom.mirror) {
             let mirror = &self.mirrors[mi];
-            let dm = d_eye - 2.0 * d_eye.dot(mirror.normal) * mirror.normal;
+            let dm = d - 2.0 * d.dot(mirror.normal) * mirror.normal;
             let candidates = mirror.bins.everywhere.iter().chain(&mirror.bins.tiles[tile]);
             if let Some((h, s, nr)) = self.first_hit(candidates, &mirror.eyes, dm, t * (1.0 + 1e-9), self.far) {
                 c += geom.reflectance * self.shade(h, mirror.eye, dm, s, nr, None);
@@ -470,32 +489,43 @@ impl Scene {
         c
     }
 
-    /// The skybox in direction `d`: a gradient from rgb2 straight down to rgb1 straight up.
+    /// The skybox seen along `d` (any length): a gradient from rgb2 straight down to rgb1
+    /// straight up.
     fn sky(&self, d: DVec3) -> DVec3 {
         match self.sky {
             None => DVec3::ZERO,
-            Some((Builtin::Gradient, top, bottom)) => bottom + (top - bottom) * (0.5 * (1.0 + d.z)),
+            Some((Builtin::Gradient, top, bottom)) => bottom + (top - bottom) * (0.5 * (1.0 + d.z / d.length())),
             Some((_, rgb1, _)) => rgb1,
         }
     }
 }
 
-/// x^e, by repeated multiplication for the integer exponents materials usually give.
+/// x^e, by squaring for the integer exponents materials usually give.
 #[inline]
-fn phong(x: f64, e: f64) -> f64 {
-    if e == e.trunc() && e <= 1024.0 { x.powi(e as i32) } else { x.powf(e) }
+fn phong(x: f64, e: f64, int: Option<u32>) -> f64 {
+    let Some(mut k) = int else { return x.powf(e) };
+    let (mut acc, mut sq) = (1.0, x);
+    while k > 0 {
+        if k & 1 == 1 {
+            acc *= sq;
+        }
+        sq *= sq;
+        k >>= 1;
+    }
+    acc
 }
 
-/// Texture colour at local point `p` with local normal `n`: 2D textures tile the geom's xy plane,
-/// cube textures are projected along the normal's dominant axis.
-fn texel(t: &Tex, p: DVec3, n: impl Fn() -> DVec3) -> DVec3 {
+/// Texture colour at world offset `r` from the geom's centre; cube textures, projected along the
+/// normal's dominant axis, need the local point and normal.
+#[inline]
+fn texel(t: &Tex, r: DVec3, local_p: impl Fn() -> DVec3, local_n: impl Fn() -> DVec3) -> DVec3 {
     if t.builtin == Builtin::Flat {
         return t.rgb1;
     }
     let (u, v) = match t.kind {
-        TextureKind::TwoD => (p.x * t.scale[0], p.y * t.scale[1]),
+        TextureKind::TwoD => (r.dot(t.axes[0]), r.dot(t.axes[1])),
         _ => {
-            let a = n().abs();
+            let (p, a) = (local_p(), local_n().abs());
             let (u, v) = if a.x >= a.y && a.x >= a.z { (p.y, p.z) } else if a.y >= a.z { (p.x, p.z) } else { (p.x, p.y) };
             (u * t.scale[0], v * t.scale[1])
         }
@@ -505,9 +535,16 @@ fn texel(t: &Tex, p: DVec3, n: impl Fn() -> DVec3) -> DVec3 {
         Builtin::Flat => t.rgb1,
         Builtin::Checker => {
             // one repeat holds 2 × 2 checks, rgb2 on the diagonal through the origin
-            let odd = ((2.0 * u).floor() as i64 + (2.0 * v).floor() as i64) & 1 == 1;
+            let odd = (floor(2.0 * u) + floor(2.0 * v)) & 1 == 1;
             if odd { t.rgb1 } else { t.rgb2 }
         }
-        Builtin::Gradient => t.rgb2 + (t.rgb1 - t.rgb2) * (v - v.floor()),
+        Builtin::Gradient => t.rgb2 + (t.rgb1 - t.rgb2) * (v - floor(v) as f64),
     }
+}
+
+/// ⌊x⌋ for |x| < 2⁶³ without a libm call (SSE2 has no rounding instruction).
+#[inline]
+fn floor(x: f64) -> i64 {
+    let i = x as i64;
+    i - (x < i as f64) as i64
 }
