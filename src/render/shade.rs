@@ -2,7 +2,7 @@
 //! rays, and MuJoCo's lighting (OpenGL's fixed-function model: per light ambient + diffuse
 //! max(n·l, 0) + specular max(n·h, 0)^(128 · shininess), times attenuation and the spot factor).
 
-use glam::{DMat3, DVec3};
+use glam::{DVec3, Mat3A, Vec3A};
 
 use super::raycast::{intersect, meets_sphere, plane};
 use super::{Frame, Poses, View, TILE};
@@ -12,24 +12,24 @@ use crate::model::{GeomType, Model};
 /// A geom as one frame sees it.
 struct Geom {
     kind: GeomType,
-    size: [f64; 3],
-    pos: DVec3,
+    size: [f32; 3],
+    pos: Vec3A,
     /// World axes, transposed: world → geom frame.
-    rot_t: DMat3,
+    rot_t: Mat3A,
     /// World axes: geom frame → world.
-    rot: DMat3,
+    rot: Mat3A,
     /// Bounding radius (∞ for planes).
-    rbound: f64,
-    rgb: DVec3,
-    emission: f64,
-    specular: f64,
+    rbound: f32,
+    rgb: Vec3A,
+    emission: f32,
+    specular: f32,
     /// Phong exponent.
-    exponent: f64,
+    exponent: f32,
     /// The exponent when it is a small integer (the usual case): powers by squaring.
     exponent_int: Option<u32>,
     /// Below this n·h the specular term is under half a grey level: skipped.
-    spec_cut: f64,
-    reflectance: f64,
+    spec_cut: f32,
+    reflectance: f32,
     /// Index into `Scene::mirrors` of a plane that reflects.
     mirror: Option<usize>,
     /// Texture colours and the repeat scale of local coordinates, when textured.
@@ -40,12 +40,12 @@ struct Geom {
 struct Tex {
     kind: TextureKind,
     builtin: Builtin,
-    rgb1: DVec3,
-    rgb2: DVec3,
+    rgb1: Vec3A,
+    rgb2: Vec3A,
     /// Repeats per metre along the texture's two axes.
-    scale: [f64; 2],
+    scale: [f32; 2],
     /// A 2D texture's axes in world, times `scale`: its coordinates are (p − pos)·axes.
-    axes: [DVec3; 2],
+    axes: [Vec3A; 2],
 }
 
 /// Geoms binned by the screen tiles (`TILE` pixels square, row-major) they may cover.
@@ -54,6 +54,51 @@ struct Bins {
     everywhere: Vec<u32>,
     /// Each tile's geoms.
     tiles: Vec<Vec<u32>>,
+    /// The binned geoms' bounding spheres (geom, centre, radius), wholly beyond the near plane.
+    spheres: Vec<(u32, Vec3A, f32)>,
+}
+
+impl Bins {
+    /// Each binned geom's columns `[x0, x1]` whose rays in a row may meet its bounding sphere,
+    /// into `spans` (by geom): the row's rays are `d0 + x step` for column x. A ray meets the
+    /// sphere (c, r) when r²|d|² ≥ |c × d|², a quadratic in x (all rays look forward, and the
+    /// sphere lies beyond the near plane, so that is one interval).
+    fn spans(&self, d0: Vec3A, step: Vec3A, spans: &mut [(i32, i32)]) {
+        let (bb, bs, ss) = (d0.length_squared(), d0.dot(step), step.length_squared());
+        for &(g, c, r) in &self.spheres {
+            let (cb, cs) = (c.cross(d0), c.cross(step));
+            let r2 = r * r;
+            // a x² + 2 b x + cc ≥ 0
+            let (a, b, cc) = (r2 * ss - cs.length_squared(), r2 * bs - cb.dot(cs), r2 * bb - cb.length_squared());
+            let disc = b * b - a * cc;
+            spans[g as usize] = if a >= 0.0 {
+                (i32::MIN, i32::MAX) // not an ellipse in single precision: every column
+            } else if disc < 0.0 {
+                (1, 0) // none
+            } else {
+                // a < 0: between the roots (−b ± √disc) / a, widened by a column for rounding
+                let (x0, x1) = ((-b + disc.sqrt()) / a, (-b - disc.sqrt()) / a);
+                (x0.max(-1.0) as i32 - 1, x1.min(1e9) as i32 + 1)
+            };
+        }
+    }
+}
+
+/// Where a ray is cast from: its screen tile and column, and the columns of the row that may
+/// see each geom (`Bins::spans`) of the bins it is tested against.
+#[derive(Clone, Copy)]
+struct Pixel<'a> {
+    tile: usize,
+    x: i32,
+    spans: &'a [(i32, i32)],
+}
+
+/// A pixel seen directly: its tile and column, and each mirror's spans in its row.
+#[derive(Clone, Copy)]
+struct Direct<'a> {
+    tile: usize,
+    x: i32,
+    mirror_spans: &'a [Vec<(i32, i32)>],
 }
 
 /// What a mirroring plane shows: the scene seen from the eye's mirror image. The reflected ray
@@ -62,94 +107,139 @@ struct Mirror {
     /// The solids whose mirrored bounding spheres may cover each screen tile.
     bins: Bins,
     /// The mirrored eye in each geom's frame (ngeom; planes unused).
-    eyes: Vec<DVec3>,
+    eyes: Vec<Vec3A>,
     /// Mirror image of a direction: d − 2 (d·n) n.
-    normal: DVec3,
+    normal: Vec3A,
     /// The mirrored eye in world.
-    eye: DVec3,
+    eye: Vec3A,
+}
+
+/// The camera's axes in world.
+#[derive(Clone, Copy)]
+struct Axes {
+    forward: Vec3A,
+    up: Vec3A,
+    right: Vec3A,
 }
 
 /// A directional light in world (the headlight is one).
 struct DirLight {
     /// Unit direction towards the light.
-    to_light: DVec3,
-    diffuse: DVec3,
-    specular: DVec3,
+    to_light: Vec3A,
+    diffuse: Vec3A,
+    specular: Vec3A,
     /// The solids as seen along the light, when it casts shadows.
     shadows: Option<ShadowGrid>,
 }
 
 /// A point or spot light in world.
 struct SpotLight {
-    pos: DVec3,
-    dir: DVec3,
-    ambient: DVec3,
-    diffuse: DVec3,
-    specular: DVec3,
-    attenuation: [f64; 3],
-    cos_cutoff: f64,
-    exponent: f64,
+    pos: Vec3A,
+    dir: Vec3A,
+    ambient: Vec3A,
+    diffuse: Vec3A,
+    specular: Vec3A,
+    attenuation: [f32; 3],
+    cos_cutoff: f32,
+    exponent: f32,
     castshadow: bool,
 }
 
-/// A solid seen along a light: centre (u, v) in the plane ⊥ the light, squared bounding radius,
-/// geom.
-type Disc = (f64, f64, f64, u32);
+/// A solid's outline seen along a light, in the plane ⊥ the light: the points within `r` of the
+/// segment `centre ± axis`. A capsule's or cylinder's outline lies within its axis's stadium;
+/// any other solid's within its bounding sphere's disc (a zero axis).
+#[derive(Clone, Copy)]
+struct Outline {
+    centre: (f32, f32),
+    axis: (f32, f32),
+    /// 1 / |axis|², or 0 for a disc.
+    inv_len2: f32,
+    r2: f32,
+    geom: u32,
+}
 
-/// The solids seen along a directional light: each bounding sphere is a disc in a plane ⊥ the
-/// light, and a shadow ray from p can meet the solid only if p's projection lies in its disc.
-/// The discs are binned in a uniform grid over that plane.
+impl Outline {
+    fn new(geom: &Geom, g: u32, (e1, e2): (Vec3A, Vec3A)) -> (Outline, f32) {
+        let centre = (geom.pos.dot(e1), geom.pos.dot(e2));
+        let (axis, r) = match geom.kind {
+            GeomType::Capsule | GeomType::Cylinder => {
+                let a = geom.rot.z_axis * geom.size[1];
+                ((a.dot(e1), a.dot(e2)), geom.size[0])
+            }
+            _ => ((0.0, 0.0), geom.rbound),
+        };
+        let len2 = axis.0 * axis.0 + axis.1 * axis.1;
+        let inv_len2 = if len2 > 0.0 { 1.0 / len2 } else { 0.0 };
+        (Outline { centre, axis, inv_len2, r2: r * r, geom: g }, r + len2.sqrt())
+    }
+
+    /// Whether (u, v) lies in the outline.
+    #[inline]
+    fn holds(&self, u: f32, v: f32) -> bool {
+        let (du, dv) = (u - self.centre.0, v - self.centre.1);
+        let s = ((du * self.axis.0 + dv * self.axis.1) * self.inv_len2).clamp(-1.0, 1.0);
+        let (eu, ev) = (du - s * self.axis.0, dv - s * self.axis.1);
+        eu * eu + ev * ev <= self.r2
+    }
+}
+
+/// The solids seen along a directional light: a shadow ray from p can meet a solid only if p's
+/// projection lies in its outline. The outlines are binned in a uniform grid over the plane ⊥
+/// the light.
 struct ShadowGrid {
     /// The plane's axes.
-    axes: (DVec3, DVec3),
-    /// Lower corner (u, v) of the grid and its cell size.
-    lo: (f64, f64),
-    cell: f64,
+    axes: (Vec3A, Vec3A),
+    /// Lower corner (u, v) of the grid and the inverse of its cell size.
+    lo: (f32, f32),
+    inv_cell: f32,
     nu: usize,
     nv: usize,
-    /// Each cell's discs: centre (u, v), squared radius, geom.
-    cells: Vec<Vec<Disc>>,
+    /// Each cell's outlines.
+    cells: Vec<Vec<Outline>>,
 }
 
 impl ShadowGrid {
-    fn new(dir: DVec3, geoms: &[Geom], solids: &[u32]) -> Option<ShadowGrid> {
+    fn new(dir: Vec3A, geoms: &[Geom], solids: &[u32]) -> Option<ShadowGrid> {
         if solids.is_empty() {
             return None;
         }
         let e1 = dir.any_orthonormal_vector();
         let e2 = dir.cross(e1);
-        let discs: Vec<Disc> =
-            solids.iter().map(|&g| (geoms[g as usize].pos.dot(e1), geoms[g as usize].pos.dot(e2), geoms[g as usize].rbound, g)).collect();
-        let (mut lo, mut hi) = ((f64::INFINITY, f64::INFINITY), (f64::NEG_INFINITY, f64::NEG_INFINITY));
-        for &(u, v, r, _) in &discs {
+        // each outline and the radius of a disc holding it
+        let outlines: Vec<(Outline, f32)> = solids.iter().map(|&g| Outline::new(&geoms[g as usize], g, (e1, e2))).collect();
+        let (mut lo, mut hi) = ((f32::INFINITY, f32::INFINITY), (f32::NEG_INFINITY, f32::NEG_INFINITY));
+        for &(o, r) in &outlines {
+            let (u, v) = o.centre;
             lo = (lo.0.min(u - r), lo.1.min(v - r));
             hi = (hi.0.max(u + r), hi.1.max(v + r));
         }
         // about 32 cells along the longer side
         let cell = ((hi.0 - lo.0).max(hi.1 - lo.1) / 32.0).max(1e-9);
         let (nu, nv) = ((((hi.0 - lo.0) / cell) as usize + 1).min(64), (((hi.1 - lo.1) / cell) as usize + 1).min(64));
-        let cell = cell.max((hi.0 - lo.0) / nu as f64).max((hi.1 - lo.1) / nv as f64);
+        let cell = cell.max((hi.0 - lo.0) / nu as f32).max((hi.1 - lo.1) / nv as f32);
+        let inv_cell = 1.0 / cell;
         let mut cells = vec![vec![]; nu * nv];
-        for &(u, v, r, g) in &discs {
-            let i0 = (((u - r - lo.0) / cell) as usize).min(nu - 1);
-            let i1 = (((u + r - lo.0) / cell) as usize).min(nu - 1);
-            let j0 = (((v - r - lo.1) / cell) as usize).min(nv - 1);
-            let j1 = (((v + r - lo.1) / cell) as usize).min(nv - 1);
+        for &(o, r) in &outlines {
+            let (u, v) = o.centre;
+            let i0 = (((u - r - lo.0) * inv_cell) as usize).min(nu - 1);
+            let i1 = (((u + r - lo.0) * inv_cell) as usize).min(nu - 1);
+            let j0 = (((v - r - lo.1) * inv_cell) as usize).min(nv - 1);
+            let j1 = (((v + r - lo.1) * inv_cell) as usize).min(nv - 1);
             for j in j0..=j1 {
                 for i in i0..=i1 {
-                    cells[j * nu + i].push((u, v, r * r, g));
+                    cells[j * nu + i].push(o);
                 }
             }
         }
-        Some(ShadowGrid { axes: (e1, e2), lo, cell, nu, nv, cells })
+        Some(ShadowGrid { axes: (e1, e2), lo, inv_cell, nu, nv, cells })
     }
 
-    /// The discs that may hold p's projection.
+    /// p's projection and the outlines that may hold it.
     #[inline]
-    fn at(&self, p: DVec3) -> (f64, f64, &[Disc]) {
+    fn at(&self, p: Vec3A) -> (f32, f32, &[Outline]) {
         let (u, v) = (p.dot(self.axes.0), p.dot(self.axes.1));
-        let (fu, fv) = ((u - self.lo.0) / self.cell, (v - self.lo.1) / self.cell);
-        if !(fu >= 0.0 && fv >= 0.0 && fu < self.nu as f64 && fv < self.nv as f64) {
+        let (fu, fv) = ((u - self.lo.0) * self.inv_cell, (v - self.lo.1) * self.inv_cell);
+        if !(fu >= 0.0 && fv >= 0.0 && fu < self.nu as f32 && fv < self.nv as f32) {
             return (u, v, &[]);
         }
         (u, v, &self.cells[fv as usize * self.nu + fu as usize])
@@ -158,18 +248,19 @@ impl ShadowGrid {
 
 /// Everything one frame's pixels read.
 pub(super) struct Scene {
-    view: View,
+    /// The camera's axes; the eye is the origin of everything below.
+    view: Axes,
     width: usize,
     height: usize,
     /// tan(fovy / 2).
-    tan_half: f64,
-    near: f64,
-    far: f64,
+    tan_half: f32,
+    near: f32,
+    far: f32,
     geoms: Vec<Geom>,
     /// The geoms each screen tile may show.
     primary: Bins,
     /// The eye in each geom's frame.
-    eyes: Vec<DVec3>,
+    eyes: Vec<Vec3A>,
     /// Each mirroring plane's reflection (`Geom::mirror`).
     mirrors: Vec<Mirror>,
     /// Tiles per image row.
@@ -177,27 +268,27 @@ pub(super) struct Scene {
     /// Geoms that can block light or be reflected (all but planes).
     solids: Vec<u32>,
     /// The directional lights' summed ambient colour (it does not depend on the surface).
-    ambient: DVec3,
+    ambient: Vec3A,
     directional: Vec<DirLight>,
     spots: Vec<SpotLight>,
     /// Sky colour below (rgb2) and above (rgb1), or black.
-    sky: Option<(Builtin, DVec3, DVec3)>,
+    sky: Option<(Builtin, Vec3A, Vec3A)>,
     /// Offset of shadow and reflection rays off the surface.
-    eps: f64,
+    eps: f32,
 }
 
 impl Scene {
+    /// The frame of `view` of a world at `poses`, with `lights` (index, position, direction) on.
+    /// Everything is stored relative to the eye, in single precision.
     pub(super) fn new(m: &Model, poses: &Poses, view: &View, lights: &[(usize, DVec3, DVec3)], extent: f64, width: usize, height: usize) -> Scene {
         let v = &m.vis;
+        let f = |x: DVec3| x.as_vec3a();
         let mut geoms = Vec::with_capacity(m.ngeom);
         for g in 0..m.ngeom {
-            let b = m.geom_body[g];
-            let rot = poses.xmat(b) * m.geom_mat[g];
-            let pos = poses.geom_xpos(m, g);
-            let rot_t = rot.transpose();
+            let rot = poses.xmat(m.geom_body[g]) * m.geom_mat[g];
             let rgba = v.geom_rgba[g];
             let mat = v.geom_material[g].map(|i| &v.materials[i]);
-            let exponent = 128.0 * mat.map_or(0.5, |mt| mt.shininess);
+            let exponent = 128.0 * mat.map_or(0.5, |mt| mt.shininess) as f32;
             let texture = mat.and_then(|mt| {
                 let t = &v.textures[mt.texture?];
                 // MuJoCo: a 2D texture spans a plane's extent texrepeat times (per metre when
@@ -208,68 +299,71 @@ impl Scene {
                     TextureKind::TwoD => [mt.texrepeat[0] / span(0), mt.texrepeat[1] / span(1)],
                     _ => [mt.texrepeat[0], mt.texrepeat[1]],
                 };
-                Some(Tex { kind: t.kind, builtin: t.builtin, rgb1: t.rgb1, rgb2: t.rgb2, scale, axes: [rot.x_axis * scale[0], rot.y_axis * scale[1]] })
+                let axes = [f(rot.x_axis * scale[0]), f(rot.y_axis * scale[1])];
+                Some(Tex { kind: t.kind, builtin: t.builtin, rgb1: f(t.rgb1), rgb2: f(t.rgb2), scale: scale.map(|x| x as f32), axes })
             });
             geoms.push(Geom {
                 kind: m.geom_type[g],
-                size: m.geom_size[g],
-                pos,
-                rot_t,
-                rot,
-                rbound: m.geom_rbound[g],
-                rgb: DVec3::new(rgba[0], rgba[1], rgba[2]),
-                emission: mat.map_or(0.0, |mt| mt.emission),
-                specular: mat.map_or(0.5, |mt| mt.specular),
+                size: m.geom_size[g].map(|x| x as f32),
+                pos: f(poses.geom_xpos(m, g) - view.pos),
+                rot_t: rot.transpose().as_mat3().into(),
+                rot: rot.as_mat3().into(),
+                rbound: m.geom_rbound[g] as f32,
+                rgb: Vec3A::new(rgba[0] as f32, rgba[1] as f32, rgba[2] as f32),
+                emission: mat.map_or(0.0, |mt| mt.emission) as f32,
+                specular: mat.map_or(0.5, |mt| mt.specular) as f32,
                 exponent,
                 exponent_int: (exponent == exponent.trunc() && (0.0..=1024.0).contains(&exponent)).then_some(exponent as u32),
-                spec_cut: if exponent > 0.0 { (1.0_f64 / 512.0).powf(1.0 / exponent) } else { 0.0 },
-                reflectance: mat.map_or(0.0, |mt| mt.reflectance),
+                spec_cut: if exponent > 0.0 { (1.0_f32 / 512.0).powf(1.0 / exponent) } else { 0.0 },
+                reflectance: mat.map_or(0.0, |mt| mt.reflectance) as f32,
                 mirror: None,
                 texture,
             });
         }
+        let axes = Axes { forward: f(view.forward), up: f(view.up), right: f(view.right) };
         let solids: Vec<u32> = (0..m.ngeom as u32).filter(|&g| geoms[g as usize].rbound.is_finite()).collect();
-        let (mut ambient, mut directional, mut spots) = (DVec3::ZERO, vec![], vec![]);
+        let (mut ambient, mut directional, mut spots) = (Vec3A::ZERO, vec![], vec![]);
         if v.head_active {
-            ambient += v.head_ambient;
-            directional.push(DirLight { to_light: -view.forward, diffuse: v.head_diffuse, specular: v.head_specular, shadows: None });
+            ambient += f(v.head_ambient);
+            directional.push(DirLight { to_light: -axes.forward, diffuse: f(v.head_diffuse), specular: f(v.head_specular), shadows: None });
         }
         for &(i, pos, dir) in lights {
             let l = &v.lights[i];
+            let dir = f(dir);
             if l.directional {
-                ambient += l.ambient;
+                ambient += f(l.ambient);
                 let shadows = if l.castshadow { ShadowGrid::new(dir, &geoms, &solids) } else { None };
-                directional.push(DirLight { to_light: -dir, diffuse: l.diffuse, specular: l.specular, shadows });
+                directional.push(DirLight { to_light: -dir, diffuse: f(l.diffuse), specular: f(l.specular), shadows });
             } else {
                 spots.push(SpotLight {
-                    pos,
+                    pos: f(pos - view.pos),
                     dir,
-                    ambient: l.ambient,
-                    diffuse: l.diffuse,
-                    specular: l.specular,
-                    attenuation: l.attenuation,
-                    cos_cutoff: l.cos_cutoff,
-                    exponent: l.exponent,
+                    ambient: f(l.ambient),
+                    diffuse: f(l.diffuse),
+                    specular: f(l.specular),
+                    attenuation: l.attenuation.map(|x| x as f32),
+                    cos_cutoff: l.cos_cutoff as f32,
+                    exponent: l.exponent as f32,
                     castshadow: l.castshadow,
                 });
             }
         }
         let sky = v.skybox.map(|i| {
             let t = &v.textures[i];
-            (t.builtin, t.rgb1, t.rgb2)
+            (t.builtin, f(t.rgb1), f(t.rgb2))
         });
         let tiles_x = width.div_ceil(TILE);
-        let eyes = geoms.iter().map(|g| g.rot_t * (view.pos - g.pos)).collect();
+        let eyes = geoms.iter().map(|g| g.rot_t * -g.pos).collect();
         let mut s = Scene {
-            view: *view,
+            view: axes,
             width,
             height,
-            tan_half: (0.5 * view.fovy.to_radians()).tan(),
-            near: v.znear * extent,
-            far: v.zfar * extent,
+            tan_half: (0.5 * view.fovy.to_radians()).tan() as f32,
+            near: (v.znear * extent) as f32,
+            far: (v.zfar * extent) as f32,
             solids,
             geoms,
-            primary: Bins { everywhere: vec![], tiles: vec![] },
+            primary: Bins { everywhere: vec![], tiles: vec![], spheres: vec![] },
             eyes,
             mirrors: vec![],
             tiles_x,
@@ -277,7 +371,7 @@ impl Scene {
             directional,
             spots,
             sky,
-            eps: 1e-6 * extent,
+            eps: (1e-5 * extent) as f32,
         };
         s.primary = s.bin(s.geoms.iter().enumerate().map(|(g, geom)| (g as u32, geom.pos, geom.rbound)));
         for p in 0..s.geoms.len() {
@@ -290,7 +384,7 @@ impl Scene {
                 (g, c - 2.0 * (c - origin).dot(normal) * normal, s.geoms[g as usize].rbound)
             });
             let bins = s.bin(mirrored);
-            let eye = s.view.pos - 2.0 * (s.view.pos - origin).dot(normal) * normal;
+            let eye = 2.0 * origin.dot(normal) * normal;
             let eyes = s.geoms.iter().map(|g| g.rot_t * (eye - g.pos)).collect();
             s.geoms[p].mirror = Some(s.mirrors.len());
             s.mirrors.push(Mirror { bins, eyes, normal, eye });
@@ -300,17 +394,17 @@ impl Scene {
 
     /// The geoms whose bounding spheres (`g`, centre, radius) can cover each screen tile: the
     /// ones that may cover any pixel, and each tile's list.
-    fn bin(&self, spheres: impl Iterator<Item = (u32, DVec3, f64)>) -> Bins {
-        let aspect = self.width as f64 / self.height as f64;
+    fn bin(&self, spheres: impl Iterator<Item = (u32, Vec3A, f32)>) -> Bins {
+        let aspect = self.width as f32 / self.height as f32;
         let (sx, sy) = (self.tan_half * aspect, self.tan_half);
         let tiles_y = self.height.div_ceil(TILE);
-        let mut bins = Bins { everywhere: vec![], tiles: vec![vec![]; self.tiles_x * tiles_y] };
+        let mut bins = Bins { everywhere: vec![], tiles: vec![vec![]; self.tiles_x * tiles_y], spheres: vec![] };
         for (g, centre, r) in spheres {
             if !r.is_finite() {
                 bins.everywhere.push(g);
                 continue;
             }
-            let c = centre - self.view.pos;
+            let c = centre;
             let (x, y, z) = (c.dot(self.view.right), c.dot(self.view.up), c.dot(self.view.forward));
             if z + r < self.near {
                 continue; // wholly behind the near plane
@@ -320,20 +414,21 @@ impl Scene {
                 continue;
             }
             // bounds of x/z and y/z over the sphere, conservative
-            let span = |a: f64| {
+            let span = |a: f32| {
                 let lo = if a - r <= 0.0 { (a - r) / (z - r) } else { (a - r) / (z + r) };
                 let hi = if a + r >= 0.0 { (a + r) / (z - r) } else { (a + r) / (z + r) };
                 (lo, hi)
             };
             let ((x0, x1), (y0, y1)) = (span(x), span(y));
             // screen: column = (x/z / sx + 1) W / 2, row = (1 − y/z / sy) H / 2
-            let col = |u: f64| (u / sx + 1.0) * 0.5 * self.width as f64;
-            let row = |u: f64| (1.0 - u / sy) * 0.5 * self.height as f64;
+            let col = |u: f32| (u / sx + 1.0) * 0.5 * self.width as f32;
+            let row = |u: f32| (1.0 - u / sy) * 0.5 * self.height as f32;
             let (c0, c1, r0, r1) = (col(x0), col(x1), row(y1), row(y0));
-            if c1 < 0.0 || r1 < 0.0 || c0 > self.width as f64 || r0 > self.height as f64 {
+            if c1 < 0.0 || r1 < 0.0 || c0 > self.width as f32 || r0 > self.height as f32 {
                 continue;
             }
-            let clamp = |v: f64, n: usize| ((v.max(0.0) as usize) / TILE).min(n - 1);
+            bins.spheres.push((g, c, r));
+            let clamp = |v: f32, n: usize| ((v.max(0.0) as usize) / TILE).min(n - 1);
             let (tx0, tx1) = (clamp(c0, self.tiles_x), clamp(c1, self.tiles_x));
             let (ty0, ty1) = (clamp(r0, tiles_y), clamp(r1, tiles_y));
             for ty in ty0..=ty1 {
@@ -347,45 +442,60 @@ impl Scene {
 
     /// Draws rows `y0..y1` into the band `out` (its rows start at `y0`).
     pub(super) fn draw_rows(&self, y0: usize, y1: usize, out: Frame<'_>) {
-        let (w, h) = (self.width as f64, self.height as f64);
+        let (w, h) = (self.width as f32, self.height as f32);
         let want_rgb = !out.rgb.is_empty();
         let want_depth = !out.depth.is_empty();
         // z-buffer value f (z − n) / ((f − n) z) = a − b / z
         let (a, b) = (self.far / (self.far - self.near), self.far * self.near / (self.far - self.near));
         // each column's offset along `right`, so that a ray is a row's base plus a column's offset
         let (sx, sy) = (2.0 * self.tan_half * w / h / w, 2.0 * self.tan_half / h);
-        let columns: Vec<DVec3> = (0..self.width).map(|x| ((x as f64 + 0.5) * sx - self.tan_half * w / h) * self.view.right).collect();
+        let columns: Vec<Vec3A> = (0..self.width).map(|x| ((x as f32 + 0.5) * sx - self.tan_half * w / h) * self.view.right).collect();
+        let col_len2: Vec<f32> = columns.iter().map(|c| c.length_squared()).collect();
+        let mut inv_len = vec![0.0_f32; self.width];
+        let mut spans = vec![(i32::MIN, i32::MAX); self.geoms.len()];
+        let mut mirror_spans = vec![spans.clone(); self.mirrors.len()];
+        let step = sx * self.view.right;
         for y in y0..y1 {
             // unnormalised rays with unit depth along the view axis, so that t is that depth
-            let base = self.view.forward + (self.tan_half - (y as f64 + 0.5) * sy) * self.view.up;
-            let tiles = &self.primary.tiles[(y / TILE) * self.tiles_x..];
+            let base = self.view.forward + (self.tan_half - (y as f32 + 0.5) * sy) * self.view.up;
+            // 1 / |d| of the row's rays at once (base ⊥ columns), a loop the compiler vectorises
+            let base_len2 = base.length_squared();
+            for (inv, c2) in inv_len.iter_mut().zip(&col_len2) {
+                *inv = 1.0 / (base_len2 + c2).sqrt();
+            }
+            self.primary.spans(base + columns[0], step, &mut spans);
+            for (m, sp) in self.mirrors.iter().zip(&mut mirror_spans) {
+                m.bins.spans(base + columns[0], step, sp);
+            }
+            let row_tiles = (y / TILE) * self.tiles_x;
             for (x, col) in columns.iter().enumerate() {
                 let d = base + *col;
-                let tile = x / TILE;
-                let candidates = self.primary.everywhere.iter().chain(&tiles[tile]);
-                let hit = self.first_hit(candidates, &self.eyes, d, self.near, self.far);
+                let view = -d * inv_len[x];
+                let (tile, x_) = (row_tiles + x / TILE, x as i32);
+                let hit = self.first_hit(&self.primary, Pixel { tile, x: x_, spans: &spans }, &self.eyes, d, self.near, self.far);
                 let k = (y - y0) * self.width + x;
                 if want_rgb {
                     let rgb = match hit {
-                        Some((g, t, n)) => self.shade(g, self.view.pos, d, t, n, Some((y / TILE) * self.tiles_x + tile)),
-                        None => self.sky(d),
+                        Some((g, t, n)) => self.shade(g, Vec3A::ZERO, d, view, t, n, Some(Direct { tile, x: x_, mirror_spans: &mirror_spans })),
+                        None => self.sky(-view.z),
                     };
-                    for c in 0..3 {
-                        out.rgb[3 * k + c] = (rgb[c].clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
-                    }
+                    // clamped first, so the integer casts cannot saturate
+                    let v = rgb.clamp(Vec3A::ZERO, Vec3A::ONE) * 255.0 + 0.5;
+                    out.rgb[3 * k..3 * k + 3].copy_from_slice(&[v.x as i32 as u8, v.y as i32 as u8, v.z as i32 as u8]);
                 }
                 if want_depth {
-                    out.depth[k] = hit.map_or(1.0, |(_, t, _)| (a - b / t) as f32);
+                    out.depth[k] = hit.map_or(1.0, |(_, t, _)| a - b / t);
                 }
             }
         }
     }
 
-    /// The nearest hit among `candidates` in `[t0, t1)` of the ray from the point whose position
-    /// in each geom's frame `eyes` holds, along `d`: geom, ray parameter and world normal.
-    fn first_hit<'a>(&self, candidates: impl Iterator<Item = &'a u32>, eyes: &[DVec3], d: DVec3, t0: f64, mut t1: f64) -> Option<(usize, f64, DVec3)> {
+    /// The nearest hit among the geoms of `bins` that may cover pixel `at`, in `[t0, t1)` of the
+    /// ray from the point whose position in each geom's frame `eyes` holds, along `d`: geom, ray
+    /// parameter and world normal.
+    fn first_hit(&self, bins: &Bins, at: Pixel<'_>, eyes: &[Vec3A], d: Vec3A, t0: f32, mut t1: f32) -> Option<(usize, f32, Vec3A)> {
         let mut best = None;
-        for &g in candidates {
+        for &g in &bins.everywhere {
             let geom = &self.geoms[g as usize];
             let ol = eyes[g as usize];
             let dl = geom.rot_t * d;
@@ -406,37 +516,49 @@ impl Scene {
                 best = Some((g as usize, t, n));
             }
         }
+        for &g in &bins.tiles[at.tile] {
+            let (x0, x1) = at.spans[g as usize];
+            if at.x < x0 || at.x > x1 {
+                continue;
+            }
+            let geom = &self.geoms[g as usize];
+            if let Some((t, n)) = intersect(geom.kind, &geom.size, eyes[g as usize], geom.rot_t * d, t0, t1) {
+                t1 = t;
+                best = Some((g as usize, t, n));
+            }
+        }
         best.map(|(g, t, n)| (g, t, self.geoms[g].rot * n))
     }
 
     /// Whether geom `g` lies on the segment from `p` along `l` up to `t1`.
     #[inline]
-    fn meets(&self, g: u32, p: DVec3, l: DVec3, t1: f64) -> bool {
+    fn meets(&self, g: u32, p: Vec3A, l: Vec3A, t1: f32) -> bool {
         let geom = &self.geoms[g as usize];
         intersect(geom.kind, &geom.size, geom.rot_t * (p - geom.pos), geom.rot_t * l, 0.0, t1).is_some()
     }
 
-    /// Whether anything solid lies between `p` and a directional light whose solids `grid` holds.
-    fn shadowed(&self, grid: &ShadowGrid, p: DVec3, to_light: DVec3) -> bool {
-        let (u, v, discs) = grid.at(p);
-        discs.iter().any(|&(cu, cv, r2, g)| (u - cu) * (u - cu) + (v - cv) * (v - cv) <= r2 && self.meets(g, p, to_light, f64::INFINITY))
+    /// Whether a solid other than `own` lies between `p` and a directional light whose solids
+    /// `grid` holds (a convex geom does not shadow its own lit side).
+    fn shadowed(&self, grid: &ShadowGrid, own: usize, p: Vec3A, to_light: Vec3A) -> bool {
+        let (u, v, outlines) = grid.at(p);
+        outlines.iter().any(|o| o.geom as usize != own && o.holds(u, v) && self.meets(o.geom, p, to_light, f32::INFINITY))
     }
 
-    /// Whether anything solid lies on the segment from `p` along unit `l` up to `t1`.
-    fn blocked(&self, p: DVec3, l: DVec3, t1: f64) -> bool {
+    /// Whether a solid other than `own` lies on the segment from `p` along unit `l` up to `t1`.
+    fn blocked(&self, own: usize, p: Vec3A, l: Vec3A, t1: f32) -> bool {
         self.solids.iter().any(|&g| {
             let geom = &self.geoms[g as usize];
-            meets_sphere(geom.pos, geom.rbound, p, l, 0.0, t1) && self.meets(g, p, l, t1)
+            g as usize != own && meets_sphere(geom.pos, geom.rbound, p, l, 0.0, t1) && self.meets(g, p, l, t1)
         })
     }
 
-    /// Colour of geom `g` hit at `o + t d` with world normal `n`. Seen directly in screen `tile`
-    /// it gets shadows and reflections; what a mirror shows (`tile` None) does not.
-    fn shade(&self, g: usize, o: DVec3, d: DVec3, t: f64, n: DVec3, tile: Option<usize>) -> DVec3 {
-        let direct = tile.is_some();
+    /// Colour of geom `g` hit at `o + t d` with world normal `n`, `view` the unit vector back
+    /// along `d`. Seen directly (`seen`) it gets shadows and reflections; what a mirror shows does
+    /// not.
+    fn shade(&self, g: usize, o: Vec3A, d: Vec3A, view: Vec3A, t: f32, n: Vec3A, seen: Option<Direct<'_>>) -> Vec3A {
+        let direct = seen.is_some();
         let geom = &self.geoms[g];
         let p = o + t * d;
-        let view = -d / d.length();
         let n = if n.dot(view) < 0.0 { -n } else { n };
         let base = match &geom.texture {
             None => geom.rgb,
@@ -444,7 +566,7 @@ impl Scene {
         };
         let mut c = geom.emission * base + self.ambient * base;
         let lifted = p + self.eps * n;
-        let specular = |to_light: DVec3| {
+        let specular = |to_light: Vec3A| {
             // n·h > cut, h = (l + v) / |l + v|, tested without the square root
             let h = to_light + view;
             let nh = n.dot(h);
@@ -456,7 +578,7 @@ impl Scene {
         };
         for l in &self.directional {
             let ndl = n.dot(l.to_light);
-            if ndl <= 0.0 || (direct && l.shadows.as_ref().is_some_and(|grid| self.shadowed(grid, lifted, l.to_light))) {
+            if ndl <= 0.0 || (direct && l.shadows.as_ref().is_some_and(|grid| self.shadowed(grid, g, lifted, l.to_light))) {
                 continue;
             }
             c += ndl * l.diffuse * base + specular(l.to_light) * l.specular;
@@ -473,28 +595,30 @@ impl Scene {
             }
             c += k * l.ambient * base;
             let ndl = n.dot(to_light);
-            if ndl <= 0.0 || (direct && l.castshadow && self.blocked(lifted, to_light, dist)) {
+            if ndl <= 0.0 || (direct && l.castshadow && self.blocked(g, lifted, to_light, dist)) {
                 continue;
             }
             c += k * (ndl * l.diffuse * base + specular(to_light) * l.specular);
         }
-        if let (Some(tile), Some(mi)) = (tile, geom.mirror) {
+        if let (Some(at), Some(mi)) = (seen, geom.mirror) {
             let mirror = &self.mirrors[mi];
             let dm = d - 2.0 * d.dot(mirror.normal) * mirror.normal;
-            let candidates = mirror.bins.everywhere.iter().chain(&mirror.bins.tiles[tile]);
-            if let Some((h, s, nr)) = self.first_hit(candidates, &mirror.eyes, dm, t * (1.0 + 1e-9), self.far) {
-                c += geom.reflectance * self.shade(h, mirror.eye, dm, s, nr, None);
+            // the mirrored ray meets a geom where the eye's ray meets its mirror image
+            let pixel = Pixel { tile: at.tile, x: at.x, spans: &at.mirror_spans[mi] };
+            if let Some((h, s, nr)) = self.first_hit(&mirror.bins, pixel, &mirror.eyes, dm, t * (1.0 + 1e-6), self.far) {
+                let view_m = view - 2.0 * view.dot(mirror.normal) * mirror.normal;
+                c += geom.reflectance * self.shade(h, mirror.eye, dm, view_m, s, nr, None);
             }
         }
         c
     }
 
-    /// The skybox seen along `d` (any length): a gradient from rgb2 straight down to rgb1
-    /// straight up.
-    fn sky(&self, d: DVec3) -> DVec3 {
+    /// The skybox seen along a direction whose unit vector's z is `z`: a gradient from rgb2
+    /// straight down to rgb1 straight up.
+    fn sky(&self, z: f32) -> Vec3A {
         match self.sky {
-            None => DVec3::ZERO,
-            Some((Builtin::Gradient, top, bottom)) => bottom + (top - bottom) * (0.5 * (1.0 + d.z / d.length())),
+            None => Vec3A::ZERO,
+            Some((Builtin::Gradient, top, bottom)) => bottom + (top - bottom) * (0.5 * (1.0 + z)),
             Some((_, rgb1, _)) => rgb1,
         }
     }
@@ -502,7 +626,7 @@ impl Scene {
 
 /// x^e, by squaring for the integer exponents materials usually give.
 #[inline]
-fn phong(x: f64, e: f64, int: Option<u32>) -> f64 {
+fn phong(x: f32, e: f32, int: Option<u32>) -> f32 {
     let Some(mut k) = int else { return x.powf(e) };
     let (mut acc, mut sq) = (1.0, x);
     while k > 0 {
@@ -518,7 +642,7 @@ fn phong(x: f64, e: f64, int: Option<u32>) -> f64 {
 /// Texture colour at world offset `r` from the geom's centre; cube textures, projected along the
 /// normal's dominant axis, need the local point and normal.
 #[inline]
-fn texel(t: &Tex, r: DVec3, local_p: impl Fn() -> DVec3, local_n: impl Fn() -> DVec3) -> DVec3 {
+fn texel(t: &Tex, r: Vec3A, local_p: impl Fn() -> Vec3A, local_n: impl Fn() -> Vec3A) -> Vec3A {
     if t.builtin == Builtin::Flat {
         return t.rgb1;
     }
@@ -531,20 +655,20 @@ fn texel(t: &Tex, r: DVec3, local_p: impl Fn() -> DVec3, local_n: impl Fn() -> D
         }
     };
     match t.builtin {
-        Builtin::None => DVec3::ONE,
+        Builtin::None => Vec3A::ONE,
         Builtin::Flat => t.rgb1,
         Builtin::Checker => {
             // one repeat holds 2 × 2 checks, rgb2 on the diagonal through the origin
             let odd = (floor(2.0 * u) + floor(2.0 * v)) & 1 == 1;
             if odd { t.rgb1 } else { t.rgb2 }
         }
-        Builtin::Gradient => t.rgb2 + (t.rgb1 - t.rgb2) * (v - floor(v) as f64),
+        Builtin::Gradient => t.rgb2 + (t.rgb1 - t.rgb2) * (v - floor(v) as f32),
     }
 }
 
 /// ⌊x⌋ for |x| < 2⁶³ without a libm call (SSE2 has no rounding instruction).
 #[inline]
-fn floor(x: f64) -> i64 {
+fn floor(x: f32) -> i64 {
     let i = x as i64;
-    i - (x < i as f64) as i64
+    i - (x < i as f32) as i64
 }
