@@ -1,9 +1,17 @@
-//! One frame's scene and its pixels: primary rays binned by screen tile, shadow and reflection
-//! rays, and MuJoCo's lighting (OpenGL's fixed-function model: per light ambient + diffuse
-//! max(n·l, 0) + specular max(n·h, 0)^(128 · shininess), times attenuation and the spot factor).
+//! One frame's scene and its pixels: primary rays binned by screen tile (and, within a row, by
+//! the columns each bounding sphere covers), shadow and reflection rays, and MuJoCo's lighting
+//! (OpenGL's fixed-function model: per light ambient + diffuse max(n·l, 0) + specular
+//! max(n·h, 0)^(128 · shininess), times attenuation and the spot factor). A frame is kept in
+//! single precision relative to the eye, where its coordinates are small; a floor is drawn by
+//! rows (`floor`), shadows of directional lights are looked up by outline (`shadow`).
 
 use glam::{DVec3, Mat3A, Vec3A};
 
+mod floor;
+mod shadow;
+
+use floor::{Floor, FloorRow};
+use shadow::ShadowGrid;
 use super::raycast::{intersect, meets_sphere, plane};
 use super::{Frame, Poses, View, TILE};
 use crate::model::visual::{Builtin, TextureKind};
@@ -145,107 +153,6 @@ struct SpotLight {
     castshadow: bool,
 }
 
-/// A solid's outline seen along a light, in the plane ⊥ the light: the points within `r` of the
-/// segment `centre ± axis`. A capsule's or cylinder's outline lies within its axis's stadium;
-/// any other solid's within its bounding sphere's disc (a zero axis).
-#[derive(Clone, Copy)]
-struct Outline {
-    centre: (f32, f32),
-    axis: (f32, f32),
-    /// 1 / |axis|², or 0 for a disc.
-    inv_len2: f32,
-    r2: f32,
-    geom: u32,
-}
-
-impl Outline {
-    fn new(geom: &Geom, g: u32, (e1, e2): (Vec3A, Vec3A)) -> (Outline, f32) {
-        let centre = (geom.pos.dot(e1), geom.pos.dot(e2));
-        let (axis, r) = match geom.kind {
-            GeomType::Capsule | GeomType::Cylinder => {
-                let a = geom.rot.z_axis * geom.size[1];
-                ((a.dot(e1), a.dot(e2)), geom.size[0])
-            }
-            _ => ((0.0, 0.0), geom.rbound),
-        };
-        let len2 = axis.0 * axis.0 + axis.1 * axis.1;
-        let inv_len2 = if len2 > 0.0 { 1.0 / len2 } else { 0.0 };
-        (Outline { centre, axis, inv_len2, r2: r * r, geom: g }, r + len2.sqrt())
-    }
-
-    /// Whether (u, v) lies in the outline.
-    #[inline]
-    fn holds(&self, u: f32, v: f32) -> bool {
-        let (du, dv) = (u - self.centre.0, v - self.centre.1);
-        let s = ((du * self.axis.0 + dv * self.axis.1) * self.inv_len2).clamp(-1.0, 1.0);
-        let (eu, ev) = (du - s * self.axis.0, dv - s * self.axis.1);
-        eu * eu + ev * ev <= self.r2
-    }
-}
-
-/// The solids seen along a directional light: a shadow ray from p can meet a solid only if p's
-/// projection lies in its outline. The outlines are binned in a uniform grid over the plane ⊥
-/// the light.
-struct ShadowGrid {
-    /// The plane's axes.
-    axes: (Vec3A, Vec3A),
-    /// Lower corner (u, v) of the grid and the inverse of its cell size.
-    lo: (f32, f32),
-    inv_cell: f32,
-    nu: usize,
-    nv: usize,
-    /// Each cell's outlines.
-    cells: Vec<Vec<Outline>>,
-}
-
-impl ShadowGrid {
-    fn new(dir: Vec3A, geoms: &[Geom], solids: &[u32]) -> Option<ShadowGrid> {
-        if solids.is_empty() {
-            return None;
-        }
-        let e1 = dir.any_orthonormal_vector();
-        let e2 = dir.cross(e1);
-        // each outline and the radius of a disc holding it
-        let outlines: Vec<(Outline, f32)> = solids.iter().map(|&g| Outline::new(&geoms[g as usize], g, (e1, e2))).collect();
-        let (mut lo, mut hi) = ((f32::INFINITY, f32::INFINITY), (f32::NEG_INFINITY, f32::NEG_INFINITY));
-        for &(o, r) in &outlines {
-            let (u, v) = o.centre;
-            lo = (lo.0.min(u - r), lo.1.min(v - r));
-            hi = (hi.0.max(u + r), hi.1.max(v + r));
-        }
-        // about 32 cells along the longer side
-        let cell = ((hi.0 - lo.0).max(hi.1 - lo.1) / 32.0).max(1e-9);
-        let (nu, nv) = ((((hi.0 - lo.0) / cell) as usize + 1).min(64), (((hi.1 - lo.1) / cell) as usize + 1).min(64));
-        let cell = cell.max((hi.0 - lo.0) / nu as f32).max((hi.1 - lo.1) / nv as f32);
-        let inv_cell = 1.0 / cell;
-        let mut cells = vec![vec![]; nu * nv];
-        for &(o, r) in &outlines {
-            let (u, v) = o.centre;
-            let i0 = (((u - r - lo.0) * inv_cell) as usize).min(nu - 1);
-            let i1 = (((u + r - lo.0) * inv_cell) as usize).min(nu - 1);
-            let j0 = (((v - r - lo.1) * inv_cell) as usize).min(nv - 1);
-            let j1 = (((v + r - lo.1) * inv_cell) as usize).min(nv - 1);
-            for j in j0..=j1 {
-                for i in i0..=i1 {
-                    cells[j * nu + i].push(o);
-                }
-            }
-        }
-        Some(ShadowGrid { axes: (e1, e2), lo, inv_cell, nu, nv, cells })
-    }
-
-    /// p's projection and the outlines that may hold it.
-    #[inline]
-    fn at(&self, p: Vec3A) -> (f32, f32, &[Outline]) {
-        let (u, v) = (p.dot(self.axes.0), p.dot(self.axes.1));
-        let (fu, fv) = ((u - self.lo.0) * self.inv_cell, (v - self.lo.1) * self.inv_cell);
-        if !(fu >= 0.0 && fv >= 0.0 && fu < self.nu as f32 && fv < self.nv as f32) {
-            return (u, v, &[]);
-        }
-        (u, v, &self.cells[fv as usize * self.nu + fu as usize])
-    }
-}
-
 /// Everything one frame's pixels read.
 pub(super) struct Scene {
     /// The camera's axes; the eye is the origin of everything below.
@@ -263,6 +170,8 @@ pub(super) struct Scene {
     eyes: Vec<Vec3A>,
     /// Each mirroring plane's reflection (`Geom::mirror`).
     mirrors: Vec<Mirror>,
+    /// The plane drawn by rows, when one is all every pixel may see.
+    floor: Option<Floor>,
     /// Tiles per image row.
     tiles_x: usize,
     /// Geoms that can block light or be reflected (all but planes).
@@ -366,6 +275,7 @@ impl Scene {
             primary: Bins { everywhere: vec![], tiles: vec![], spheres: vec![] },
             eyes,
             mirrors: vec![],
+            floor: None,
             tiles_x,
             ambient,
             directional,
@@ -374,6 +284,9 @@ impl Scene {
             eps: (1e-5 * extent) as f32,
         };
         s.primary = s.bin(s.geoms.iter().enumerate().map(|(g, geom)| (g as u32, geom.pos, geom.rbound)));
+        if let [g] = s.primary.everywhere[..] {
+            s.floor = Floor::new(&s.geoms, g as usize);
+        }
         for p in 0..s.geoms.len() {
             if s.geoms[p].kind != GeomType::Plane || s.geoms[p].reflectance <= 0.0 {
                 continue;
@@ -454,6 +367,7 @@ impl Scene {
         let mut inv_len = vec![0.0_f32; self.width];
         let mut spans = vec![(i32::MIN, i32::MAX); self.geoms.len()];
         let mut mirror_spans = vec![spans.clone(); self.mirrors.len()];
+        let mut floor_row = FloorRow::new(if self.floor.is_some() { self.width } else { 0 }, self.directional.len());
         let step = sx * self.view.right;
         for y in y0..y1 {
             // unnormalised rays with unit depth along the view axis, so that t is that depth
@@ -467,17 +381,31 @@ impl Scene {
             for (m, sp) in self.mirrors.iter().zip(&mut mirror_spans) {
                 m.bins.spans(base + columns[0], step, sp);
             }
+            if let Some(f) = &self.floor {
+                self.floor_row(f, base + columns[0], step, &inv_len, &mut floor_row);
+            }
             let row_tiles = (y / TILE) * self.tiles_x;
             for (x, col) in columns.iter().enumerate() {
                 let d = base + *col;
                 let view = -d * inv_len[x];
                 let (tile, x_) = (row_tiles + x / TILE, x as i32);
-                let hit = self.first_hit(&self.primary, Pixel { tile, x: x_, spans: &spans }, &self.eyes, d, self.near, self.far);
+                let pixel = Pixel { tile, x: x_, spans: &spans };
+                let seen = Direct { tile, x: x_, mirror_spans: &mirror_spans };
+                // the hit (with the floor's when it is drawn by rows) and the floor's, if nearest
+                let (hit, floor) = match &self.floor {
+                    Some(f) => match self.binned_hit(&self.primary, pixel, &self.eyes, d, self.near, floor_row.t[x].min(self.far)) {
+                        Some(h) => (Some(h), None),
+                        None if floor_row.t[x] < f32::INFINITY => (Some((f.geom(), floor_row.t[x], Vec3A::ZERO)), Some(f)),
+                        None => (None, None),
+                    },
+                    None => (self.first_hit(&self.primary, pixel, &self.eyes, d, self.near, self.far), None),
+                };
                 let k = (y - y0) * self.width + x;
                 if want_rgb {
-                    let rgb = match hit {
-                        Some((g, t, n)) => self.shade(g, Vec3A::ZERO, d, view, t, n, Some(Direct { tile, x: x_, mirror_spans: &mirror_spans })),
-                        None => self.sky(-view.z),
+                    let rgb = match (hit, floor) {
+                        (Some(_), Some(f)) => self.floor_colour(f, &floor_row, x, d, view, seen),
+                        (Some(hit), None) => self.shade(hit, Vec3A::ZERO, d, view, Some(seen)),
+                        (None, _) => self.sky(-view.z),
                     };
                     // clamped first, so the integer casts cannot saturate
                     let v = rgb.clamp(Vec3A::ZERO, Vec3A::ONE) * 255.0 + 0.5;
@@ -516,6 +444,13 @@ impl Scene {
                 best = Some((g as usize, t, n));
             }
         }
+        let best = best.map(|(g, t, n)| (g, t, self.geoms[g].rot * n));
+        self.binned_hit(bins, at, eyes, d, t0, t1).or(best)
+    }
+
+    /// `first_hit` among the geoms binned by tile alone.
+    fn binned_hit(&self, bins: &Bins, at: Pixel<'_>, eyes: &[Vec3A], d: Vec3A, t0: f32, mut t1: f32) -> Option<(usize, f32, Vec3A)> {
+        let mut best = None;
         for &g in &bins.tiles[at.tile] {
             let (x0, x1) = at.spans[g as usize];
             if at.x < x0 || at.x > x1 {
@@ -537,13 +472,6 @@ impl Scene {
         intersect(geom.kind, &geom.size, geom.rot_t * (p - geom.pos), geom.rot_t * l, 0.0, t1).is_some()
     }
 
-    /// Whether a solid other than `own` lies between `p` and a directional light whose solids
-    /// `grid` holds (a convex geom does not shadow its own lit side).
-    fn shadowed(&self, grid: &ShadowGrid, own: usize, p: Vec3A, to_light: Vec3A) -> bool {
-        let (u, v, outlines) = grid.at(p);
-        outlines.iter().any(|o| o.geom as usize != own && o.holds(u, v) && self.meets(o.geom, p, to_light, f32::INFINITY))
-    }
-
     /// Whether a solid other than `own` lies on the segment from `p` along unit `l` up to `t1`.
     fn blocked(&self, own: usize, p: Vec3A, l: Vec3A, t1: f32) -> bool {
         self.solids.iter().any(|&g| {
@@ -552,11 +480,10 @@ impl Scene {
         })
     }
 
-    /// Colour of geom `g` hit at `o + t d` with world normal `n`, `view` the unit vector back
+    /// Colour of the hit (geom `g`, at `o + t d`, world normal `n`), `view` the unit vector back
     /// along `d`. Seen directly (`seen`) it gets shadows and reflections; what a mirror shows does
     /// not.
-    fn shade(&self, g: usize, o: Vec3A, d: Vec3A, view: Vec3A, t: f32, n: Vec3A, seen: Option<Direct<'_>>) -> Vec3A {
-        let direct = seen.is_some();
+    fn shade(&self, (g, t, n): (usize, f32, Vec3A), o: Vec3A, d: Vec3A, view: Vec3A, seen: Option<Direct<'_>>) -> Vec3A {
         let geom = &self.geoms[g];
         let p = o + t * d;
         let n = if n.dot(view) < 0.0 { -n } else { n };
@@ -566,23 +493,25 @@ impl Scene {
         };
         let mut c = geom.emission * base + self.ambient * base;
         let lifted = p + self.eps * n;
-        let specular = |to_light: Vec3A| {
-            // n·h > cut, h = (l + v) / |l + v|, tested without the square root
-            let h = to_light + view;
-            let nh = n.dot(h);
-            if geom.specular > 0.0 && nh > 0.0 && nh * nh > geom.spec_cut * geom.spec_cut * h.length_squared() {
-                geom.specular * phong(nh / h.length(), geom.exponent, geom.exponent_int)
-            } else {
-                0.0
-            }
-        };
         for l in &self.directional {
             let ndl = n.dot(l.to_light);
-            if ndl <= 0.0 || (direct && l.shadows.as_ref().is_some_and(|grid| self.shadowed(grid, g, lifted, l.to_light))) {
+            if ndl <= 0.0 || (seen.is_some() && l.shadows.as_ref().is_some_and(|grid| self.shadowed(grid, g, lifted, l.to_light))) {
                 continue;
             }
-            c += ndl * l.diffuse * base + specular(l.to_light) * l.specular;
+            c += ndl * l.diffuse * base + specular(geom, n, view, l.to_light) * l.specular;
         }
+        if !self.spots.is_empty() {
+            c += self.spot_lights(g, p, n, view, base, seen.is_some());
+        }
+        c + self.reflection(g, d, view, t, seen)
+    }
+
+    /// What the point and spot lights add to geom `g`'s colour `base` at `p` (normal `n`, unit
+    /// `view` towards the eye); with shadows when `direct`.
+    fn spot_lights(&self, g: usize, p: Vec3A, n: Vec3A, view: Vec3A, base: Vec3A, direct: bool) -> Vec3A {
+        let geom = &self.geoms[g];
+        let lifted = p + self.eps * n;
+        let mut c = Vec3A::ZERO;
         for l in &self.spots {
             let v = l.pos - p;
             let dist = v.length();
@@ -598,19 +527,26 @@ impl Scene {
             if ndl <= 0.0 || (direct && l.castshadow && self.blocked(g, lifted, to_light, dist)) {
                 continue;
             }
-            c += k * (ndl * l.diffuse * base + specular(to_light) * l.specular);
-        }
-        if let (Some(at), Some(mi)) = (seen, geom.mirror) {
-            let mirror = &self.mirrors[mi];
-            let dm = d - 2.0 * d.dot(mirror.normal) * mirror.normal;
-            // the mirrored ray meets a geom where the eye's ray meets its mirror image
-            let pixel = Pixel { tile: at.tile, x: at.x, spans: &at.mirror_spans[mi] };
-            if let Some((h, s, nr)) = self.first_hit(&mirror.bins, pixel, &mirror.eyes, dm, t * (1.0 + 1e-6), self.far) {
-                let view_m = view - 2.0 * view.dot(mirror.normal) * mirror.normal;
-                c += geom.reflectance * self.shade(h, mirror.eye, dm, view_m, s, nr, None);
-            }
+            c += k * (ndl * l.diffuse * base + specular(geom, n, view, to_light) * l.specular);
         }
         c
+    }
+
+    /// What geom `g`, hit at `t d`, reflects when it is a mirror seen directly.
+    fn reflection(&self, g: usize, d: Vec3A, view: Vec3A, t: f32, seen: Option<Direct<'_>>) -> Vec3A {
+        let geom = &self.geoms[g];
+        let (Some(at), Some(mi)) = (seen, geom.mirror) else { return Vec3A::ZERO };
+        let mirror = &self.mirrors[mi];
+        let dm = d - 2.0 * d.dot(mirror.normal) * mirror.normal;
+        // the mirrored ray meets a geom where the eye's ray meets its mirror image
+        let pixel = Pixel { tile: at.tile, x: at.x, spans: &at.mirror_spans[mi] };
+        match self.first_hit(&mirror.bins, pixel, &mirror.eyes, dm, t * (1.0 + 1e-6), self.far) {
+            Some(hit) => {
+                let view_m = view - 2.0 * view.dot(mirror.normal) * mirror.normal;
+                geom.reflectance * self.shade(hit, mirror.eye, dm, view_m, None)
+            }
+            None => Vec3A::ZERO,
+        }
     }
 
     /// The skybox seen along a direction whose unit vector's z is `z`: a gradient from rgb2
@@ -621,6 +557,20 @@ impl Scene {
             Some((Builtin::Gradient, top, bottom)) => bottom + (top - bottom) * (0.5 * (1.0 + z)),
             Some((_, rgb1, _)) => rgb1,
         }
+    }
+}
+
+/// Phong's specular factor of `geom` at normal `n` seen along unit `view`, lit along unit
+/// `to_light`: 0 below the cut where it is under half a grey level.
+#[inline]
+fn specular(geom: &Geom, n: Vec3A, view: Vec3A, to_light: Vec3A) -> f32 {
+    // n·h > cut, h = (l + v) / |l + v|, tested without the square root
+    let h = to_light + view;
+    let nh = n.dot(h);
+    if geom.specular > 0.0 && nh > 0.0 && nh * nh > geom.spec_cut * geom.spec_cut * h.length_squared() {
+        geom.specular * phong(nh / h.length(), geom.exponent, geom.exponent_int)
+    } else {
+        0.0
     }
 }
 
