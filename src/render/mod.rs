@@ -23,8 +23,6 @@ pub const MAX_SIDE: usize = 16384;
 /// Rows of a frame drawn as one parallel task.
 const BAND: usize = 8;
 
-/// Side of the square screen tiles geoms are binned into.
-const TILE: usize = 16;
 
 /// One world's body poses and subtree centres of mass, from its qpos.
 #[derive(Clone, Debug)]

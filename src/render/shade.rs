@@ -7,13 +7,15 @@
 
 use glam::{DVec3, Mat3A, Vec3A};
 
+mod cover;
 mod floor;
 mod shadow;
 
+use cover::{Bins, RowCover, Sphere};
 use floor::{Floor, FloorRow};
 use shadow::ShadowGrid;
 use super::raycast::{intersect, meets_sphere, plane};
-use super::{Frame, Poses, View, TILE};
+use super::{Frame, Poses, View};
 use crate::model::visual::{Builtin, TextureKind};
 use crate::model::{GeomType, Model};
 
@@ -56,57 +58,11 @@ struct Tex {
     axes: [Vec3A; 2],
 }
 
-/// Geoms binned by the screen tiles (`TILE` pixels square, row-major) they may cover.
-struct Bins {
-    /// Geoms that may cover any pixel (planes, geoms reaching behind the near plane).
-    everywhere: Vec<u32>,
-    /// Each tile's geoms.
-    tiles: Vec<Vec<u32>>,
-    /// The binned geoms' bounding spheres (geom, centre, radius), wholly beyond the near plane.
-    spheres: Vec<(u32, Vec3A, f32)>,
-}
-
-impl Bins {
-    /// Each binned geom's columns `[x0, x1]` whose rays in a row may meet its bounding sphere,
-    /// into `spans` (by geom): the row's rays are `d0 + x step` for column x. A ray meets the
-    /// sphere (c, r) when r²|d|² ≥ |c × d|², a quadratic in x (all rays look forward, and the
-    /// sphere lies beyond the near plane, so that is one interval).
-    fn spans(&self, d0: Vec3A, step: Vec3A, spans: &mut [(i32, i32)]) {
-        let (bb, bs, ss) = (d0.length_squared(), d0.dot(step), step.length_squared());
-        for &(g, c, r) in &self.spheres {
-            let (cb, cs) = (c.cross(d0), c.cross(step));
-            let r2 = r * r;
-            // a x² + 2 b x + cc ≥ 0
-            let (a, b, cc) = (r2 * ss - cs.length_squared(), r2 * bs - cb.dot(cs), r2 * bb - cb.length_squared());
-            let disc = b * b - a * cc;
-            spans[g as usize] = if a >= 0.0 {
-                (i32::MIN, i32::MAX) // not an ellipse in single precision: every column
-            } else if disc < 0.0 {
-                (1, 0) // none
-            } else {
-                // a < 0: between the roots (−b ± √disc) / a, widened by a column for rounding
-                let (x0, x1) = ((-b + disc.sqrt()) / a, (-b - disc.sqrt()) / a);
-                (x0.max(-1.0) as i32 - 1, x1.min(1e9) as i32 + 1)
-            };
-        }
-    }
-}
-
-/// Where a ray is cast from: its screen tile and column, and the columns of the row that may
-/// see each geom (`Bins::spans`) of the bins it is tested against.
-#[derive(Clone, Copy)]
-struct Pixel<'a> {
-    tile: usize,
-    x: i32,
-    spans: &'a [(i32, i32)],
-}
-
-/// A pixel seen directly: its tile and column, and each mirror's spans in its row.
+/// A pixel seen directly: its column, and what each mirror shows along its row.
 #[derive(Clone, Copy)]
 struct Direct<'a> {
-    tile: usize,
-    x: i32,
-    mirror_spans: &'a [Vec<(i32, i32)>],
+    x: usize,
+    mirrors: &'a [RowCover],
 }
 
 /// What a mirroring plane shows: the scene seen from the eye's mirror image. The reflected ray
@@ -172,8 +128,6 @@ pub(super) struct Scene {
     mirrors: Vec<Mirror>,
     /// The plane drawn by rows, when one is all every pixel may see.
     floor: Option<Floor>,
-    /// Tiles per image row.
-    tiles_x: usize,
     /// Geoms that can block light or be reflected (all but planes).
     solids: Vec<u32>,
     /// The directional lights' summed ambient colour (it does not depend on the surface).
@@ -261,7 +215,6 @@ impl Scene {
             let t = &v.textures[i];
             (t.builtin, f(t.rgb1), f(t.rgb2))
         });
-        let tiles_x = width.div_ceil(TILE);
         let eyes = geoms.iter().map(|g| g.rot_t * -g.pos).collect();
         let mut s = Scene {
             view: axes,
@@ -272,11 +225,10 @@ impl Scene {
             far: (v.zfar * extent) as f32,
             solids,
             geoms,
-            primary: Bins { everywhere: vec![], tiles: vec![], spheres: vec![] },
+            primary: Bins { everywhere: vec![], spheres: vec![] },
             eyes,
             mirrors: vec![],
             floor: None,
-            tiles_x,
             ambient,
             directional,
             spots,
@@ -305,13 +257,12 @@ impl Scene {
         s
     }
 
-    /// The geoms whose bounding spheres (`g`, centre, radius) can cover each screen tile: the
-    /// ones that may cover any pixel, and each tile's list.
+    /// The geoms whose bounding spheres (`g`, centre, radius) may show: the ones that may cover
+    /// any pixel, and the others with the rows they may cover.
     fn bin(&self, spheres: impl Iterator<Item = (u32, Vec3A, f32)>) -> Bins {
         let aspect = self.width as f32 / self.height as f32;
         let (sx, sy) = (self.tan_half * aspect, self.tan_half);
-        let tiles_y = self.height.div_ceil(TILE);
-        let mut bins = Bins { everywhere: vec![], tiles: vec![vec![]; self.tiles_x * tiles_y], spheres: vec![] };
+        let mut bins = Bins { everywhere: vec![], spheres: vec![] };
         for (g, centre, r) in spheres {
             if !r.is_finite() {
                 bins.everywhere.push(g);
@@ -340,15 +291,8 @@ impl Scene {
             if c1 < 0.0 || r1 < 0.0 || c0 > self.width as f32 || r0 > self.height as f32 {
                 continue;
             }
-            bins.spheres.push((g, c, r));
-            let clamp = |v: f32, n: usize| ((v.max(0.0) as usize) / TILE).min(n - 1);
-            let (tx0, tx1) = (clamp(c0, self.tiles_x), clamp(c1, self.tiles_x));
-            let (ty0, ty1) = (clamp(r0, tiles_y), clamp(r1, tiles_y));
-            for ty in ty0..=ty1 {
-                for tx in tx0..=tx1 {
-                    bins.tiles[ty * self.tiles_x + tx].push(g);
-                }
-            }
+            let rows = (r0.max(1.0) as usize - 1, (r1 as usize + 1).min(self.height - 1));
+            bins.spheres.push(Sphere { g, centre: c, r, rows });
         }
         bins
     }
@@ -365,8 +309,8 @@ impl Scene {
         let columns: Vec<Vec3A> = (0..self.width).map(|x| ((x as f32 + 0.5) * sx - self.tan_half * w / h) * self.view.right).collect();
         let col_len2: Vec<f32> = columns.iter().map(|c| c.length_squared()).collect();
         let mut inv_len = vec![0.0_f32; self.width];
-        let mut spans = vec![(i32::MIN, i32::MAX); self.geoms.len()];
-        let mut mirror_spans = vec![spans.clone(); self.mirrors.len()];
+        let mut cover = RowCover::new(self.width);
+        let mut mirror_cover: Vec<RowCover> = self.mirrors.iter().map(|_| RowCover::new(self.width)).collect();
         let mut floor_row = FloorRow::new(if self.floor.is_some() { self.width } else { 0 }, self.directional.len());
         let step = sx * self.view.right;
         for y in y0..y1 {
@@ -377,28 +321,26 @@ impl Scene {
             for (inv, c2) in inv_len.iter_mut().zip(&col_len2) {
                 *inv = 1.0 / (base_len2 + c2).sqrt();
             }
-            self.primary.spans(base + columns[0], step, &mut spans);
-            for (m, sp) in self.mirrors.iter().zip(&mut mirror_spans) {
-                m.bins.spans(base + columns[0], step, sp);
+            cover.build(&self.primary, y, base + columns[0], step);
+            // the mirrored ray meets a geom where the eye's ray meets its mirror image
+            for (m, c) in self.mirrors.iter().zip(&mut mirror_cover) {
+                c.build(&m.bins, y, base + columns[0], step);
             }
             if let Some(f) = &self.floor {
                 self.floor_row(f, base + columns[0], step, &inv_len, &mut floor_row);
             }
-            let row_tiles = (y / TILE) * self.tiles_x;
             for (x, col) in columns.iter().enumerate() {
                 let d = base + *col;
                 let view = -d * inv_len[x];
-                let (tile, x_) = (row_tiles + x / TILE, x as i32);
-                let pixel = Pixel { tile, x: x_, spans: &spans };
-                let seen = Direct { tile, x: x_, mirror_spans: &mirror_spans };
+                let seen = Direct { x, mirrors: &mirror_cover };
                 // the hit (with the floor's when it is drawn by rows) and the floor's, if nearest
                 let (hit, floor) = match &self.floor {
-                    Some(f) => match self.binned_hit(&self.primary, pixel, &self.eyes, d, self.near, floor_row.t[x].min(self.far)) {
+                    Some(f) => match self.solid_hit(cover.at(x), &self.eyes, d, self.near, floor_row.t[x].min(self.far)) {
                         Some(h) => (Some(h), None),
                         None if floor_row.t[x] < f32::INFINITY => (Some((f.geom(), floor_row.t[x], Vec3A::ZERO)), Some(f)),
                         None => (None, None),
                     },
-                    None => (self.first_hit(&self.primary, pixel, &self.eyes, d, self.near, self.far), None),
+                    None => (self.first_hit(&self.primary, cover.at(x), &self.eyes, d, self.near, self.far), None),
                 };
                 let k = (y - y0) * self.width + x;
                 if want_rgb {
@@ -418,10 +360,10 @@ impl Scene {
         }
     }
 
-    /// The nearest hit among the geoms of `bins` that may cover pixel `at`, in `[t0, t1)` of the
-    /// ray from the point whose position in each geom's frame `eyes` holds, along `d`: geom, ray
-    /// parameter and world normal.
-    fn first_hit(&self, bins: &Bins, at: Pixel<'_>, eyes: &[Vec3A], d: Vec3A, t0: f32, mut t1: f32) -> Option<(usize, f32, Vec3A)> {
+    /// The nearest hit among the geoms of `bins` everywhere and the `solids` over the pixel, in
+    /// `[t0, t1)` of the ray from the point whose position in each geom's frame `eyes` holds,
+    /// along `d`: geom, ray parameter and world normal.
+    fn first_hit(&self, bins: &Bins, solids: &[u32], eyes: &[Vec3A], d: Vec3A, t0: f32, mut t1: f32) -> Option<(usize, f32, Vec3A)> {
         let mut best = None;
         for &g in &bins.everywhere {
             let geom = &self.geoms[g as usize];
@@ -445,17 +387,13 @@ impl Scene {
             }
         }
         let best = best.map(|(g, t, n)| (g, t, self.geoms[g].rot * n));
-        self.binned_hit(bins, at, eyes, d, t0, t1).or(best)
+        self.solid_hit(solids, eyes, d, t0, t1).or(best)
     }
 
-    /// `first_hit` among the geoms binned by tile alone.
-    fn binned_hit(&self, bins: &Bins, at: Pixel<'_>, eyes: &[Vec3A], d: Vec3A, t0: f32, mut t1: f32) -> Option<(usize, f32, Vec3A)> {
+    /// `first_hit` among `solids` alone.
+    fn solid_hit(&self, solids: &[u32], eyes: &[Vec3A], d: Vec3A, t0: f32, mut t1: f32) -> Option<(usize, f32, Vec3A)> {
         let mut best = None;
-        for &g in &bins.tiles[at.tile] {
-            let (x0, x1) = at.spans[g as usize];
-            if at.x < x0 || at.x > x1 {
-                continue;
-            }
+        for &g in solids {
             let geom = &self.geoms[g as usize];
             if let Some((t, n)) = intersect(geom.kind, &geom.size, eyes[g as usize], geom.rot_t * d, t0, t1) {
                 t1 = t;
@@ -538,9 +476,7 @@ impl Scene {
         let (Some(at), Some(mi)) = (seen, geom.mirror) else { return Vec3A::ZERO };
         let mirror = &self.mirrors[mi];
         let dm = d - 2.0 * d.dot(mirror.normal) * mirror.normal;
-        // the mirrored ray meets a geom where the eye's ray meets its mirror image
-        let pixel = Pixel { tile: at.tile, x: at.x, spans: &at.mirror_spans[mi] };
-        match self.first_hit(&mirror.bins, pixel, &mirror.eyes, dm, t * (1.0 + 1e-6), self.far) {
+        match self.first_hit(&mirror.bins, at.mirrors[mi].at(at.x), &mirror.eyes, dm, t * (1.0 + 1e-6), self.far) {
             Some(hit) => {
                 let view_m = view - 2.0 * view.dot(mirror.normal) * mirror.normal;
                 geom.reflectance * self.shade(hit, mirror.eye, dm, view_m, None)
