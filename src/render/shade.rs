@@ -474,9 +474,12 @@ impl Scene {
     fn reflection(&self, g: usize, d: Vec3A, view: Vec3A, t: f32, seen: Option<Direct<'_>>) -> Vec3A {
         let geom = &self.geoms[g];
         let (Some(at), Some(mi)) = (seen, geom.mirror) else { return Vec3A::ZERO };
-        let mirror = &self.mirrors[mi];
+        let (mirror, solids) = (&self.mirrors[mi], at.mirrors[mi].at(at.x));
+        if solids.is_empty() && mirror.bins.everywhere.is_empty() {
+            return Vec3A::ZERO;
+        }
         let dm = d - 2.0 * d.dot(mirror.normal) * mirror.normal;
-        match self.first_hit(&mirror.bins, at.mirrors[mi].at(at.x), &mirror.eyes, dm, t * (1.0 + 1e-6), self.far) {
+        match self.first_hit(&mirror.bins, solids, &mirror.eyes, dm, t * (1.0 + 1e-6), self.far) {
             Some(hit) => {
                 let view_m = view - 2.0 * view.dot(mirror.normal) * mirror.normal;
                 geom.reflectance * self.shade(hit, mirror.eye, dm, view_m, None)
