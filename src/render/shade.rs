@@ -1,9 +1,10 @@
-//! One frame's scene and its pixels: primary rays binned by screen tile (and, within a row, by
-//! the columns each bounding sphere covers), shadow and reflection rays, and MuJoCo's lighting
+//! One frame's scene and its pixels: primary, shadow and reflection rays, and MuJoCo's lighting
 //! (OpenGL's fixed-function model: per light ambient + diffuse max(n·l, 0) + specular
 //! max(n·h, 0)^(128 · shininess), times attenuation and the spot factor). A frame is kept in
-//! single precision relative to the eye, where its coordinates are small; a floor is drawn by
-//! rows (`floor`), shadows of directional lights are looked up by outline (`shadow`).
+//! single precision relative to the eye, where its coordinates are small. A ray is tested
+//! against the solids whose bounding spheres cover its pixel (`cover`, found a row at a time);
+//! a floor is drawn by rows (`floor`); shadows of directional lights are looked up by outline
+//! (`shadow`).
 
 use glam::{DVec3, Mat3A, Vec3A};
 
