@@ -15,7 +15,7 @@ use crate::data::Data;
 use crate::model::Model;
 use crate::sensors::{self, Sensors};
 use crate::step::step;
-use crate::task::Task;
+use crate::tasks::Task;
 
 pub use crate::math::MAX_STATE;
 
@@ -61,7 +61,7 @@ pub struct Batch {
 /// A task to evaluate after each world's env step, and where its outputs go.
 pub struct TaskRun<'a> {
     /// The task.
-    pub task: &'a Task,
+    pub task: &'a dyn Task,
     /// Observations (N × [`Task::obs_dim`]).
     pub obs: &'a mut [f64],
     /// Rewards (N): the sum of the reward terms, 0 for a diverged world.
@@ -235,7 +235,7 @@ impl Batch {
 
     /// Recomputes the sensor outputs of world `i` for its current state (after a reset or a
     /// state written from Python), and a task's observation `obs` of it.
-    pub fn sense(&mut self, i: usize, qpos: &[f64], qvel: &[f64], ctrl: &[f64], mut out: Sensors<'_>, task: Option<(&Task, &mut [f64])>) {
+    pub fn sense(&mut self, i: usize, qpos: &[f64], qvel: &[f64], ctrl: &[f64], mut out: Sensors<'_>, task: Option<(&dyn Task, &mut [f64])>) {
         sensors::write(&self.model, &self.root, &mut self.data[i], qpos, qvel, out.reborrow());
         if let Some((t, obs)) = task {
             t.observe(&self.model, &out.world_view(qpos, qvel, ctrl), obs);
@@ -263,7 +263,7 @@ struct World<'a> {
 /// its observation, reward terms and termination.
 /// A panic (a bug) leaves the world as the call found it, its history forgotten, and its message
 /// in [`Data::fault`].
-fn env_step(m: &Model, root: &[usize], task: Option<&Task>, n: usize, w: World<'_>) {
+fn env_step(m: &Model, root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>) {
     let World { data, qpos, qvel, ctrl, time, diverged, active, mut out, obs, reward, terminated, info } = w;
     *diverged = false;
     if !active {
@@ -288,7 +288,7 @@ fn env_step(m: &Model, root: &[usize], task: Option<&Task>, n: usize, w: World<'
     }
 }
 
-fn env_step_unguarded(m: &Model, root: &[usize], task: Option<&Task>, n: usize, w: World<'_>) {
+fn env_step_unguarded(m: &Model, root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>) {
     let World { data, qpos, qvel, ctrl, time, diverged, mut out, obs, reward, terminated, info, .. } = w;
     // the rewarded position before the env step, from the outputs of the state it starts in
     let before = task.map(|t| t.position(m, &out.world_view(qpos, qvel, ctrl)));

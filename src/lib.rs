@@ -25,7 +25,7 @@ pub mod step;
 // ⑤ many worlds, and what environments observe of them
 pub mod batch;
 pub mod sensors;
-pub mod task;
+pub mod tasks;
 // ⑥ pictures
 pub mod render;
 // reference algorithms, used as checks

@@ -4,7 +4,7 @@ keyword arguments (with gymnasium's MuJoCo v5 defaults) and reset noise.
 Each task reproduces gymnasium's MuJoCo v5 environment of the same name. Reset noise is drawn
 here, in the same order from the same per-world numpy generator as the twin, so a seed gives the
 twin's initial state. Everything computed per step (observation, reward terms, termination) runs
-in Rust inside the batch's parallel step (``src/task.rs``), from sinew's own physics; a task hands
+in Rust inside the batch's parallel step (``src/tasks/``, one file per task), from sinew's own physics; a task hands
 it the env's keyword arguments through ``Batch.set_task(kind, **params())``.
 """
 

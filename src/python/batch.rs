@@ -12,7 +12,7 @@ use super::model::PyModel;
 use crate::batch::{Batch, BatchState, TaskRun};
 use crate::state::FlatState;
 use crate::sensors::Sensors;
-use crate::task::Task;
+use crate::tasks::Task;
 
 /// N simulated worlds of one model, stepped in parallel (at most 2**20 worlds and 1024 threads;
 /// num_threads=None uses all cores).
@@ -40,7 +40,7 @@ pub struct PyBatch {
 
 /// A task set on a batch and its output arrays.
 struct TaskArrays {
-    task: Task,
+    task: Box<dyn Task>,
     obs: Py<PyArray2<f64>>,
     reward: Py<PyArray1<f64>>,
     terminated: Py<PyArray1<bool>>,
@@ -215,7 +215,7 @@ impl PyBatch {
         let mut outputs = self.task.as_ref().map(|t| t.borrow(py));
         let run = match &mut outputs {
             Some((task, obs, reward, terminated, info)) => Some(TaskRun {
-                task,
+                task: *task,
                 obs: obs.as_slice_mut()?,
                 reward: reward.as_slice_mut()?,
                 terminated: terminated.as_slice_mut()?,
@@ -586,8 +586,8 @@ impl TaskArrays {
     fn borrow<'py>(
         &self,
         py: Python<'py>,
-    ) -> (&Task, PyReadwriteArray2<'py, f64>, numpy::PyReadwriteArray1<'py, f64>, numpy::PyReadwriteArray1<'py, bool>, PyReadwriteArray2<'py, f64>) {
-        (&self.task, self.obs.bind(py).readwrite(), self.reward.bind(py).readwrite(), self.terminated.bind(py).readwrite(), self.info.bind(py).readwrite())
+    ) -> (&dyn Task, PyReadwriteArray2<'py, f64>, numpy::PyReadwriteArray1<'py, f64>, numpy::PyReadwriteArray1<'py, bool>, PyReadwriteArray2<'py, f64>) {
+        (&*self.task, self.obs.bind(py).readwrite(), self.reward.bind(py).readwrite(), self.terminated.bind(py).readwrite(), self.info.bind(py).readwrite())
     }
 }
 

@@ -296,7 +296,7 @@ impl PySim {
             let mut ffric = glam::DVec3::ZERO;
             for j in 0..con.len() {
                 if con.source[j] == ci && con.kind[j].is_contact() {
-                    let f = self.data.force.get(j).copied().unwrap_or(0.0) * per_force;
+                    let f = self.data.solve.force.get(j).copied().unwrap_or(0.0) * per_force;
                     match con.kind[j] {
                         RowKind::Normal => fnormal = f,
                         _ => ffric += con.dir[j] * f,
@@ -355,7 +355,7 @@ impl PySim {
     /// back, residual, impacts, post-stabilisation projections.
     #[getter]
     fn constraint_stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
-        let s = &self.data.stats;
+        let s = &self.data.solve.stats;
         let d = pyo3::types::PyDict::new(py);
         d.set_item("rows", self.data.con.len())?;
         d.set_item("solves", s.solves)?;
@@ -368,7 +368,7 @@ impl PySim {
         d.set_item("left_out", s.left_out)?;
         d.set_item("regrown", s.regrown)?;
         d.set_item("residual", s.residual)?;
-        d.set_item("impacts", self.data.impacts)?;
+        d.set_item("impacts", self.data.solve.impacts)?;
         d.set_item("projections", self.data.post.projections)?;
         Ok(d)
     }

@@ -79,6 +79,8 @@ pub const CORRECTION_TIME: f64 = 0.05;
 pub const SLIDING_SPEED: f64 = 1e-6;
 
 /// The rows of one step and their K, b and desired values, with scratch for the test forces.
+/// The rows are a struct of arrays (row j is entry j of each per-row vector), grown by one
+/// `push` and emptied by one `clear`.
 #[derive(Clone, Debug, Default)]
 pub struct ConstraintData {
     /// Row kinds.
@@ -179,8 +181,9 @@ impl ConstraintData {
         self.mirror.clear();
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn push(&mut self, kind: RowKind, node: [usize; 2], point: [DVec3; 2], dir: DVec3, dof: (usize, f64), mu: f64, source: usize) {
+    /// Appends a row: every per-row vector grows by one here, and only here.
+    fn push(&mut self, row: NewRow) {
+        let NewRow { kind, node, point, dir, dof, mu, source } = row;
         self.kind.push(kind);
         self.node.push(node);
         self.point.push(point);
@@ -197,6 +200,29 @@ impl ConstraintData {
         self.centre.push(point);
         self.source.push(source);
         self.mirror.push(usize::MAX);
+    }
+}
+
+/// What a row's builder decides; the rest of the row starts at its default.
+struct NewRow {
+    kind: RowKind,
+    node: [usize; 2],
+    point: [DVec3; 2],
+    dir: DVec3,
+    dof: (usize, f64),
+    mu: f64,
+    source: usize,
+}
+
+impl NewRow {
+    /// A contact row of contact `source` along `dir` between `point`s on `node`s.
+    fn contact(kind: RowKind, node: [usize; 2], point: [DVec3; 2], dir: DVec3, mu: f64, source: usize) -> NewRow {
+        NewRow { kind, node, point, dir, dof: (0, 0.0), mu, source }
+    }
+
+    /// A joint row (limit or motion control) of `source` on dof `dof.0` in direction `dof.1`.
+    fn joint(kind: RowKind, dof: (usize, f64), source: usize) -> NewRow {
+        NewRow { kind, node: [WORLD, WORLD], point: [DVec3::ZERO; 2], dir: DVec3::ZERO, dof, mu: 0.0, source }
     }
 }
 
@@ -298,7 +324,7 @@ pub fn rows(
         let g = m.opt.gravity;
         let arel = point_accel(kin, &aba.a, g, nodes[0], r) - point_accel(kin, &aba.a, g, nodes[1], r);
         let normal_row = out.len();
-        out.push(RowKind::Normal, nodes, pts, c.normal, (0, 0.0), c.mu, ci);
+        out.push(NewRow::contact(RowKind::Normal, nodes, pts, c.normal, c.mu, ci));
         out.vel[normal_row] = c.normal.dot(vrel);
         out.jac[normal_row] = jacobian(nodes, [r; 2], [c.normal; 2]);
         out.dist[normal_row] = c.dist;
@@ -336,7 +362,7 @@ pub fn rows(
             };
             for (k, d) in dirs.into_iter().enumerate().filter(|(_, d)| *d != DVec3::ZERO) {
                 let row = out.len();
-                out.push(RowKind::Tangent { normal: normal_row }, nodes, pts, d, (0, 0.0), c.mu, ci);
+                out.push(NewRow::contact(RowKind::Tangent { normal: normal_row }, nodes, pts, d, c.mu, ci));
                 out.vel[row] = d.dot(vrel);
                 out.jac[row] = jacobian(nodes, [r; 2], [d; 2]);
                 if k % 2 == 1 {
@@ -356,7 +382,7 @@ pub fn rows(
                 let v_end = v + h * sign * qacc0[da];
                 if dist + lever * v.min(v_end).min(0.0) <= m.jnt_margin[j] || forced[2 * j + side] {
                     let r = out.len();
-                    out.push(RowKind::Limit, [WORLD, WORLD], [DVec3::ZERO; 2], DVec3::ZERO, (da, sign), 0.0, j);
+                    out.push(NewRow::joint(RowKind::Limit, (da, sign), j));
                     out.vel[r] = v;
                     out.dist[r] = dist;
                     out.dist_start[r] = dist;
@@ -371,7 +397,7 @@ pub fn rows(
             let limit = m.actuator_ctrllimited[a].then(|| m.actuator_gear[a].abs() * m.actuator_ctrlrange[a][0].abs().max(m.actuator_ctrlrange[a][1].abs()));
             for sign in [1.0, -1.0] {
                 let r = out.len();
-                out.push(RowKind::Motion { bounded: limit.is_some() }, [WORLD, WORLD], [DVec3::ZERO; 2], DVec3::ZERO, (da, sign), 0.0, a);
+                out.push(NewRow::joint(RowKind::Motion { bounded: limit.is_some() }, (da, sign), a));
                 out.vel[r] = sign * qvel[da];
                 out.desired[r] = sign * ad;
                 out.cap[r] = limit.unwrap_or(f64::INFINITY);

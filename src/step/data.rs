@@ -29,31 +29,8 @@ pub struct Data {
     pub coll: CollisionData,
     /// Constraint rows, K, b.
     pub con: ConstraintData,
-    /// Constraint force (acceleration solve) or impulse (impact solve) per row and λ.
-    pub force: Vec<f64>,
-    /// LCP matrix and vector scratch.
-    pub lcp_m: Vec<f64>,
-    /// LCP vector.
-    pub lcp_q: Vec<f64>,
-    /// λ variable of each normal row with friction (usize::MAX: none).
-    pub lcp_lambda: Vec<usize>,
-    /// Role of each LCP variable.
-    pub lcp_role: Vec<crate::step::lcp::Role>,
-    /// LCP variables left out of the solve (held at zero force) and of K.
-    pub lcp_out: Vec<bool>,
-    /// Active set of this step's impact solve, which warm-starts the force solve on the same rows
-    /// after it (empty: no impact this step, or rows rebuilt since).
-    pub impact_warm: Vec<bool>,
-    /// The active set the force solve starts from (`step::solve::warm_guess`).
-    pub lcp_warm: Vec<bool>,
-    /// Last step's λ variable of each of its rows that owns one, scratch for `step::solve::warm_guess`.
-    pub warm_lambda: Vec<usize>,
-    /// Lemke tableau.
-    pub lcp_work: LcpWork,
-    /// Solver statistics.
-    pub stats: LcpStats,
-    /// Impact solves run.
-    pub impacts: u64,
+    /// The constraint solves' LCP, answer, warm start and counters.
+    pub solve: SolveData,
     /// Limits whose rows this step must include (2 per joint: lower, upper).
     pub limit_forced: Vec<bool>,
     /// Post-stabilisation scratch and counters.
@@ -75,6 +52,37 @@ pub struct Data {
     pub stage_ns: [u64; crate::step::STAGES],
 }
 
+/// The LCP of a step's constraint solves (`step::solve`): its matrix and vector, each
+/// variable's role, the answer, the warm start, Lemke's tableau and counters.
+#[derive(Clone, Debug, Default)]
+pub struct SolveData {
+    /// Constraint force (acceleration solve) or impulse (impact solve) per row and λ.
+    pub force: Vec<f64>,
+    /// LCP matrix (n × n, row-major).
+    pub m: Vec<f64>,
+    /// LCP vector.
+    pub q: Vec<f64>,
+    /// λ variable of each normal row with friction (usize::MAX: none).
+    pub lambda: Vec<usize>,
+    /// Role of each LCP variable.
+    pub role: Vec<crate::step::lcp::Role>,
+    /// LCP variables left out of the solve (held at zero force) and of K.
+    pub out: Vec<bool>,
+    /// Active set of this step's impact solve, which warm-starts the force solve on the same rows
+    /// after it (empty: no impact this step, or rows rebuilt since).
+    pub impact_warm: Vec<bool>,
+    /// The active set the force solve starts from (`step::solve::warm_guess`).
+    pub warm: Vec<bool>,
+    /// Last step's λ variable of each of its rows that owns one, scratch for `step::solve::warm_guess`.
+    pub warm_lambda: Vec<usize>,
+    /// Lemke tableau.
+    pub work: LcpWork,
+    /// Solver statistics.
+    pub stats: LcpStats,
+    /// Impact solves run.
+    pub impacts: u64,
+}
+
 impl Data {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
@@ -86,18 +94,7 @@ impl Data {
             rk4: Rk4Scratch::new(m),
             coll: CollisionData::new(m),
             con: ConstraintData::new(m),
-            force: vec![],
-            lcp_m: vec![],
-            lcp_q: vec![],
-            lcp_lambda: vec![],
-            lcp_role: vec![],
-            lcp_out: vec![],
-            impact_warm: vec![],
-            lcp_warm: vec![],
-            warm_lambda: vec![],
-            lcp_work: LcpWork::default(),
-            stats: LcpStats::default(),
-            impacts: 0,
+            solve: SolveData::default(),
             limit_forced: vec![false; 2 * m.njnt],
             post: StabilizeData::new(m),
             history: History::new(),
@@ -128,8 +125,8 @@ impl Data {
 
     /// Drops the rows, forces, contacts and cached kinematics of the last step.
     fn forget_scratch(&mut self) {
-        self.force.clear();
-        self.impact_warm.clear();
+        self.solve.force.clear();
+        self.solve.impact_warm.clear();
         self.con.clear();
         self.coll.forget();
         self.post.forget();

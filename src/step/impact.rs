@@ -22,7 +22,7 @@ pub(super) fn impacts(m: &Model, data: &mut Data, qpos: &[f64], qvel: &mut [f64]
             break;
         }
         impacted = true;
-        data.impacts += 1;
+        data.solve.impacts += 1;
         solve_rows(m, data, Level::Velocity);
         apply(m, data, qvel, 1.0);
         timed!(data, Stage::Impact, new_velocities(m, data, qpos, qvel, ctrl));

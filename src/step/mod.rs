@@ -140,7 +140,7 @@ fn damping_horizon(m: &Model, data: &Data) -> f64 {
 /// `h_damp`.
 fn free_step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl: &[f64], h_damp: f64) {
     let (h, lever) = (m.opt.timestep, m.opt.lever());
-    data.force.clear();
+    data.solve.force.clear();
     match m.opt.integrator {
         Integrator::Euler | Integrator::Leapfrog => timed!(data, Stage::Integration, integrate::kick_drift(m, qpos, qvel, &data.qacc, h, lever)),
         Integrator::Rk4 => {
@@ -163,7 +163,7 @@ fn constrain(m: &Model, data: &mut Data, qpos: &[f64], qvel: &mut [f64], ctrl: &
         timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, h));
     }
     let mut redo = false;
-    data.impact_warm.clear();
+    data.solve.impact_warm.clear();
     loop {
         // 5. b; K by test forces once a solve needs it (rows that the constraint-free motion
         // already satisfies need no K)
@@ -181,7 +181,7 @@ fn constrain(m: &Model, data: &mut Data, qpos: &[f64], qvel: &mut [f64], ctrl: &
         }
         // with no force, no impulse and the accelerations the rows were chosen with, the motion
         // is the constraint-free one they were chosen for: nothing can have been missed
-        let pushed = impacted || h_damp != h || data.force.iter().any(|&f| f != 0.0);
+        let pushed = impacted || h_damp != h || data.solve.force.iter().any(|&f| f != 0.0);
         let missed = pushed && (missed_limits(m, data, qpos, qvel) | timed!(data, Stage::Collision, missed_contacts(m, data, qvel)));
         if redo || !missed {
             break;
@@ -194,7 +194,7 @@ fn constrain(m: &Model, data: &mut Data, qpos: &[f64], qvel: &mut [f64], ctrl: &
         }
         timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, h));
         timed!(data, Stage::Rows, build_rows(m, data, qpos, qvel, ctrl));
-        data.impact_warm.clear();
+        data.solve.impact_warm.clear();
     }
     if redo {
         data.limit_forced.fill(false);

@@ -3,6 +3,7 @@
 //! forces or impulses applied to q̈ or q̇.
 
 use super::*;
+use crate::data::SolveData;
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub(super) enum Level {
@@ -14,23 +15,23 @@ pub(super) enum Level {
     TimeStep,
 }
 
-/// Assembles the LCP over all rows plus one λ per friction row and solves it into `data.force`.
+/// Assembles the LCP over all rows plus one λ per friction row and solves it into `data.solve.force`.
 pub(super) fn solve_rows(m: &Model, data: &mut Data, level: Level) {
     // q, and the rows the solve starts without
     let n = timed!(data, Stage::Lcp, lcp_vector(m, data, level).map(|n| (n, leave_out(data, level, n))));
     let Some((n, warm)) = n else {
         // every row already satisfied without force (a limit at rest, contacts separating):
         // f = 0 solves the LCP (a friction row's λ takes up its demand) and K is not needed
-        data.stats.solves += 1;
-        data.stats.residual = 0.0;
+        data.solve.stats.solves += 1;
+        data.solve.stats.residual = 0.0;
         record_warm(data, level);
         return;
     };
     // K's columns for the rows kept; more when the answer pushes into a row left out
-    let left_any = data.lcp_out.contains(&true);
+    let left_any = data.solve.out.contains(&true);
     let mut brought_back = false;
     loop {
-        let Data { kin, aba, con, lcp_out, .. } = data;
+        let Data { kin, aba, con, solve: SolveData { out: lcp_out, .. }, .. } = data;
         timed!(data, Stage::Assembly, constraint::responses(m, kin, aba, con, |k, _| !lcp_out[k]));
         if timed!(data, Stage::Lcp, lcp_matrix_and_solve(m, data, level, n, warm)) {
             break;
@@ -55,7 +56,7 @@ pub(super) const REGROW_DECAY: f64 = 0.99;
 /// Regrow rate above which a solve leaves nothing out.
 pub(super) const MAX_REGROW_RATE: f64 = 0.5;
 
-/// Marks in `data.lcp_out` the variables the solve starts without: each contact whose q says the
+/// Marks in `data.solve.out` the variables the solve starts without: each contact whose q says the
 /// motion without its force separates it (q_n ≥ 0), with its friction rows and λ, unless it
 /// carried force in the warm set (it probably will again). A separating contact keeps no force
 /// unless others push it closed, which the solve checks; its test forces are then never pushed.
@@ -65,7 +66,7 @@ pub(super) const MAX_REGROW_RATE: f64 = 0.5;
 /// a warm set applies ([`warm_guess`]).
 pub(super) fn leave_out(data: &mut Data, level: Level, n: usize) -> bool {
     let warm = warm_guess(data, level, n);
-    let (con, q, guess, out) = (&data.con, &data.lcp_q, &data.lcp_warm, &mut data.lcp_out);
+    let (con, q, guess, out) = (&data.con, &data.solve.q, &data.solve.warm, &mut data.solve.out);
     out.clear();
     out.resize(n, false);
     if data.history.regrow_rate > MAX_REGROW_RATE {
@@ -76,7 +77,7 @@ pub(super) fn leave_out(data: &mut Data, level: Level, n: usize) -> bool {
             RowKind::Normal => out[j] = q[j] >= 0.0 && !(warm && guess[j]),
             RowKind::Tangent { normal } => {
                 let left = out[normal];
-                (out[j], out[data.lcp_lambda[normal]]) = (left, left);
+                (out[j], out[data.solve.lambda[normal]]) = (left, left);
             }
             _ => {}
         }
@@ -84,14 +85,15 @@ pub(super) fn leave_out(data: &mut Data, level: Level, n: usize) -> bool {
     warm
 }
 
-/// The active set a force solve starts from, into `data.lcp_warm` (n variables); whether there is
+/// The active set a force solve starts from, into `data.solve.warm` (n variables); whether there is
 /// one. After this step's impact solve, on the same rows: its active set (a contact the impact
 /// stopped now rests on its force). Else last step's, read through the rows' identities
 /// ([`row_key`]): a row last step also had keeps its activity, and so does its contact's λ (a
 /// bounded motion row's σ); a new row starts inactive. With the same rows as last step this is
 /// last step's active set as it was.
 pub(super) fn warm_guess(data: &mut Data, level: Level, n: usize) -> bool {
-    let Data { con, coll, history, impact_warm, lcp_warm: guess, lcp_lambda, warm_lambda: old_lambda, .. } = data;
+    let Data { con, coll, history, solve, .. } = data;
+    let SolveData { impact_warm, warm: guess, lambda: lcp_lambda, warm_lambda: old_lambda, .. } = solve;
     guess.clear();
     if level == Level::Velocity {
         return false;
@@ -159,13 +161,13 @@ pub(super) fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usi
         RowKind::Tangent { normal } => Some(normal),
         RowKind::Motion { bounded: true } => Some(j),
         _ => None,
-    }, &mut data.lcp_lambda);
-    data.lcp_q.clear();
-    data.lcp_q.resize(n, 0.0);
-    data.force.clear();
-    data.force.resize(n, 0.0);
+    }, &mut data.solve.lambda);
+    data.solve.q.clear();
+    data.solve.q.resize(n, 0.0);
+    data.solve.force.clear();
+    data.solve.force.resize(n, 0.0);
     let con = &data.con;
-    let q = &mut data.lcp_q;
+    let q = &mut data.solve.q;
     // contact points and centres move on arcs the rows' linear prediction leaves out: the
     // end-of-step targets add `con.lift` (`constraint::arc_lift`)
     for j in 0..nr {
@@ -233,18 +235,18 @@ fn apart(m: &Model, con: &constraint::ConstraintData, j: usize, impact: f64) -> 
     !approaching(con.vel[r], con.dist[r], con.vel[r] + h * con.b[r], m.opt.lever(), impact)
 }
 
-/// M from K and the friction and bound couplings; solves into `data.force`, from the warm set in
-/// `data.lcp_warm` when `warm` ([`warm_guess`]). False when the solve brought back rows left out,
+/// M from K and the friction and bound couplings; solves into `data.solve.force`, from the warm set in
+/// `data.solve.warm` when `warm` ([`warm_guess`]). False when the solve brought back rows left out,
 /// whose K columns it needs.
 pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: usize, warm: bool) -> bool {
     let h = m.opt.timestep;
     let con = &data.con;
     let nr = con.len();
-    data.lcp_m.clear();
-    data.lcp_m.resize(n * n, 0.0);
-    data.lcp_role.clear();
-    data.lcp_role.resize(n, lcp::Role::Lambda);
-    let (mm, q) = (&mut data.lcp_m, &mut data.lcp_q);
+    data.solve.m.clear();
+    data.solve.m.resize(n * n, 0.0);
+    data.solve.role.clear();
+    data.solve.role.resize(n, lcp::Role::Lambda);
+    let (mm, q) = (&mut data.solve.m, &mut data.solve.q);
     // a row no force can move (K_jj ≈ 0: the out-of-plane friction of a planar model) carries no
     // force; left in, it makes the LCP degenerate, so the solve leaves it out (w = z, q = 0).
     // Rows whose K column is not computed are left out already and read only as rows
@@ -255,8 +257,8 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: 
         if (done[j] && con.k[j * nr + j] <= INERT_ROW * k_max) || (level == Level::Velocity && apart(m, con, j, impact)) {
             mm[j * n + j] = 1.0;
             q[j] = 0.0;
-            data.lcp_role[j] = lcp::Role::Normal;
-            data.lcp_out[j] = true;
+            data.solve.role[j] = lcp::Role::Normal;
+            data.solve.out[j] = true;
             continue;
         }
         mm[j * n..j * n + nr].copy_from_slice(&con.k[j * nr..(j + 1) * nr]);
@@ -265,16 +267,16 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: 
         match con.kind[j] {
             RowKind::Tangent { normal } => {
                 // (20): (a_t − a_t^d) + λ ≥ 0;  (21): μ f_n − Σ f_t ≥ 0 ⟂ λ ≥ 0
-                let lam = data.lcp_lambda[normal];
+                let lam = data.solve.lambda[normal];
                 mm[j * n + lam] = 1.0;
                 mm[lam * n + normal] = con.mu[j];
                 mm[lam * n + j] = -1.0;
-                data.lcp_role[j] = lcp::Role::Friction { normal, lambda: lam, mu: con.mu[j] };
+                data.solve.role[j] = lcp::Role::Friction { normal, lambda: lam, mu: con.mu[j] };
             }
             RowKind::Motion { bounded: true } => {
                 // (a − a^d) + σ ≥ 0 ⟂ f ≥ 0;  f_max − f ≥ 0 ⟂ σ ≥ 0, f_max a force (an impulse per step
                 // when time stepping, none during an impact)
-                let sigma = data.lcp_lambda[j];
+                let sigma = data.solve.lambda[j];
                 let cap = con.cap[j] * match level {
                     Level::Acceleration => 1.0,
                     Level::TimeStep => h,
@@ -283,13 +285,13 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: 
                 mm[j * n + sigma] = 1.0;
                 mm[sigma * n + j] = -1.0;
                 q[sigma] = cap;
-                data.lcp_role[j] = lcp::Role::Bounded { lambda: sigma, cap };
+                data.solve.role[j] = lcp::Role::Bounded { lambda: sigma, cap };
             }
-            _ => data.lcp_role[j] = lcp::Role::Normal,
+            _ => data.solve.role[j] = lcp::Role::Normal,
         }
     }
-    let warm = warm.then_some(&data.lcp_warm[..]);
-    let solved = lcp::solve(n, &data.lcp_m, &data.lcp_q, &data.lcp_role, warm, &mut data.lcp_out, &mut data.force, &mut data.lcp_work, &mut data.stats);
+    let warm = warm.then_some(&data.solve.warm[..]);
+    let solved = lcp::solve(n, &data.solve.m, &data.solve.q, &data.solve.role, warm, &mut data.solve.out, &mut data.solve.force, &mut data.solve.work, &mut data.solve.stats);
     if solved {
         record_warm(data, level);
     }
@@ -300,11 +302,11 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: 
 /// acceleration-level or time-stepping one's for the next step's.
 pub(super) fn record_warm(data: &mut Data, level: Level) {
     if level == Level::Velocity {
-        data.impact_warm.clear();
-        data.impact_warm.extend(data.force.iter().map(|&f| f > 0.0));
+        data.solve.impact_warm.clear();
+        data.solve.impact_warm.extend(data.solve.force.iter().map(|&f| f > 0.0));
     } else {
         data.history.warm.clear();
-        data.history.warm.extend(data.force.iter().map(|&f| f > 0.0));
+        data.history.warm.extend(data.solve.force.iter().map(|&f| f > 0.0));
         data.history.warm_rows.clear();
         for j in 0..data.con.len() {
             let key = row_key(&data.con, &data.coll.contacts, j);
@@ -340,7 +342,7 @@ pub(super) fn apply_to_qacc(m: &Model, data: &mut Data, scale: f64) {
 pub(super) fn apply(m: &Model, data: &Data, target: &mut [f64], scale: f64) {
     let nv = m.nv;
     for k in 0..data.con.len() {
-        let f = data.force[k] * scale;
+        let f = data.solve.force[k] * scale;
         if f != 0.0 {
             for (t, d) in target.iter_mut().zip(&data.con.dqdd[k * nv..(k + 1) * nv]) {
                 *t += f * d;

@@ -15,7 +15,7 @@
 
 use glam::DVec3;
 
-use crate::data::Data;
+use crate::data::{Data, SolveData};
 use crate::math::{Force, Motion};
 use crate::model::{Model, WORLD};
 
@@ -324,7 +324,7 @@ fn push_jacobian(m: &Model, kin: &KinData, nodes: [usize; 2], jac: [Force; 2], o
 /// δq would cross gets one (Δq̈ by a unit test torque) and the LCP is solved again; if one is still
 /// crossed after that, the step is shortened to stop at it.
 fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
-    let Data { kin, aba, post, stats, .. } = data;
+    let Data { kin, aba, post, solve: SolveData { stats, .. }, .. } = data;
     post.projections += 1;
     let nv = m.nv;
     for attempt in 0..=LIMIT_PASSES {

@@ -1,0 +1,164 @@
+//! ⑤ Task logic of the gymnasium environments, run per world inside the batch's parallel step:
+//! the observation, reward terms and termination of gymnasium's MuJoCo v5 env of the same name
+//! (`gymnasium/envs/mujoco/*_v5.py`), from sinew's own state and sensor outputs. One file per
+//! task; [`make`] is the registry. Reset noise, which must come from each world's numpy
+//! generator to match the twin, stays in Python (`envs/sinew/tasks.py`, which also holds the
+//! defaults of every parameter).
+
+mod ant;
+mod humanoid;
+mod inverted_double_pendulum;
+mod inverted_pendulum;
+mod planar;
+mod reacher;
+
+use std::fmt::Debug;
+
+pub use ant::Ant;
+pub use humanoid::Humanoid;
+pub use inverted_double_pendulum::InvertedDoublePendulum;
+pub use inverted_pendulum::InvertedPendulum;
+pub use planar::{Healthy, Planar};
+pub use reacher::Reacher;
+
+use crate::model::Model;
+
+/// One world's state and sensor outputs, read by a task.
+pub struct World<'a> {
+    /// Positions (nq).
+    pub qpos: &'a [f64],
+    /// Velocities (nv).
+    pub qvel: &'a [f64],
+    /// Controls as given: the action (nu).
+    pub ctrl: &'a [f64],
+    /// Body positions (nbody × 3).
+    pub xpos: &'a [f64],
+    /// Body rotations, row-major (nbody × 9).
+    pub xmat: &'a [f64],
+    /// Body centres of mass (nbody × 3).
+    pub xipos: &'a [f64],
+    /// Contact wrenches (nbody × 6).
+    pub cfrc_ext: &'a [f64],
+    /// Generalised constraint force (nv).
+    pub qfrc_constraint: &'a [f64],
+    /// Com-based inertias (nbody × 10).
+    pub cinert: &'a [f64],
+    /// Com-based velocities (nbody × 6).
+    pub cvel: &'a [f64],
+}
+
+/// What a gymnasium task computes from a world after each env step.
+pub trait Task: Debug + Send + Sync {
+    /// Length of the observation.
+    fn obs_dim(&self, m: &Model) -> usize;
+
+    /// Names of the info columns [`Task::evaluate`] writes; the first [`Task::reward_terms`]
+    /// are the reward's terms, which sum to the reward.
+    fn info_names(&self) -> &'static [&'static str];
+
+    /// How many leading info columns are reward terms.
+    fn reward_terms(&self) -> usize;
+
+    /// The position whose change over the env step is the rewarded progress (x, y).
+    fn position(&self, _m: &Model, _w: &World<'_>) -> [f64; 2] {
+        [0.0; 2]
+    }
+
+    /// Writes the observation of `w` into `obs` ([`Task::obs_dim`] long).
+    fn observe(&self, m: &Model, w: &World<'_>, obs: &mut [f64]);
+
+    /// The info columns ([`Task::info_names`]) of the env step that moved [`Task::position`]
+    /// from `before` over `dt`, and whether it ends the episode. `obs` is the step's observation.
+    fn evaluate(&self, m: &Model, w: &World<'_>, obs: &[f64], before: [f64; 2], dt: f64, info: &mut [f64]) -> bool;
+}
+
+/// A task's parameters (the v5 env's keyword arguments) by name, each read once; errors name
+/// the parameter.
+pub trait Params {
+    /// A finite number.
+    fn weight(&mut self, name: &str) -> Result<f64, String>;
+    /// A range (low ≤ high, neither NaN).
+    fn range(&mut self, name: &str) -> Result<[f64; 2], String>;
+    /// A boolean.
+    fn flag(&mut self, name: &str) -> Result<bool, String>;
+    /// A non-negative integer.
+    fn index(&mut self, name: &str) -> Result<usize, String>;
+}
+
+/// Task `kind` for model `m` from `p`; an error names what is wrong.
+pub fn make(kind: &str, m: &Model, p: &mut dyn Params) -> Result<Box<dyn Task>, String> {
+    let task: Result<Box<dyn Task>, String> = match kind {
+        "InvertedPendulum" => InvertedPendulum::new(m).map(|t| Box::new(t) as _),
+        "InvertedDoublePendulum" => InvertedDoublePendulum::new(m, p).map(|t| Box::new(t) as _),
+        "Reacher" => Reacher::new(m, p).map(|t| Box::new(t) as _),
+        "Hopper" | "Walker2d" | "HalfCheetah" => Planar::new(kind, m, p).map(|t| Box::new(t) as _),
+        "Ant" => Ant::new(m, p).map(|t| Box::new(t) as _),
+        "Humanoid" => Humanoid::new(m, p).map(|t| Box::new(t) as _),
+        _ => return Err(format!("unknown task '{kind}'")),
+    };
+    task.map_err(|e| format!("task {kind}: {e}"))
+}
+
+/// How many leading qpos entries the observation leaves out: `most` (at most nq) when
+/// `exclude_current_positions_from_observation`.
+fn skip(m: &Model, p: &mut dyn Params, most: usize) -> Result<usize, String> {
+    Ok(if p.flag("exclude_current_positions_from_observation")? { most.min(m.nq) } else { 0 })
+}
+
+/// Index of body `name`.
+fn body(m: &Model, name: &str) -> Result<usize, String> {
+    m.body_id(name).ok_or_else(|| format!("the model has no body '{name}'"))
+}
+
+fn sum_sq(x: &[f64]) -> f64 {
+    x.iter().map(|v| v * v).sum()
+}
+
+/// Velocity of the progress from `before` to `now` over `dt`.
+fn progress(before: [f64; 2], now: [f64; 2], dt: f64) -> [f64; 2] {
+    [(now[0] - before[0]) / dt, (now[1] - before[1]) / dt]
+}
+
+/// Ant's and Humanoid's info: the four reward terms, then where the root is in the plane and
+/// the progress velocity.
+const PLANE_INFO: &[&str] =
+    &["reward_forward", "reward_ctrl", "reward_contact", "reward_survive", "x_position", "y_position", "distance_from_origin", "x_velocity", "y_velocity"];
+
+/// Writes [`PLANE_INFO`].
+fn plane_info(w: &World<'_>, v: [f64; 2], terms: [f64; 4], info: &mut [f64]) {
+    info[..4].copy_from_slice(&terms);
+    info[4] = w.qpos[0];
+    info[5] = w.qpos[1];
+    info[6] = w.qpos[0].hypot(w.qpos[1]);
+    info[7] = v[0];
+    info[8] = v[1];
+}
+
+/// Appends slices to an observation.
+struct Writer<'a> {
+    obs: &'a mut [f64],
+    at: usize,
+}
+
+impl<'a> Writer<'a> {
+    fn new(obs: &'a mut [f64]) -> Self {
+        Writer { obs, at: 0 }
+    }
+
+    fn put(&mut self, x: &[f64]) {
+        self.obs[self.at..self.at + x.len()].copy_from_slice(x);
+        self.at += x.len();
+    }
+
+    fn map(&mut self, x: &[f64], f: impl Fn(f64) -> f64) {
+        for (o, &v) in self.obs[self.at..self.at + x.len()].iter_mut().zip(x) {
+            *o = f(v);
+        }
+        self.at += x.len();
+    }
+
+    /// Checks that the observation is full.
+    fn done(self) {
+        debug_assert_eq!(self.at, self.obs.len());
+    }
+}
