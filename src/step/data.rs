@@ -31,20 +31,16 @@ pub struct Data {
     pub con: ConstraintData,
     /// The constraint solves' LCP, answer, warm start and counters.
     pub solve: SolveData,
-    /// Limits whose rows this step must include (2 per joint: lower, upper).
-    pub limit_forced: Vec<bool>,
+    /// What building the rows needs besides them.
+    pub rows: RowScratch,
     /// Post-stabilisation scratch and counters.
     pub post: StabilizeData,
     /// What the next step reads from the steps before it.
     pub history: History,
-    /// Tangents being recorded this step.
-    pub tangents_next: Vec<((usize, usize, usize), DVec3)>,
     /// Trajectory feed-forward for motion control: reference velocities then accelerations (2 × nu).
     pub feedforward: Vec<f64>,
-    /// Centre of mass and mass of each root's subtree, scratch for `sensors` (nbody).
-    pub root_com: Vec<(DVec3, f64)>,
-    /// Per-node spatial forces, scratch for `sensors` (nnode).
-    pub node_force: Vec<crate::math::Force>,
+    /// Scratch for `sensors`.
+    pub sensors: SensorScratch,
     /// Where a batch world's step call began, restored if it panics, and the panic's message.
     pub fault: Fault,
     /// Nanoseconds spent per pipeline stage, in [`crate::step::Stage`] order.
@@ -83,6 +79,24 @@ pub struct SolveData {
     pub impacts: u64,
 }
 
+/// What building a step's rows needs besides them (`step::rows`).
+#[derive(Clone, Debug, Default)]
+pub struct RowScratch {
+    /// Limits whose rows this step must include (2 per joint: lower, upper).
+    pub limit_forced: Vec<bool>,
+    /// Friction tangents being recorded this step.
+    pub tangents_next: Vec<((usize, usize, usize), DVec3)>,
+}
+
+/// Scratch for the sensor outputs (`sensors`).
+#[derive(Clone, Debug, Default)]
+pub struct SensorScratch {
+    /// Centre of mass and mass of each root's subtree (nbody).
+    pub root_com: Vec<(DVec3, f64)>,
+    /// Per-node spatial forces (nnode).
+    pub node_force: Vec<crate::math::Force>,
+}
+
 impl Data {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
@@ -95,13 +109,11 @@ impl Data {
             coll: CollisionData::new(m),
             con: ConstraintData::new(m),
             solve: SolveData::default(),
-            limit_forced: vec![false; 2 * m.njnt],
+            rows: RowScratch { limit_forced: vec![false; 2 * m.njnt], tangents_next: vec![] },
             post: StabilizeData::new(m),
             history: History::new(),
-            tangents_next: vec![],
             feedforward: vec![0.0; 2 * m.nu],
-            root_com: vec![(DVec3::ZERO, 0.0); m.nbody],
-            node_force: vec![crate::math::Force::ZERO; m.nnode],
+            sensors: SensorScratch { root_com: vec![(DVec3::ZERO, 0.0); m.nbody], node_force: vec![crate::math::Force::ZERO; m.nnode] },
             fault: Fault { qpos: vec![0.0; m.nq], qvel: vec![0.0; m.nv], time: 0.0, message: None },
             #[cfg(feature = "stage-timing")]
             stage_ns: [0; crate::step::STAGES],

@@ -190,14 +190,14 @@ fn constrain(m: &Model, data: &mut Data, qpos: &[f64], qvel: &mut [f64], ctrl: &
         // the first solve's limit rows stay (an impulse may have made them look inactive)
         for r in (0..data.con.len()).filter(|&r| data.con.kind[r] == RowKind::Limit) {
             let side = (data.con.dof[r].1 < 0.0) as usize;
-            data.limit_forced[2 * data.con.source[r] + side] = true;
+            data.rows.limit_forced[2 * data.con.source[r] + side] = true;
         }
         timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, h));
         timed!(data, Stage::Rows, build_rows(m, data, qpos, qvel, ctrl));
         data.solve.impact_warm.clear();
     }
     if redo {
-        data.limit_forced.fill(false);
+        data.rows.limit_forced.fill(false);
     }
 }
 

@@ -4,6 +4,7 @@
 //! row, added for a second solve.
 
 use super::*;
+use crate::data::RowScratch;
 
 /// Appends to the contacts those the step's final velocities q̇ + h q̈ can reach but the first
 /// detection's margin did not cover.
@@ -20,7 +21,7 @@ pub(super) fn missed_contacts(m: &Model, data: &mut Data, qvel: &[f64]) -> bool 
     collision::reach_again(m, kin, &post.vel_end, &mut post.kin.v, coll)
 }
 
-/// Marks in `data.limit_forced` each limit without a row that q̇ + h q̈ would cross within the step.
+/// Marks in `data.rows.limit_forced` each limit without a row that q̇ + h q̈ would cross within the step.
 pub(super) fn missed_limits(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
     let (h, lever) = (m.opt.timestep, m.opt.lever());
     let mut any = false;
@@ -31,7 +32,7 @@ pub(super) fn missed_limits(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f6
         for (side, (dist, sign)) in [(qpos[qa] - lo, 1.0), (hi - qpos[qa], -1.0)].into_iter().enumerate() {
             let has_row = || (0..data.con.len()).any(|r| data.con.kind[r] == RowKind::Limit && data.con.source[r] == j && data.con.dof[r].1 == sign);
             if dist + lever * sign * v_end < 0.0 && !has_row() {
-                data.limit_forced[2 * j + side] = true;
+                data.rows.limit_forced[2 * j + side] = true;
                 any = true;
             }
         }
@@ -40,7 +41,7 @@ pub(super) fn missed_limits(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f6
 }
 
 pub(super) fn build_rows(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) {
-    let Data { kin, aba, coll, con, history, tangents_next, feedforward, qacc, limit_forced, .. } = data;
+    let Data { kin, aba, coll, con, history, rows: RowScratch { tangents_next, limit_forced }, feedforward, qacc, .. } = data;
     let crate::data::History { tangents, rng, .. } = history;
     tangents_next.clear();
     let h = m.opt.timestep;
