@@ -1,28 +1,16 @@
 //! Humanoid-v5: a humanoid rewarded for moving its centre of mass forward, charged for control
 //! and contact forces.
 
-use super::{PLANE_INFO, Params, Task, World, Writer, plane_info, progress, skip, sum_sq};
+use super::{Locomotion, PLANE_INFO, Params, Task, World, Writer, progress, sum_sq};
 use crate::model::Model;
 
 /// Forward progress of the centre of mass.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Humanoid {
-    /// Weight of the forward velocity.
-    pub forward_weight: f64,
-    /// Weight of −‖ctrl‖².
-    pub ctrl_weight: f64,
-    /// Weight of the contact cost.
-    pub contact_weight: f64,
-    /// Reward per healthy step.
-    pub healthy_reward: f64,
+    /// Weights, health, skipped positions.
+    pub common: Locomotion,
     /// Range the contact cost is clipped to.
     pub cost_range: [f64; 2],
-    /// Range of the torso height `qpos[2]` (open).
-    pub z: [f64; 2],
-    /// Whether an unhealthy state ends the episode.
-    pub terminate: bool,
-    /// Leading qpos entries left out of the observation.
-    pub skip: usize,
     /// Which of cinert, cvel, qfrc_actuator, cfrc_ext are observed.
     pub parts: [bool; 4],
 }
@@ -30,20 +18,14 @@ pub struct Humanoid {
 impl Humanoid {
     /// The task for `m` (a free root).
     pub fn new(m: &Model, p: &mut dyn Params) -> Result<Self, String> {
-        if m.nq < 7 || m.nv < 6 {
-            return Err("the model needs a free root joint".into());
-        }
-        let (forward_weight, ctrl_weight) = (p.weight("forward_reward_weight")?, p.weight("ctrl_cost_weight")?);
-        let (contact_weight, healthy_reward) = (p.weight("contact_cost_weight")?, p.weight("healthy_reward")?);
-        let (z, terminate, skip) = (p.range("healthy_z_range")?, p.flag("terminate_when_unhealthy")?, skip(m, p, 2)?);
+        let common = Locomotion::new(m, p)?;
         let parts = [
             p.flag("include_cinert_in_observation")?,
             p.flag("include_cvel_in_observation")?,
             p.flag("include_qfrc_actuator_in_observation")?,
             p.flag("include_cfrc_ext_in_observation")?,
         ];
-        let cost_range = p.range("contact_cost_range")?;
-        Ok(Humanoid { forward_weight, ctrl_weight, contact_weight, healthy_reward, cost_range, z, terminate, skip, parts })
+        Ok(Humanoid { common, cost_range: p.range("contact_cost_range")?, parts })
     }
 }
 
@@ -51,7 +33,7 @@ impl Task for Humanoid {
     fn obs_dim(&self, m: &Model) -> usize {
         let nb = m.nbody - 1;
         let sizes = [10 * nb, 6 * nb, m.nv - 6, 6 * nb];
-        m.nq - self.skip + m.nv + sizes.iter().zip(self.parts).filter(|(_, on)| *on).map(|(s, _)| s).sum::<usize>()
+        m.nq - self.common.skip + m.nv + sizes.iter().zip(self.parts).filter(|(_, on)| *on).map(|(s, _)| s).sum::<usize>()
     }
 
     fn info_names(&self) -> &'static [&'static str] {
@@ -76,7 +58,7 @@ impl Task for Humanoid {
     fn observe(&self, m: &Model, w: &World<'_>, obs: &mut [f64]) {
         let nb = m.nbody;
         let mut out = Writer::new(obs);
-        out.put(&w.qpos[self.skip..]);
+        out.put(&w.qpos[self.common.skip..]);
         out.put(w.qvel);
         if self.parts[0] {
             out.put(&w.cinert[10..10 * nb]);
@@ -106,11 +88,10 @@ impl Task for Humanoid {
 
     fn evaluate(&self, m: &Model, w: &World<'_>, _obs: &[f64], before: [f64; 2], dt: f64, info: &mut [f64]) -> bool {
         let v = progress(before, self.position(m, w), dt);
-        let ok = self.z[0] < w.qpos[2] && w.qpos[2] < self.z[1];
+        let [z0, z1] = self.common.z;
+        let ok = z0 < w.qpos[2] && w.qpos[2] < z1;
         let [lo, hi] = self.cost_range;
-        let contact = (self.contact_weight * sum_sq(w.cfrc_ext)).clamp(lo, hi);
-        let survive = if ok { self.healthy_reward } else { 0.0 };
-        plane_info(w, v, [self.forward_weight * v[0], -self.ctrl_weight * sum_sq(w.ctrl), -contact, survive], info);
-        !ok && self.terminate
+        let contact = (self.common.contact_weight * sum_sq(w.cfrc_ext)).clamp(lo, hi);
+        self.common.evaluate(w, v, contact, ok, info)
     }
 }

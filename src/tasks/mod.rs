@@ -119,6 +119,52 @@ fn progress(before: [f64; 2], now: [f64; 2], dt: f64) -> [f64; 2] {
     [(now[0] - before[0]) / dt, (now[1] - before[1]) / dt]
 }
 
+/// What Ant and Humanoid share: the free root, the reward's weights, the healthy height range and
+/// the observation's skipped positions.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Locomotion {
+    /// Weight of the forward velocity.
+    pub forward_weight: f64,
+    /// Weight of −‖ctrl‖².
+    pub ctrl_weight: f64,
+    /// Weight of the contact cost.
+    pub contact_weight: f64,
+    /// Reward per healthy step.
+    pub healthy_reward: f64,
+    /// Range of the torso height `qpos[2]` (closed for Ant, open for Humanoid).
+    pub z: [f64; 2],
+    /// Whether an unhealthy state ends the episode.
+    pub terminate: bool,
+    /// Leading qpos entries left out of the observation.
+    pub skip: usize,
+}
+
+impl Locomotion {
+    /// The shared parameters, for `m` (a free root).
+    fn new(m: &Model, p: &mut dyn Params) -> Result<Self, String> {
+        if m.nq < 7 || m.nv < 6 {
+            return Err("the model needs a free root joint".into());
+        }
+        Ok(Locomotion {
+            forward_weight: p.weight("forward_reward_weight")?,
+            ctrl_weight: p.weight("ctrl_cost_weight")?,
+            contact_weight: p.weight("contact_cost_weight")?,
+            healthy_reward: p.weight("healthy_reward")?,
+            z: p.range("healthy_z_range")?,
+            terminate: p.flag("terminate_when_unhealthy")?,
+            skip: skip(m, p, 2)?,
+        })
+    }
+
+    /// The info ([`PLANE_INFO`]) of a step with progress velocity `v`, contact cost `contact`
+    /// (weighted) and health `ok`; whether it ends the episode.
+    fn evaluate(&self, w: &World<'_>, v: [f64; 2], contact: f64, ok: bool, info: &mut [f64]) -> bool {
+        let survive = if ok { self.healthy_reward } else { 0.0 };
+        plane_info(w, v, [self.forward_weight * v[0], -self.ctrl_weight * sum_sq(w.ctrl), -contact, survive], info);
+        !ok && self.terminate
+    }
+}
+
 /// Ant's and Humanoid's info: the four reward terms, then where the root is in the plane and
 /// the progress velocity.
 const PLANE_INFO: &[&str] =
