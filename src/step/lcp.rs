@@ -66,6 +66,9 @@ pub struct LcpWork {
     cand: Vec<usize>,
     /// The subproblem without the rows that need no force.
     sub: Subproblem,
+    /// One island of it ([`islands`]), and the union–find forest that finds them.
+    island: Subproblem,
+    parent: Vec<usize>,
 }
 
 /// A principal subproblem: the LCP on the variables `keep`, numbered in that order.
@@ -270,7 +273,7 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]
         }
     }
     if !out.contains(&true) {
-        cascade(n, m, q, role, warm, z, work, stats);
+        islands(n, m, q, role, warm, z, work, stats);
         retry.clear();
         sub.retry = retry;
         work.sub = sub;
@@ -282,7 +285,7 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]
     sub.gather(n, m, q, role, warm);
     let Subproblem { m: sm, q: sq, role: sr, warm: sw, z: sz, .. } = &mut sub;
     if k > 0 {
-        cascade(k, sm, sq, sr, warm.map(|_| &sw[..]), sz, work, stats);
+        islands(k, sm, sq, sr, warm.map(|_| &sw[..]), sz, work, stats);
     } else {
         stats.residual = 0.0;
     }
@@ -379,6 +382,61 @@ impl Subproblem {
         }
         !self.brought.is_empty()
     }
+}
+
+/// Solves the LCP island by island. Variables couple when M has an entry between them; rows of
+/// bodies that touch neither each other nor a common body share none (K = J M⁻¹ Jᵀ is zero
+/// between separate trees), so a pile of separate bodies splits into independent LCPs, each
+/// solved by [`cascade`] at its own size's cost instead of the whole's. One island is solved
+/// as it is.
+#[allow(clippy::too_many_arguments)]
+fn islands(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
+    let parent = &mut work.parent;
+    parent.clear();
+    parent.extend(0..n);
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for i in 0..n {
+        for j in i + 1..n {
+            if m[i * n + j] != 0.0 || m[j * n + i] != 0.0 {
+                let (a, b) = (root(parent, i), root(parent, j));
+                if a != b {
+                    parent[a.max(b)] = a.min(b);
+                }
+            }
+        }
+    }
+    for i in 0..n {
+        parent[i] = root(parent, i);
+    }
+    if parent.iter().all(|&r| r == 0) {
+        cascade(n, m, q, role, warm, z, work, stats);
+        return;
+    }
+    let mut island = std::mem::take(&mut work.island);
+    let mut worst = 0.0f64;
+    for r in 0..n {
+        if work.parent[r] != r {
+            continue;
+        }
+        island.keep.clear();
+        island.keep.extend((r..n).filter(|&i| work.parent[i] == r));
+        island.gather(n, m, q, role, warm);
+        let k = island.keep.len();
+        let Subproblem { m: im, q: iq, role: ir, warm: iw, z: iz, .. } = &mut island;
+        cascade(k, im, iq, ir, warm.map(|_| &iw[..]), iz, work, stats);
+        worst = worst.max(stats.residual);
+        for (k, &i) in island.keep.iter().enumerate() {
+            z[i] = island.z[k];
+        }
+    }
+    stats.residual = worst;
+    work.island = island;
 }
 
 /// Largest scaled negative w a left-out row may be left with (round-off).

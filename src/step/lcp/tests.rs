@@ -176,3 +176,50 @@ fn solves_the_seed_friction_block() {
     assert!((z[1] - mu * 9.81).abs() < 1e-12, "friction saturates: {z:?}");
     assert!(residual(3, &m, &q, &z, &mut work.w) < 1e-12);
 }
+
+#[test]
+fn a_problem_of_separate_groups_is_solved_group_by_group() {
+    // three problems interleaved into one: M has no entry between the groups (bodies that do
+    // not touch), and each group is solved exactly as it would be alone
+    let groups: Vec<Problem> = random_pyramid_problems(12).into_iter().skip(5).take(3).collect();
+    let n: usize = groups.iter().map(|p| p.0).sum();
+    let mut global: Vec<Vec<usize>> = groups.iter().map(|p| vec![0; p.0]).collect();
+    let (mut next, mut i) = (vec![0; 3], 0);
+    while i < n {
+        for g in 0..3 {
+            if next[g] < groups[g].0 {
+                global[g][next[g]] = i;
+                (next[g], i) = (next[g] + 1, i + 1);
+            }
+        }
+    }
+    let (mut m, mut q, mut role) = (vec![0.0; n * n], vec![0.0; n], vec![Role::Lambda; n]);
+    for ((ng, mg, qg, rg), map) in groups.iter().zip(&global) {
+        for a in 0..*ng {
+            q[map[a]] = qg[a];
+            role[map[a]] = match rg[a] {
+                Role::Friction { normal, lambda, mu } => Role::Friction { normal: map[normal], lambda: map[lambda], mu },
+                Role::Bounded { lambda, cap } => Role::Bounded { lambda: map[lambda], cap },
+                r => r,
+            };
+            for b in 0..*ng {
+                m[map[a] * n + map[b]] = mg[a * ng + b];
+            }
+        }
+    }
+    let (mut work, mut stats) = (LcpWork::default(), LcpStats::default());
+    let mut z = vec![0.0; n];
+    assert!(solve(n, &m, &q, &role, None, &mut vec![], &mut z, &mut work, &mut stats));
+    assert!(residual(n, &m, &q, &z, &mut work.w) <= ACCEPT_RESIDUAL, "{stats:?}");
+    let mut pivots = 0;
+    for ((ng, mg, qg, rg), map) in groups.iter().zip(&global) {
+        let (mut zg, mut alone) = (vec![0.0; *ng], LcpStats::default());
+        assert!(solve(*ng, mg, qg, rg, None, &mut vec![], &mut zg, &mut work, &mut alone));
+        pivots += alone.pivots;
+        for a in 0..*ng {
+            assert_eq!(z[map[a]], zg[a], "group variable {a}");
+        }
+    }
+    assert!(pivots > 0);
+    assert_eq!(stats.pivots, pivots, "each group pivots as it would alone");
+}
