@@ -3,6 +3,9 @@
 
 use glam::{DMat3, DVec3};
 
+/// Features of box–box face contacts start here (edge contacts are 32–40).
+const FACE_FEATURES: usize = 64;
+
 /// Box–box contacts by the separating-axis test (Gottschalk, Lin & Manocha, *OBBTree*, 1996), as
 /// ODE's `dBoxBox`: of the 15 candidate axes, the one of least penetration (or widest gap) is the
 /// normal, a face axis preferred unless an edge axis is clearly better. Face axis: the other box's
@@ -15,12 +18,15 @@ pub(super) fn box_box(c1: DVec3, r1: DMat3, h1: DVec3, c2: DVec3, r2: DMat3, h2:
     let d = c1 - c2;
     let radius = |axis: DVec3, rot: DMat3, half: DVec3| (0..3).map(|k| half[k] * axis.dot(rot.col(k)).abs()).sum::<f64>();
     let gap = |axis: DVec3| axis.dot(d).abs() - radius(axis, r1, h1) - radius(axis, r2, h2);
-    // best face axis: (gap, reference box is box 1, axis index)
+    let scale = h1.max_element() + h2.max_element();
+    // best face axis: (gap, reference box is box 1, axis index); a later axis must be better by
+    // more than round-off, so that faces tied (equal boxes stacked) keep one reference box and
+    // the contacts their features
     let mut face = (f64::NEG_INFINITY, false, 0);
     for (on1, rot) in [(true, r1), (false, r2)] {
         for k in 0..3 {
             let s = gap(rot.col(k));
-            if s > face.0 {
+            if s > face.0 + 1e-9 * scale {
                 face = (s, on1, k);
             }
         }
@@ -38,7 +44,6 @@ pub(super) fn box_box(c1: DVec3, r1: DMat3, h1: DVec3, c2: DVec3, r2: DMat3, h2:
             }
         }
     }
-    let scale = h1.max_element() + h2.max_element();
     if edge.0 > face.0 + 0.05 * face.0.abs() + 1e-9 * scale {
         if edge.0 > margin {
             return (out, 0);
@@ -77,23 +82,38 @@ pub(super) fn box_box(c1: DVec3, r1: DMat3, h1: DVec3, c2: DVec3, r2: DMat3, h2:
     let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
     let (u, v) = (ro.col(k1) * ho[k1], ro.col(k2) * ho[k2]);
     let centre = co + ni * ho[k];
-    let mut poly = [DVec3::ZERO; 8];
+    let corners = [centre + u + v, centre - u + v, centre - u - v, centre + u - v];
+    // each vertex with its identity and the label of the edge leaving it: an incident corner is
+    // 0–3 and its edge to the next corner 0–3; a clip on reference plane pl makes the vertex
+    // 8 + 8 pl + (the label of the edge it cut) and the edge along the plane 4 + pl. Identities
+    // so made persist while the boxes shift by round-off, and so do the rows' (warm start,
+    // friction tangents)
+    let mut poly = [(DVec3::ZERO, 0usize, 0usize); 8];
     let mut len = 4;
-    poly[..4].copy_from_slice(&[centre + u + v, centre - u + v, centre - u - v, centre + u - v]);
-    // clip by the reference face's four side planes: (p − c_R)·e ≤ h
+    for (c, p) in corners.iter().enumerate() {
+        poly[c] = (*p, c, c);
+    }
+    // clip by the reference face's four side planes: (p − c_R)·e ≤ h, a vertex within round-off
+    // of a plane counting as on it (equal faces stacked put the incident corners on the planes:
+    // an edge along a plane cut by round-off would give a point anywhere along it, another each
+    // step)
+    let on = 1e-9 * scale;
     let (a1, a2) = ((a + 1) % 3, (a + 2) % 3);
-    for (e, h) in [(rr.col(a1), hr[a1]), (-rr.col(a1), hr[a1]), (rr.col(a2), hr[a2]), (-rr.col(a2), hr[a2])] {
-        let mut next = [DVec3::ZERO; 8];
+    for (pl, (e, h)) in [(rr.col(a1), hr[a1]), (-rr.col(a1), hr[a1]), (rr.col(a2), hr[a2]), (-rr.col(a2), hr[a2])].into_iter().enumerate() {
+        let mut next = [(DVec3::ZERO, 0usize, 0usize); 8];
         let mut n_next = 0;
         for idx in 0..len {
-            let (p, q) = (poly[idx], poly[(idx + 1) % len]);
+            let ((p, id_p, edge), (q, _, _)) = (poly[idx], poly[(idx + 1) % len]);
             let (sp, sq) = ((p - cr).dot(e) - h, (q - cr).dot(e) - h);
-            if sp <= 0.0 && n_next < 8 {
-                next[n_next] = p;
+            if sp <= on && n_next < 8 {
+                // kept; if its edge leaves the face, the rest of it runs along this plane
+                next[n_next] = (p, id_p, if sq > on { 4 + pl } else { edge });
                 n_next += 1;
             }
-            if ((sp < 0.0 && sq > 0.0) || (sp > 0.0 && sq < 0.0)) && n_next < 8 {
-                next[n_next] = p + (q - p) * (sp / (sp - sq));
+            if ((sp < -on && sq > on) || (sp > on && sq < -on)) && n_next < 8 {
+                let cut = p + (q - p) * (sp / (sp - sq));
+                // entering the face: the cut point's edge is the rest of p's; leaving it: the plane's
+                next[n_next] = (cut, 8 + 8 * pl + edge, if sp > 0.0 { edge } else { 4 + pl });
                 n_next += 1;
             }
         }
@@ -106,13 +126,16 @@ pub(super) fn box_box(c1: DVec3, r1: DMat3, h1: DVec3, c2: DVec3, r2: DMat3, h2:
     // normal from box 2 to box 1: nf points from R to O
     let n = if ref1 { -nf } else { nf };
     let mut count = 0;
+    // clipping through a vertex within round-off yields it twice, and a point this close to an
+    // incident corner is that corner
     let tol = 1e-9 * scale;
-    for (idx, &p) in poly[..len].iter().enumerate() {
+    for &(p, id, _) in &poly[..len] {
         let depth = nf.dot(p - face_centre);
-        // clipping through a vertex within round-off yields it twice
-        let repeat = out[..count].iter().any(|o| o.1.distance(p - nf * (0.5 * depth)) <= tol);
+        let id = corners.iter().position(|c| c.distance(p) <= tol).unwrap_or(id);
+        let at = p - nf * (0.5 * depth);
+        let repeat = out[..count].iter().any(|o| o.1.distance(at) <= tol);
         if depth <= margin && !repeat {
-            out[count] = (16 * ref1 as usize + idx, p - nf * (0.5 * depth), n, depth);
+            out[count] = (FACE_FEATURES + 64 * ref1 as usize + id, at, n, depth);
             count += 1;
         }
     }
@@ -213,4 +236,35 @@ pub(super) fn closest_segments(a1: DVec3, b1: DVec3, a2: DVec3, b2: DVec3) -> (D
         }
     }
     (a1 + d1 * s, a2 + d2 * t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Equal boxes stacked face to face touch at the four corners, whatever round-off turns or
+    /// shifts them, with the same features every time (the rows' identities across steps).
+    #[test]
+    fn equal_stacked_boxes_touch_at_their_four_corners() {
+        let h = DVec3::splat(0.1);
+        let mut first: Option<Vec<usize>> = None;
+        for k in 0..200 {
+            // rotations by a and back: the identity up to round-off, different each time
+            let a = 0.37 * k as f64;
+            let top = DMat3::from_rotation_z(a) * DMat3::from_rotation_y(0.5 * a) * DMat3::from_rotation_y(-0.5 * a) * DMat3::from_rotation_z(-a);
+            let bottom = DMat3::from_rotation_x(a) * DMat3::from_rotation_x(-a);
+            let eps = 1e-16 * (k as f64 - 100.0);
+            let (pts, n) = box_box(DVec3::new(eps, -eps, 0.2 + 1e-12), top, h, DVec3::new(0.0, 7.0 * eps, 0.0), bottom, h, 1e-3);
+            assert_eq!(n, 4, "round-off {eps}: {:?}", &pts[..n]);
+            for p in &pts[..n] {
+                assert!((p.1.x.abs() - 0.1).abs() < 1e-9 && (p.1.y.abs() - 0.1).abs() < 1e-9, "not a corner: {:?}", p.1);
+            }
+            let mut features: Vec<usize> = pts[..n].iter().map(|p| p.0).collect();
+            features.sort_unstable();
+            match &first {
+                Some(f) => assert_eq!(&features, f, "round-off {eps}"),
+                None => first = Some(features),
+            }
+        }
+    }
 }
