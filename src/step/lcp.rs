@@ -401,22 +401,29 @@ fn islands(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>,
         }
         i
     }
-    for i in 0..n {
+    // the scan stops once everything is one group: for one body's contacts (every gymnasium
+    // task) that is within the first row, O(n) and not O(n²)
+    let mut groups = n;
+    'scan: for i in 0..n {
         for j in i + 1..n {
             if m[i * n + j] != 0.0 || m[j * n + i] != 0.0 {
                 let (a, b) = (root(parent, i), root(parent, j));
                 if a != b {
                     parent[a.max(b)] = a.min(b);
+                    groups -= 1;
+                    if groups == 1 {
+                        break 'scan;
+                    }
                 }
             }
         }
     }
-    for i in 0..n {
-        parent[i] = root(parent, i);
-    }
-    if parent.iter().all(|&r| r == 0) {
+    if groups <= 1 {
         cascade(n, m, q, role, warm, z, work, stats);
         return;
+    }
+    for i in 0..n {
+        parent[i] = root(parent, i);
     }
     let mut island = std::mem::take(&mut work.island);
     let mut worst = 0.0f64;
