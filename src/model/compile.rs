@@ -103,6 +103,8 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         node_nv: vec![],
         node_xtree: vec![],
         node_inertia: vec![],
+        node_tree: vec![],
+        node_end: vec![],
         geom_name: vec![],
         geom_type: vec![],
         geom_body: vec![],
@@ -207,6 +209,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
     }
     m.njnt = m.jnt_type.len();
     m.nnode = m.node_parent.len();
+    (m.node_tree, m.node_end) = node_trees(&m.node_parent);
 
     // node inertias: each body's inertia moved into its node frame
     for b in 1..nbody {
@@ -297,6 +300,23 @@ fn joint_travel(m: &Model, b: usize, after: Option<usize>) -> f64 {
         .filter(|&j| m.jnt_body[j] == b && after.is_none_or(|a| j > a))
         .map(|j| if m.jnt_type[j] == JointType::Slide { f64::INFINITY } else { 2.0 * m.jnt_pos[j].length() })
         .sum()
+}
+
+/// [`Model::node_tree`] and [`Model::node_end`] from the parents (numbered parents first).
+fn node_trees(parent: &[usize]) -> (Vec<usize>, Vec<usize>) {
+    let n = parent.len();
+    let mut tree = vec![0; n];
+    for i in 0..n {
+        tree[i] = if parent[i] == WORLD { i } else { tree[parent[i]] };
+    }
+    // a subtree ends where its root's end is: children come after their parents
+    let mut end: Vec<usize> = (1..=n).collect();
+    for i in (0..n).rev() {
+        if parent[i] != WORLD {
+            end[parent[i]] = end[parent[i]].max(end[i]);
+        }
+    }
+    (tree, end)
 }
 
 /// [`Model::body_reach`], bottom-up: a body's own geoms, and each child's reach from where the

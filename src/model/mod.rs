@@ -265,6 +265,12 @@ pub struct Model {
     pub node_xtree: Vec<Xform>,
     /// Rigid inertia carried by the node frame (its body plus welded descendants) (nnode).
     pub node_inertia: Vec<SpatialInertia>,
+    /// Root node of each node's tree (nnode): the node whose parent is the world. Trees share no
+    /// joint, so a force on one moves no other (their rows' K entries are zero).
+    pub node_tree: Vec<usize>,
+    /// Per node: one past the last node of its subtree (nnode). Nodes are numbered parents first
+    /// and depth first, so a tree rooted at r is the nodes r..node_end[r].
+    pub node_end: Vec<usize>,
 
     /// Geom names (ngeom).
     pub geom_name: Vec<String>,

@@ -87,6 +87,9 @@ pub struct ConstraintData {
     pub kind: Vec<RowKind>,
     /// Node of side 1 (or [`WORLD`]), side 2 for contacts.
     pub node: Vec<[usize; 2]>,
+    /// Tree of each side ([`Model::node_tree`], or [`WORLD`]): a joint row's in side 1. Rows of
+    /// separate trees have zero K entries.
+    pub tree: Vec<[usize; 2]>,
     /// Point of application in each side's node coordinates.
     pub point: Vec<[DVec3; 2]>,
     /// Jacobian row per side, as the spatial force a unit row force applies to that side's node
@@ -165,6 +168,7 @@ impl ConstraintData {
         self.assembled = false;
         self.kind.clear();
         self.node.clear();
+        self.tree.clear();
         self.point.clear();
         self.jac.clear();
         self.dir.clear();
@@ -182,10 +186,15 @@ impl ConstraintData {
     }
 
     /// Appends a row: every per-row vector grows by one here, and only here.
-    fn push(&mut self, row: NewRow) {
+    fn push(&mut self, m: &Model, row: NewRow) {
         let NewRow { kind, node, point, dir, dof, mu, source } = row;
+        let tree_of = |n: usize| if n == WORLD { WORLD } else { m.node_tree[n] };
         self.kind.push(kind);
         self.node.push(node);
+        self.tree.push(match kind {
+            RowKind::Normal | RowKind::Tangent { .. } => node.map(tree_of),
+            RowKind::Limit | RowKind::Motion { .. } => [tree_of(m.jnt_node[m.dof_jnt[dof.0]]), WORLD],
+        });
         self.point.push(point);
         self.jac.push([Force::ZERO; 2]);
         self.dir.push(dir);
@@ -324,7 +333,7 @@ pub fn rows(
         let g = m.opt.gravity;
         let arel = point_accel(kin, &aba.a, g, nodes[0], r) - point_accel(kin, &aba.a, g, nodes[1], r);
         let normal_row = out.len();
-        out.push(NewRow::contact(RowKind::Normal, nodes, pts, c.normal, c.mu, ci));
+        out.push(m, NewRow::contact(RowKind::Normal, nodes, pts, c.normal, c.mu, ci));
         out.vel[normal_row] = c.normal.dot(vrel);
         out.jac[normal_row] = jacobian(nodes, [r; 2], [c.normal; 2]);
         out.dist[normal_row] = c.dist;
@@ -362,7 +371,7 @@ pub fn rows(
             };
             for (k, d) in dirs.into_iter().enumerate().filter(|(_, d)| *d != DVec3::ZERO) {
                 let row = out.len();
-                out.push(NewRow::contact(RowKind::Tangent { normal: normal_row }, nodes, pts, d, c.mu, ci));
+                out.push(m, NewRow::contact(RowKind::Tangent { normal: normal_row }, nodes, pts, d, c.mu, ci));
                 out.vel[row] = d.dot(vrel);
                 out.jac[row] = jacobian(nodes, [r; 2], [d; 2]);
                 if k % 2 == 1 {
@@ -382,7 +391,7 @@ pub fn rows(
                 let v_end = v + h * sign * qacc0[da];
                 if dist + lever * v.min(v_end).min(0.0) <= m.jnt_margin[j] || forced[2 * j + side] {
                     let r = out.len();
-                    out.push(NewRow::joint(RowKind::Limit, (da, sign), j));
+                    out.push(m, NewRow::joint(RowKind::Limit, (da, sign), j));
                     out.vel[r] = v;
                     out.dist[r] = dist;
                     out.dist_start[r] = dist;
@@ -397,7 +406,7 @@ pub fn rows(
             let limit = m.actuator_ctrllimited[a].then(|| m.actuator_gear[a].abs() * m.actuator_ctrlrange[a][0].abs().max(m.actuator_ctrlrange[a][1].abs()));
             for sign in [1.0, -1.0] {
                 let r = out.len();
-                out.push(NewRow::joint(RowKind::Motion { bounded: limit.is_some() }, (da, sign), a));
+                out.push(m, NewRow::joint(RowKind::Motion { bounded: limit.is_some() }, (da, sign), a));
                 out.vel[r] = sign * qvel[da];
                 out.desired[r] = sign * ad;
                 out.cap[r] = limit.unwrap_or(f64::INFINITY);
@@ -531,8 +540,10 @@ pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintDa
 /// the point's node).
 fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintData, k: usize) {
     let (nr, nv) = (out.len(), m.nv);
-    for f in out.dpa.iter_mut() {
-        *f = Force::ZERO;
+    // the force moves only the nodes of the row's trees
+    let trees = out.tree[k];
+    for range in tree_ranges(m, trees) {
+        out.dpa[range].fill(Force::ZERO);
     }
     let mut dtau = None;
     match out.kind[k] {
@@ -546,29 +557,41 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
             }
         }
     }
-    delta_pass(m, kin, aba, dtau, &mut out.dpa, &mut out.du, &mut out.da, &mut out.dqdd[k * nv..(k + 1) * nv]);
-    // K is symmetric (J M⁻¹ Jᵀ): the rows whose columns are done hold this column's entries
+    delta_pass(m, kin, aba, trees, dtau, &mut out.dpa, &mut out.du, &mut out.da, &mut out.dqdd[k * nv..(k + 1) * nv]);
+    // K is symmetric (J M⁻¹ Jᵀ): the rows whose columns are done hold this column's entries; rows
+    // of other trees keep the zero K was cleared to
     let dqdd = &out.dqdd[k * nv..(k + 1) * nv];
     for j in 0..nr {
-        out.k[j * nr + k] = if out.column_done[j] { out.k[k * nr + j] } else { delta_accel(out, dqdd, j) };
+        let [a, b] = out.tree[j];
+        if moves(trees, a) || moves(trees, b) {
+            out.k[j * nr + k] = if out.column_done[j] { out.k[k * nr + j] } else { delta_accel(out, trees, dqdd, j) };
+        }
     }
     out.column_done[k] = true;
 }
 
-/// Acceleration of row j under the test force whose responses are in `cd.da` and `dqdd` (a K
-/// entry): a contact's delta point acceleration projected, Σ_sides δa_n · jac, or a joint row's δq̈.
+/// Whether tree `t` is one of the trees `trees` a test force moved.
 #[inline]
-fn delta_accel(cd: &ConstraintData, dqdd: &[f64], j: usize) -> f64 {
+fn moves(trees: [usize; 2], t: usize) -> bool {
+    t != WORLD && (t == trees[0] || t == trees[1])
+}
+
+/// Acceleration of row j under the test force on the trees `trees` whose responses are in
+/// `cd.da` and `dqdd` (a K entry): a contact's delta point acceleration projected,
+/// Σ_sides δa_n · jac over the sides in those trees (the others do not move), or a joint row's δq̈.
+#[inline]
+fn delta_accel(cd: &ConstraintData, trees: [usize; 2], dqdd: &[f64], j: usize) -> f64 {
     if !cd.kind[j].is_contact() {
         let (dof, sign) = cd.dof[j];
         return sign * dqdd[dof];
     }
     let [n0, n1] = cd.node[j];
+    let [t0, t1] = cd.tree[j];
     let mut acc = 0.0;
-    if n0 != WORLD {
+    if moves(trees, t0) {
         acc += cd.da[n0].dot(&cd.jac[j][0]);
     }
-    if n1 != WORLD {
+    if moves(trees, t1) {
         acc += cd.da[n1].dot(&cd.jac[j][1]);
     }
     acc
@@ -586,14 +609,25 @@ fn measure(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], cd: &Constrai
     cd.dir[j].dot(point_accel(kin, &aba.a, g, n0, kin.rel(n0, p0)) - point_accel(kin, &aba.a, g, n1, kin.rel(n1, p1)))
 }
 
+/// The node ranges of the trees `trees` ([`Model::node_tree`]; [`WORLD`] and a repeat name
+/// none), first node first.
+pub fn tree_ranges(m: &Model, trees: [usize; 2]) -> impl DoubleEndedIterator<Item = std::ops::Range<usize>> {
+    let [a, b] = trees;
+    let (a, b) = if a == WORLD || (b != WORLD && b < a) { (b, a) } else { (a, b) };
+    let range = |t: usize| if t == WORLD { 0..0 } else { t..m.node_end[t] };
+    [range(a), if b == a { 0..0 } else { range(b) }].into_iter()
+}
+
 /// Response of the articulated system to the test forces in `dpa` (world coordinates) or the unit
-/// joint torque `dtau` = (dof, value): a delta ABA with the inertias of the main pass (velocity
-/// terms cancel). Writes Δq̈ into `dqdd` and spatial Δa into `da`; leaves `dpa` modified.
+/// joint torque `dtau` = (dof, value) on the nodes of the trees `trees` (the others do not move):
+/// a delta ABA with the inertias of the main pass (velocity terms cancel). Writes Δq̈ of those
+/// trees' dofs into `dqdd` and spatial Δa of their nodes into `da`; leaves `dpa` modified.
 #[allow(clippy::too_many_arguments)]
 pub fn delta_pass(
     m: &Model,
     kin: &KinData,
     aba: &AbaData,
+    trees: [usize; 2],
     dtau: Option<(usize, f64)>,
     dpa: &mut [Force],
     du: &mut [[f64; 6]],
@@ -602,7 +636,7 @@ pub fn delta_pass(
 ) {
     // inward: δu_i = δτ_i − S_iᵀ δp^A_i;  δp^A_λ += δp^A_i + U_i D_i⁻¹ δu_i; nodes off the
     // test force's path to the root have δp^A = 0 and δu = 0
-    for i in (0..m.nnode).rev() {
+    for i in tree_ranges(m, trees).rev().flat_map(|r| r.rev()) {
         let k = m.node_nv[i];
         let d0 = m.node_dofadr[i];
         let torqued = matches!(dtau, Some((dof, _)) if dof >= d0 && dof < d0 + k);
@@ -630,7 +664,7 @@ pub fn delta_pass(
         dpa[p] += pa;
     }
     // outward: δa'_i = δa_λ;  δq̈_i = D⁻¹(δu_i − Uᵀ δa'_i);  δa_i = δa'_i + S δq̈_i
-    for i in 0..m.nnode {
+    for i in tree_ranges(m, trees).flatten() {
         let p = m.node_parent[i];
         let a = if p == WORLD { Motion::ZERO } else { da[p] };
         da[i] = super::aba::joint_accel(m, kin, aba, i, &du[i], a, dqdd);

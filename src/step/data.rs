@@ -62,6 +62,10 @@ pub struct SolveData {
     pub lambda: Vec<usize>,
     /// Role of each LCP variable.
     pub role: Vec<crate::step::lcp::Role>,
+    /// Island label of each LCP variable (`step::solve::island_labels`).
+    pub group: Vec<usize>,
+    /// Union–find forest over the nodes' trees, scratch for the labels (nnode).
+    pub tree_link: Vec<usize>,
     /// LCP variables left out of the solve (held at zero force) and of K.
     pub out: Vec<bool>,
     /// Active set of this step's impact solve, which warm-starts the force solve on the same rows

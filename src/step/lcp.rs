@@ -66,9 +66,11 @@ pub struct LcpWork {
     cand: Vec<usize>,
     /// The subproblem without the rows that need no force.
     sub: Subproblem,
-    /// One island of it ([`islands`]), and the union–find forest that finds them.
+    /// One island of it ([`islands`]), the union–find forest that finds them from M, and the
+    /// variables ordered island by island.
     island: Subproblem,
     parent: Vec<usize>,
+    order: Vec<usize>,
 }
 
 /// A principal subproblem: the LCP on the variables `keep`, numbered in that order.
@@ -81,6 +83,8 @@ struct Subproblem {
     m: Vec<f64>,
     q: Vec<f64>,
     role: Vec<Role>,
+    /// The kept variables' island labels, when the caller gave them.
+    group: Vec<usize>,
     warm: Vec<bool>,
     z: Vec<f64>,
     /// After an answer that brought rows back: its active set and those rows, which warm-start
@@ -252,13 +256,15 @@ pub fn residual(n: usize, m: &[f64], q: &[f64], z: &[f64], w: &mut Vec<f64>) -> 
 
 /// Solves the LCP on the variables not marked in `out` (which the caller sizes to n or leaves
 /// empty: nothing left out), holding the others at zero (module docs); a contact's friction rows
-/// and λ follow its normal. False when the answer pushed into a left-out normal: that row and its contact are then
+/// and λ follow its normal. `group`, when given, labels each variable's island: M has no entry
+/// between variables of different labels (rows of separate trees); without it the islands are
+/// found from M's entries ([`islands`]). False when the answer pushed into a left-out normal: that row and its contact are then
 /// unmarked in `out` (every row, if this was already such a second solve), their columns of M
 /// are needed, and the caller solves again, which starts from this answer's active set plus the
 /// rows brought back (of this attempt, the statistics keep its pivots and count it in
 /// `regrown`).
 #[allow(clippy::too_many_arguments)]
-pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>, out: &mut Vec<bool>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) -> bool {
+pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], group: Option<&[usize]>, warm: Option<&[bool]>, out: &mut Vec<bool>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) -> bool {
     let start = *stats;
     stats.solves += 1;
     let mut sub = std::mem::take(&mut work.sub);
@@ -273,7 +279,7 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]
         }
     }
     if !out.contains(&true) {
-        islands(n, m, q, role, warm, z, work, stats);
+        islands(n, m, q, role, group, warm, z, work, stats);
         retry.clear();
         sub.retry = retry;
         work.sub = sub;
@@ -282,10 +288,10 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]
     sub.keep.clear();
     sub.keep.extend((0..n).filter(|&i| !out[i]));
     let k = sub.keep.len();
-    sub.gather(n, m, q, role, warm);
-    let Subproblem { m: sm, q: sq, role: sr, warm: sw, z: sz, .. } = &mut sub;
+    sub.gather(n, m, q, role, group, warm);
+    let Subproblem { m: sm, q: sq, role: sr, group: sg, warm: sw, z: sz, .. } = &mut sub;
     if k > 0 {
-        islands(k, sm, sq, sr, warm.map(|_| &sw[..]), sz, work, stats);
+        islands(k, sm, sq, sr, group.map(|_| &sg[..]), warm.map(|_| &sw[..]), sz, work, stats);
     } else {
         stats.residual = 0.0;
     }
@@ -326,8 +332,8 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]
 }
 
 impl Subproblem {
-    /// The kept rows' M, q, roles (renumbered) and warm set.
-    fn gather(&mut self, n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>) {
+    /// The kept rows' M, q, roles (renumbered), island labels and warm set.
+    fn gather(&mut self, n: usize, m: &[f64], q: &[f64], role: &[Role], group: Option<&[usize]>, warm: Option<&[bool]>) {
         let k = self.keep.len();
         self.index.clear();
         self.index.resize(n, usize::MAX);
@@ -337,6 +343,10 @@ impl Subproblem {
         self.m.clear();
         self.q.clear();
         self.role.clear();
+        self.group.clear();
+        if let Some(g) = group {
+            self.group.extend(self.keep.iter().map(|&i| g[i]));
+        }
         self.warm.clear();
         for &i in &self.keep {
             self.m.extend(self.keep.iter().map(|&j| m[i * n + j]));
@@ -387,11 +397,55 @@ impl Subproblem {
 /// Solves the LCP island by island. Variables couple when M has an entry between them; rows of
 /// bodies that touch neither each other nor a common body share none (K = J M⁻¹ Jᵀ is zero
 /// between separate trees), so a pile of separate bodies splits into independent LCPs, each
-/// solved by [`cascade`] at its own size's cost instead of the whole's. One island is solved
-/// as it is.
+/// solved by [`cascade`] at its own size's cost instead of the whole's. The islands are the
+/// caller's labels `group` where given (O(n)), else found from M's entries by union–find. One
+/// island is solved as it is.
 #[allow(clippy::too_many_arguments)]
-fn islands(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
-    let parent = &mut work.parent;
+fn islands(n: usize, m: &[f64], q: &[f64], role: &[Role], group: Option<&[usize]>, warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
+    let label = &mut work.parent;
+    let one = match group {
+        Some(g) => {
+            label.clear();
+            label.extend_from_slice(&g[..n]);
+            label.iter().all(|&x| x == label[0])
+        }
+        None => couplings(n, m, label),
+    };
+    if one {
+        cascade(n, m, q, role, warm, z, work, stats);
+        return;
+    }
+    // the variables island by island, each island's in their order
+    let (label, order) = (&work.parent, &mut work.order);
+    order.clear();
+    order.extend(0..n);
+    order.sort_unstable_by_key(|&i| (label[i], i));
+    let mut island = std::mem::take(&mut work.island);
+    let mut worst = 0.0f64;
+    let mut start = 0;
+    while start < n {
+        let l = work.parent[work.order[start]];
+        let end = (start..n).find(|&k| work.parent[work.order[k]] != l).unwrap_or(n);
+        island.keep.clear();
+        island.keep.extend_from_slice(&work.order[start..end]);
+        island.gather(n, m, q, role, None, warm);
+        let k = island.keep.len();
+        let Subproblem { m: im, q: iq, role: ir, warm: iw, z: iz, .. } = &mut island;
+        cascade(k, im, iq, ir, warm.map(|_| &iw[..]), iz, work, stats);
+        worst = worst.max(stats.residual);
+        for (k, &i) in island.keep.iter().enumerate() {
+            z[i] = island.z[k];
+        }
+        start = end;
+    }
+    stats.residual = worst;
+    work.island = island;
+}
+
+/// Labels each variable with its island's root (union–find over M's nonzero entries) into
+/// `parent`; whether everything is one island. The scan stops once it is: for one body's
+/// contacts (every gymnasium task) that is within the first row, O(n) and not O(n²).
+fn couplings(n: usize, m: &[f64], parent: &mut Vec<usize>) -> bool {
     parent.clear();
     parent.extend(0..n);
     fn root(parent: &mut [usize], mut i: usize) -> usize {
@@ -401,10 +455,8 @@ fn islands(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>,
         }
         i
     }
-    // the scan stops once everything is one group: for one body's contacts (every gymnasium
-    // task) that is within the first row, O(n) and not O(n²)
     let mut groups = n;
-    'scan: for i in 0..n {
+    for i in 0..n {
         for j in i + 1..n {
             if m[i * n + j] != 0.0 || m[j * n + i] != 0.0 {
                 let (a, b) = (root(parent, i), root(parent, j));
@@ -412,38 +464,16 @@ fn islands(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>,
                     parent[a.max(b)] = a.min(b);
                     groups -= 1;
                     if groups == 1 {
-                        break 'scan;
+                        return true;
                     }
                 }
             }
         }
     }
-    if groups <= 1 {
-        cascade(n, m, q, role, warm, z, work, stats);
-        return;
-    }
     for i in 0..n {
         parent[i] = root(parent, i);
     }
-    let mut island = std::mem::take(&mut work.island);
-    let mut worst = 0.0f64;
-    for r in 0..n {
-        if work.parent[r] != r {
-            continue;
-        }
-        island.keep.clear();
-        island.keep.extend((r..n).filter(|&i| work.parent[i] == r));
-        island.gather(n, m, q, role, warm);
-        let k = island.keep.len();
-        let Subproblem { m: im, q: iq, role: ir, warm: iw, z: iz, .. } = &mut island;
-        cascade(k, im, iq, ir, warm.map(|_| &iw[..]), iz, work, stats);
-        worst = worst.max(stats.residual);
-        for (k, &i) in island.keep.iter().enumerate() {
-            z[i] = island.z[k];
-        }
-    }
-    stats.residual = worst;
-    work.island = island;
+    groups <= 1
 }
 
 /// Largest scaled negative w a left-out row may be left with (round-off).

@@ -4,6 +4,7 @@
 
 use super::*;
 use crate::data::SolveData;
+use crate::model::WORLD;
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub(super) enum Level {
@@ -290,12 +291,53 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: 
             _ => data.solve.role[j] = lcp::Role::Normal,
         }
     }
+    island_labels(data, n);
     let warm = warm.then_some(&data.solve.warm[..]);
-    let solved = lcp::solve(n, &data.solve.m, &data.solve.q, &data.solve.role, warm, &mut data.solve.out, &mut data.solve.force, &mut data.solve.work, &mut data.solve.stats);
+    let group = Some(&data.solve.group[..]);
+    let solved = lcp::solve(n, &data.solve.m, &data.solve.q, &data.solve.role, group, warm, &mut data.solve.out, &mut data.solve.force, &mut data.solve.work, &mut data.solve.stats);
     if solved {
         record_warm(data, level);
     }
     solved
+}
+
+/// Labels each of the n LCP variables with its island into `data.solve.group`: the trees its row
+/// touches joined with every tree a contact connects them to (union–find over the rows), named
+/// by the root node of the least tree; a λ or σ takes its row's. Rows of different labels share
+/// no body, so K (and M) has no entry between them.
+fn island_labels(data: &mut Data, n: usize) {
+    let SolveData { group, tree_link: link, lambda, .. } = &mut data.solve;
+    let con = &data.con;
+    fn root(link: &mut [usize], mut i: usize) -> usize {
+        while link[i] != i {
+            link[i] = link[link[i]];
+            i = link[i];
+        }
+        i
+    }
+    // only the trees the rows name are linked: reset them alone
+    let nodes = con.tree.iter().flatten().filter(|&&t| t != WORLD).fold(0, |a, &t| a.max(t + 1));
+    if link.len() < nodes {
+        link.resize(nodes, 0);
+    }
+    for &t in con.tree.iter().flatten().filter(|&&t| t != WORLD) {
+        link[t] = t;
+    }
+    for &[a, b] in &con.tree {
+        if a != WORLD && b != WORLD {
+            let (a, b) = (root(link, a), root(link, b));
+            link[a.max(b)] = a.min(b);
+        }
+    }
+    group.clear();
+    group.resize(n, usize::MAX);
+    for (j, &[a, b]) in con.tree.iter().enumerate() {
+        let t = if a != WORLD { a } else { b };
+        group[j] = if t == WORLD { usize::MAX } else { root(link, t) };
+        if lambda[j] != usize::MAX {
+            group[lambda[j]] = group[j];
+        }
+    }
 }
 
 /// Keeps the active set of a solve: an impact's for the force solve after it, an

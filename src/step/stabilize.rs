@@ -264,7 +264,8 @@ fn gather(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
         }
         let start = post.dqdd.len();
         post.dqdd.resize(start + nv, 0.0);
-        constraint::delta_pass(m, kin, aba, None, &mut post.dpa, &mut post.du, &mut post.da, &mut post.dqdd[start..]);
+        let trees = nodes.map(|n| if n == WORLD { WORLD } else { m.node_tree[n] });
+        constraint::delta_pass(m, kin, aba, trees, None, &mut post.dpa, &mut post.du, &mut post.da, &mut post.dqdd[start..]);
         post.limit.push(None);
     }
     // the step's limit rows take part so the projection cannot push a joint past its limit, and
@@ -300,7 +301,8 @@ fn push_limit_row(m: &Model, kin: &KinData, aba: &AbaData, post: &mut StabilizeD
     post.jac[start + dof] = sign;
     post.dpa.fill(Force::ZERO);
     post.dqdd.resize(start + nv, 0.0);
-    constraint::delta_pass(m, kin, aba, Some((dof, sign)), &mut post.dpa, &mut post.du, &mut post.da, &mut post.dqdd[start..]);
+    let tree = m.node_tree[m.jnt_node[joint]];
+    constraint::delta_pass(m, kin, aba, [tree, WORLD], Some((dof, sign)), &mut post.dpa, &mut post.du, &mut post.da, &mut post.dqdd[start..]);
     post.limit.push(Some((joint, sign)));
 }
 
@@ -358,7 +360,7 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
         // nothing is left out, so one solve; were rows brought back, M is complete and the solve
         // is simply repeated
         post.left_out.clear();
-        while !lcp::solve(k, &post.m, &post.gap, &post.role, None, &mut post.left_out, &mut post.p, &mut post.work, stats) {}
+        while !lcp::solve(k, &post.m, &post.gap, &post.role, None, None, &mut post.left_out, &mut post.p, &mut post.work, stats) {}
         post.dq.fill(0.0);
         for a in 0..k {
             let p = post.p[a];
