@@ -522,8 +522,13 @@ pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintDa
             if !out.column_done[mk] {
                 push_test_force(m, kin, aba, out, mk);
             }
+            // the mirrored row's trees: the other rows' entries stay zero
+            let trees = out.tree[k];
             for j in 0..nr {
-                out.k[j * nr + k] = -out.k[j * nr + mk];
+                let [a, b] = out.tree[j];
+                if moves(trees, a) || moves(trees, b) {
+                    out.k[j * nr + k] = -out.k[j * nr + mk];
+                }
             }
             let (done, rest) = out.dqdd.split_at_mut(k * nv);
             for (d, s) in rest[..nv].iter_mut().zip(&done[mk * nv..(mk + 1) * nv]) {

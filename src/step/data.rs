@@ -54,16 +54,28 @@ pub struct Data {
 pub struct SolveData {
     /// Constraint force (acceleration solve) or impulse (impact solve) per row and λ.
     pub force: Vec<f64>,
-    /// LCP matrix (n × n, row-major).
+    /// LCP matrix of the island being solved (row-major).
     pub m: Vec<f64>,
     /// LCP vector.
     pub q: Vec<f64>,
     /// λ variable of each normal row with friction (usize::MAX: none).
     pub lambda: Vec<usize>,
-    /// Role of each LCP variable.
+    /// Role of each LCP variable of the island being solved.
     pub role: Vec<crate::step::lcp::Role>,
     /// Island label of each LCP variable (`step::solve::island_labels`).
     pub group: Vec<usize>,
+    /// The LCP variables island by island (by label, each island's in their order).
+    pub order: Vec<usize>,
+    /// Number of each variable in its island's LCP while that is posed (else usize::MAX).
+    pub local: Vec<usize>,
+    /// The island's q, variables left out, warm set and answer.
+    pub island_q: Vec<f64>,
+    /// See `island_q`.
+    pub island_out: Vec<bool>,
+    /// See `island_q`.
+    pub island_warm: Vec<bool>,
+    /// See `island_q`.
+    pub island_z: Vec<f64>,
     /// Union–find forest over the nodes' trees, scratch for the labels (nnode).
     pub tree_link: Vec<usize>,
     /// LCP variables left out of the solve (held at zero force) and of K.

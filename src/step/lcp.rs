@@ -83,8 +83,6 @@ struct Subproblem {
     m: Vec<f64>,
     q: Vec<f64>,
     role: Vec<Role>,
-    /// The kept variables' island labels, when the caller gave them.
-    group: Vec<usize>,
     warm: Vec<bool>,
     z: Vec<f64>,
     /// After an answer that brought rows back: its active set and those rows, which warm-start
@@ -256,15 +254,14 @@ pub fn residual(n: usize, m: &[f64], q: &[f64], z: &[f64], w: &mut Vec<f64>) -> 
 
 /// Solves the LCP on the variables not marked in `out` (which the caller sizes to n or leaves
 /// empty: nothing left out), holding the others at zero (module docs); a contact's friction rows
-/// and λ follow its normal. `group`, when given, labels each variable's island: M has no entry
-/// between variables of different labels (rows of separate trees); without it the islands are
-/// found from M's entries ([`islands`]). False when the answer pushed into a left-out normal: that row and its contact are then
+/// and λ follow its normal. With `split`, the problem is solved island by island ([`islands`]);
+/// a caller that already solves each island alone (the step, by its rows' trees) passes false. False when the answer pushed into a left-out normal: that row and its contact are then
 /// unmarked in `out` (every row, if this was already such a second solve), their columns of M
 /// are needed, and the caller solves again, which starts from this answer's active set plus the
 /// rows brought back (of this attempt, the statistics keep its pivots and count it in
 /// `regrown`).
 #[allow(clippy::too_many_arguments)]
-pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], group: Option<&[usize]>, warm: Option<&[bool]>, out: &mut Vec<bool>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) -> bool {
+pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], split: bool, warm: Option<&[bool]>, out: &mut Vec<bool>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) -> bool {
     let start = *stats;
     stats.solves += 1;
     let mut sub = std::mem::take(&mut work.sub);
@@ -279,7 +276,7 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], group: Option<&[usiz
         }
     }
     if !out.contains(&true) {
-        islands(n, m, q, role, group, warm, z, work, stats);
+        islands(n, m, q, role, split, warm, z, work, stats);
         retry.clear();
         sub.retry = retry;
         work.sub = sub;
@@ -288,10 +285,10 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], group: Option<&[usiz
     sub.keep.clear();
     sub.keep.extend((0..n).filter(|&i| !out[i]));
     let k = sub.keep.len();
-    sub.gather(n, m, q, role, group, warm);
-    let Subproblem { m: sm, q: sq, role: sr, group: sg, warm: sw, z: sz, .. } = &mut sub;
+    sub.gather(n, m, q, role, warm);
+    let Subproblem { m: sm, q: sq, role: sr, warm: sw, z: sz, .. } = &mut sub;
     if k > 0 {
-        islands(k, sm, sq, sr, group.map(|_| &sg[..]), warm.map(|_| &sw[..]), sz, work, stats);
+        islands(k, sm, sq, sr, split, warm.map(|_| &sw[..]), sz, work, stats);
     } else {
         stats.residual = 0.0;
     }
@@ -332,8 +329,8 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], group: Option<&[usiz
 }
 
 impl Subproblem {
-    /// The kept rows' M, q, roles (renumbered), island labels and warm set.
-    fn gather(&mut self, n: usize, m: &[f64], q: &[f64], role: &[Role], group: Option<&[usize]>, warm: Option<&[bool]>) {
+    /// The kept rows' M, q, roles (renumbered) and warm set.
+    fn gather(&mut self, n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>) {
         let k = self.keep.len();
         self.index.clear();
         self.index.resize(n, usize::MAX);
@@ -343,10 +340,6 @@ impl Subproblem {
         self.m.clear();
         self.q.clear();
         self.role.clear();
-        self.group.clear();
-        if let Some(g) = group {
-            self.group.extend(self.keep.iter().map(|&i| g[i]));
-        }
         self.warm.clear();
         for &i in &self.keep {
             self.m.extend(self.keep.iter().map(|&j| m[i * n + j]));
@@ -397,25 +390,15 @@ impl Subproblem {
 /// Solves the LCP island by island. Variables couple when M has an entry between them; rows of
 /// bodies that touch neither each other nor a common body share none (K = J M⁻¹ Jᵀ is zero
 /// between separate trees), so a pile of separate bodies splits into independent LCPs, each
-/// solved by [`cascade`] at its own size's cost instead of the whole's. The islands are the
-/// caller's labels `group` where given (O(n)), else found from M's entries by union–find. One
-/// island is solved as it is.
+/// solved by [`cascade`] at its own size's cost instead of the whole's. The islands are found
+/// from M's entries by union–find, unless not `split`. One island is solved as it is.
 #[allow(clippy::too_many_arguments)]
-fn islands(n: usize, m: &[f64], q: &[f64], role: &[Role], group: Option<&[usize]>, warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
-    let label = &mut work.parent;
-    let one = match group {
-        Some(g) => {
-            label.clear();
-            label.extend_from_slice(&g[..n]);
-            label.iter().all(|&x| x == label[0])
-        }
-        None => couplings(n, m, label),
-    };
-    if one {
+fn islands(n: usize, m: &[f64], q: &[f64], role: &[Role], split: bool, warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
+    if !split || couplings(n, m, &mut work.parent) {
         cascade(n, m, q, role, warm, z, work, stats);
         return;
     }
-    // the variables island by island, each island's in their order
+    // the variables island by island (by root), each island's in their order
     let (label, order) = (&work.parent, &mut work.order);
     order.clear();
     order.extend(0..n);
@@ -428,7 +411,7 @@ fn islands(n: usize, m: &[f64], q: &[f64], role: &[Role], group: Option<&[usize]
         let end = (start..n).find(|&k| work.parent[work.order[k]] != l).unwrap_or(n);
         island.keep.clear();
         island.keep.extend_from_slice(&work.order[start..end]);
-        island.gather(n, m, q, role, None, warm);
+        island.gather(n, m, q, role, warm);
         let k = island.keep.len();
         let Subproblem { m: im, q: iq, role: ir, warm: iw, z: iz, .. } = &mut island;
         cascade(k, im, iq, ir, warm.map(|_| &iw[..]), iz, work, stats);

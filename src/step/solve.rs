@@ -28,17 +28,30 @@ pub(super) fn solve_rows(m: &Model, data: &mut Data, level: Level) {
         record_warm(data, level);
         return;
     };
-    // K's columns for the rows kept; more when the answer pushes into a row left out
+    // island by island: K's columns for the rows kept; more when the answer pushes into a row
+    // left out
     let left_any = data.solve.out.contains(&true);
     let mut brought_back = false;
-    loop {
-        let Data { kin, aba, con, solve: SolveData { out: lcp_out, .. }, .. } = data;
-        timed!(data, Stage::Assembly, constraint::responses(m, kin, aba, con, |k, _| !lcp_out[k]));
-        if timed!(data, Stage::Lcp, lcp_matrix_and_solve(m, data, level, n, warm)) {
-            break;
+    island_labels(data, n);
+    let SolveData { group, order, .. } = &mut data.solve;
+    order.clear();
+    order.extend(0..n);
+    order.sort_unstable_by_key(|&i| (group[i], i));
+    let mut start = 0;
+    while start < n {
+        let label = data.solve.group[data.solve.order[start]];
+        let end = (start..n).find(|&k| data.solve.group[data.solve.order[k]] != label).unwrap_or(n);
+        loop {
+            let Data { kin, aba, con, solve: SolveData { out: lcp_out, group, .. }, .. } = data;
+            timed!(data, Stage::Assembly, constraint::responses(m, kin, aba, con, |k, _| !lcp_out[k] && group[k] == label));
+            if timed!(data, Stage::Lcp, lcp_matrix_and_solve(m, data, level, start..end, warm)) {
+                break;
+            }
+            brought_back = true;
         }
-        brought_back = true;
+        start = end;
     }
+    record_warm(data, level);
     // how often leaving rows out has cost another solve lately: past MAX_REGROW_RATE (a pile of
     // bodies, whose separating contacts the others keep pushing closed) nothing is left out,
     // and the rate decays, so that leaving out is tried again later
@@ -236,67 +249,94 @@ fn apart(m: &Model, con: &constraint::ConstraintData, j: usize, impact: f64) -> 
     !approaching(con.vel[r], con.dist[r], con.vel[r] + h * con.b[r], m.opt.lever(), impact)
 }
 
-/// M from K and the friction and bound couplings; solves into `data.solve.force`, from the warm set in
-/// `data.solve.warm` when `warm` ([`warm_guess`]). False when the solve brought back rows left out,
-/// whose K columns it needs.
-pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, n: usize, warm: bool) -> bool {
+/// The LCP of one island, the variables `data.solve.order[island]` (every row and λ of a set of
+/// trees that touch, in their order): M from K and the friction and bound couplings, solved into
+/// `data.solve.force`, from the warm set in `data.solve.warm` when `warm` ([`warm_guess`]). False
+/// when the solve brought back rows left out, whose K columns it needs.
+pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, island: std::ops::Range<usize>, warm: bool) -> bool {
     let h = m.opt.timestep;
-    let con = &data.con;
+    let Data { con, solve, .. } = data;
     let nr = con.len();
-    data.solve.m.clear();
-    data.solve.m.resize(n * n, 0.0);
-    data.solve.role.clear();
-    data.solve.role.resize(n, lcp::Role::Lambda);
-    let (mm, q) = (&mut data.solve.m, &mut data.solve.q);
-    // a row no force can move (K_jj ≈ 0: the out-of-plane friction of a planar model) carries no
-    // force; left in, it makes the LCP degenerate, so the solve leaves it out (w = z, q = 0).
-    // Rows whose K column is not computed are left out already and read only as rows
+    let vars = &solve.order[island];
+    let k = vars.len();
+    // each variable's number in the island's LCP
+    solve.local.resize(solve.q.len(), usize::MAX);
+    for (a, &v) in vars.iter().enumerate() {
+        solve.local[v] = a;
+    }
+    let local = &solve.local;
+    solve.m.clear();
+    solve.m.resize(k * k, 0.0);
+    solve.role.clear();
+    solve.role.resize(k, lcp::Role::Lambda);
+    let (mm, q, out) = (&mut solve.m, &mut solve.island_q, &mut solve.island_out);
+    q.clear();
+    q.extend(vars.iter().map(|&v| solve.q[v]));
+    out.clear();
+    out.extend(vars.iter().map(|&v| solve.out[v]));
+    // the island's rows come first among its variables (rows are numbered before every λ)
+    let rows = vars.partition_point(|&v| v < nr);
+    // a row no force can move (K_jj ≈ 0 beside the island's others: the out-of-plane friction of
+    // a planar model) carries no force; left in, it makes the LCP degenerate, so the solve leaves
+    // it out (w = z, q = 0). Rows whose K column is not computed are left out already and read
+    // only as rows
     let done = &con.column_done;
-    let k_max = (0..nr).filter(|&j| done[j]).map(|j| con.k[j * nr + j]).fold(0.0, f64::max);
+    let k_max = vars[..rows].iter().filter(|&&j| done[j]).map(|&j| con.k[j * nr + j]).fold(0.0, f64::max);
     let impact = constraint::impact_speed(h, m.opt.gravity.length());
-    for j in 0..nr {
+    for (a, &j) in vars[..rows].iter().enumerate() {
         if (done[j] && con.k[j * nr + j] <= INERT_ROW * k_max) || (level == Level::Velocity && apart(m, con, j, impact)) {
-            mm[j * n + j] = 1.0;
-            q[j] = 0.0;
-            data.solve.role[j] = lcp::Role::Normal;
-            data.solve.out[j] = true;
+            mm[a * k + a] = 1.0;
+            q[a] = 0.0;
+            solve.role[a] = lcp::Role::Normal;
+            out[a] = true;
             continue;
         }
-        mm[j * n..j * n + nr].copy_from_slice(&con.k[j * nr..(j + 1) * nr]);
-        let kjj = con.k[j * nr + j];
-        mm[j * n + j] = kjj + lcp::REGULARISATION * kjj.abs().max(1e-300);
+        let krow = &con.k[j * nr..(j + 1) * nr];
+        for (x, &jj) in mm[a * k..a * k + rows].iter_mut().zip(&vars[..rows]) {
+            *x = krow[jj];
+        }
+        let kjj = krow[j];
+        mm[a * k + a] = kjj + lcp::REGULARISATION * kjj.abs().max(1e-300);
         match con.kind[j] {
             RowKind::Tangent { normal } => {
                 // (20): (a_t − a_t^d) + λ ≥ 0;  (21): μ f_n − Σ f_t ≥ 0 ⟂ λ ≥ 0
-                let lam = data.solve.lambda[normal];
-                mm[j * n + lam] = 1.0;
-                mm[lam * n + normal] = con.mu[j];
-                mm[lam * n + j] = -1.0;
-                data.solve.role[j] = lcp::Role::Friction { normal, lambda: lam, mu: con.mu[j] };
+                let (lam, normal) = (local[solve.lambda[normal]], local[normal]);
+                mm[a * k + lam] = 1.0;
+                mm[lam * k + normal] = con.mu[j];
+                mm[lam * k + a] = -1.0;
+                solve.role[a] = lcp::Role::Friction { normal, lambda: lam, mu: con.mu[j] };
             }
             RowKind::Motion { bounded: true } => {
                 // (a − a^d) + σ ≥ 0 ⟂ f ≥ 0;  f_max − f ≥ 0 ⟂ σ ≥ 0, f_max a force (an impulse per step
                 // when time stepping, none during an impact)
-                let sigma = data.solve.lambda[j];
+                let sigma = local[solve.lambda[j]];
                 let cap = con.cap[j] * match level {
                     Level::Acceleration => 1.0,
                     Level::TimeStep => h,
                     Level::Velocity => 0.0,
                 };
-                mm[j * n + sigma] = 1.0;
-                mm[sigma * n + j] = -1.0;
+                mm[a * k + sigma] = 1.0;
+                mm[sigma * k + a] = -1.0;
                 q[sigma] = cap;
-                data.solve.role[j] = lcp::Role::Bounded { lambda: sigma, cap };
+                solve.role[a] = lcp::Role::Bounded { lambda: sigma, cap };
             }
-            _ => data.solve.role[j] = lcp::Role::Normal,
+            _ => solve.role[a] = lcp::Role::Normal,
         }
     }
-    island_labels(data, n);
-    let warm = warm.then_some(&data.solve.warm[..]);
-    let group = Some(&data.solve.group[..]);
-    let solved = lcp::solve(n, &data.solve.m, &data.solve.q, &data.solve.role, group, warm, &mut data.solve.out, &mut data.solve.force, &mut data.solve.work, &mut data.solve.stats);
-    if solved {
-        record_warm(data, level);
+    let iw = &mut solve.island_warm;
+    iw.clear();
+    if warm {
+        iw.extend(vars.iter().map(|&v| solve.warm[v]));
+    }
+    let z = &mut solve.island_z;
+    z.clear();
+    z.resize(k, 0.0);
+    let warm = warm.then_some(&iw[..]);
+    let solved = lcp::solve(k, mm, q, &solve.role, false, warm, out, z, &mut solve.work, &mut solve.stats);
+    for (a, &v) in vars.iter().enumerate() {
+        solve.force[v] = z[a];
+        solve.out[v] = out[a];
+        solve.local[v] = usize::MAX;
     }
     solved
 }

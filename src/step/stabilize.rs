@@ -49,6 +49,9 @@ pub struct StabilizeData {
     /// Nonzero dof range of each row's J.
     span: Vec<(usize, usize)>,
     limit: Vec<Option<(usize, f64)>>,
+    /// Trees of each row's sides ([`ConstraintData::tree`](constraint::ConstraintData::tree)):
+    /// rows that share none have K_ab = 0.
+    tree: Vec<[usize; 2]>,
     m: Vec<f64>,
     role: Vec<Role>,
     p: Vec<f64>,
@@ -202,6 +205,7 @@ fn gather(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
     post.jac.clear();
     post.dqdd.clear();
     post.limit.clear();
+    post.tree.clear();
     // the step's contact rows, their points carried by each side's node:
     // d' = d + n'·(p₁' − p₂'), n' turned with side 2 (a first-order estimate)
     let new = &post.kin;
@@ -229,6 +233,7 @@ fn gather(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
         push_jacobian(m, kin, con.node[j], con.jac[j], &mut post.jac);
         post.dqdd.extend_from_slice(&con.dqdd[j * nv..(j + 1) * nv]);
         post.limit.push(None);
+        post.tree.push(con.tree[j]);
     }
     // contacts penetrating now that had no row: a test force each
     for c in post.coll.contacts.iter().filter(|c| c.dist < -SLOP) {
@@ -267,6 +272,7 @@ fn gather(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
         let trees = nodes.map(|n| if n == WORLD { WORLD } else { m.node_tree[n] });
         constraint::delta_pass(m, kin, aba, trees, None, &mut post.dpa, &mut post.du, &mut post.da, &mut post.dqdd[start..]);
         post.limit.push(None);
+        post.tree.push(trees);
     }
     // the step's limit rows take part so the projection cannot push a joint past its limit, and
     // brings back one the step carried past it
@@ -281,6 +287,7 @@ fn gather(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
         post.jac[start + dof] = sign;
         post.dqdd.extend_from_slice(&con.dqdd[j * nv..(j + 1) * nv]);
         post.limit.push(Some((joint, sign)));
+        post.tree.push(con.tree[j]);
     }
     // limits the step crossed without a row: a unit test torque each
     for joint in m.limited_joints() {
@@ -304,6 +311,7 @@ fn push_limit_row(m: &Model, kin: &KinData, aba: &AbaData, post: &mut StabilizeD
     let tree = m.node_tree[m.jnt_node[joint]];
     constraint::delta_pass(m, kin, aba, [tree, WORLD], Some((dof, sign)), &mut post.dpa, &mut post.du, &mut post.da, &mut post.dqdd[start..]);
     post.limit.push(Some((joint, sign)));
+    post.tree.push([tree, WORLD]);
 }
 
 /// Appends the row's J (nv) for node forces `jac`: τ = Jᵀ f, carried to the root as RNEA's
@@ -332,7 +340,7 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
     for attempt in 0..=LIMIT_PASSES {
         let k = post.gap.len();
         // K_ab = J_a · Δq̈_b, over the dofs where J_a is not zero (its bodies' paths to the root:
-        // one character of many in a scene)
+        // one character of many in a scene); zero between rows of separate trees
         post.span.clear();
         for a in 0..k {
             let row = &post.jac[a * nv..(a + 1) * nv];
@@ -344,7 +352,12 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
         for a in 0..k {
             let (lo, hi) = post.span[a];
             let row = &post.jac[a * nv + lo..a * nv + hi];
+            let [ta, tb] = post.tree[a];
             for b in 0..k {
+                if !post.tree[b].iter().any(|&t| t != WORLD && (t == ta || t == tb)) {
+                    post.m.push(0.0);
+                    continue;
+                }
                 let dot: f64 = row.iter().zip(&post.dqdd[b * nv + lo..b * nv + hi]).map(|(x, y)| x * y).sum();
                 post.m.push(dot);
             }
@@ -360,7 +373,7 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
         // nothing is left out, so one solve; were rows brought back, M is complete and the solve
         // is simply repeated
         post.left_out.clear();
-        while !lcp::solve(k, &post.m, &post.gap, &post.role, None, None, &mut post.left_out, &mut post.p, &mut post.work, stats) {}
+        while !lcp::solve(k, &post.m, &post.gap, &post.role, true, None, &mut post.left_out, &mut post.p, &mut post.work, stats) {}
         post.dq.fill(0.0);
         for a in 0..k {
             let p = post.p[a];

@@ -22,7 +22,7 @@ fn warm_start_recovers_the_lambda_of_a_contact_without_normal_force() {
     let q = [2.0, -3.0, 0.0];
     let role = [Role::Normal, Role::Friction { normal: 0, lambda: 2, mu }, Role::Lambda];
     let (mut z, mut work, mut stats) = ([0.0; 3], LcpWork::default(), LcpStats::default());
-    assert!(solve(3, &m, &q, &role, None, Some(&[false, false, true]), &mut vec![], &mut z, &mut work, &mut stats));
+    assert!(solve(3, &m, &q, &role, true, Some(&[false, false, true]), &mut vec![], &mut z, &mut work, &mut stats));
     assert_eq!(stats.warm_starts, 1, "{stats:?}");
     assert_eq!(z, [0.0, 0.0, 3.0]);
     assert!(residual(3, &m, &q, &z, &mut work.w) < 1e-15);
@@ -83,7 +83,7 @@ fn solves_random_pyramid_friction_problems_without_fallback() {
     let (mut work, mut stats) = (LcpWork::default(), LcpStats::default());
     for (trial, (n, m, q, role)) in random_pyramid_problems(400).into_iter().enumerate() {
         let mut z = vec![0.0; n];
-        assert!(solve(n, &m, &q, &role, None, None, &mut vec![], &mut z, &mut work, &mut stats));
+        assert!(solve(n, &m, &q, &role, true, None, &mut vec![], &mut z, &mut work, &mut stats));
         assert!(residual(n, &m, &q, &z, &mut work.w) <= ACCEPT_RESIDUAL, "trial {trial}: {stats:?}");
     }
     assert_eq!((stats.fallback_pgs, stats.inexact, stats.fallback_zero), (0, 0, 0), "{stats:?}");
@@ -99,14 +99,14 @@ fn a_warm_guess_one_contact_off_is_corrected_without_lemke() {
     let (mut tried, mut settled) = (0, 0);
     for (n, m, q, role) in random_pyramid_problems(400) {
         let mut z = vec![0.0; n];
-        assert!(solve(n, &m, &q, &role, None, None, &mut vec![], &mut z, &mut work, &mut stats));
+        assert!(solve(n, &m, &q, &role, true, None, &mut vec![], &mut z, &mut work, &mut stats));
         let mut guess: Vec<bool> = z.iter().map(|&x| x > 0.0).collect();
         if !guess[0] {
             continue;
         }
         guess[0] = false;
         let before = stats.warm_starts;
-        assert!(solve(n, &m, &q, &role, None, Some(&guess), &mut vec![], &mut z, &mut work, &mut stats));
+        assert!(solve(n, &m, &q, &role, true, Some(&guess), &mut vec![], &mut z, &mut work, &mut stats));
         assert!(residual(n, &m, &q, &z, &mut work.w) <= ACCEPT_RESIDUAL, "{stats:?}");
         tried += 1;
         settled += (stats.warm_starts - before) as usize;
@@ -125,7 +125,7 @@ fn leaving_out_separating_contacts_still_solves_the_whole_problem() {
         let mut out: Vec<bool> = (0..n).map(|i| role[i] == Role::Normal && q[i] >= 0.0).collect();
         let mut z = vec![0.0; n];
         let mut attempts = 0;
-        while !solve(n, &m, &q, &role, None, None, &mut out, &mut z, &mut work, &mut stats) {
+        while !solve(n, &m, &q, &role, true, None, &mut out, &mut z, &mut work, &mut stats) {
             attempts += 1;
             // a second bringing back brings back every row
             assert!(attempts <= 2, "trial {trial}: a third solve was needed");
@@ -155,7 +155,7 @@ fn a_second_bringing_back_brings_back_every_row() {
     let mut out = vec![false, true, true, true];
     let (mut z, mut work, mut stats) = ([0.0; 4], LcpWork::default(), LcpStats::default());
     let mut attempts = 1;
-    while !solve(n, &m, &q, &role, None, None, &mut out, &mut z, &mut work, &mut stats) {
+    while !solve(n, &m, &q, &role, true, None, &mut out, &mut z, &mut work, &mut stats) {
         attempts += 1;
     }
     assert_eq!((attempts, stats.regrown), (3, 2), "{stats:?}");
@@ -207,22 +207,15 @@ fn a_problem_of_separate_groups_is_solved_group_by_group() {
             }
         }
     }
-    // the islands found from M's entries, and given as labels (as the step gives its trees')
-    let mut label = vec![0; n];
-    for (g, map) in global.iter().enumerate() {
-        for &i in map {
-            label[i] = 7 * (3 - g);
-        }
-    }
-    for group in [None, Some(&label[..])] {
+    {
         let (mut work, mut stats) = (LcpWork::default(), LcpStats::default());
         let mut z = vec![0.0; n];
-        assert!(solve(n, &m, &q, &role, group, None, &mut vec![], &mut z, &mut work, &mut stats));
+        assert!(solve(n, &m, &q, &role, true, None, &mut vec![], &mut z, &mut work, &mut stats));
         assert!(residual(n, &m, &q, &z, &mut work.w) <= ACCEPT_RESIDUAL, "{stats:?}");
         let mut pivots = 0;
         for ((ng, mg, qg, rg), map) in groups.iter().zip(&global) {
             let (mut zg, mut alone) = (vec![0.0; *ng], LcpStats::default());
-            assert!(solve(*ng, mg, qg, rg, None, None, &mut vec![], &mut zg, &mut work, &mut alone));
+            assert!(solve(*ng, mg, qg, rg, true, None, &mut vec![], &mut zg, &mut work, &mut alone));
             pivots += alone.pivots;
             for a in 0..*ng {
                 assert_eq!(z[map[a]], zg[a], "group variable {a}");
