@@ -135,6 +135,10 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         body_reach: vec![],
         plane_groups: vec![],
         gap_pairs: vec![],
+        geom_first_pair: vec![],
+        pair_partner: vec![],
+        sweep_geoms: vec![],
+        pairs_unswept: vec![],
         pairs_without_gap: vec![],
         vis: Default::default(),
         warnings: spec.warnings.clone(),
@@ -280,6 +284,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
             }
         }
     }
+    sweep_lists(&mut m);
     m.body_reach = body_reaches(&m);
     m.dof_arm = dof_arms(&m);
     m.plane_groups = plane_groups(&mut m);
@@ -290,6 +295,30 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
     m.motion_plane = motion_plane(&m, &data.kin);
     m.vis = super::visual::compile(&spec, |n| m.body_id(n))?;
     Ok(m)
+}
+
+/// [`Model::geom_first_pair`], [`Model::sweep_geoms`] and [`Model::pairs_unswept`] from the pairs
+/// (in (g1, g2) order).
+fn sweep_lists(m: &mut Model) {
+    let mut first = vec![m.collision_pairs.len(); m.ngeom + 1];
+    let mut swept = vec![false; m.ngeom];
+    m.pairs_unswept.clear();
+    for (k, p) in m.collision_pairs.iter().enumerate().rev() {
+        first[p.g1] = k;
+        if p.test == PairTest::Spheres {
+            (swept[p.g1], swept[p.g2]) = (true, true);
+        } else {
+            m.pairs_unswept.push(k);
+        }
+    }
+    m.pairs_unswept.reverse();
+    // a geom without pairs of its own starts where the next one does
+    for g in (0..m.ngeom).rev() {
+        first[g] = first[g].min(first[g + 1]);
+    }
+    m.geom_first_pair = first;
+    m.pair_partner = m.collision_pairs.iter().map(|p| p.g2 as u32).collect();
+    m.sweep_geoms = (0..m.ngeom).filter(|&g| swept[g]).collect();
 }
 
 /// How far a body's joints can carry its origin from where its parent puts it: 2|anchor| per

@@ -340,6 +340,16 @@ pub struct Model {
     pub plane_groups: Vec<PlaneGroup>,
     /// The pairs of two bounded geoms.
     pub gap_pairs: Vec<GapPair>,
+    /// Per geom (ngeom + 1): the first of its pairs in `collision_pairs` as the lower geom; the
+    /// pairs are in (g1, g2) order, so geom i's are `geom_first_pair[i]..geom_first_pair[i + 1]`
+    /// by increasing g2.
+    pub geom_first_pair: Vec<usize>,
+    /// The second geom of each pair (as `u32`, packed for [`Model::geom_first_pair`]'s searches).
+    pub pair_partner: Vec<u32>,
+    /// The geoms of [`PairTest::Spheres`] pairs, which the sweep of the broadphase bounds by boxes.
+    pub sweep_geoms: Vec<usize>,
+    /// Indices into `collision_pairs` of the other pairs (a plane's, two planes'), in order.
+    pub pairs_unswept: Vec<usize>,
     /// Indices into `collision_pairs` of the other pairs outside plane groups (a plane's with a
     /// geom of unbounded reach, two planes'): with the gap pairs, the only ones tested while every
     /// group is apart.

@@ -127,6 +127,16 @@ pub struct CollisionData {
     shrink: f64,
     /// Pairs whose gap spared them a test in the last detection.
     pub gap_skips: usize,
+    /// The sweep's boxes, per geom of [`Model::sweep_geoms`]: lower and upper corners.
+    box_lo: Vec<DVec3>,
+    box_hi: Vec<DVec3>,
+    /// [`Model::sweep_geoms`] by increasing `box_lo.x`, as the last sweep left them (nearly
+    /// sorted for the next).
+    sweep_order: Vec<usize>,
+    /// The geoms whose x interval the sweep is in.
+    active: Vec<usize>,
+    /// The pairs the sweep leaves to test, in order ([`near_pairs`]).
+    near: Vec<usize>,
     /// Contacts of this configuration.
     pub contacts: Vec<Contact>,
 }
@@ -158,6 +168,11 @@ impl CollisionData {
             least_slack: f64::NEG_INFINITY,
             shrink: 0.0,
             gap_skips: 0,
+            box_lo: vec![DVec3::ZERO; m.ngeom],
+            box_hi: vec![DVec3::ZERO; m.ngeom],
+            sweep_order: m.sweep_geoms.clone(),
+            active: Vec::with_capacity(m.sweep_geoms.len()),
+            near: Vec::with_capacity(m.collision_pairs.len()),
             contacts: Vec::with_capacity(MAX_CONTACTS),
         }
     }
@@ -310,7 +325,9 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f6
     for g in 0..m.ngeom {
         own_reach_of(m, kin, aba, out, g);
     }
-    for p in &m.collision_pairs {
+    let near = near_pairs(m, out, |out, g| reach(out, g));
+    for &k in &near {
+        let p = &m.collision_pairs[k];
         // speculative: pairs that could close within this step (which moves a point by
         // lever × (v + h a), lever = h for semi-implicit Euler) count as contacts, so a fast foot
         // is stopped at the surface instead of being found inside it one step later
@@ -319,6 +336,69 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f6
             pair(m, kin, out, p.g1, p.g2, margin);
         }
     }
+    out.near = near;
+}
+
+/// Pairs fewer than this are all tested on their spheres; more are swept first ([`near_pairs`]).
+const SWEEP_PAIRS: usize = 256;
+
+/// The pairs a detection with every geom posed tests on their bounds, in order, taken from
+/// `out.near` (the caller puts it back): every pair of a model with fewer than [`SWEEP_PAIRS`],
+/// else the pairs that are not [`PairTest::Spheres`] and the sphere pairs whose boxes overlap.
+/// Each geom's box holds its bounding sphere grown by its margin and `reach(out, g)`; a sphere
+/// pair that is not apart has overlapping boxes, so the tests that follow find the contacts the
+/// test of every pair finds. The boxes are swept along x (sort and sweep, Baraff 1992, §6.2),
+/// from the last sweep's order: an insertion sort then costs little. Geoms of non-finite boxes
+/// (a diverging world) send every pair to its test.
+fn near_pairs(m: &Model, out: &mut CollisionData, reach: impl Fn(&CollisionData, usize) -> f64) -> Vec<usize> {
+    let mut near = std::mem::take(&mut out.near);
+    near.clear();
+    if m.collision_pairs.len() < SWEEP_PAIRS {
+        near.extend(0..m.collision_pairs.len());
+        return near;
+    }
+    let mut finite = true;
+    for &g in &m.sweep_geoms {
+        let e = m.geom_rbound[g] + m.geom_margin[g] + reach(out, g);
+        let c = out.geom_xpos[g];
+        (out.box_lo[g], out.box_hi[g]) = (c - e, c + e);
+        finite &= c.is_finite() && e.is_finite();
+    }
+    if !finite {
+        near.extend(0..m.collision_pairs.len());
+        return near;
+    }
+    let CollisionData { box_lo: lo, box_hi: hi, sweep_order: order, active, .. } = out;
+    for i in 1..order.len() {
+        let (g, x) = (order[i], lo[order[i]].x);
+        let mut j = i;
+        while j > 0 && lo[order[j - 1]].x > x {
+            order[j] = order[j - 1];
+            j -= 1;
+        }
+        order[j] = g;
+    }
+    active.clear();
+    for &g in order.iter() {
+        active.retain(|&a| hi[a].x >= lo[g].x);
+        for &a in active.iter() {
+            let overlap = hi[a].y >= lo[g].y && hi[g].y >= lo[a].y && hi[a].z >= lo[g].z && hi[g].z >= lo[a].z;
+            if overlap && let Some(k) = pair_of(m, a.min(g), a.max(g)) {
+                near.push(k);
+            }
+        }
+        active.push(g);
+    }
+    near.extend_from_slice(&m.pairs_unswept);
+    near.sort_unstable();
+    near
+}
+
+/// The index in `m.collision_pairs` of the pair of geoms i < j, if they make one.
+fn pair_of(m: &Model, i: usize, j: usize) -> Option<usize> {
+    let first = m.geom_first_pair[i];
+    let partners = &m.pair_partner[first..m.geom_first_pair[i + 1]];
+    partners.binary_search(&(j as u32)).ok().map(|k| first + k)
 }
 
 /// Each gap pair: its gap lowered by the joints' travel since `qpos_gap` (only the joints below
@@ -461,11 +541,14 @@ fn own_reach(m: &Model, kin: &KinData, aba: &AbaData, out: &CollisionData, g: us
 pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
     let Some(all_apart) = begin(m, kin, out, 0.0) else { return };
     if !all_apart {
-        for p in &m.collision_pairs {
+        let near = near_pairs(m, out, |_, _| 0.0);
+        for &k in &near {
+            let p = &m.collision_pairs[k];
             if !apart(out, p, 0.0) {
                 pair(m, kin, out, p.g1, p.g2, 0.0);
             }
         }
+        out.near = near;
         return;
     }
     // the geoms posed as pairs need them
@@ -513,10 +596,12 @@ pub fn reach_again(m: &Model, kin: &KinData, qvel_end: &[f64], v_end: &mut [Moti
     let mut found = false;
     if !out.group_apart.iter().all(|&a| a) {
         end_speeds(m, kin, qvel_end, v_end, out);
-        for k in 0..m.collision_pairs.len() {
+        let near = near_pairs(m, out, |out, g| lever * out.geom_speed_end[g]);
+        for &k in &near {
             let Some(more) = test_again(m, kin, out, k, lever) else { break };
             found |= more;
         }
+        out.near = near;
         return found;
     }
     // every group apart: the gap pairs, whose gaps (when of this configuration) settle most, and
