@@ -54,6 +54,8 @@ pub struct LcpWork {
     /// Tableau column of each variable (usize::MAX while basic).
     column: Vec<usize>,
     w: Vec<f64>,
+    /// The nonzero variables of an answer being checked ([`residual`]).
+    nz: Vec<usize>,
     active: Vec<usize>,
     trial: Vec<f64>,
     stiff: Vec<f64>,
@@ -236,15 +238,20 @@ fn pivot(tab: &mut [f64], cols: usize, n: usize, r: usize, c: usize) {
     }
 }
 
-/// Independent check: max over rows of violations of z ≥ 0, w ≥ 0 and z·w = 0, scaled.
-pub fn residual(n: usize, m: &[f64], q: &[f64], z: &[f64], w: &mut Vec<f64>) -> f64 {
+/// Independent check: max over rows of violations of z ≥ 0, w ≥ 0 and z·w = 0, scaled. `w`
+/// receives w = M z + q, summed over the nonzero z (listed in `nz`; an active set is usually a
+/// small part of the variables).
+pub fn residual(n: usize, m: &[f64], q: &[f64], z: &[f64], (w, nz): (&mut Vec<f64>, &mut Vec<usize>)) -> f64 {
     w.clear();
+    nz.clear();
+    nz.extend((0..n).filter(|&j| z[j] != 0.0));
     let mut worst = 0.0f64;
     for (i, row) in m[..n * n].chunks_exact(n).enumerate() {
         let (mut wi, mut scale) = (q[i], 1.0 + q[i].abs());
-        for (a, x) in row.iter().zip(&z[..n]) {
-            wi += a * x;
-            scale += (a * x).abs();
+        for &j in nz.iter() {
+            let a = row[j] * z[j];
+            wi += a;
+            scale += a.abs();
         }
         worst = worst.max((-z[i]).max(0.0)).max((-wi).max(0.0) / scale).max((z[i] * wi).abs() / scale);
         w.push(wi);
@@ -509,7 +516,7 @@ fn cascade(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>,
     work.stiff = stiff;
     // Lemke failed the check: projected Gauss–Seidel, unless Lemke's answer was the closer one
     if pgs(n, m, q, role, z) {
-        let pgs_res = residual(n, m, q, z, &mut work.w);
+        let pgs_res = residual(n, m, q, z, (&mut work.w, &mut work.nz));
         if pgs_res <= lemke_res {
             stats.fallback_pgs += 1;
             stats.residual = pgs_res;
@@ -548,7 +555,7 @@ fn settle(n: usize, m: &[f64], q: &[f64], role: &[Role], prev: &[bool], work: &m
         if !solve_on(n, m, q, role, |i| guess[i], work) {
             break;
         }
-        let res = residual(n, m, q, &work.trial, &mut work.w);
+        let res = residual(n, m, q, &work.trial, (&mut work.w, &mut work.nz));
         if res <= ACCEPT_RESIDUAL && work.trial.iter().all(|&x| x >= 0.0) {
             settled = Some(res);
             break;
@@ -655,11 +662,11 @@ fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
 /// degenerate problems; the polished z is kept only if it lowers the residual. Returns the
 /// residual of the z it leaves.
 fn polish(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64], work: &mut LcpWork) -> f64 {
-    let before = residual(n, m, q, z, &mut work.w);
+    let before = residual(n, m, q, z, (&mut work.w, &mut work.nz));
     if z[..n].iter().all(|&x| x <= 0.0) || !solve_on(n, m, q, role, |i| z[i] > 0.0, work) || work.trial.iter().any(|&x| x < 0.0) {
         return before;
     }
-    let after = residual(n, m, q, &work.trial, &mut work.w);
+    let after = residual(n, m, q, &work.trial, (&mut work.w, &mut work.nz));
     if after < before {
         z[..n].copy_from_slice(&work.trial);
         return after;
