@@ -139,6 +139,10 @@ pub struct ConstraintData {
     da: Vec<Motion>,
     /// Per node: spatial acceleration with q̈ = 0 and no gravity (velocity products alone).
     a_vp: Vec<Motion>,
+    /// The rows of each tree (by its root node; a row touching two trees is in both lists):
+    /// `tree_rows[tree_row_start[t]..tree_row_start[t + 1]]`, built with K.
+    tree_row_start: Vec<usize>,
+    tree_rows: Vec<usize>,
 }
 
 impl ConstraintData {
@@ -511,6 +515,7 @@ pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintDa
         out.dqdd.resize(nr * nv, 0.0);
         out.column_done.clear();
         out.column_done.resize(nr, false);
+        list_tree_rows(m.nnode, out);
         out.assembled = true;
     }
     for k in 0..nr {
@@ -522,14 +527,12 @@ pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintDa
             if !out.column_done[mk] {
                 push_test_force(m, kin, aba, out, mk);
             }
-            // the mirrored row's trees: the other rows' entries stay zero
-            let trees = out.tree[k];
-            for j in 0..nr {
-                let [a, b] = out.tree[j];
-                if moves(trees, a) || moves(trees, b) {
-                    out.k[j * nr + k] = -out.k[j * nr + mk];
-                }
+            // the rows of the mirrored row's trees: the others' entries stay zero
+            let (trees, mut kk) = (out.tree[k], std::mem::take(&mut out.k));
+            for j in rows_of(out, trees) {
+                kk[j * nr + k] = -kk[j * nr + mk];
             }
+            out.k = kk;
             let (done, rest) = out.dqdd.split_at_mut(k * nv);
             for (d, s) in rest[..nv].iter_mut().zip(&done[mk * nv..(mk + 1) * nv]) {
                 *d = -s;
@@ -566,13 +569,48 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     // K is symmetric (J M⁻¹ Jᵀ): the rows whose columns are done hold this column's entries; rows
     // of other trees keep the zero K was cleared to
     let dqdd = &out.dqdd[k * nv..(k + 1) * nv];
-    for j in 0..nr {
-        let [a, b] = out.tree[j];
-        if moves(trees, a) || moves(trees, b) {
-            out.k[j * nr + k] = if out.column_done[j] { out.k[k * nr + j] } else { delta_accel(out, trees, dqdd, j) };
+    let mut kk = std::mem::take(&mut out.k);
+    for j in rows_of(out, trees) {
+        kk[j * nr + k] = if out.column_done[j] { kk[k * nr + j] } else { delta_accel(out, trees, dqdd, j) };
+    }
+    out.k = kk;
+    out.column_done[k] = true;
+}
+
+/// [`ConstraintData`]'s lists of each tree's rows (counted, then filled: O(nnode + rows)).
+fn list_tree_rows(nnode: usize, out: &mut ConstraintData) {
+    let start = &mut out.tree_row_start;
+    start.clear();
+    start.resize(nnode + 1, 0);
+    // a row's distinct trees
+    let sides = |trees: &[usize; 2]| [trees[0], if trees[1] == trees[0] { WORLD } else { trees[1] }].into_iter().filter(|&t| t != WORLD);
+    for t in out.tree.iter().flat_map(sides) {
+        start[t + 1] += 1;
+    }
+    for t in 0..nnode {
+        start[t + 1] += start[t];
+    }
+    out.tree_rows.clear();
+    out.tree_rows.resize(start[nnode], 0);
+    // filled from each list's end, rows in reverse: each list ends up in row order
+    for (j, trees) in out.tree.iter().enumerate().rev() {
+        for t in sides(trees) {
+            start[t + 1] -= 1;
+            out.tree_rows[start[t + 1]] = j;
         }
     }
-    out.column_done[k] = true;
+    // each count was taken back once per row: start[t + 1] is now where tree t's list starts,
+    // so the array is shifted by one
+    start.rotate_left(1);
+    start[nnode] = out.tree_rows.len();
+}
+
+/// The rows that touch the trees `trees` ([`WORLD`]: none), each once, in row order per tree.
+fn rows_of(out: &ConstraintData, trees: [usize; 2]) -> impl Iterator<Item = usize> + '_ {
+    let list = |t: usize| if t == WORLD { &[][..] } else { &out.tree_rows[out.tree_row_start[t]..out.tree_row_start[t + 1]] };
+    let [a, b] = trees;
+    let second = if b == a { &[][..] } else { list(b) };
+    list(a).iter().copied().chain(second.iter().copied().filter(move |&j| !out.tree[j].contains(&a) || a == WORLD))
 }
 
 /// Whether tree `t` is one of the trees `trees` a test force moved.
