@@ -571,7 +571,16 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     let dqdd = &out.dqdd[k * nv..(k + 1) * nv];
     let mut kk = std::mem::take(&mut out.k);
     for j in rows_of(out, trees) {
-        kk[j * nr + k] = if out.column_done[j] { kk[k * nr + j] } else { delta_accel(out, trees, dqdd, j) };
+        let mj = out.mirror[j];
+        kk[j * nr + k] = if out.column_done[j] {
+            kk[k * nr + j]
+        } else if mj != usize::MAX && !out.column_done[mj] {
+            // the mirrored row (same trees, listed before) measured this force: its negation is
+            // this row's measure exactly
+            -kk[mj * nr + k]
+        } else {
+            delta_accel(out, trees, dqdd, j)
+        };
     }
     out.k = kk;
     out.column_done[k] = true;

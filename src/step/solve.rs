@@ -283,6 +283,8 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
     let done = &con.column_done;
     let k_max = vars[..rows].iter().filter(|&&j| done[j]).map(|&j| con.k[j * nr + j]).fold(0.0, f64::max);
     let impact = constraint::impact_speed(h, m.opt.gravity.length());
+    // the island's rows one run of rows (one island, a tree's alone): each row of K is copied whole
+    let contiguous = rows > 0 && vars[rows - 1] - vars[0] + 1 == rows;
     for (a, &j) in vars[..rows].iter().enumerate() {
         if (done[j] && con.k[j * nr + j] <= INERT_ROW * k_max) || (level == Level::Velocity && apart(m, con, j, impact)) {
             mm[a * k + a] = 1.0;
@@ -292,8 +294,12 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
             continue;
         }
         let krow = &con.k[j * nr..(j + 1) * nr];
-        for (x, &jj) in mm[a * k..a * k + rows].iter_mut().zip(&vars[..rows]) {
-            *x = krow[jj];
+        if contiguous {
+            mm[a * k..a * k + rows].copy_from_slice(&krow[vars[0]..vars[0] + rows]);
+        } else {
+            for (x, &jj) in mm[a * k..a * k + rows].iter_mut().zip(&vars[..rows]) {
+                *x = krow[jj];
+            }
         }
         let kjj = krow[j];
         mm[a * k + a] = kjj + lcp::REGULARISATION * kjj.abs().max(1e-300);
