@@ -265,7 +265,7 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
         solve.local[v] = a;
     }
     let local = &solve.local;
-    solve.m.clear();
+    // every entry of M is written below, once (no clearing first)
     solve.m.resize(k * k, 0.0);
     solve.role.clear();
     solve.role.resize(k, lcp::Role::Lambda);
@@ -285,8 +285,11 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
     let impact = constraint::impact_speed(h, m.opt.gravity.length());
     // the island's rows one run of rows (one island, a tree's alone): each row of K is copied whole
     let contiguous = rows > 0 && vars[rows - 1] - vars[0] + 1 == rows;
+    // the λ and σ rows hold only the couplings their rows set
+    mm[rows * k..].fill(0.0);
     for (a, &j) in vars[..rows].iter().enumerate() {
         if (done[j] && con.k[j * nr + j] <= INERT_ROW * k_max) || (level == Level::Velocity && apart(m, con, j, impact)) {
+            mm[a * k..(a + 1) * k].fill(0.0);
             mm[a * k + a] = 1.0;
             q[a] = 0.0;
             solve.role[a] = lcp::Role::Normal;
@@ -301,6 +304,7 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
                 *x = krow[jj];
             }
         }
+        mm[a * k + rows..(a + 1) * k].fill(0.0);
         let kjj = krow[j];
         mm[a * k + a] = kjj + lcp::REGULARISATION * kjj.abs().max(1e-300);
         match con.kind[j] {
