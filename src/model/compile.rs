@@ -137,6 +137,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
         gap_pairs: vec![],
         geom_first_pair: vec![],
         pair_partner: vec![],
+        pair_bits: vec![],
         sweep_geoms: vec![],
         pairs_unswept: vec![],
         pairs_without_gap: vec![],
@@ -305,7 +306,7 @@ fn sweep_lists(m: &mut Model) {
     m.pairs_unswept.clear();
     for (k, p) in m.collision_pairs.iter().enumerate().rev() {
         first[p.g1] = k;
-        if p.test == PairTest::Spheres {
+        if p.test == PairTest::Spheres && !super::same_tree(m, p.g1, p.g2) {
             (swept[p.g1], swept[p.g2]) = (true, true);
         } else {
             m.pairs_unswept.push(k);
@@ -318,6 +319,14 @@ fn sweep_lists(m: &mut Model) {
     }
     m.geom_first_pair = first;
     m.pair_partner = m.collision_pairs.iter().map(|p| p.g2 as u32).collect();
+    m.pair_bits.clear();
+    if m.ngeom <= super::PAIR_BITS_GEOMS {
+        m.pair_bits.resize((m.ngeom * m.ngeom).div_ceil(64), 0);
+        for p in &m.collision_pairs {
+            let bit = p.g1 * m.ngeom + p.g2;
+            m.pair_bits[bit / 64] |= 1 << (bit % 64);
+        }
+    }
     m.sweep_geoms = (0..m.ngeom).filter(|&g| swept[g]).collect();
 }
 

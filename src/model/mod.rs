@@ -168,6 +168,18 @@ pub struct PlaneGroup {
     pub radius: f64,
 }
 
+/// Whether geoms i and j move with the same tree (not the world).
+pub fn same_tree(m: &Model, i: usize, j: usize) -> bool {
+    let tree = |g: usize| {
+        let n = m.body_node[m.geom_body[g]];
+        if n == WORLD { WORLD } else { m.node_tree[n] }
+    };
+    tree(i) != WORLD && tree(i) == tree(j)
+}
+
+/// Largest geom count for which [`Model::pair_bits`] is kept (2 MiB of bits).
+pub const PAIR_BITS_GEOMS: usize = 4096;
+
 /// A compiled model. Build it with [`Model::from_mjcf`].
 #[derive(Clone, Debug)]
 pub struct Model {
@@ -346,9 +358,15 @@ pub struct Model {
     pub geom_first_pair: Vec<usize>,
     /// The second geom of each pair (as `u32`, packed for [`Model::geom_first_pair`]'s searches).
     pub pair_partner: Vec<u32>,
-    /// The geoms of [`PairTest::Spheres`] pairs, which the sweep of the broadphase bounds by boxes.
+    /// Bit i · ngeom + j set when geoms i < j make a pair (empty for models of more than
+    /// [`PAIR_BITS_GEOMS`] geoms): the sweep's overlapping boxes that are no pair cost one load.
+    pub pair_bits: Vec<u64>,
+    /// The geoms of [`PairTest::Spheres`] pairs of two trees (or a tree and the world), which the
+    /// sweep of the broadphase bounds by boxes.
     pub sweep_geoms: Vec<usize>,
-    /// Indices into `collision_pairs` of the other pairs (a plane's, two planes'), in order.
+    /// Indices into `collision_pairs` of the other pairs (within one tree, a plane's, two
+    /// planes'), in order: tested on their bounds without the sweep (a character's limbs are
+    /// always near each other).
     pub pairs_unswept: Vec<usize>,
     /// Indices into `collision_pairs` of the other pairs outside plane groups (a plane's with a
     /// geom of unbounded reach, two planes'): with the gap pairs, the only ones tested while every

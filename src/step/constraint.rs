@@ -670,6 +670,11 @@ pub fn tree_ranges(m: &Model, trees: [usize; 2]) -> impl DoubleEndedIterator<Ite
     [range(a), if b == a { 0..0 } else { range(b) }].into_iter()
 }
 
+/// The dof ranges of the trees `trees`, as [`tree_ranges`].
+pub fn tree_dofs(m: &Model, trees: [usize; 2]) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
+    tree_ranges(m, trees).filter(|r| !r.is_empty()).map(|r| m.node_dofadr[r.start]..m.node_dofadr[r.end - 1] + m.node_nv[r.end - 1])
+}
+
 /// Response of the articulated system to the test forces in `dpa` (world coordinates) or the unit
 /// joint torque `dtau` = (dof, value) on the nodes of the trees `trees` (the others do not move):
 /// a delta ABA with the inertias of the main pass (velocity terms cancel). Writes Δq̈ of those

@@ -351,14 +351,18 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
         post.m.clear();
         for a in 0..k {
             let (lo, hi) = post.span[a];
-            let row = &post.jac[a * nv + lo..a * nv + hi];
             let [ta, tb] = post.tree[a];
             for b in 0..k {
-                if !post.tree[b].iter().any(|&t| t != WORLD && (t == ta || t == tb)) {
-                    post.m.push(0.0);
-                    continue;
+                // the trees both rows move: Δq̈_b is zero off b's, J_a off a's
+                let shared = |t: usize| t != WORLD && post.tree[b].contains(&t);
+                let trees = [if shared(ta) { ta } else { WORLD }, if shared(tb) { tb } else { WORLD }];
+                let mut dot = 0.0;
+                for r in constraint::tree_dofs(m, trees) {
+                    let (r0, r1) = (r.start.max(lo), r.end.min(hi));
+                    if r0 < r1 {
+                        dot += post.jac[a * nv + r0..a * nv + r1].iter().zip(&post.dqdd[b * nv + r0..b * nv + r1]).map(|(x, y)| x * y).sum::<f64>();
+                    }
                 }
-                let dot: f64 = row.iter().zip(&post.dqdd[b * nv + lo..b * nv + hi]).map(|(x, y)| x * y).sum();
                 post.m.push(dot);
             }
         }

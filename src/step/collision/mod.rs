@@ -344,7 +344,7 @@ const SWEEP_PAIRS: usize = 256;
 
 /// The pairs a detection with every geom posed tests on their bounds, in order, taken from
 /// `out.near` (the caller puts it back): every pair of a model with fewer than [`SWEEP_PAIRS`],
-/// else the pairs that are not [`PairTest::Spheres`] and the sphere pairs whose boxes overlap.
+/// else [`Model::pairs_unswept`] and the sphere pairs of two trees whose boxes overlap.
 /// Each geom's box holds its bounding sphere grown by its margin and `reach(out, g)`; a sphere
 /// pair that is not apart has overlapping boxes, so the tests that follow find the contacts the
 /// test of every pair finds. The boxes are swept along x (sort and sweep, Baraff 1992, §6.2),
@@ -383,7 +383,7 @@ fn near_pairs(m: &Model, out: &mut CollisionData, reach: impl Fn(&CollisionData,
         active.retain(|&a| hi[a].x >= lo[g].x);
         for &a in active.iter() {
             let overlap = hi[a].y >= lo[g].y && hi[g].y >= lo[a].y && hi[a].z >= lo[g].z && hi[g].z >= lo[a].z;
-            if overlap && let Some(k) = pair_of(m, a.min(g), a.max(g)) {
+            if overlap && !crate::model::same_tree(m, a, g) && let Some(k) = pair_of(m, a.min(g), a.max(g)) {
                 near.push(k);
             }
         }
@@ -396,6 +396,10 @@ fn near_pairs(m: &Model, out: &mut CollisionData, reach: impl Fn(&CollisionData,
 
 /// The index in `m.collision_pairs` of the pair of geoms i < j, if they make one.
 fn pair_of(m: &Model, i: usize, j: usize) -> Option<usize> {
+    let bit = i * m.ngeom + j;
+    if !m.pair_bits.is_empty() && m.pair_bits[bit / 64] & (1 << (bit % 64)) == 0 {
+        return None;
+    }
     let first = m.geom_first_pair[i];
     let partners = &m.pair_partner[first..m.geom_first_pair[i + 1]];
     partners.binary_search(&(j as u32)).ok().map(|k| first + k)
