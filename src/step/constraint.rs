@@ -143,6 +143,8 @@ pub struct ConstraintData {
     /// `tree_rows[tree_row_start[t]..tree_row_start[t + 1]]`, built with K.
     tree_row_start: Vec<usize>,
     tree_rows: Vec<usize>,
+    /// The rows a test force reaches ([`rows_of`]), scratch.
+    reached: Vec<usize>,
 }
 
 impl ConstraintData {
@@ -515,7 +517,9 @@ pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintDa
         out.dqdd.resize(nr * nv, 0.0);
         out.column_done.clear();
         out.column_done.resize(nr, false);
-        list_tree_rows(m.nnode, out);
+        if !m.one_tree() {
+            list_tree_rows(m.nnode, out);
+        }
         out.assembled = true;
     }
     for k in 0..nr {
@@ -528,11 +532,17 @@ pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintDa
                 push_test_force(m, kin, aba, out, mk);
             }
             // the rows of the mirrored row's trees: the others' entries stay zero
-            let (trees, mut kk) = (out.tree[k], std::mem::take(&mut out.k));
-            for j in rows_of(out, trees) {
-                kk[j * nr + k] = -kk[j * nr + mk];
+            let reached = rows_of(m, out, out.tree[k]);
+            if m.one_tree() {
+                for j in 0..nr {
+                    out.k[j * nr + k] = -out.k[j * nr + mk];
+                }
+            } else {
+                for &j in &reached {
+                    out.k[j * nr + k] = -out.k[j * nr + mk];
+                }
             }
-            out.k = kk;
+            out.reached = reached;
             let (done, rest) = out.dqdd.split_at_mut(k * nv);
             for (d, s) in rest[..nv].iter_mut().zip(&done[mk * nv..(mk + 1) * nv]) {
                 *d = -s;
@@ -568,21 +578,18 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     delta_pass(m, kin, aba, trees, dtau, &mut out.dpa, &mut out.du, &mut out.da, &mut out.dqdd[k * nv..(k + 1) * nv]);
     // K is symmetric (J M⁻¹ Jᵀ): the rows whose columns are done hold this column's entries; rows
     // of other trees keep the zero K was cleared to
+    let (reached, mut kk) = (rows_of(m, out, trees), std::mem::take(&mut out.k));
     let dqdd = &out.dqdd[k * nv..(k + 1) * nv];
-    let mut kk = std::mem::take(&mut out.k);
-    for j in rows_of(out, trees) {
-        let mj = out.mirror[j];
-        kk[j * nr + k] = if out.column_done[j] {
-            kk[k * nr + j]
-        } else if mj != usize::MAX && !out.column_done[mj] {
-            // the mirrored row (same trees, listed before) measured this force: its negation is
-            // this row's measure exactly
-            -kk[mj * nr + k]
-        } else {
-            delta_accel(out, trees, dqdd, j)
-        };
+    if m.one_tree() {
+        for j in 0..nr {
+            kk[j * nr + k] = k_entry(out, &kk, trees, dqdd, j, k);
+        }
+    } else {
+        for &j in &reached {
+            kk[j * nr + k] = k_entry(out, &kk, trees, dqdd, j, k);
+        }
     }
-    out.k = kk;
+    (out.k, out.reached) = (kk, reached);
     out.column_done[k] = true;
 }
 
@@ -614,12 +621,37 @@ fn list_tree_rows(nnode: usize, out: &mut ConstraintData) {
     start[nnode] = out.tree_rows.len();
 }
 
-/// The rows that touch the trees `trees` ([`WORLD`]: none), each once, in row order per tree.
-fn rows_of(out: &ConstraintData, trees: [usize; 2]) -> impl Iterator<Item = usize> + '_ {
+/// The rows that touch the trees `trees` ([`WORLD`]: none), each once, in row order per tree, in
+/// `out.reached` taken out of `out`. A model of one tree lists none: its callers visit every row.
+fn rows_of(m: &Model, out: &mut ConstraintData, trees: [usize; 2]) -> Vec<usize> {
+    let mut reached = std::mem::take(&mut out.reached);
+    reached.clear();
+    if m.one_tree() {
+        return reached;
+    }
     let list = |t: usize| if t == WORLD { &[][..] } else { &out.tree_rows[out.tree_row_start[t]..out.tree_row_start[t + 1]] };
     let [a, b] = trees;
-    let second = if b == a { &[][..] } else { list(b) };
-    list(a).iter().copied().chain(second.iter().copied().filter(move |&j| !out.tree[j].contains(&a) || a == WORLD))
+    reached.extend_from_slice(list(a));
+    if b != a {
+        reached.extend(list(b).iter().filter(|&&j| a == WORLD || !out.tree[j].contains(&a)));
+    }
+    reached
+}
+
+/// K_jk, with K's columns so far in `kk`, the test force of row k on the trees `trees` having
+/// left its responses in `cd.da` and `dqdd`.
+#[inline(always)]
+fn k_entry(cd: &ConstraintData, kk: &[f64], trees: [usize; 2], dqdd: &[f64], j: usize, k: usize) -> f64 {
+    let (nr, mj) = (cd.len(), cd.mirror[j]);
+    if cd.column_done[j] {
+        kk[k * nr + j]
+    } else if mj != usize::MAX && !cd.column_done[mj] {
+        // the mirrored row (same trees, listed before) measured this force: its negation is
+        // this row's measure exactly
+        -kk[mj * nr + k]
+    } else {
+        delta_accel(cd, trees, dqdd, j)
+    }
 }
 
 /// Whether tree `t` is one of the trees `trees` a test force moved.
@@ -631,7 +663,7 @@ fn moves(trees: [usize; 2], t: usize) -> bool {
 /// Acceleration of row j under the test force on the trees `trees` whose responses are in
 /// `cd.da` and `dqdd` (a K entry): a contact's delta point acceleration projected,
 /// Σ_sides δa_n · jac over the sides in those trees (the others do not move), or a joint row's δq̈.
-#[inline]
+#[inline(always)]
 fn delta_accel(cd: &ConstraintData, trees: [usize; 2], dqdd: &[f64], j: usize) -> f64 {
     if !cd.kind[j].is_contact() {
         let (dof, sign) = cd.dof[j];
@@ -663,16 +695,16 @@ fn measure(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], cd: &Constrai
 
 /// The node ranges of the trees `trees` ([`Model::node_tree`]; [`WORLD`] and a repeat name
 /// none), first node first.
-pub fn tree_ranges(m: &Model, trees: [usize; 2]) -> impl DoubleEndedIterator<Item = std::ops::Range<usize>> {
+pub fn tree_ranges(m: &Model, trees: [usize; 2]) -> [std::ops::Range<usize>; 2] {
     let [a, b] = trees;
     let (a, b) = if a == WORLD || (b != WORLD && b < a) { (b, a) } else { (a, b) };
     let range = |t: usize| if t == WORLD { 0..0 } else { t..m.node_end[t] };
-    [range(a), if b == a { 0..0 } else { range(b) }].into_iter()
+    [range(a), if b == a { 0..0 } else { range(b) }]
 }
 
 /// The dof ranges of the trees `trees`, as [`tree_ranges`].
 pub fn tree_dofs(m: &Model, trees: [usize; 2]) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
-    tree_ranges(m, trees).filter(|r| !r.is_empty()).map(|r| m.node_dofadr[r.start]..m.node_dofadr[r.end - 1] + m.node_nv[r.end - 1])
+    tree_ranges(m, trees).into_iter().filter(|r| !r.is_empty()).map(|r| m.node_dofadr[r.start]..m.node_dofadr[r.end - 1] + m.node_nv[r.end - 1])
 }
 
 /// Response of the articulated system to the test forces in `dpa` (world coordinates) or the unit
@@ -693,7 +725,8 @@ pub fn delta_pass(
 ) {
     // inward: δu_i = δτ_i − S_iᵀ δp^A_i;  δp^A_λ += δp^A_i + U_i D_i⁻¹ δu_i; nodes off the
     // test force's path to the root have δp^A = 0 and δu = 0
-    for i in tree_ranges(m, trees).rev().flat_map(|r| r.rev()) {
+    let ranges = tree_ranges(m, trees);
+    for i in (0..2).rev().flat_map(|part| ranges[part].clone().rev()) {
         let k = m.node_nv[i];
         let d0 = m.node_dofadr[i];
         let torqued = matches!(dtau, Some((dof, _)) if dof >= d0 && dof < d0 + k);
@@ -721,7 +754,7 @@ pub fn delta_pass(
         dpa[p] += pa;
     }
     // outward: δa'_i = δa_λ;  δq̈_i = D⁻¹(δu_i − Uᵀ δa'_i);  δa_i = δa'_i + S δq̈_i
-    for i in tree_ranges(m, trees).flatten() {
+    for i in (0..2).flat_map(|part| ranges[part].clone()) {
         let p = m.node_parent[i];
         let a = if p == WORLD { Motion::ZERO } else { da[p] };
         da[i] = super::aba::joint_accel(m, kin, aba, i, &du[i], a, dqdd);

@@ -32,11 +32,14 @@ pub(super) fn solve_rows(m: &Model, data: &mut Data, level: Level) {
     // left out
     let left_any = data.solve.out.contains(&true);
     let mut brought_back = false;
-    island_labels(data, n);
+    island_labels(m, data, n);
     let SolveData { group, order, .. } = &mut data.solve;
     order.clear();
     order.extend(0..n);
-    order.sort_unstable_by_key(|&i| (group[i], i));
+    // one island (a single character) keeps the variables' order
+    if group.iter().any(|&g| g != group[0]) {
+        order.sort_unstable_by_key(|&i| (group[i], i));
+    }
     let mut start = 0;
     while start < n {
         let label = data.solve.group[data.solve.order[start]];
@@ -355,9 +358,14 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
 /// touches joined with every tree a contact connects them to (union–find over the rows), named
 /// by the root node of the least tree; a λ or σ takes its row's. Rows of different labels share
 /// no body, so K (and M) has no entry between them.
-fn island_labels(data: &mut Data, n: usize) {
+fn island_labels(m: &Model, data: &mut Data, n: usize) {
     let SolveData { group, tree_link: link, lambda, .. } = &mut data.solve;
     let con = &data.con;
+    if m.one_tree() {
+        group.clear();
+        group.resize(n, 0);
+        return;
+    }
     fn root(link: &mut [usize], mut i: usize) -> usize {
         while link[i] != i {
             link[i] = link[link[i]];
