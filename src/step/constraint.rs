@@ -532,17 +532,17 @@ pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintDa
                 push_test_force(m, kin, aba, out, mk);
             }
             // the rows of the mirrored row's trees: the others' entries stay zero
-            let reached = rows_of(m, out, out.tree[k]);
             if m.one_tree() {
                 for j in 0..nr {
                     out.k[j * nr + k] = -out.k[j * nr + mk];
                 }
             } else {
+                let reached = rows_of(out, out.tree[k]);
                 for &j in &reached {
                     out.k[j * nr + k] = -out.k[j * nr + mk];
                 }
+                out.reached = reached;
             }
-            out.reached = reached;
             let (done, rest) = out.dqdd.split_at_mut(k * nv);
             for (d, s) in rest[..nv].iter_mut().zip(&done[mk * nv..(mk + 1) * nv]) {
                 *d = -s;
@@ -578,18 +578,21 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     delta_pass(m, kin, aba, trees, dtau, &mut out.dpa, &mut out.du, &mut out.da, &mut out.dqdd[k * nv..(k + 1) * nv]);
     // K is symmetric (J M⁻¹ Jᵀ): the rows whose columns are done hold this column's entries; rows
     // of other trees keep the zero K was cleared to
-    let (reached, mut kk) = (rows_of(m, out, trees), std::mem::take(&mut out.k));
-    let dqdd = &out.dqdd[k * nv..(k + 1) * nv];
+    let mut kk = std::mem::take(&mut out.k);
     if m.one_tree() {
+        let dqdd = &out.dqdd[k * nv..(k + 1) * nv];
         for j in 0..nr {
             kk[j * nr + k] = k_entry(out, &kk, trees, dqdd, j, k);
         }
     } else {
+        let reached = rows_of(out, trees);
+        let dqdd = &out.dqdd[k * nv..(k + 1) * nv];
         for &j in &reached {
             kk[j * nr + k] = k_entry(out, &kk, trees, dqdd, j, k);
         }
+        out.reached = reached;
     }
-    (out.k, out.reached) = (kk, reached);
+    out.k = kk;
     out.column_done[k] = true;
 }
 
@@ -622,13 +625,10 @@ fn list_tree_rows(nnode: usize, out: &mut ConstraintData) {
 }
 
 /// The rows that touch the trees `trees` ([`WORLD`]: none), each once, in row order per tree, in
-/// `out.reached` taken out of `out`. A model of one tree lists none: its callers visit every row.
-fn rows_of(m: &Model, out: &mut ConstraintData, trees: [usize; 2]) -> Vec<usize> {
+/// `out.reached` taken out of `out` (a model of one tree keeps no lists: its rows all touch it).
+fn rows_of(out: &mut ConstraintData, trees: [usize; 2]) -> Vec<usize> {
     let mut reached = std::mem::take(&mut out.reached);
     reached.clear();
-    if m.one_tree() {
-        return reached;
-    }
     let list = |t: usize| if t == WORLD { &[][..] } else { &out.tree_rows[out.tree_row_start[t]..out.tree_row_start[t + 1]] };
     let [a, b] = trees;
     reached.extend_from_slice(list(a));
@@ -726,37 +726,41 @@ pub fn delta_pass(
     // inward: δu_i = δτ_i − S_iᵀ δp^A_i;  δp^A_λ += δp^A_i + U_i D_i⁻¹ δu_i; nodes off the
     // test force's path to the root have δp^A = 0 and δu = 0
     let ranges = tree_ranges(m, trees);
-    for i in (0..2).rev().flat_map(|part| ranges[part].clone().rev()) {
-        let k = m.node_nv[i];
-        let d0 = m.node_dofadr[i];
-        let torqued = matches!(dtau, Some((dof, _)) if dof >= d0 && dof < d0 + k);
-        if !torqued && dpa[i] == Force::ZERO {
-            du[i] = [0.0; 6];
-            continue;
+    for part in [1, 0] {
+        for i in ranges[part].clone().rev() {
+            let k = m.node_nv[i];
+            let d0 = m.node_dofadr[i];
+            let torqued = matches!(dtau, Some((dof, _)) if dof >= d0 && dof < d0 + k);
+            if !torqued && dpa[i] == Force::ZERO {
+                du[i] = [0.0; 6];
+                continue;
+            }
+            for r in 0..k {
+                let t = match dtau {
+                    Some((dof, v)) if dof == d0 + r => v,
+                    _ => 0.0,
+                };
+                du[i][r] = t - kin.s[i][r].dot(&dpa[i]);
+            }
+            let p = m.node_parent[i];
+            if p == WORLD {
+                continue;
+            }
+            let mut pa = dpa[i];
+            let mut w = du[i];
+            super::aba::solve_d(k, &aba.d_inv[i], &mut w);
+            for r in 0..k {
+                pa += aba.u_mat[i][r] * w[r];
+            }
+            dpa[p] += pa;
         }
-        for r in 0..k {
-            let t = match dtau {
-                Some((dof, v)) if dof == d0 + r => v,
-                _ => 0.0,
-            };
-            du[i][r] = t - kin.s[i][r].dot(&dpa[i]);
-        }
-        let p = m.node_parent[i];
-        if p == WORLD {
-            continue;
-        }
-        let mut pa = dpa[i];
-        let mut w = du[i];
-        super::aba::solve_d(k, &aba.d_inv[i], &mut w);
-        for r in 0..k {
-            pa += aba.u_mat[i][r] * w[r];
-        }
-        dpa[p] += pa;
     }
     // outward: δa'_i = δa_λ;  δq̈_i = D⁻¹(δu_i − Uᵀ δa'_i);  δa_i = δa'_i + S δq̈_i
-    for i in (0..2).flat_map(|part| ranges[part].clone()) {
-        let p = m.node_parent[i];
-        let a = if p == WORLD { Motion::ZERO } else { da[p] };
-        da[i] = super::aba::joint_accel(m, kin, aba, i, &du[i], a, dqdd);
+    for part in [0, 1] {
+        for i in ranges[part].clone() {
+            let p = m.node_parent[i];
+            let a = if p == WORLD { Motion::ZERO } else { da[p] };
+            da[i] = super::aba::joint_accel(m, kin, aba, i, &du[i], a, dqdd);
+        }
     }
 }

@@ -260,23 +260,38 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
     let h = m.opt.timestep;
     let Data { con, solve, .. } = data;
     let nr = con.len();
-    let vars = &solve.order[island];
+    let SolveData { m: mm, q: all_q, out: all_out, warm: all_warm, force, role, lambda, order, local, island_q, island_out, island_warm, island_z, work, stats, .. } = solve;
+    let vars = &order[island];
     let k = vars.len();
-    // each variable's number in the island's LCP
-    solve.local.resize(solve.q.len(), usize::MAX);
-    for (a, &v) in vars.iter().enumerate() {
-        solve.local[v] = a;
+    // one island of every variable (a single character) is solved in place; an island of some is
+    // gathered, each variable numbered in the island's LCP by `local`
+    let whole = k == all_q.len();
+    if !whole {
+        local.resize(all_q.len(), usize::MAX);
+        for (a, &v) in vars.iter().enumerate() {
+            local[v] = a;
+        }
+        island_q.clear();
+        island_q.extend(vars.iter().map(|&v| all_q[v]));
+        island_out.clear();
+        island_out.extend(vars.iter().map(|&v| all_out[v]));
+        island_warm.clear();
+        if warm {
+            island_warm.extend(vars.iter().map(|&v| all_warm[v]));
+        }
+        island_z.clear();
+        island_z.resize(k, 0.0);
     }
-    let local = &solve.local;
+    let (q, out, z, guess) = if whole {
+        (&mut *all_q, &mut *all_out, &mut *force, &*all_warm)
+    } else {
+        (&mut *island_q, &mut *island_out, &mut *island_z, &*island_warm)
+    };
+    let at = |v: usize| if whole { v } else { local[v] };
     // every entry of M is written below, once (no clearing first)
-    solve.m.resize(k * k, 0.0);
-    solve.role.clear();
-    solve.role.resize(k, lcp::Role::Lambda);
-    let (mm, q, out) = (&mut solve.m, &mut solve.island_q, &mut solve.island_out);
-    q.clear();
-    q.extend(vars.iter().map(|&v| solve.q[v]));
-    out.clear();
-    out.extend(vars.iter().map(|&v| solve.out[v]));
+    mm.resize(k * k, 0.0);
+    role.clear();
+    role.resize(k, lcp::Role::Lambda);
     // the island's rows come first among its variables (rows are numbered before every λ)
     let rows = vars.partition_point(|&v| v < nr);
     // a row no force can move (K_jj ≈ 0 beside the island's others: the out-of-plane friction of
@@ -295,7 +310,7 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
             mm[a * k..(a + 1) * k].fill(0.0);
             mm[a * k + a] = 1.0;
             q[a] = 0.0;
-            solve.role[a] = lcp::Role::Normal;
+            role[a] = lcp::Role::Normal;
             out[a] = true;
             continue;
         }
@@ -313,16 +328,16 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
         match con.kind[j] {
             RowKind::Tangent { normal } => {
                 // (20): (a_t − a_t^d) + λ ≥ 0;  (21): μ f_n − Σ f_t ≥ 0 ⟂ λ ≥ 0
-                let (lam, normal) = (local[solve.lambda[normal]], local[normal]);
+                let (lam, normal) = (at(lambda[normal]), at(normal));
                 mm[a * k + lam] = 1.0;
                 mm[lam * k + normal] = con.mu[j];
                 mm[lam * k + a] = -1.0;
-                solve.role[a] = lcp::Role::Friction { normal, lambda: lam, mu: con.mu[j] };
+                role[a] = lcp::Role::Friction { normal, lambda: lam, mu: con.mu[j] };
             }
             RowKind::Motion { bounded: true } => {
                 // (a − a^d) + σ ≥ 0 ⟂ f ≥ 0;  f_max − f ≥ 0 ⟂ σ ≥ 0, f_max a force (an impulse per step
                 // when time stepping, none during an impact)
-                let sigma = local[solve.lambda[j]];
+                let sigma = at(lambda[j]);
                 let cap = con.cap[j] * match level {
                     Level::Acceleration => 1.0,
                     Level::TimeStep => h,
@@ -331,25 +346,16 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
                 mm[a * k + sigma] = 1.0;
                 mm[sigma * k + a] = -1.0;
                 q[sigma] = cap;
-                solve.role[a] = lcp::Role::Bounded { lambda: sigma, cap };
+                role[a] = lcp::Role::Bounded { lambda: sigma, cap };
             }
-            _ => solve.role[a] = lcp::Role::Normal,
+            _ => role[a] = lcp::Role::Normal,
         }
     }
-    let iw = &mut solve.island_warm;
-    iw.clear();
-    if warm {
-        iw.extend(vars.iter().map(|&v| solve.warm[v]));
-    }
-    let z = &mut solve.island_z;
-    z.clear();
-    z.resize(k, 0.0);
-    let warm = warm.then_some(&iw[..]);
-    let solved = lcp::solve(k, mm, q, &solve.role, false, warm, out, z, &mut solve.work, &mut solve.stats);
-    for (a, &v) in vars.iter().enumerate() {
-        solve.force[v] = z[a];
-        solve.out[v] = out[a];
-        solve.local[v] = usize::MAX;
+    let solved = lcp::solve(k, mm, q, role, false, warm.then_some(&guess[..]), out, z, work, stats);
+    if !whole {
+        for (a, &v) in vars.iter().enumerate() {
+            (force[v], all_out[v], local[v]) = (island_z[a], island_out[a], usize::MAX);
+        }
     }
     solved
 }
