@@ -325,7 +325,7 @@ pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f6
     for g in 0..m.ngeom {
         own_reach_of(m, kin, aba, out, g);
     }
-    let near = near_pairs(m, out, |out, g| reach(out, g));
+    let near = near_pairs(m, out, reach);
     for &k in &near {
         let p = &m.collision_pairs[k];
         // speculative: pairs that could close within this step (which moves a point by
