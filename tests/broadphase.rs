@@ -184,3 +184,57 @@ fn gaps_settled_at_once_reject_no_pair_that_touches() {
     assert!(skipped > tested, "{skipped} gap skips in {tested} detections");
     assert!(touching > tested / 50 && touching < tested / 2, "{touching} of {tested} detections touch");
 }
+
+/// A floor and 24 free bodies of every shape, packed into a small box: more pairs than the
+/// sweep's threshold (`collision::SWEEP_PAIRS`).
+fn crowd(seed: u64) -> String {
+    let mut r = Rng(seed);
+    let shapes = ["type='sphere' size='0.07'", "type='capsule' size='0.04 0.1'", "type='box' size='0.05 0.08 0.06'", "type='cylinder' size='0.05 0.07'"];
+    let bodies: String = (0..24)
+        .map(|i| format!("<body pos='{}'><freejoint/><geom {}/></body>", r.vec3(0.4), shapes[i % 4]))
+        .collect();
+    format!("<mujoco><worldbody><geom type='plane' size='5 5 0.1'/>{bodies}</worldbody></mujoco>")
+}
+
+/// The sweep of the geoms' boxes (many trees, many pairs) finds every contact that testing every
+/// pair finds: detection after a step and the step itself (its detection with the step's reach
+/// and its second look with the end velocities) give the same contacts and the same motion.
+#[test]
+fn the_sweep_finds_the_contacts_of_testing_every_pair() {
+    let m = Model::from_mjcf(&crowd(5)).unwrap();
+    assert!(m.collision_pairs.len() >= 256 && !m.sweep_geoms.is_empty(), "{} pairs", m.collision_pairs.len());
+    // the same model, every pair tested on its bounds without the sweep
+    let mut brute = m.clone();
+    brute.pairs_unswept = (0..brute.collision_pairs.len()).collect();
+    brute.sweep_geoms.clear();
+    let mut r = Rng(11);
+    let (mut touching, mut states) = (0, 0);
+    for _ in 0..300 {
+        let (mut q, mut v) = random_state(&m, &mut r);
+        for b in 0..24 {
+            // packed within 0.8 m, some bodies down at the floor
+            q[7 * b..7 * b + 3].copy_from_slice(&[r.uniform(-0.4, 0.4), r.uniform(-0.4, 0.4), r.uniform(-0.05, 0.6)]);
+        }
+        v.iter_mut().for_each(|x| *x *= 0.5);
+        let (mut qb, mut vb) = (q.clone(), v.clone());
+        let (mut sim, mut sim_brute) = (sinew::State::new(&m), sinew::State::new(&brute));
+        for _ in 0..3 {
+            (sim.qpos, sim.qvel) = (q.clone(), v.clone());
+            (sim_brute.qpos, sim_brute.qvel) = (qb.clone(), vb.clone());
+            sim.step(&m);
+            sim_brute.step(&brute);
+            assert_eq!(sim.data.coll.contacts, sim_brute.data.coll.contacts);
+            assert_eq!((&sim.qpos, &sim.qvel), (&sim_brute.qpos, &sim_brute.qvel));
+            touching += !sim.data.coll.contacts.is_empty() as usize;
+            states += 1;
+            (q, v, qb, vb) = (sim.qpos.clone(), sim.qvel.clone(), sim_brute.qpos.clone(), sim_brute.qvel.clone());
+        }
+        let mut kin = KinData::new(&m);
+        forward(&m, &q, &v, &mut kin);
+        let (mut cd, mut cd_brute) = (CollisionData::new(&m), CollisionData::new(&brute));
+        penetrations(&m, &kin, &mut cd);
+        penetrations(&brute, &kin, &mut cd_brute);
+        assert_eq!(cd.contacts, cd_brute.contacts);
+    }
+    assert!(touching > states / 2, "{touching} of {states} steps touch: not a test of the sweep");
+}

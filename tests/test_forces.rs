@@ -149,6 +149,33 @@ fn test_force_k_matches_dense_delassus_on_random_trees() {
     }
 }
 
+/// Several random trees side by side in one world (names made distinct).
+fn forest_mjcf(sizes: &[usize], seed: u64) -> String {
+    let mut head = String::new();
+    let mut bodies = String::new();
+    for (t, &n) in sizes.iter().enumerate() {
+        let xml = random_tree_mjcf(n, t % 2 == 0, seed * 31 + t as u64);
+        let (open, close) = (xml.find("<worldbody>").unwrap(), xml.find("</worldbody>").unwrap());
+        if t == 0 {
+            head = xml[..open].to_string();
+        }
+        bodies += &xml[open + "<worldbody>".len()..close].replace("name=\"", &format!("name=\"t{t}_"));
+    }
+    format!("{head}<worldbody>{bodies}</worldbody></mujoco>")
+}
+
+/// K of rows on separate trees, each test force pushed through its own trees' nodes only, is
+/// J M⁻¹ Jᵀ with its zeros between trees that share no row.
+#[test]
+fn test_force_k_matches_dense_delassus_on_forests() {
+    for seed in 0..8 {
+        let xml = forest_mjcf(&[2 + seed as usize % 4, 3, 1 + seed as usize % 3], seed);
+        let m = Model::from_mjcf(&xml).unwrap();
+        assert!(!m.one_tree());
+        check(&xml, seed);
+    }
+}
+
 #[test]
 fn limit_rows_match_the_inverse_mass_matrix() {
     let xml = "<mujoco><worldbody><body><joint name='a' range='-1 1'/><geom size='0.1' pos='0.3 0 0'/>\
