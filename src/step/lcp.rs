@@ -23,7 +23,7 @@
 /// Counters Python can read.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct LcpStats {
-    /// LCP solves attempted.
+    /// LCP solves attempted (one per island of touching trees).
     pub solves: u64,
     /// Total Lemke pivots.
     pub pivots: u64,
