@@ -143,8 +143,6 @@ pub struct ConstraintData {
     /// `tree_rows[tree_row_start[t]..tree_row_start[t + 1]]`, built with K.
     tree_row_start: Vec<usize>,
     tree_rows: Vec<usize>,
-    /// The rows a test force reaches ([`rows_of`]), scratch.
-    reached: Vec<usize>,
 }
 
 impl ConstraintData {
@@ -537,11 +535,17 @@ pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintDa
                     out.k[j * nr + k] = -out.k[j * nr + mk];
                 }
             } else {
-                let reached = rows_of(out, out.tree[k]);
-                for &j in &reached {
-                    out.k[j * nr + k] = -out.k[j * nr + mk];
+                let mut kk = std::mem::take(&mut out.k);
+                let (first, second, a) = tree_lists(out, out.tree[k]);
+                for &j in first {
+                    kk[j * nr + k] = -kk[j * nr + mk];
                 }
-                out.reached = reached;
+                for &j in second {
+                    if a == WORLD || !out.tree[j].contains(&a) {
+                        kk[j * nr + k] = -kk[j * nr + mk];
+                    }
+                }
+                out.k = kk;
             }
             let (done, rest) = out.dqdd.split_at_mut(k * nv);
             for (d, s) in rest[..nv].iter_mut().zip(&done[mk * nv..(mk + 1) * nv]) {
@@ -585,12 +589,16 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
             kk[j * nr + k] = k_entry(out, &kk, trees, dqdd, j, k);
         }
     } else {
-        let reached = rows_of(out, trees);
         let dqdd = &out.dqdd[k * nv..(k + 1) * nv];
-        for &j in &reached {
+        let (first, second, a) = tree_lists(out, trees);
+        for &j in first {
             kk[j * nr + k] = k_entry(out, &kk, trees, dqdd, j, k);
         }
-        out.reached = reached;
+        for &j in second {
+            if a == WORLD || !out.tree[j].contains(&a) {
+                kk[j * nr + k] = k_entry(out, &kk, trees, dqdd, j, k);
+            }
+        }
     }
     out.k = kk;
     out.column_done[k] = true;
@@ -624,18 +632,13 @@ fn list_tree_rows(nnode: usize, out: &mut ConstraintData) {
     start[nnode] = out.tree_rows.len();
 }
 
-/// The rows that touch the trees `trees` ([`WORLD`]: none), each once, in row order per tree, in
-/// `out.reached` taken out of `out` (a model of one tree keeps no lists: its rows all touch it).
-fn rows_of(out: &mut ConstraintData, trees: [usize; 2]) -> Vec<usize> {
-    let mut reached = std::mem::take(&mut out.reached);
-    reached.clear();
+/// The rows of the trees `trees` ([`WORLD`]: none): the first tree's list, the second's (empty
+/// when the same), and the first tree, whose rows the second list repeats (a row of both trees is
+/// in both lists). A model of one tree keeps no lists: its rows all touch it.
+fn tree_lists(out: &ConstraintData, trees: [usize; 2]) -> (&[usize], &[usize], usize) {
     let list = |t: usize| if t == WORLD { &[][..] } else { &out.tree_rows[out.tree_row_start[t]..out.tree_row_start[t + 1]] };
     let [a, b] = trees;
-    reached.extend_from_slice(list(a));
-    if b != a {
-        reached.extend(list(b).iter().filter(|&&j| a == WORLD || !out.tree[j].contains(&a)));
-    }
-    reached
+    (list(a), if b == a { &[][..] } else { list(b) }, a)
 }
 
 /// K_jk, with K's columns so far in `kk`, the test force of row k on the trees `trees` having
