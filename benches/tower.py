@@ -3,7 +3,7 @@ wall time (both friction models, dt 0.002 and 0.01) beside MuJoCo's on the same 
 the solves went and how far the top cube moved (a tower at rest should not move). The two are
 timed in turn over rounds, and the medians reported: this machine's speed drifts.
 
-    python benches/tower.py [--rounds 5] [--out results/tower.md]
+    python benches/tower.py [--rounds 9] [--out results/tower.md]
 """
 
 import argparse
@@ -53,7 +53,7 @@ def mujoco_run(dt, seconds=10.0):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", help="write the table here (Markdown)")
-    parser.add_argument("--rounds", type=int, default=5, help="timings of each, alternated (median reported)")
+    parser.add_argument("--rounds", type=int, default=9, help="timings of each, alternated (median reported)")
     args = parser.parse_args()
     lines = [
         "<!-- python benches/tower.py --out results/tower.md -->",
