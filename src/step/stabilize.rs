@@ -46,8 +46,6 @@ pub struct StabilizeData {
     gap: Vec<f64>,
     jac: Vec<f64>,
     dqdd: Vec<f64>,
-    /// Nonzero dof range of each row's J.
-    span: Vec<(usize, usize)>,
     limit: Vec<Option<(usize, f64)>>,
     /// Trees of each row's sides ([`ConstraintData::tree`](constraint::ConstraintData::tree)):
     /// rows that share none have K_ab = 0.
@@ -339,29 +337,17 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
     let nv = m.nv;
     for attempt in 0..=LIMIT_PASSES {
         let k = post.gap.len();
-        // K_ab = J_a · Δq̈_b, over the dofs where J_a is not zero (its bodies' paths to the root:
-        // one character of many in a scene); zero between rows of separate trees
-        post.span.clear();
-        for a in 0..k {
-            let row = &post.jac[a * nv..(a + 1) * nv];
-            let first = row.iter().position(|&x| x != 0.0).unwrap_or(0);
-            let last = row.iter().rposition(|&x| x != 0.0).map_or(0, |i| i + 1);
-            post.span.push((first, last.max(first)));
-        }
+        // K_ab = J_a · Δq̈_b over the dofs of the trees both rows move (J_a is zero off a's
+        // trees, Δq̈_b off b's): one character's of many in a scene, zero between separate trees
         post.m.clear();
         for a in 0..k {
-            let (lo, hi) = post.span[a];
             let [ta, tb] = post.tree[a];
             for b in 0..k {
-                // the trees both rows move: Δq̈_b is zero off b's, J_a off a's
                 let shared = |t: usize| t != WORLD && post.tree[b].contains(&t);
                 let trees = [if shared(ta) { ta } else { WORLD }, if shared(tb) { tb } else { WORLD }];
                 let mut dot = 0.0;
                 for r in constraint::tree_dofs(m, trees) {
-                    let (r0, r1) = (r.start.max(lo), r.end.min(hi));
-                    if r0 < r1 {
-                        dot += post.jac[a * nv + r0..a * nv + r1].iter().zip(&post.dqdd[b * nv + r0..b * nv + r1]).map(|(x, y)| x * y).sum::<f64>();
-                    }
+                    dot += post.jac[a * nv + r.start..a * nv + r.end].iter().zip(&post.dqdd[b * nv + r.start..b * nv + r.end]).map(|(x, y)| x * y).sum::<f64>();
                 }
                 post.m.push(dot);
             }
