@@ -172,7 +172,8 @@ impl CollisionData {
             box_hi: vec![DVec3::ZERO; m.ngeom],
             sweep_order: m.sweep_geoms.clone(),
             active: Vec::with_capacity(m.sweep_geoms.len()),
-            near: Vec::with_capacity(m.collision_pairs.len()),
+            // a model of few pairs tests them all, listed once here
+            near: if m.collision_pairs.len() < SWEEP_PAIRS { (0..m.collision_pairs.len()).collect() } else { Vec::with_capacity(m.collision_pairs.len()) },
             contacts: Vec::with_capacity(MAX_CONTACTS),
         }
     }
@@ -352,11 +353,10 @@ const SWEEP_PAIRS: usize = 256;
 /// (a diverging world) send every pair to its test.
 fn near_pairs(m: &Model, out: &mut CollisionData, reach: impl Fn(&CollisionData, usize) -> f64) -> Vec<usize> {
     let mut near = std::mem::take(&mut out.near);
-    near.clear();
     if m.collision_pairs.len() < SWEEP_PAIRS {
-        near.extend(0..m.collision_pairs.len());
         return near;
     }
+    near.clear();
     let mut finite = true;
     for &g in &m.sweep_geoms {
         let e = m.geom_rbound[g] + m.geom_margin[g] + reach(out, g);
