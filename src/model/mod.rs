@@ -168,14 +168,6 @@ pub struct PlaneGroup {
     pub radius: f64,
 }
 
-impl Model {
-    /// Whether every moving body is in one tree (a single character): every row then shares
-    /// its tree with every other.
-    pub fn one_tree(&self) -> bool {
-        self.nnode == 0 || self.node_end[0] == self.nnode
-    }
-}
-
 /// Whether geoms i and j move with the same tree (not the world).
 pub fn same_tree(m: &Model, i: usize, j: usize) -> bool {
     let tree = |g: usize| {

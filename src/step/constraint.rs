@@ -515,9 +515,7 @@ pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintDa
         out.dqdd.resize(nr * nv, 0.0);
         out.column_done.clear();
         out.column_done.resize(nr, false);
-        if !m.one_tree() {
-            list_tree_rows(m.nnode, out);
-        }
+        list_tree_rows(m.nnode, out);
         out.assembled = true;
     }
     for k in 0..nr {
@@ -530,23 +528,17 @@ pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintDa
                 push_test_force(m, kin, aba, out, mk);
             }
             // the rows of the mirrored row's trees: the others' entries stay zero
-            if m.one_tree() {
-                for j in 0..nr {
-                    out.k[j * nr + k] = -out.k[j * nr + mk];
-                }
-            } else {
-                let mut kk = std::mem::take(&mut out.k);
-                let (first, second, a) = tree_lists(out, out.tree[k]);
-                for &j in first {
+            let mut kk = std::mem::take(&mut out.k);
+            let (first, second, a) = tree_lists(out, out.tree[k]);
+            for &j in first {
+                kk[j * nr + k] = -kk[j * nr + mk];
+            }
+            for &j in second {
+                if a == WORLD || !out.tree[j].contains(&a) {
                     kk[j * nr + k] = -kk[j * nr + mk];
                 }
-                for &j in second {
-                    if a == WORLD || !out.tree[j].contains(&a) {
-                        kk[j * nr + k] = -kk[j * nr + mk];
-                    }
-                }
-                out.k = kk;
             }
+            out.k = kk;
             let (done, rest) = out.dqdd.split_at_mut(k * nv);
             for (d, s) in rest[..nv].iter_mut().zip(&done[mk * nv..(mk + 1) * nv]) {
                 *d = -s;
@@ -583,21 +575,14 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     // K is symmetric (J M⁻¹ Jᵀ): the rows whose columns are done hold this column's entries; rows
     // of other trees keep the zero K was cleared to
     let mut kk = std::mem::take(&mut out.k);
-    if m.one_tree() {
-        let dqdd = &out.dqdd[k * nv..(k + 1) * nv];
-        for j in 0..nr {
+    let dqdd = &out.dqdd[k * nv..(k + 1) * nv];
+    let (first, second, a) = tree_lists(out, trees);
+    for &j in first {
+        kk[j * nr + k] = k_entry(out, &kk, trees, dqdd, j, k);
+    }
+    for &j in second {
+        if a == WORLD || !out.tree[j].contains(&a) {
             kk[j * nr + k] = k_entry(out, &kk, trees, dqdd, j, k);
-        }
-    } else {
-        let dqdd = &out.dqdd[k * nv..(k + 1) * nv];
-        let (first, second, a) = tree_lists(out, trees);
-        for &j in first {
-            kk[j * nr + k] = k_entry(out, &kk, trees, dqdd, j, k);
-        }
-        for &j in second {
-            if a == WORLD || !out.tree[j].contains(&a) {
-                kk[j * nr + k] = k_entry(out, &kk, trees, dqdd, j, k);
-            }
         }
     }
     out.k = kk;
@@ -609,10 +594,14 @@ fn list_tree_rows(nnode: usize, out: &mut ConstraintData) {
     let start = &mut out.tree_row_start;
     start.clear();
     start.resize(nnode + 1, 0);
-    // a row's distinct trees
-    let sides = |trees: &[usize; 2]| [trees[0], if trees[1] == trees[0] { WORLD } else { trees[1] }].into_iter().filter(|&t| t != WORLD);
-    for t in out.tree.iter().flat_map(sides) {
-        start[t + 1] += 1;
+    // a row's distinct trees (WORLD: none)
+    let sides = |[a, b]: [usize; 2]| [a, if b == a { WORLD } else { b }];
+    for &trees in &out.tree {
+        for t in sides(trees) {
+            if t != WORLD {
+                start[t + 1] += 1;
+            }
+        }
     }
     for t in 0..nnode {
         start[t + 1] += start[t];
@@ -620,10 +609,12 @@ fn list_tree_rows(nnode: usize, out: &mut ConstraintData) {
     out.tree_rows.clear();
     out.tree_rows.resize(start[nnode], 0);
     // filled from each list's end, rows in reverse: each list ends up in row order
-    for (j, trees) in out.tree.iter().enumerate().rev() {
+    for (j, &trees) in out.tree.iter().enumerate().rev() {
         for t in sides(trees) {
-            start[t + 1] -= 1;
-            out.tree_rows[start[t + 1]] = j;
+            if t != WORLD {
+                start[t + 1] -= 1;
+                out.tree_rows[start[t + 1]] = j;
+            }
         }
     }
     // each count was taken back once per row: start[t + 1] is now where tree t's list starts,
@@ -634,7 +625,8 @@ fn list_tree_rows(nnode: usize, out: &mut ConstraintData) {
 
 /// The rows of the trees `trees` ([`WORLD`]: none): the first tree's list, the second's (empty
 /// when the same), and the first tree, whose rows the second list repeats (a row of both trees is
-/// in both lists). A model of one tree keeps no lists: its rows all touch it.
+/// in both lists).
+#[inline(always)]
 fn tree_lists(out: &ConstraintData, trees: [usize; 2]) -> (&[usize], &[usize], usize) {
     let list = |t: usize| if t == WORLD { &[][..] } else { &out.tree_rows[out.tree_row_start[t]..out.tree_row_start[t + 1]] };
     let [a, b] = trees;

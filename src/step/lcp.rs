@@ -438,13 +438,6 @@ fn islands(n: usize, m: &[f64], q: &[f64], role: &[Role], split: bool, warm: Opt
 fn couplings(n: usize, m: &[f64], parent: &mut Vec<usize>) -> bool {
     parent.clear();
     parent.extend(0..n);
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
     let mut groups = n;
     for i in 0..n {
         for j in i + 1..n {
@@ -464,6 +457,15 @@ fn couplings(n: usize, m: &[f64], parent: &mut Vec<usize>) -> bool {
         parent[i] = root(parent, i);
     }
     groups <= 1
+}
+
+/// The root of i's set in the union–find forest `parent` (halving the path on the way).
+pub(super) fn root(parent: &mut [usize], mut i: usize) -> usize {
+    while parent[i] != i {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    i
 }
 
 /// Largest scaled negative w a left-out row may be left with (round-off).

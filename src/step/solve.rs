@@ -32,7 +32,7 @@ pub(super) fn solve_rows(m: &Model, data: &mut Data, level: Level) {
     // left out
     let left_any = data.solve.out.contains(&true);
     let mut brought_back = false;
-    island_labels(m, data, n);
+    island_labels(data, n);
     let SolveData { group, order, .. } = &mut data.solve;
     order.clear();
     order.extend(0..n);
@@ -364,21 +364,17 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
 /// touches joined with every tree a contact connects them to (union–find over the rows), named
 /// by the root node of the least tree; a λ or σ takes its row's. Rows of different labels share
 /// no body, so K (and M) has no entry between them.
-fn island_labels(m: &Model, data: &mut Data, n: usize) {
+fn island_labels(data: &mut Data, n: usize) {
     let SolveData { group, tree_link: link, lambda, .. } = &mut data.solve;
     let con = &data.con;
-    if m.one_tree() {
-        group.clear();
-        group.resize(n, 0);
+    group.clear();
+    // rows that name one tree alone (one character's) make one island
+    let first = con.tree.first().map_or(WORLD, |t| if t[0] != WORLD { t[0] } else { t[1] });
+    if con.tree.iter().all(|t| t.iter().all(|&x| x == first || x == WORLD)) {
+        group.resize(n, first);
         return;
     }
-    fn root(link: &mut [usize], mut i: usize) -> usize {
-        while link[i] != i {
-            link[i] = link[link[i]];
-            i = link[i];
-        }
-        i
-    }
+    let root = lcp::root;
     // only the trees the rows name are linked: reset them alone
     let nodes = con.tree.iter().flatten().filter(|&&t| t != WORLD).fold(0, |a, &t| a.max(t + 1));
     if link.len() < nodes {
@@ -393,7 +389,6 @@ fn island_labels(m: &Model, data: &mut Data, n: usize) {
             link[a.max(b)] = a.min(b);
         }
     }
-    group.clear();
     group.resize(n, usize::MAX);
     for (j, &[a, b]) in con.tree.iter().enumerate() {
         let t = if a != WORLD { a } else { b };
