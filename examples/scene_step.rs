@@ -15,7 +15,10 @@ fn main() {
             std::process::exit(1);
         }
     };
-    let seconds: f64 = args[2].parse().expect("SECONDS: a number");
+    let Ok(seconds) = args[2].parse::<f64>() else {
+        eprintln!("SECONDS: a number, not '{}'", args[2]);
+        std::process::exit(2);
+    };
     m.opt.friction = match args[3].as_str() {
         "seed" => sinew::model::FrictionModel::OneTangent,
         _ => sinew::model::FrictionModel::Pyramid,
