@@ -351,7 +351,7 @@ impl PySim {
     }
 
     /// Constraint statistics: rows of the last step, LCP solves, pivots, warm starts, regularised
-    /// retries, fallbacks, rows left out of solves as separating (summed) and times one was brought
+    /// retries, solves rescued from a failed Lemke, fallbacks, rows left out of solves as separating (summed) and times one was brought
     /// back, residual, impacts, post-stabilisation projections.
     #[getter]
     fn constraint_stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
@@ -362,6 +362,7 @@ impl PySim {
         d.set_item("pivots", s.pivots)?;
         d.set_item("warm_starts", s.warm_starts)?;
         d.set_item("retries", s.retries)?;
+        d.set_item("rescued", s.rescued)?;
         d.set_item("fallback_pgs", s.fallback_pgs)?;
         d.set_item("inexact", s.inexact)?;
         d.set_item("fallback_zero", s.fallback_zero)?;

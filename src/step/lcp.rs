@@ -7,8 +7,11 @@
 //! coplanar box corners) make K singular; a tiny diagonal regulariser keeps pivots finite. Every
 //! accepted solution is checked independently (w = M z + q recomputed); on failure the cascade
 //! retries Lemke with a 100× regulariser (redundant contacts sharing a tangential demand can end
-//! the first path on a ray), its answer checked against the unregularised problem, then falls
-//! back to projected Gauss–Seidel on the same conditions, then to zero force.
+//! the first path on a ray), then once more covering the λ rows too, each answer checked against
+//! the unregularised problem, then falls
+//! back to projected Gauss–Seidel on the same conditions, whose answer is solved again from its
+//! active set (often exactly: PGS is near the solution even where Lemke's path fails), then to
+//! zero force.
 //!
 //! Before any of that, rows the caller expects to need no force are left out: the step marks
 //! each contact whose q says the motion without its force separates it (a contact the step's
@@ -29,9 +32,12 @@ pub struct LcpStats {
     pub pivots: u64,
     /// Solves settled by the previous step's active set, without pivoting.
     pub warm_starts: u64,
-    /// Solves settled by the second, more strongly regularised Lemke attempt.
+    /// Solves settled by a later Lemke attempt (more strongly regularised; then also covering λ).
     pub retries: u64,
-    /// Solves that fell back to projected Gauss–Seidel.
+    /// Solves whose Lemke attempts failed the check, settled exactly (passing it) from projected
+    /// Gauss–Seidel's answer.
+    pub rescued: u64,
+    /// Solves that fell back to projected Gauss–Seidel's answer, which fails the check.
     pub fallback_pgs: u64,
     /// Solves that kept a Lemke solution failing the check because it beat the fallback.
     pub inexact: u64,
@@ -472,13 +478,14 @@ pub(super) fn root(parent: &mut [usize], mut i: usize) -> usize {
 const LEFT_OUT_TOLERANCE: f64 = 1e-12;
 
 /// Solves with the cascade warm start → Lemke → Lemke more strongly regularised → projected
-/// Gauss–Seidel (or Lemke's inexact answer when that has the smaller residual) → zero; counts the
+/// Gauss–Seidel, polished from its active set (or Lemke's inexact answer when that has the
+/// smaller residual) → zero; counts the
 /// path in `stats`. `warm`, when given, is the previous step's active set for the same rows: if
 /// solving on it directly passes the independent check, no pivoting is needed (resting contacts).
 #[allow(clippy::too_many_arguments)]
 fn cascade(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
     if let Some(prev) = warm.filter(|w| w.len() == n)
-        && let Some(res) = settle(n, m, q, role, prev, work)
+        && let Some(res) = settle(n, m, q, role, prev.iter().copied(), work)
     {
         z[..n].copy_from_slice(&work.trial);
         stats.warm_starts += 1;
@@ -486,19 +493,22 @@ fn cascade(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>,
         return;
     }
     // Lemke; once more with a stronger regulariser when its answer fails the check (redundant
-    // contacts sharing their demand can end the path on a ray), each answer polished and checked
-    // against the problem as posed; the better failing answer is kept in `best`
+    // contacts sharing their demand can end the path on a ray), and once more covering every row,
+    // λ too (which ends some of those paths elsewhere); each answer polished and checked against
+    // the problem as posed; the best failing answer is kept in `best`
     let mut stiff = std::mem::take(&mut work.stiff);
     let mut lemke_res = f64::INFINITY;
-    for retry in [false, true] {
-        if retry {
+    for attempt in 0..3 {
+        let retry = attempt > 0;
+        if attempt == 1 {
             stiff.clear();
             stiff.extend_from_slice(&m[..n * n]);
             for i in (0..n).filter(|&i| role[i] != Role::Lambda) {
                 stiff[i * n + i] += RETRY_REGULARISATION * m[i * n + i].abs();
             }
         }
-        let Some(p) = lemke(n, if retry { &stiff } else { m }, q, |i| role[i] == Role::Lambda, z, work) else {
+        let uncovered = |i: usize| attempt < 2 && role[i] == Role::Lambda;
+        let Some(p) = lemke(n, if retry { &stiff } else { m }, q, uncovered, z, work) else {
             continue;
         };
         stats.pivots += p as u64;
@@ -516,11 +526,16 @@ fn cascade(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>,
         }
     }
     work.stiff = stiff;
-    // Lemke failed the check: projected Gauss–Seidel, unless Lemke's answer was the closer one
+    // Lemke failed the check: projected Gauss–Seidel, polished (near the solution, its active set
+    // often settles it exactly), unless Lemke's answer was the closer one
     if pgs(n, m, q, role, z) {
-        let pgs_res = residual(n, m, q, z, (&mut work.w, &mut work.nz));
+        let pgs_res = polish(n, m, q, role, z, work);
         if pgs_res <= lemke_res {
-            stats.fallback_pgs += 1;
+            if pgs_res <= ACCEPT_RESIDUAL {
+                stats.rescued += 1;
+            } else {
+                stats.fallback_pgs += 1;
+            }
             stats.residual = pgs_res;
         } else {
             z[..n].copy_from_slice(&work.best);
@@ -540,18 +555,24 @@ fn cascade(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>,
     stats.residual = 0.0;
 }
 
+/// Scaled w (as in [`residual`]) below which [`settle`] adds an inactive variable. Redundant
+/// contacts (the corners under a box) share their load in many ways: dropping a force that an
+/// answer left a round-off below zero leaves its row's w a round-off below zero, and adding it
+/// back then cycles.
+const ADD_TOLERANCE: f64 = 1e-9;
+
 /// Active-set passes from a warm guess at most (each one solve on the set).
 const WARM_PASSES: usize = 3;
 
-/// The warm start: solves on the guessed active set `prev`; while the answer fails the check,
-/// drops the variables it makes negative and adds those whose w it makes negative, and solves
-/// again, up to [`WARM_PASSES`] times (a contact the last step or this step's impact left
-/// inactive now pressing, a joint now driven into its limit). The residual of an answer in
-/// `work.trial` that passes the independent check, or None.
-fn settle(n: usize, m: &[f64], q: &[f64], role: &[Role], prev: &[bool], work: &mut LcpWork) -> Option<f64> {
+/// The warm start: solves on the guessed active set `start`; while the answer fails the check,
+/// drops the variables it makes negative and adds those whose w it makes negative (beyond
+/// [`ADD_TOLERANCE`]), and solves again, up to [`WARM_PASSES`] times (a contact the last step or
+/// this step's impact left inactive now pressing, a joint now driven into its limit). The
+/// residual of an answer in `work.trial` that passes the independent check, or None.
+fn settle(n: usize, m: &[f64], q: &[f64], role: &[Role], start: impl Iterator<Item = bool>, work: &mut LcpWork) -> Option<f64> {
     let mut guess = std::mem::take(&mut work.guess);
     guess.clear();
-    guess.extend_from_slice(&prev[..n]);
+    guess.extend(start.take(n));
     let mut settled = None;
     for _ in 0..WARM_PASSES {
         if !solve_on(n, m, q, role, |i| guess[i], work) {
@@ -563,10 +584,22 @@ fn settle(n: usize, m: &[f64], q: &[f64], role: &[Role], prev: &[bool], work: &m
             break;
         }
         let mut changed = false;
+        // w_i below zero beyond round-off, scaled as in `residual`
+        let pressing = |i: usize| work.w[i] < -ADD_TOLERANCE * (1.0 + q[i].abs() + work.nz.iter().map(|&j| (m[i * n + j] * work.trial[j]).abs()).sum::<f64>());
         for i in 0..n {
-            let now = if guess[i] && !work.free[i] { work.trial[i] > 0.0 } else { work.trial[i] > 0.0 || work.w[i] < 0.0 };
+            let now = if guess[i] && !work.free[i] { work.trial[i] > 0.0 } else { work.trial[i] > 0.0 || (work.w[i] < 0.0 && pressing(i)) };
             changed |= now != guess[i];
             guess[i] = now;
+        }
+        // a contact without normal force has no friction force (|f_t| ≤ μ f_n)
+        for i in 0..n {
+            if let Role::Friction { normal, .. } = role[i]
+                && guess[i]
+                && !guess[normal]
+            {
+                guess[i] = false;
+                changed = true;
+            }
         }
         if !changed {
             break;
@@ -660,20 +693,32 @@ fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
     trial.iter().all(|x| x.is_finite())
 }
 
-/// Re-solves on Lemke's active set A = {z > 0}, removing the round-off the tableau accumulates on
-/// degenerate problems; the polished z is kept only if it lowers the residual. Returns the
-/// residual of the z it leaves.
+/// Re-solves from Lemke's active set A = {z > 0} ([`settle`]), removing the round-off the tableau
+/// accumulates on degenerate problems (and the error of the retry's regulariser), or, unsettled,
+/// the last pass's answer with negative forces cut to zero; the polished z is kept only if it
+/// lowers the residual. Returns the residual of the z it leaves.
 fn polish(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64], work: &mut LcpWork) -> f64 {
     let before = residual(n, m, q, z, (&mut work.w, &mut work.nz));
-    if z[..n].iter().all(|&x| x <= 0.0) || !solve_on(n, m, q, role, |i| z[i] > 0.0, work) || work.trial.iter().any(|&x| x < 0.0) {
+    if z[..n].iter().all(|&x| x <= 0.0) {
         return before;
     }
-    let after = residual(n, m, q, &work.trial, (&mut work.w, &mut work.nz));
-    if after < before {
-        z[..n].copy_from_slice(&work.trial);
-        return after;
+    // unsettled, the last pass's answer with its negative forces cut to zero (redundant contacts
+    // leave some a round-off below zero)
+    let after = settle(n, m, q, role, z[..n].iter().map(|&x| x > 0.0), work).or_else(|| {
+        (work.trial.len() == n).then(|| {
+            for x in work.trial.iter_mut() {
+                *x = x.max(0.0);
+            }
+            residual(n, m, q, &work.trial, (&mut work.w, &mut work.nz))
+        })
+    });
+    match after {
+        Some(after) if after < before => {
+            z[..n].copy_from_slice(&work.trial);
+            after
+        }
+        _ => before,
     }
-    before
 }
 
 /// What an LCP variable is, for the projected Gauss–Seidel fallback.
