@@ -127,7 +127,8 @@ pub struct ConstraintData {
     pub k: Vec<f64>,
     /// Constraint acceleration with zero constraint force.
     pub b: Vec<f64>,
-    /// Δq̈ per unit force of each row (m × nv).
+    /// Δq̈ per unit force of each row (m × nv), meaningful on the dofs of the row's trees only
+    /// ([`tree_dofs`]; it is zero elsewhere and those entries are not kept).
     pub dqdd: Vec<f64>,
     /// Whether `k`, `dqdd` and `column_done` are sized for the current rows.
     pub assembled: bool,
@@ -511,8 +512,10 @@ pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintDa
     if !out.assembled {
         out.k.clear();
         out.k.resize(nr * nr, 0.0);
-        out.dqdd.clear();
-        out.dqdd.resize(nr * nv, 0.0);
+        // each row's Δq̈ is written and read on its trees' dofs only: the rest is left as it was
+        if out.dqdd.len() < nr * nv {
+            out.dqdd.resize(nr * nv, 0.0);
+        }
         out.column_done.clear();
         out.column_done.resize(nr, false);
         list_tree_rows(m.nnode, out);
@@ -540,8 +543,10 @@ pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintDa
             }
             out.k = kk;
             let (done, rest) = out.dqdd.split_at_mut(k * nv);
-            for (d, s) in rest[..nv].iter_mut().zip(&done[mk * nv..(mk + 1) * nv]) {
-                *d = -s;
+            for r in tree_dofs(m, out.tree[k]) {
+                for (d, s) in rest[r.clone()].iter_mut().zip(&done[mk * nv + r.start..mk * nv + r.end]) {
+                    *d = -s;
+                }
             }
             out.column_done[k] = true;
             continue;

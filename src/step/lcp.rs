@@ -70,6 +70,8 @@ pub struct LcpWork {
     free: Vec<bool>,
     /// The warm start's guessed active set.
     guess: Vec<bool>,
+    /// The λ (σ) variables with an active row ([`settle`]).
+    used: Vec<bool>,
     /// Candidate rows of the ratio test.
     cand: Vec<usize>,
     /// The subproblem without the rows that need no force.
@@ -485,7 +487,7 @@ const LEFT_OUT_TOLERANCE: f64 = 1e-12;
 #[allow(clippy::too_many_arguments)]
 fn cascade(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
     if let Some(prev) = warm.filter(|w| w.len() == n)
-        && let Some(res) = settle(n, m, q, role, prev.iter().copied(), work)
+        && let Some(res) = settle(n, m, q, role, prev.iter().copied(), WARM_PASSES, work)
     {
         z[..n].copy_from_slice(&work.trial);
         stats.warm_starts += 1;
@@ -563,18 +565,22 @@ const ADD_TOLERANCE: f64 = 1e-9;
 
 /// Active-set passes from a warm guess at most (each one solve on the set).
 const WARM_PASSES: usize = 3;
+/// Active-set passes polishing an answer at most: more than a warm start's, as they run only when
+/// Lemke's answer fails the check at once (the first pass accepts a good answer).
+const POLISH_PASSES: usize = 10;
 
 /// The warm start: solves on the guessed active set `start`; while the answer fails the check,
 /// drops the variables it makes negative and adds those whose w it makes negative (beyond
-/// [`ADD_TOLERANCE`]), and solves again, up to [`WARM_PASSES`] times (a contact the last step or
-/// this step's impact left inactive now pressing, a joint now driven into its limit). The
-/// residual of an answer in `work.trial` that passes the independent check, or None.
-fn settle(n: usize, m: &[f64], q: &[f64], role: &[Role], start: impl Iterator<Item = bool>, work: &mut LcpWork) -> Option<f64> {
+/// [`ADD_TOLERANCE`]), with the friction rows of a contact left without normal force and the λ
+/// (σ) left without an active row, and solves again, up to `passes` times (a contact the last
+/// step or this step's impact left inactive now pressing, a joint now driven into its limit).
+/// The residual of an answer in `work.trial` that passes the independent check, or None.
+fn settle(n: usize, m: &[f64], q: &[f64], role: &[Role], start: impl Iterator<Item = bool>, passes: usize, work: &mut LcpWork) -> Option<f64> {
     let mut guess = std::mem::take(&mut work.guess);
     guess.clear();
     guess.extend(start.take(n));
     let mut settled = None;
-    for _ in 0..WARM_PASSES {
+    for _ in 0..passes {
         if !solve_on(n, m, q, role, |i| guess[i], work) {
             break;
         }
@@ -597,6 +603,24 @@ fn settle(n: usize, m: &[f64], q: &[f64], role: &[Role], start: impl Iterator<It
                 && guess[i]
                 && !guess[normal]
             {
+                guess[i] = false;
+                changed = true;
+            }
+        }
+        // a λ (σ) is positive only with one of its rows at the bound (else its column in M_AA is
+        // zero): without one active, it goes too
+        let used = &mut work.used;
+        used.clear();
+        used.resize(n, false);
+        for i in 0..n {
+            if let Role::Friction { lambda, .. } | Role::Bounded { lambda, .. } = role[i]
+                && guess[i]
+            {
+                used[lambda] = true;
+            }
+        }
+        for i in 0..n {
+            if role[i] == Role::Lambda && guess[i] && !used[i] {
                 guess[i] = false;
                 changed = true;
             }
@@ -704,7 +728,7 @@ fn polish(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64], work: &m
     }
     // unsettled, the last pass's answer with its negative forces cut to zero (redundant contacts
     // leave some a round-off below zero)
-    let after = settle(n, m, q, role, z[..n].iter().map(|&x| x > 0.0), work).or_else(|| {
+    let after = settle(n, m, q, role, z[..n].iter().map(|&x| x > 0.0), POLISH_PASSES, work).or_else(|| {
         (work.trial.len() == n).then(|| {
             for x in work.trial.iter_mut() {
                 *x = x.max(0.0);

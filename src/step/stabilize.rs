@@ -41,7 +41,8 @@ pub struct StabilizeData {
     pub kin: KinData,
     /// Penetrating contacts of the configuration after the step.
     coll: CollisionData,
-    /// Projection rows: gap after the step, J (nv each), Δq̈ per unit p (nv each), and the limit
+    /// Projection rows: gap after the step, J (nv each), Δq̈ per unit p (nv each, meaningful on the
+    /// row's trees' dofs only), and the limit
     /// (joint, sign) of a limit row.
     gap: Vec<f64>,
     jac: Vec<f64>,
@@ -338,18 +339,23 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
     for attempt in 0..=LIMIT_PASSES {
         let k = post.gap.len();
         // K_ab = J_a · Δq̈_b over the dofs of the trees both rows move (J_a is zero off a's
-        // trees, Δq̈_b off b's): one character's of many in a scene, zero between separate trees
+        // trees, Δq̈_b off b's): one character's of many in a scene, zero between separate trees.
+        // K = J M⁻¹ Jᵀ is symmetric: the upper triangle is computed, the lower copied
         post.m.clear();
+        post.m.resize(k * k, 0.0);
         for a in 0..k {
             let [ta, tb] = post.tree[a];
-            for b in 0..k {
+            for b in a..k {
                 let shared = |t: usize| t != WORLD && post.tree[b].contains(&t);
                 let trees = [if shared(ta) { ta } else { WORLD }, if shared(tb) { tb } else { WORLD }];
+                if trees == [WORLD; 2] {
+                    continue;
+                }
                 let mut dot = 0.0;
                 for r in constraint::tree_dofs(m, trees) {
                     dot += post.jac[a * nv + r.start..a * nv + r.end].iter().zip(&post.dqdd[b * nv + r.start..b * nv + r.end]).map(|(x, y)| x * y).sum::<f64>();
                 }
-                post.m.push(dot);
+                (post.m[a * k + b], post.m[b * k + a]) = (dot, dot);
             }
         }
         post.role.clear();
@@ -368,8 +374,11 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
         for a in 0..k {
             let p = post.p[a];
             if p != 0.0 {
-                for (d, c) in post.dq.iter_mut().zip(&post.dqdd[a * nv..(a + 1) * nv]) {
-                    *d += p * c;
+                // Δq̈ of row a is zero (and not stored) off its trees' dofs
+                for r in constraint::tree_dofs(m, post.tree[a]) {
+                    for (d, c) in post.dq[r.clone()].iter_mut().zip(&post.dqdd[a * nv + r.start..a * nv + r.end]) {
+                        *d += p * c;
+                    }
                 }
             }
         }

@@ -133,8 +133,8 @@ pub struct CollisionData {
     /// [`Model::sweep_geoms`] by increasing `box_lo.x`, as the last sweep left them (nearly
     /// sorted for the next).
     sweep_order: Vec<usize>,
-    /// The geoms whose x interval the sweep is in.
-    active: Vec<usize>,
+    /// The pairs of two trees whose boxes overlap, as the sweep finds them ([`near_pairs`]).
+    swept: Vec<usize>,
     /// The pairs the sweep leaves to test, in order ([`near_pairs`]).
     near: Vec<usize>,
     /// Contacts of this configuration.
@@ -171,7 +171,7 @@ impl CollisionData {
             box_lo: vec![DVec3::ZERO; m.ngeom],
             box_hi: vec![DVec3::ZERO; m.ngeom],
             sweep_order: m.sweep_geoms.clone(),
-            active: Vec::with_capacity(m.sweep_geoms.len()),
+            swept: Vec::with_capacity(if m.collision_pairs.len() < SWEEP_PAIRS { 0 } else { m.collision_pairs.len() }),
             // a model of few pairs tests them all, listed once here
             near: if m.collision_pairs.len() < SWEEP_PAIRS { (0..m.collision_pairs.len()).collect() } else { Vec::with_capacity(m.collision_pairs.len()) },
             contacts: Vec::with_capacity(MAX_CONTACTS),
@@ -368,7 +368,7 @@ fn near_pairs(m: &Model, out: &mut CollisionData, reach: impl Fn(&CollisionData,
         near.extend(0..m.collision_pairs.len());
         return near;
     }
-    let CollisionData { box_lo: lo, box_hi: hi, sweep_order: order, active, .. } = out;
+    let CollisionData { box_lo: lo, box_hi: hi, sweep_order: order, swept, .. } = out;
     for i in 1..order.len() {
         let (g, x) = (order[i], lo[order[i]].x);
         let mut j = i;
@@ -378,19 +378,32 @@ fn near_pairs(m: &Model, out: &mut CollisionData, reach: impl Fn(&CollisionData,
         }
         order[j] = g;
     }
-    active.clear();
-    for &g in order.iter() {
-        active.retain(|&a| hi[a].x >= lo[g].x);
-        for &a in active.iter() {
+    // each box against the boxes that start within its x interval
+    swept.clear();
+    for (i, &g) in order.iter().enumerate() {
+        for &a in &order[i + 1..] {
+            if lo[a].x > hi[g].x {
+                break;
+            }
             let overlap = hi[a].y >= lo[g].y && hi[g].y >= lo[a].y && hi[a].z >= lo[g].z && hi[g].z >= lo[a].z;
             if overlap && !crate::model::same_tree(m, a, g) && let Some(k) = pair_of(m, a.min(g), a.max(g)) {
-                near.push(k);
+                swept.push(k);
             }
         }
-        active.push(g);
     }
-    near.extend_from_slice(&m.pairs_unswept);
-    near.sort_unstable();
+    // in the model's order: the swept pairs sorted, merged with the unswept ones (sorted already)
+    swept.sort_unstable();
+    let unswept = &m.pairs_unswept;
+    let (mut i, mut j) = (0, 0);
+    while i < swept.len() || j < unswept.len() {
+        if j == unswept.len() || (i < swept.len() && swept[i] < unswept[j]) {
+            near.push(swept[i]);
+            i += 1;
+        } else {
+            near.push(unswept[j]);
+            j += 1;
+        }
+    }
     near
 }
 
