@@ -123,7 +123,8 @@ pub struct ConstraintData {
     /// Row whose force direction is the negation of this one's (pyramid ±t), or usize::MAX: its
     /// K column and Δq̈ are that row's, negated, with no test force pushed.
     pub mirror: Vec<usize>,
-    /// K, row-major (m × m): `K[j][k]` = acceleration of row j per unit force of row k.
+    /// K, row-major (m × m): `K[j][k]` = acceleration of row j per unit force of row k, written
+    /// between rows that share a tree ([`prepare`]; zero elsewhere after [`assemble`]).
     pub k: Vec<f64>,
     /// Constraint acceleration with zero constraint force.
     pub b: Vec<f64>,
@@ -487,10 +488,12 @@ pub fn refresh(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f6
     }
 }
 
-/// Fills K (by test forces), Δq̈ per unit force, and b from the ABA outward-pass accelerations
-/// `aba.a` and `qacc0` of the same state.
+/// Fills K (every entry: zero between rows of separate trees; by test forces), Δq̈ per unit
+/// force, and b from the ABA outward-pass accelerations `aba.a` and `qacc0` of the same state.
 pub fn assemble(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], out: &mut ConstraintData) {
     bias(m, kin, aba, qacc0, out);
+    out.assembled = false;
+    out.k.clear();
     responses(m, kin, aba, out, |_, _| true);
 }
 
@@ -509,18 +512,7 @@ pub fn bias(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], out: &mut Co
 pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintData, needed: impl Fn(usize, RowKind) -> bool) {
     let nr = out.len();
     let nv = m.nv;
-    if !out.assembled {
-        out.k.clear();
-        out.k.resize(nr * nr, 0.0);
-        // each row's Δq̈ is written and read on its trees' dofs only: the rest is left as it was
-        if out.dqdd.len() < nr * nv {
-            out.dqdd.resize(nr * nv, 0.0);
-        }
-        out.column_done.clear();
-        out.column_done.resize(nr, false);
-        list_tree_rows(m.nnode, out);
-        out.assembled = true;
-    }
+    prepare(m, out);
     for k in 0..nr {
         if out.column_done[k] || !needed(k, out.kind[k]) {
             continue;
@@ -578,7 +570,7 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     }
     delta_pass(m, kin, aba, trees, dtau, &mut out.dpa, &mut out.du, &mut out.da, &mut out.dqdd[k * nv..(k + 1) * nv]);
     // K is symmetric (J M⁻¹ Jᵀ): the rows whose columns are done hold this column's entries; rows
-    // of other trees keep the zero K was cleared to
+    // of other trees are not written (zero, once their block is cleared: `prepare`)
     let mut kk = std::mem::take(&mut out.k);
     let dqdd = &out.dqdd[k * nv..(k + 1) * nv];
     let (first, second, a) = tree_lists(out, trees);
@@ -592,6 +584,45 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     }
     out.k = kk;
     out.column_done[k] = true;
+}
+
+/// Sizes K and Δq̈ for the rows and lists each tree's rows, once per set of rows. Test forces
+/// write K only between rows that share a tree (and Δq̈ on the row's trees' dofs); the other
+/// entries keep what they held: a reader of a block of K zeroes it first ([`clear_k_block`]).
+pub fn prepare(m: &Model, out: &mut ConstraintData) {
+    if out.assembled {
+        return;
+    }
+    let (nr, nv) = (out.len(), m.nv);
+    out.k.resize(nr * nr, 0.0);
+    if out.dqdd.len() < nr * nv {
+        out.dqdd.resize(nr * nv, 0.0);
+    }
+    out.column_done.clear();
+    out.column_done.resize(nr, false);
+    list_tree_rows(m.nnode, out);
+    out.assembled = true;
+}
+
+/// Zeroes K between the rows `rows` (an island's, increasing), unless a column of theirs is
+/// computed already (they were zeroed for an earlier solve of the same rows): K is then zero
+/// between those of separate trees once their columns are computed.
+pub fn clear_k_block(out: &mut ConstraintData, rows: &[usize]) {
+    let (Some(&first), Some(&last)) = (rows.first(), rows.last()) else { return };
+    if rows.iter().any(|&j| out.column_done[j]) {
+        return;
+    }
+    let nr = out.len();
+    for &j in rows {
+        let row = &mut out.k[j * nr..(j + 1) * nr];
+        if last - first + 1 == rows.len() {
+            row[first..=last].fill(0.0);
+        } else {
+            for &jj in rows {
+                row[jj] = 0.0;
+            }
+        }
+    }
 }
 
 /// [`ConstraintData`]'s lists of each tree's rows (counted, then filled: O(nnode + rows)).

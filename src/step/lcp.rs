@@ -134,7 +134,7 @@ pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, 
     let cols = n + 2;
     let rhs = n + 1;
     let z0 = 2 * n;
-    work.tab.clear();
+    // every entry is written below
     work.tab.resize(n * cols, 0.0);
     work.basis.clear();
     work.column.clear();

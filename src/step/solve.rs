@@ -44,6 +44,12 @@ pub(super) fn solve_rows(m: &Model, data: &mut Data, level: Level) {
     while start < n {
         let label = data.solve.group[data.solve.order[start]];
         let end = (start..n).find(|&k| data.solve.group[data.solve.order[k]] != label).unwrap_or(n);
+        // the island's block of K, which its M reads whole (its rows come first among its
+        // variables, in order)
+        let island = &data.solve.order[start..end];
+        let rows = island.partition_point(|&v| v < data.con.len());
+        constraint::prepare(m, &mut data.con);
+        constraint::clear_k_block(&mut data.con, &island[..rows]);
         loop {
             let Data { kin, aba, con, solve: SolveData { out: lcp_out, group, .. }, .. } = data;
             timed!(data, Stage::Assembly, constraint::responses(m, kin, aba, con, |k, _| !lcp_out[k] && group[k] == label));
