@@ -93,7 +93,7 @@ fn solves_random_pyramid_friction_problems_without_fallback() {
 #[test]
 fn a_warm_guess_one_contact_off_is_corrected_without_lemke() {
     // each problem solved, then solved again from its answer's active set with the first
-    // contact's normal flipped: the warm start's correction passes settle 124 of the 247
+    // contact's normal flipped: the warm start's correction passes settle 171 of the 247
     // (a single solve on the flipped set settles none), every answer checked
     let (mut work, mut stats) = (LcpWork::default(), LcpStats::default());
     let (mut tried, mut settled) = (0, 0);
