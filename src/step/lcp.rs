@@ -557,10 +557,10 @@ fn cascade(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>,
     stats.residual = 0.0;
 }
 
-/// Scaled w (as in [`residual`]) below which [`settle`] adds an inactive variable. Redundant
-/// contacts (the corners under a box) share their load in many ways: dropping a force that an
-/// answer left a round-off below zero leaves its row's w a round-off below zero, and adding it
-/// back then cycles.
+/// Scaled w (as in [`residual`]) below which [`settle`] adds an inactive friction row. Redundant
+/// contacts (the corners under a box) share their tangential load in many ways: dropping a force
+/// that an answer left a round-off below zero leaves its row's w a round-off below zero, and
+/// adding it back then cycles. Other rows are added at any negative w.
 const ADD_TOLERANCE: f64 = 1e-9;
 
 /// Active-set passes from a warm guess at most (each one solve on the set): in a pile, where
@@ -571,10 +571,10 @@ const WARM_PASSES: usize = 8;
 const POLISH_PASSES: usize = 10;
 
 /// The warm start: solves on the guessed active set `start`; while the answer fails the check,
-/// drops the variables it makes negative and adds those whose w it makes negative (beyond
-/// [`ADD_TOLERANCE`]), with the friction rows of a contact left without normal force and the λ
-/// (σ) left without an active row, and solves again, up to `passes` times (a contact the last
-/// step or this step's impact left inactive now pressing, a joint now driven into its limit).
+/// drops the variables it makes negative and adds those whose w it makes negative (a friction
+/// row's beyond [`ADD_TOLERANCE`]), with the friction rows of a contact left without normal force
+/// and the λ (σ) left without an active row, and solves again, up to `passes` times (a contact the
+/// last step or this step's impact left inactive now pressing, a joint now driven into its limit).
 /// The residual of an answer in `work.trial` that passes the independent check, or None.
 fn settle(n: usize, m: &[f64], q: &[f64], role: &[Role], start: impl Iterator<Item = bool>, passes: usize, work: &mut LcpWork) -> Option<f64> {
     let mut guess = std::mem::take(&mut work.guess);
@@ -594,7 +594,7 @@ fn settle(n: usize, m: &[f64], q: &[f64], role: &[Role], start: impl Iterator<It
         // w_i below zero beyond round-off, scaled as in `residual`
         let pressing = |i: usize| work.w[i] < -ADD_TOLERANCE * (1.0 + q[i].abs() + work.nz.iter().map(|&j| (m[i * n + j] * work.trial[j]).abs()).sum::<f64>());
         for i in 0..n {
-            let now = if guess[i] && !work.free[i] { work.trial[i] > 0.0 } else { work.trial[i] > 0.0 || (work.w[i] < 0.0 && pressing(i)) };
+            let now = if guess[i] && !work.free[i] { work.trial[i] > 0.0 } else { work.trial[i] > 0.0 || (work.w[i] < 0.0 && (!matches!(role[i], Role::Friction { .. }) || pressing(i))) };
             changed |= now != guess[i];
             guess[i] = now;
         }

@@ -70,8 +70,6 @@ pub struct StabilizeData {
     work: LcpWork,
     /// Variables the solve leaves out.
     left_out: Vec<bool>,
-    /// The solve's warm start: the rows with a negative gap.
-    guess: Vec<bool>,
     /// Whether `kin` holds the kinematics of (`qpos`, `qvel`).
     cached: bool,
     qpos: Vec<f64>,
@@ -371,10 +369,7 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
         // nothing is left out, so one solve; were rows brought back, M is complete and the solve
         // is simply repeated
         post.left_out.clear();
-        // warm start: the rows penetrating are the ones pushed apart, most often
-        post.guess.clear();
-        post.guess.extend(post.gap.iter().map(|&g| g < 0.0));
-        while !lcp::solve(k, &post.m, &post.gap, &post.role, true, Some(&post.guess), &mut post.left_out, &mut post.p, &mut post.work, stats) {}
+        while !lcp::solve(k, &post.m, &post.gap, &post.role, true, None, &mut post.left_out, &mut post.p, &mut post.work, stats) {}
         post.dq.fill(0.0);
         for a in 0..k {
             let p = post.p[a];
