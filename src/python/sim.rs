@@ -351,8 +351,9 @@ impl PySim {
     }
 
     /// Constraint statistics: rows of the last step, LCP solves, pivots, warm starts, regularised
-    /// retries, solves rescued from a failed Lemke, fallbacks, rows left out of solves as separating (summed) and times one was brought
-    /// back, residual, impacts, post-stabilisation projections.
+    /// retries, solves rescued from a failed Lemke, fallbacks, rows left out of solves as
+    /// separating (summed) and times one was brought back, residual, impacts, post-stabilisation
+    /// projections.
     #[getter]
     fn constraint_stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
         let s = &self.data.solve.stats;

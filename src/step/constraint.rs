@@ -733,6 +733,16 @@ pub fn tree_ranges(m: &Model, trees: [usize; 2]) -> [std::ops::Range<usize>; 2] 
     [range(a), if b == a { 0..0 } else { range(b) }]
 }
 
+/// target += f · Δq̈ of a row on the trees `trees`, whose Δq̈ (`dqdd`, nv long) is zero, and not
+/// kept, off their dofs.
+pub fn add_response(m: &Model, trees: [usize; 2], f: f64, dqdd: &[f64], target: &mut [f64]) {
+    for r in tree_dofs(m, trees) {
+        for (t, d) in target[r.clone()].iter_mut().zip(&dqdd[r]) {
+            *t += f * d;
+        }
+    }
+}
+
 /// The dof ranges of the trees `trees`, as [`tree_ranges`].
 pub fn tree_dofs(m: &Model, trees: [usize; 2]) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
     tree_ranges(m, trees).into_iter().filter(|r| !r.is_empty()).map(|r| m.node_dofadr[r.start]..m.node_dofadr[r.end - 1] + m.node_nv[r.end - 1])

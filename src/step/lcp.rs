@@ -8,10 +8,9 @@
 //! accepted solution is checked independently (w = M z + q recomputed); on failure the cascade
 //! retries Lemke with a 100× regulariser (redundant contacts sharing a tangential demand can end
 //! the first path on a ray), then once more covering the λ rows too, each answer checked against
-//! the unregularised problem, then falls
-//! back to projected Gauss–Seidel on the same conditions, whose answer is solved again from its
-//! active set (often exactly: PGS is near the solution even where Lemke's path fails), then to
-//! zero force.
+//! the unregularised problem, then falls back to projected Gauss–Seidel on the same conditions,
+//! whose answer is solved again from its active set (often exactly: PGS is near the solution even
+//! where Lemke's path fails), then to zero force.
 //!
 //! Before any of that, rows the caller expects to need no force are left out: the step marks
 //! each contact whose q says the motion without its force separates it (a contact the step's
@@ -479,11 +478,11 @@ pub(super) fn root(parent: &mut [usize], mut i: usize) -> usize {
 /// Largest scaled negative w a left-out row may be left with (round-off).
 const LEFT_OUT_TOLERANCE: f64 = 1e-12;
 
-/// Solves with the cascade warm start → Lemke → Lemke more strongly regularised → projected
-/// Gauss–Seidel, polished from its active set (or Lemke's inexact answer when that has the
-/// smaller residual) → zero; counts the
-/// path in `stats`. `warm`, when given, is the previous step's active set for the same rows: if
-/// solving on it directly passes the independent check, no pivoting is needed (resting contacts).
+/// Solves with the cascade warm start → Lemke → Lemke more strongly regularised → Lemke covering
+/// λ → projected Gauss–Seidel, polished from its active set (or Lemke's inexact answer when that
+/// has the smaller residual) → zero; counts the path in `stats`. `warm`, when given, is the
+/// previous step's active set for the same rows: if solving on it directly passes the independent
+/// check, no pivoting is needed (resting contacts).
 #[allow(clippy::too_many_arguments)]
 fn cascade(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
     if let Some(prev) = warm.filter(|w| w.len() == n)
@@ -729,21 +728,17 @@ fn polish(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64], work: &m
     }
     // unsettled, the last pass's answer with its negative forces cut to zero (redundant contacts
     // leave some a round-off below zero)
-    let after = settle(n, m, q, role, z[..n].iter().map(|&x| x > 0.0), POLISH_PASSES, work).or_else(|| {
-        (work.trial.len() == n).then(|| {
-            for x in work.trial.iter_mut() {
-                *x = x.max(0.0);
-            }
-            residual(n, m, q, &work.trial, (&mut work.w, &mut work.nz))
-        })
-    });
-    match after {
-        Some(after) if after < before => {
-            z[..n].copy_from_slice(&work.trial);
-            after
+    let after = settle(n, m, q, role, z[..n].iter().map(|&x| x > 0.0), POLISH_PASSES, work).unwrap_or_else(|| {
+        for x in work.trial.iter_mut() {
+            *x = x.max(0.0);
         }
-        _ => before,
+        residual(n, m, q, &work.trial, (&mut work.w, &mut work.nz))
+    });
+    if after < before {
+        z[..n].copy_from_slice(&work.trial);
+        return after;
     }
+    before
 }
 
 /// What an LCP variable is, for the projected Gauss–Seidel fallback.

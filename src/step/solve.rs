@@ -451,12 +451,7 @@ pub(super) fn apply(m: &Model, data: &Data, target: &mut [f64], scale: f64) {
     for k in 0..data.con.len() {
         let f = data.solve.force[k] * scale;
         if f != 0.0 {
-            // Δq̈ of row k is zero (and not stored) off its trees' dofs
-            for r in constraint::tree_dofs(m, data.con.tree[k]) {
-                for (t, d) in target[r.clone()].iter_mut().zip(&data.con.dqdd[k * nv + r.start..k * nv + r.end]) {
-                    *t += f * d;
-                }
-            }
+            constraint::add_response(m, data.con.tree[k], f, &data.con.dqdd[k * nv..(k + 1) * nv], target);
         }
     }
 }

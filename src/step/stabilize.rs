@@ -42,8 +42,7 @@ pub struct StabilizeData {
     /// Penetrating contacts of the configuration after the step.
     coll: CollisionData,
     /// Projection rows: gap after the step, J (nv each), Δq̈ per unit p (nv each, meaningful on the
-    /// row's trees' dofs only), and the limit
-    /// (joint, sign) of a limit row.
+    /// row's trees' dofs only), and the limit (joint, sign) of a limit row.
     gap: Vec<f64>,
     jac: Vec<f64>,
     dqdd: Vec<f64>,
@@ -374,12 +373,7 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
         for a in 0..k {
             let p = post.p[a];
             if p != 0.0 {
-                // Δq̈ of row a is zero (and not stored) off its trees' dofs
-                for r in constraint::tree_dofs(m, post.tree[a]) {
-                    for (d, c) in post.dq[r.clone()].iter_mut().zip(&post.dqdd[a * nv + r.start..a * nv + r.end]) {
-                        *d += p * c;
-                    }
-                }
+                constraint::add_response(m, post.tree[a], p, &post.dqdd[a * nv..(a + 1) * nv], &mut post.dq);
             }
         }
         if attempt == LIMIT_PASSES {
