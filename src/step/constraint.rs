@@ -97,6 +97,9 @@ pub struct ConstraintData {
     pub jac: Vec<[Force; 2]>,
     /// Force direction in world coordinates (contacts).
     pub dir: Vec<DVec3>,
+    /// Contact point relative to `KinData::origin`, world coordinates (contacts): where `jac`
+    /// applies `dir` on both sides.
+    pub arm: Vec<DVec3>,
     /// Dof and sign (limits).
     pub dof: Vec<(usize, f64)>,
     /// Friction coefficient (tangent rows).
@@ -178,6 +181,7 @@ impl ConstraintData {
         self.point.clear();
         self.jac.clear();
         self.dir.clear();
+        self.arm.clear();
         self.dof.clear();
         self.mu.clear();
         self.vel.clear();
@@ -204,6 +208,7 @@ impl ConstraintData {
         self.point.push(point);
         self.jac.push([Force::ZERO; 2]);
         self.dir.push(dir);
+        self.arm.push(DVec3::ZERO);
         self.dof.push(dof);
         self.mu.push(mu);
         self.vel.push(0.0);
@@ -342,6 +347,7 @@ pub fn rows(
         out.push(m, NewRow::contact(RowKind::Normal, nodes, pts, c.normal, c.mu, ci));
         out.vel[normal_row] = c.normal.dot(vrel);
         out.jac[normal_row] = jacobian(nodes, [r; 2], [c.normal; 2]);
+        out.arm[normal_row] = r;
         out.dist[normal_row] = c.dist;
         out.dist_start[normal_row] = c.dist;
         // a sphere's or capsule's surface is a radius from its centre along the normal (+n points
@@ -380,6 +386,7 @@ pub fn rows(
                 out.push(m, NewRow::contact(RowKind::Tangent { normal: normal_row }, nodes, pts, d, c.mu, ci));
                 out.vel[row] = d.dot(vrel);
                 out.jac[row] = jacobian(nodes, [r; 2], [d; 2]);
+                out.arm[row] = r;
                 if k % 2 == 1 {
                     out.mirror[row] = row - 1;
                 }
@@ -476,6 +483,7 @@ pub fn refresh(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f6
     if out.kind.contains(&RowKind::Normal) {
         velocity_products(m, kin, &mut out.a_vp);
     }
+    let mut point = PointAccel::NONE;
     for j in 0..out.len() {
         if out.kind[j] == RowKind::Normal {
             out.lift[j] = arc_lift(kin, out, j, m.opt.timestep, m.opt.lever());
@@ -484,7 +492,7 @@ pub fn refresh(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f6
         if let (RowKind::Motion { .. }, Actuation::Trajectory { kp, kd }) = (out.kind[j], m.opt.actuation) {
             out.desired[j] = out.dof[j].1 * motion_target(m, out.source[j], kp, kd, qpos, qvel, ctrl, feedforward);
         }
-        out.b[j] = measure(m, kin, aba, qacc0, out, j);
+        out.b[j] = measure(m, kin, aba, qacc0, out, j, &mut point);
     }
 }
 
@@ -500,8 +508,9 @@ pub fn assemble(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], out: &mu
 /// b alone: each row's acceleration with zero constraint force.
 pub fn bias(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], out: &mut ConstraintData) {
     out.b.clear();
+    let mut point = PointAccel::NONE;
     for j in 0..out.len() {
-        let b = measure(m, kin, aba, qacc0, out, j);
+        let b = measure(m, kin, aba, qacc0, out, j, &mut point);
         out.b.push(b);
     }
 }
@@ -510,47 +519,25 @@ pub fn bias(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], out: &mut Co
 /// configuration, not on velocities). Each column is measured at every row, so a row left out
 /// still has its accelerations under the forces of the rows computed.
 pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintData, needed: impl Fn(usize, RowKind) -> bool) {
-    let nr = out.len();
-    let nv = m.nv;
     prepare(m, out);
-    for k in 0..nr {
+    for k in 0..out.len() {
         if out.column_done[k] || !needed(k, out.kind[k]) {
             continue;
         }
-        let mk = out.mirror[k];
-        if mk != usize::MAX {
-            if !out.column_done[mk] {
-                push_test_force(m, kin, aba, out, mk);
-            }
-            // the rows of the mirrored row's trees: the others' entries stay zero
-            let mut kk = std::mem::take(&mut out.k);
-            let (first, second, a) = tree_lists(out, out.tree[k]);
-            for &j in first {
-                kk[j * nr + k] = -kk[j * nr + mk];
-            }
-            for &j in second {
-                if a == WORLD || !out.tree[j].contains(&a) {
-                    kk[j * nr + k] = -kk[j * nr + mk];
-                }
-            }
-            out.k = kk;
-            let (done, rest) = out.dqdd.split_at_mut(k * nv);
-            for r in tree_dofs(m, out.tree[k]) {
-                for (d, s) in rest[r.clone()].iter_mut().zip(&done[mk * nv + r.start..mk * nv + r.end]) {
-                    *d = -s;
-                }
-            }
-            out.column_done[k] = true;
-            continue;
+        // a mirror row's column comes with its mirrored row's
+        let pushed = if out.mirror[k] == usize::MAX { k } else { out.mirror[k] };
+        if !out.column_done[pushed] {
+            push_test_force(m, kin, aba, out, pushed);
         }
-        push_test_force(m, kin, aba, out, k);
     }
 }
 
 /// Column k of K and Δq̈ of row k, from a unit test force of row k (Kokkevis 2004; δp^A = −f at
-/// the point's node).
+/// the point's node), and those of the row mirroring k (the next row, if it is k's mirror), their
+/// negations.
 fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintData, k: usize) {
     let (nr, nv) = (out.len(), m.nv);
+    let mirrored = k + 1 < nr && out.mirror[k + 1] == k;
     // the force moves only the nodes of the row's trees
     let trees = out.tree[k];
     for range in tree_ranges(m, trees) {
@@ -574,16 +561,27 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     let mut kk = std::mem::take(&mut out.k);
     let dqdd = &out.dqdd[k * nv..(k + 1) * nv];
     let (first, second, a) = tree_lists(out, trees);
-    for &j in first {
-        kk[j * nr + k] = k_entry(out, &kk, trees, dqdd, j, k);
-    }
-    for &j in second {
-        if a == WORLD || !out.tree[j].contains(&a) {
-            kk[j * nr + k] = k_entry(out, &kk, trees, dqdd, j, k);
+    let mut point = PointAccel::NONE;
+    // a row of both trees is in both lists: read once
+    for &j in first.iter().chain(second.iter().filter(|&&j| a == WORLD || !out.tree[j].contains(&a))) {
+        let v = k_entry(out, &kk, trees, dqdd, j, k, &mut point);
+        kk[j * nr + k] = v;
+        if mirrored {
+            // (−d)·a = −(d·a) exactly: the mirror row's own measure
+            kk[j * nr + k + 1] = -v;
         }
     }
     out.k = kk;
     out.column_done[k] = true;
+    if mirrored {
+        let (done, rest) = out.dqdd.split_at_mut((k + 1) * nv);
+        for r in tree_dofs(m, trees) {
+            for (d, s) in rest[r.clone()].iter_mut().zip(&done[k * nv + r.start..k * nv + r.end]) {
+                *d = -s;
+            }
+        }
+        out.column_done[k + 1] = true;
+    }
 }
 
 /// Sizes K and Δq̈ for the rows and lists each tree's rows, once per set of rows. Test forces
@@ -670,19 +668,24 @@ fn tree_lists(out: &ConstraintData, trees: [usize; 2]) -> (&[usize], &[usize], u
 }
 
 /// K_jk, with K's columns so far in `kk`, the test force of row k on the trees `trees` having
-/// left its responses in `cd.da` and `dqdd`.
+/// left its responses in `cd.da` and `dqdd`; `point` carries the last contact's point
+/// acceleration from row to row.
 #[inline(always)]
-fn k_entry(cd: &ConstraintData, kk: &[f64], trees: [usize; 2], dqdd: &[f64], j: usize, k: usize) -> f64 {
-    let (nr, mj) = (cd.len(), cd.mirror[j]);
-    if cd.column_done[j] {
-        kk[k * nr + j]
-    } else if mj != usize::MAX && !cd.column_done[mj] {
-        // the mirrored row (same trees, listed before) measured this force: its negation is
-        // this row's measure exactly
-        -kk[mj * nr + k]
-    } else {
-        delta_accel(cd, trees, dqdd, j)
-    }
+fn k_entry(cd: &ConstraintData, kk: &[f64], trees: [usize; 2], dqdd: &[f64], j: usize, k: usize, point: &mut PointAccel) -> f64 {
+    if cd.column_done[j] { kk[k * cd.len() + j] } else { delta_accel(cd, trees, dqdd, j, point) }
+}
+
+/// The relative acceleration of a contact's point (side 1's less side 2's), under a test force
+/// ([`delta_accel`]) or with no constraint force ([`measure`]), kept while the rows of that contact
+/// (its normal row `normal` and the friction rows after it) are read in turn.
+struct PointAccel {
+    normal: usize,
+    accel: DVec3,
+}
+
+impl PointAccel {
+    /// No contact's yet.
+    const NONE: PointAccel = PointAccel { normal: usize::MAX, accel: DVec3::ZERO };
 }
 
 /// Whether tree `t` is one of the trees `trees` a test force moved.
@@ -692,36 +695,52 @@ fn moves(trees: [usize; 2], t: usize) -> bool {
 }
 
 /// Acceleration of row j under the test force on the trees `trees` whose responses are in
-/// `cd.da` and `dqdd` (a K entry): a contact's delta point acceleration projected,
-/// Σ_sides δa_n · jac over the sides in those trees (the others do not move), or a joint row's δq̈.
+/// `cd.da` and `dqdd` (a K entry): a contact's delta point acceleration (δa_n's at the point, over
+/// the sides in those trees: the others do not move) along its direction, the point's computed
+/// once for the rows of a contact (`point`), or a joint row's δq̈.
 #[inline(always)]
-fn delta_accel(cd: &ConstraintData, trees: [usize; 2], dqdd: &[f64], j: usize) -> f64 {
-    if !cd.kind[j].is_contact() {
-        let (dof, sign) = cd.dof[j];
-        return sign * dqdd[dof];
+fn delta_accel(cd: &ConstraintData, trees: [usize; 2], dqdd: &[f64], j: usize, point: &mut PointAccel) -> f64 {
+    let normal = match cd.kind[j] {
+        RowKind::Normal => j,
+        RowKind::Tangent { normal } => normal,
+        RowKind::Limit | RowKind::Motion { .. } => {
+            let (dof, sign) = cd.dof[j];
+            return sign * dqdd[dof];
+        }
+    };
+    if point.normal != normal {
+        let ([n0, n1], [t0, t1], r) = (cd.node[j], cd.tree[j], cd.arm[j]);
+        let mut accel = DVec3::ZERO;
+        if moves(trees, t0) {
+            accel += cd.da[n0].point_velocity(r);
+        }
+        if moves(trees, t1) {
+            accel -= cd.da[n1].point_velocity(r);
+        }
+        *point = PointAccel { normal, accel };
     }
-    let [n0, n1] = cd.node[j];
-    let [t0, t1] = cd.tree[j];
-    let mut acc = 0.0;
-    if moves(trees, t0) {
-        acc += cd.da[n0].dot(&cd.jac[j][0]);
-    }
-    if moves(trees, t1) {
-        acc += cd.da[n1].dot(&cd.jac[j][1]);
-    }
-    acc
+    cd.dir[j].dot(point.accel)
 }
 
 /// Acceleration of row j with zero constraint force (its b): from the actual accelerations, with
 /// velocity-product and gravity terms.
-fn measure(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], cd: &ConstraintData, j: usize) -> f64 {
-    if !cd.kind[j].is_contact() {
-        let (dof, sign) = cd.dof[j];
-        return sign * qacc0[dof];
+/// `point` carries the point's acceleration from a contact's row to its next ones.
+fn measure(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], cd: &ConstraintData, j: usize, point: &mut PointAccel) -> f64 {
+    let normal = match cd.kind[j] {
+        RowKind::Normal => j,
+        RowKind::Tangent { normal } => normal,
+        RowKind::Limit | RowKind::Motion { .. } => {
+            let (dof, sign) = cd.dof[j];
+            return sign * qacc0[dof];
+        }
+    };
+    if point.normal != normal {
+        let ([n0, n1], [p0, p1]) = (cd.node[j], cd.point[j]);
+        let g = m.opt.gravity;
+        let accel = point_accel(kin, &aba.a, g, n0, kin.rel(n0, p0)) - point_accel(kin, &aba.a, g, n1, kin.rel(n1, p1));
+        *point = PointAccel { normal, accel };
     }
-    let ([n0, n1], [p0, p1]) = (cd.node[j], cd.point[j]);
-    let g = m.opt.gravity;
-    cd.dir[j].dot(point_accel(kin, &aba.a, g, n0, kin.rel(n0, p0)) - point_accel(kin, &aba.a, g, n1, kin.rel(n1, p1)))
+    cd.dir[j].dot(point.accel)
 }
 
 /// The node ranges of the trees `trees` ([`Model::node_tree`]; [`WORLD`] and a repeat name
