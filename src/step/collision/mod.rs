@@ -127,12 +127,9 @@ pub struct CollisionData {
     shrink: f64,
     /// Pairs whose gap spared them a test in the last detection.
     pub gap_skips: usize,
-    /// The sweep's boxes, per geom of [`Model::sweep_geoms`]: lower and upper corners.
-    box_lo: Vec<DVec3>,
-    box_hi: Vec<DVec3>,
-    /// [`Model::sweep_geoms`] by increasing `box_lo.x`, as the last sweep left them (nearly
-    /// sorted for the next).
-    sweep_order: Vec<usize>,
+    /// The boxes of [`Model::sweep_geoms`] by increasing `lo.x`, as the last sweep left them
+    /// (nearly sorted for the next).
+    sweep: Vec<SweepBox>,
     /// The pairs of two trees whose boxes overlap, as the sweep finds them ([`near_pairs`]).
     swept: Vec<usize>,
     /// The pairs the sweep leaves to test, in order ([`near_pairs`]).
@@ -168,9 +165,7 @@ impl CollisionData {
             least_slack: f64::NEG_INFINITY,
             shrink: 0.0,
             gap_skips: 0,
-            box_lo: vec![DVec3::ZERO; m.ngeom],
-            box_hi: vec![DVec3::ZERO; m.ngeom],
-            sweep_order: m.sweep_geoms.clone(),
+            sweep: m.sweep_geoms.iter().map(|&g| SweepBox { lo: DVec3::ZERO, hi: DVec3::ZERO, geom: g, tree: geom_tree(m, g) }).collect(),
             swept: Vec::with_capacity(if m.collision_pairs.len() < SWEEP_PAIRS { 0 } else { m.collision_pairs.len() }),
             // a model of few pairs tests them all, listed once here
             near: if m.collision_pairs.len() < SWEEP_PAIRS { (0..m.collision_pairs.len()).collect() } else { Vec::with_capacity(m.collision_pairs.len()) },
@@ -358,39 +353,42 @@ fn near_pairs(m: &Model, out: &mut CollisionData, reach: impl Fn(&CollisionData,
     }
     near.clear();
     let mut finite = true;
-    for &g in &m.sweep_geoms {
+    let mut sweep = std::mem::take(&mut out.sweep);
+    for b in sweep.iter_mut() {
+        let g = b.geom;
         let e = m.geom_rbound[g] + m.geom_margin[g] + reach(out, g);
         let c = out.geom_xpos[g];
-        (out.box_lo[g], out.box_hi[g]) = (c - e, c + e);
+        (b.lo, b.hi) = (c - e, c + e);
         finite &= c.is_finite() && e.is_finite();
     }
     if !finite {
+        out.sweep = sweep;
         near.extend(0..m.collision_pairs.len());
         return near;
     }
-    let CollisionData { box_lo: lo, box_hi: hi, sweep_order: order, swept, .. } = out;
-    for i in 1..order.len() {
-        let (g, x) = (order[i], lo[order[i]].x);
+    for i in 1..sweep.len() {
         let mut j = i;
-        while j > 0 && lo[order[j - 1]].x > x {
-            order[j] = order[j - 1];
+        while j > 0 && sweep[j - 1].lo.x > sweep[j].lo.x {
+            sweep.swap(j - 1, j);
             j -= 1;
         }
-        order[j] = g;
     }
     // each box against the boxes that start within its x interval
+    let swept = &mut out.swept;
     swept.clear();
-    for (i, &g) in order.iter().enumerate() {
-        for &a in &order[i + 1..] {
-            if lo[a].x > hi[g].x {
+    for (i, b) in sweep.iter().enumerate() {
+        for a in &sweep[i + 1..] {
+            if a.lo.x > b.hi.x {
                 break;
             }
-            let overlap = hi[a].y >= lo[g].y && hi[g].y >= lo[a].y && hi[a].z >= lo[g].z && hi[g].z >= lo[a].z;
-            if overlap && !crate::model::same_tree(m, a, g) && let Some(k) = pair_of(m, a.min(g), a.max(g)) {
+            // one branch on the four comparisons (each alone is unpredictable)
+            let overlap = (a.hi.y >= b.lo.y) & (b.hi.y >= a.lo.y) & (a.hi.z >= b.lo.z) & (b.hi.z >= a.lo.z);
+            if overlap && (a.tree != b.tree || a.tree == WORLD) && let Some(k) = pair_of(m, a.geom.min(b.geom), a.geom.max(b.geom)) {
                 swept.push(k);
             }
         }
     }
+    out.sweep = sweep;
     // in the model's order: the swept pairs sorted, merged with the unswept ones (sorted already)
     swept.sort_unstable();
     let unswept = &m.pairs_unswept;
@@ -405,6 +403,22 @@ fn near_pairs(m: &Model, out: &mut CollisionData, reach: impl Fn(&CollisionData,
         }
     }
     near
+}
+
+/// A geom's box in the sweep ([`near_pairs`]): its corners, the geom and its tree
+/// ([`Model::node_tree`] of its body's node, or [`WORLD`]).
+#[derive(Clone, Copy, Debug)]
+struct SweepBox {
+    lo: DVec3,
+    hi: DVec3,
+    geom: usize,
+    tree: usize,
+}
+
+/// The tree of geom g's body ([`WORLD`] for the world's geoms).
+fn geom_tree(m: &Model, g: usize) -> usize {
+    let n = m.body_node[m.geom_body[g]];
+    if n == WORLD { WORLD } else { m.node_tree[n] }
 }
 
 /// The index in `m.collision_pairs` of the pair of geoms i < j, if they make one.
