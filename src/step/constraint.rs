@@ -148,6 +148,9 @@ pub struct ConstraintData {
     /// `tree_rows[tree_row_start[t]..tree_row_start[t + 1]]`, built with K.
     tree_row_start: Vec<usize>,
     tree_rows: Vec<usize>,
+    /// The rows' trees when K was last zeroed whole ([`clear_k_block`]), or empty: test forces
+    /// write K only between rows that share a tree, so for the same trees the rest is still zero.
+    zeroed_trees: Vec<[usize; 2]>,
 }
 
 impl ConstraintData {
@@ -291,7 +294,10 @@ fn arc_lift(kin: &KinData, out: &ConstraintData, j: usize, h: f64, lever: f64) -
 pub fn arcs(kin: &KinData, out: &ConstraintData, j: usize) -> [f64; 2] {
     let n = out.node[j];
     let vp = |side: usize, p: DVec3| point_accel(kin, &out.a_vp, DVec3::ZERO, n[side], kin.rel(n[side], p));
-    [out.point[j], out.centre[j]].map(|p| out.dir[j].dot(vp(0, p[0]) - vp(1, p[1])))
+    let arc = |p: [DVec3; 2]| out.dir[j].dot(vp(0, p[0]) - vp(1, p[1]));
+    let at_point = arc(out.point[j]);
+    // a centre is the point itself but on a sphere or capsule
+    [at_point, if out.centre[j] == out.point[j] { at_point } else { arc(out.centre[j]) }]
 }
 
 /// The contact row's spatial forces on its two nodes per unit force along world direction `dir`
@@ -603,14 +609,24 @@ pub fn prepare(m: &Model, out: &mut ConstraintData) {
 }
 
 /// Zeroes K between the rows `rows` (an island's, increasing), unless a column of theirs is
-/// computed already (they were zeroed for an earlier solve of the same rows): K is then zero
-/// between those of separate trees once their columns are computed.
-pub fn clear_k_block(out: &mut ConstraintData, rows: &[usize]) {
+/// computed already (they were zeroed for an earlier solve of the same rows), or they are every
+/// row, with the trees K was last zeroed whole for, and `all_computed` (every column of theirs will
+/// be written: K between rows of no shared tree is still zero, and the rest is overwritten). K is
+/// then zero between those of separate trees once their columns are computed.
+pub fn clear_k_block(out: &mut ConstraintData, rows: &[usize], all_computed: bool) {
     let (Some(&first), Some(&last)) = (rows.first(), rows.last()) else { return };
     if rows.iter().any(|&j| out.column_done[j]) {
         return;
     }
     let nr = out.len();
+    let whole = rows.len() == nr;
+    if whole && all_computed && out.zeroed_trees == out.tree {
+        return;
+    }
+    out.zeroed_trees.clear();
+    if whole {
+        out.zeroed_trees.extend_from_slice(&out.tree);
+    }
     for &j in rows {
         let row = &mut out.k[j * nr..(j + 1) * nr];
         if last - first + 1 == rows.len() {

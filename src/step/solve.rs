@@ -49,7 +49,7 @@ pub(super) fn solve_rows(m: &Model, data: &mut Data, level: Level) {
         let island = &data.solve.order[start..end];
         let rows = island.partition_point(|&v| v < data.con.len());
         constraint::prepare(m, &mut data.con);
-        constraint::clear_k_block(&mut data.con, &island[..rows]);
+        constraint::clear_k_block(&mut data.con, &island[..rows], !left_any);
         loop {
             let Data { kin, aba, con, solve: SolveData { out: lcp_out, group, .. }, .. } = data;
             timed!(data, Stage::Assembly, constraint::responses(m, kin, aba, con, |k, _| !lcp_out[k] && group[k] == label));
