@@ -226,3 +226,22 @@ fn a_problem_of_separate_groups_is_solved_group_by_group() {
         assert_eq!(stats.pivots, pivots, "each group pivots as it would alone");
     }
 }
+
+#[test]
+fn the_wide_elimination_loop_gives_the_plain_loop_bits() {
+    // lengths around the 4-wide blocks, values spanning magnitudes (round-off would show)
+    let mut seed = 7u64;
+    let mut next = || {
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 10f64.powi((seed % 13) as i32 - 6)
+    };
+    for len in 0..23 {
+        let x: Vec<f64> = (0..len).map(|_| next()).collect();
+        let y: Vec<f64> = (0..len).map(|_| next()).collect();
+        let f = next();
+        let (mut wide, mut plain) = (y.clone(), y.clone());
+        sub_scaled(&mut wide, f, &x);
+        sub_scaled_plain(&mut plain, f, &x);
+        assert_eq!(wide.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), plain.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), "length {len}");
+    }
+}
