@@ -152,7 +152,7 @@ pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, 
     let cap = PIVOT_CAP_PER_ROW * n + 10;
     for pivots in 1..=cap {
         let c = work.column[entering];
-        pivot(&mut work.tab, cols, n, r, c);
+        pivot_wide(&mut work.tab, cols, n, r, c);
         let leaving = work.basis[r];
         work.basis[r] = entering;
         work.column[entering] = usize::MAX;
@@ -226,6 +226,7 @@ fn ratio_test(tab: &[f64], cols: usize, n: usize, ce: usize, basis: &[usize], co
 /// Pivots the condensed tableau (`n` rows of `cols`) on row r, column c: the entering variable of
 /// column c becomes row r's basic variable, and the leaving one takes column c (its unit column,
 /// pivoted: 1/p in row r, −f_i/p elsewhere).
+#[inline(always)]
 fn pivot(tab: &mut [f64], cols: usize, n: usize, r: usize, c: usize) {
     let (before, rest) = tab[..n * cols].split_at_mut(r * cols);
     let (prow, after) = rest.split_at_mut(cols);
@@ -243,31 +244,43 @@ fn pivot(tab: &mut [f64], cols: usize, n: usize, r: usize, c: usize) {
     }
 }
 
-/// y −= f·x over the shorter of the two: the eliminations' inner loop, in 4-wide registers
-/// where the processor has them (the same products and differences lane by lane: the same
-/// results).
-#[inline]
-fn sub_scaled(y: &mut [f64], f: f64, x: &[f64]) {
+/// [`pivot`], compiled for AVX2 as well and run so where the processor has it (detected at run
+/// time): 4-wide registers, the same products and differences lane by lane, so the same results
+/// (`lcp::tests`).
+fn pivot_wide(tab: &mut [f64], cols: usize, n: usize, r: usize, c: usize) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
+        #[target_feature(enable = "avx2")]
+        fn avx2(tab: &mut [f64], cols: usize, n: usize, r: usize, c: usize) {
+            pivot(tab, cols, n, r, c);
+        }
         // SAFETY: the processor has AVX2, checked just above
-        unsafe { sub_scaled_avx2(y, f, x) };
+        unsafe { avx2(tab, cols, n, r, c) };
         return;
     }
-    sub_scaled_plain(y, f, x);
+    pivot(tab, cols, n, r, c);
 }
 
+/// [`eliminate`], compiled for AVX2 as well, as [`pivot_wide`].
+fn eliminate_wide(a: &mut [f64], k: usize) -> bool {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        #[target_feature(enable = "avx2")]
+        fn avx2(a: &mut [f64], k: usize) -> bool {
+            eliminate(a, k)
+        }
+        // SAFETY: the processor has AVX2, checked just above
+        return unsafe { avx2(a, k) };
+    }
+    eliminate(a, k)
+}
+
+/// y −= f·x over the shorter of the two (the eliminations' inner loop).
 #[inline(always)]
-fn sub_scaled_plain(y: &mut [f64], f: f64, x: &[f64]) {
+fn sub_scaled(y: &mut [f64], f: f64, x: &[f64]) {
     for (a, b) in y.iter_mut().zip(x) {
         *a -= f * b;
     }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn sub_scaled_avx2(y: &mut [f64], f: f64, x: &[f64]) {
-    sub_scaled_plain(y, f, x);
 }
 
 /// Independent check: max over rows of violations of z ≥ 0, w ≥ 0 and z·w = 0, scaled. `w`
@@ -706,6 +719,26 @@ fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
         a.extend(active.iter().map(|&j| row[j]));
         a.push(-q[i]);
     }
+    if !eliminate_wide(a, k) {
+        return false;
+    }
+    // back substitution
+    for r in (0..k).rev() {
+        let row = &a[r * w..(r + 1) * w];
+        let mut x = row[k];
+        for (c, &i) in active.iter().enumerate().skip(r + 1) {
+            x -= row[c] * trial[i];
+        }
+        trial[active[r]] = x * row[r];
+    }
+    trial.iter().all(|x| x.is_finite())
+}
+
+/// Forward elimination with partial pivoting of the augmented k × (k + 1) system `a`, each pivot
+/// replaced by its reciprocal (for the back substitution); false when singular.
+#[inline(always)]
+fn eliminate(a: &mut [f64], k: usize) -> bool {
+    let w = k + 1;
     for c in 0..k {
         let p = (c..k).max_by(|&x, &y| a[x * w + c].abs().total_cmp(&a[y * w + c].abs())).unwrap();
         if a[p * w + c].abs() < 1e-300 {
@@ -725,19 +758,9 @@ fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
                 sub_scaled(&mut row[c..], f, prow);
             }
         }
-        // the pivot's reciprocal, for the back substitution
         prow[0] = inv;
     }
-    // back substitution
-    for r in (0..k).rev() {
-        let row = &a[r * w..(r + 1) * w];
-        let mut x = row[k];
-        for (c, &i) in active.iter().enumerate().skip(r + 1) {
-            x -= row[c] * trial[i];
-        }
-        trial[active[r]] = x * row[r];
-    }
-    trial.iter().all(|x| x.is_finite())
+    true
 }
 
 /// Re-solves from Lemke's active set A = {z > 0} ([`settle`]), removing the round-off the tableau

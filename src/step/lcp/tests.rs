@@ -228,20 +228,24 @@ fn a_problem_of_separate_groups_is_solved_group_by_group() {
 }
 
 #[test]
-fn the_wide_elimination_loop_gives_the_plain_loop_bits() {
-    // lengths around the 4-wide blocks, values spanning magnitudes (round-off would show)
+fn the_wide_eliminations_give_the_plain_ones_bits() {
+    // sizes around the 4-wide blocks, values spanning magnitudes (round-off would show)
     let mut seed = 7u64;
     let mut next = || {
         seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
         ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 10f64.powi((seed % 13) as i32 - 6)
     };
-    for len in 0..23 {
-        let x: Vec<f64> = (0..len).map(|_| next()).collect();
-        let y: Vec<f64> = (0..len).map(|_| next()).collect();
-        let f = next();
-        let (mut wide, mut plain) = (y.clone(), y.clone());
-        sub_scaled(&mut wide, f, &x);
-        sub_scaled_plain(&mut plain, f, &x);
-        assert_eq!(wide.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), plain.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), "length {len}");
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    for k in 1..14 {
+        let a: Vec<f64> = (0..k * (k + 1)).map(|_| next()).collect();
+        let (mut wide, mut plain) = (a.clone(), a.clone());
+        assert_eq!(eliminate_wide(&mut wide, k), eliminate(&mut plain, k));
+        assert_eq!(bits(&wide), bits(&plain), "elimination of size {k}");
+        let cols = k + 2;
+        let t: Vec<f64> = (0..k * cols).map(|_| next()).collect();
+        let (mut wide, mut plain) = (t.clone(), t.clone());
+        pivot_wide(&mut wide, cols, k, k / 2, k / 3);
+        pivot(&mut plain, cols, k, k / 2, k / 3);
+        assert_eq!(bits(&wide), bits(&plain), "pivot of size {k}");
     }
 }
