@@ -126,8 +126,11 @@ pub struct ConstraintData {
     /// Row whose force direction is the negation of this one's (pyramid ±t), or usize::MAX: its
     /// K column and Δq̈ are that row's, negated, with no test force pushed.
     pub mirror: Vec<usize>,
-    /// K, row-major (m × m): `K[j][k]` = acceleration of row j per unit force of row k, written
-    /// between rows that share a tree ([`prepare`]; zero elsewhere after [`assemble`]).
+    /// K, row-major (m × m): `K[j][k]` = acceleration of row j per unit force of row k = `K[k][j]`
+    /// (K is symmetric). Row k is written, between rows that share a tree, when row k's test force
+    /// is pushed ([`column_done`](Self::column_done)): the row of a row not pushed is read as its
+    /// column. Zero between rows of no shared tree once their block is cleared
+    /// ([`clear_k_block`]; [`assemble`] clears all).
     pub k: Vec<f64>,
     /// Constraint acceleration with zero constraint force.
     pub b: Vec<f64>,
@@ -562,8 +565,10 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
         }
     }
     delta_pass(m, kin, aba, trees, dtau, &mut out.dpa, &mut out.du, &mut out.da, &mut out.dqdd[k * nv..(k + 1) * nv]);
-    // K is symmetric (J M⁻¹ Jᵀ): the rows whose columns are done hold this column's entries; rows
-    // of other trees are not written (zero, once their block is cleared: `prepare`)
+    // K is symmetric (J M⁻¹ Jᵀ): this force's measures at the rows of its trees are row k (and
+    // its mirror's, negated), written whole (contiguous); a row pushed before holds its own
+    // measure of this force; rows of other trees are not written (zero, once their block is
+    // cleared: `clear_k_block`)
     let mut kk = std::mem::take(&mut out.k);
     let dqdd = &out.dqdd[k * nv..(k + 1) * nv];
     let (first, second, a) = tree_lists(out, trees);
@@ -571,10 +576,10 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     // a row of both trees is in both lists: read once
     for &j in first.iter().chain(second.iter().filter(|&&j| a == WORLD || !out.tree[j].contains(&a))) {
         let v = k_entry(out, &kk, trees, dqdd, j, k, &mut point);
-        kk[j * nr + k] = v;
+        kk[k * nr + j] = v;
         if mirrored {
             // (−d)·a = −(d·a) exactly: the mirror row's own measure
-            kk[j * nr + k + 1] = -v;
+            kk[(k + 1) * nr + j] = -v;
         }
     }
     out.k = kk;
@@ -683,12 +688,12 @@ fn tree_lists(out: &ConstraintData, trees: [usize; 2]) -> (&[usize], &[usize], u
     (list(a), if b == a { &[][..] } else { list(b) }, a)
 }
 
-/// K_jk, with K's columns so far in `kk`, the test force of row k on the trees `trees` having
+/// K_jk, with K's rows so far in `kk`, the test force of row k on the trees `trees` having
 /// left its responses in `cd.da` and `dqdd`; `point` carries the last contact's point
 /// acceleration from row to row.
 #[inline(always)]
 fn k_entry(cd: &ConstraintData, kk: &[f64], trees: [usize; 2], dqdd: &[f64], j: usize, k: usize, point: &mut PointAccel) -> f64 {
-    if cd.column_done[j] { kk[k * cd.len() + j] } else { delta_accel(cd, trees, dqdd, j, point) }
+    if cd.column_done[j] { kk[j * cd.len() + k] } else { delta_accel(cd, trees, dqdd, j, point) }
 }
 
 /// The relative acceleration of a contact's point (side 1's less side 2's), under a test force

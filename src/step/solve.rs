@@ -303,7 +303,7 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
     // a row no force can move (K_jj ≈ 0 beside the island's others: the out-of-plane friction of
     // a planar model) carries no force; left in, it makes the LCP degenerate, so the solve leaves
     // it out (w = z, q = 0). Rows whose K column is not computed are left out already and read
-    // only as rows
+    // only as rows (their K rows, not written, are read as columns)
     let done = &con.column_done;
     let k_max = vars[..rows].iter().filter(|&&j| done[j]).map(|&j| con.k[j * nr + j]).fold(0.0, f64::max);
     let impact = constraint::impact_speed(h, m.opt.gravity.length());
@@ -321,7 +321,11 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
             continue;
         }
         let krow = &con.k[j * nr..(j + 1) * nr];
-        if contiguous {
+        if !done[j] {
+            for (x, &jj) in mm[a * k..a * k + rows].iter_mut().zip(&vars[..rows]) {
+                *x = con.k[jj * nr + j];
+            }
+        } else if contiguous {
             mm[a * k..a * k + rows].copy_from_slice(&krow[vars[0]..vars[0] + rows]);
         } else {
             for (x, &jj) in mm[a * k..a * k + rows].iter_mut().zip(&vars[..rows]) {
