@@ -292,12 +292,24 @@ pub fn residual(n: usize, m: &[f64], q: &[f64], z: &[f64], (w, nz): (&mut Vec<f6
     nz.extend((0..n).filter(|&j| z[j] != 0.0));
     let mut worst = 0.0f64;
     for (i, row) in m[..n * n].chunks_exact(n).enumerate() {
-        let (mut wi, mut scale) = (q[i], 1.0 + q[i].abs());
-        for &j in nz.iter() {
-            let a = row[j] * z[j];
-            wi += a;
-            scale += a.abs();
+        // four partial sums: the additions of one row overlap instead of waiting on each other
+        let (mut sum, mut abs) = ([0.0; 4], [0.0; 4]);
+        let quads = nz.chunks_exact(4);
+        let rest = quads.remainder();
+        for quad in quads {
+            for (l, &j) in quad.iter().enumerate() {
+                let a = row[j] * z[j];
+                sum[l] += a;
+                abs[l] += a.abs();
+            }
         }
+        for (l, &j) in rest.iter().enumerate() {
+            let a = row[j] * z[j];
+            sum[l] += a;
+            abs[l] += a.abs();
+        }
+        let wi = q[i] + ((sum[0] + sum[1]) + (sum[2] + sum[3]));
+        let scale = 1.0 + q[i].abs() + ((abs[0] + abs[1]) + (abs[2] + abs[3]));
         worst = worst.max((-z[i]).max(0.0)).max((-wi).max(0.0) / scale).max((z[i] * wi).abs() / scale);
         w.push(wi);
     }
