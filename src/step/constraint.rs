@@ -178,6 +178,15 @@ impl ConstraintData {
         self.kind.is_empty()
     }
 
+    /// The least and the greatest row that shares a tree with row j (K_jk is zero for every k
+    /// outside them); valid once [`prepare`]d.
+    pub fn sharing_span(&self, j: usize) -> (usize, usize) {
+        let (first, second, _) = tree_lists(self, self.tree[j]);
+        let ends = |l: &[usize]| (l.first().copied().unwrap_or(usize::MAX), l.last().copied().unwrap_or(0));
+        let ((lo1, hi1), (lo2, hi2)) = (ends(first), ends(second));
+        (lo1.min(lo2), hi1.max(hi2))
+    }
+
     /// Removes all rows.
     pub fn clear(&mut self) {
         self.assembled = false;
@@ -615,17 +624,17 @@ pub fn prepare(m: &Model, out: &mut ConstraintData) {
 
 /// Zeroes K between the rows `rows` (an island's, increasing), unless a column of theirs is
 /// computed already (they were zeroed for an earlier solve of the same rows), or they are every
-/// row, with the trees K was last zeroed whole for, and `all_computed` (every column of theirs will
-/// be written: K between rows of no shared tree is still zero, and the rest is overwritten). K is
-/// then zero between those of separate trees once their columns are computed.
-pub fn clear_k_block(out: &mut ConstraintData, rows: &[usize], all_computed: bool) {
+/// row, with the trees K was last zeroed whole for (K between rows of no shared tree is still
+/// zero: test forces write only between rows that share one). K is then zero between those of
+/// separate trees, and the row of each row pushed holds its measures.
+pub fn clear_k_block(out: &mut ConstraintData, rows: &[usize]) {
     let (Some(&first), Some(&last)) = (rows.first(), rows.last()) else { return };
     if rows.iter().any(|&j| out.column_done[j]) {
         return;
     }
     let nr = out.len();
     let whole = rows.len() == nr;
-    if whole && all_computed && out.zeroed_trees == out.tree {
+    if whole && out.zeroed_trees == out.tree {
         return;
     }
     out.zeroed_trees.clear();

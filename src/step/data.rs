@@ -76,6 +76,9 @@ pub struct SolveData {
     pub island_warm: Vec<bool>,
     /// See `island_q`.
     pub island_z: Vec<f64>,
+    /// The island's rows whose test forces are not pushed, with their numbers in its LCP (in
+    /// increasing row order): scratch for the matrix.
+    pub unpushed: Vec<(usize, usize)>,
     /// Union–find forest over the nodes' trees, scratch for the labels (nnode).
     pub tree_link: Vec<usize>,
     /// LCP variables left out of the solve (held at zero force) and of K.

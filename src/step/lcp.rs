@@ -14,12 +14,13 @@
 //!
 //! Before any of that, rows the caller expects to need no force are left out: the step marks
 //! each contact whose q says the motion without its force separates it (a contact the step's
-//! reach found, or one lifting off), and each inert row (K_jj ≈ 0, made w = z with q = 0). The
-//! cascade solves the principal subproblem without them (a contact's friction rows
-//! and λ go with its normal); a left-out normal whose w the answer makes negative is brought back
-//! and the caller solves again. The answer solves the whole LCP: a left-out row has z = 0 and
-//! w ≥ 0, its friction rows z = 0 and the λ that keeps their w ≥ 0, and no λ reaches a row
-//! outside its contact. Pivots cost O(n²) each; on the Ant's random-control steps a separating
+//! reach found, or one lifting off), the friction rows of a contact that rested without friction
+//! force last step, and each inert row (K_jj ≈ 0, made w = z with q = 0). The cascade solves the
+//! principal subproblem without them (a contact's friction rows and λ go with its normal); a
+//! left-out normal, or friction row of a kept contact, whose w the answer makes negative is
+//! brought back and the caller solves again. The answer solves the whole LCP: a left-out row has
+//! z = 0 and w ≥ 0, a left-out contact's friction rows z = 0 and the λ that keeps their w ≥ 0, and
+//! no λ reaches a row outside its contact. Pivots cost O(n²) each; on the Ant's random-control steps a separating
 //! contact is common (one with pyramid friction is 6 variables).
 
 /// Counters Python can read.
@@ -97,8 +98,10 @@ struct Subproblem {
     /// After an answer that brought rows back: its active set and those rows, which warm-start
     /// the next solve (the same problem with more rows kept); empty otherwise.
     retry: Vec<bool>,
-    /// The normal rows the last answer brought back.
+    /// The rows the last answer brought back.
     brought: Vec<usize>,
+    /// The kept variables with a nonzero answer ([`Subproblem::bring_back`]).
+    pressing: Vec<usize>,
 }
 
 /// Relative regulariser added to the diagonal of the force rows.
@@ -336,7 +339,7 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], split: bool, warm: O
     out.resize(n, false);
     for i in 0..n {
         if let Role::Friction { normal, lambda, .. } = role[i] {
-            (out[i], out[lambda]) = (out[normal], out[normal]);
+            (out[i], out[lambda]) = (out[i] || out[normal], out[normal]);
         }
     }
     if !out.contains(&true) {
@@ -376,10 +379,12 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], split: bool, warm: O
     sub.retry = retry;
     if solved {
         stats.left_out += (n - k) as u64;
-        // each left-out contact's λ: the least that keeps its friction rows' w ≥ 0
+        // each left-out contact's λ: the least that keeps its friction rows' w ≥ 0 (a kept
+        // contact's left-out friction rows have w ≥ 0 with its λ: `bring_back`)
         for i in 0..n {
             if let Role::Friction { lambda, .. } = role[i]
                 && out[i]
+                && out[lambda]
             {
                 let wi = q[i] + sub.keep.iter().map(|&j| m[i * n + j] * z[j]).sum::<f64>();
                 z[lambda] = z[lambda].max(-wi);
@@ -421,16 +426,27 @@ impl Subproblem {
         self.z.resize(k, 0.0);
     }
 
-    /// Unmarks in `out` each left-out normal row, with its contact, whose w the answer `z` makes
-    /// negative (beyond round-off), listing them in `brought`; whether there was one.
+    /// Unmarks in `out` each left-out normal row, with its contact, and each left-out friction row
+    /// of a kept contact, whose w the answer `z` makes negative (beyond round-off), listing them
+    /// in `brought`; whether there was one.
     fn bring_back(&mut self, n: usize, m: &[f64], q: &[f64], role: &[Role], out: &mut [bool], z: &[f64]) -> bool {
         self.brought.clear();
+        // the kept variables with a nonzero answer: w of a left-out row sums over these
+        let pressing = &mut self.pressing;
+        pressing.clear();
+        pressing.extend(self.keep.iter().copied().filter(|&j| z[j] != 0.0));
         for i in 0..n {
-            if !out[i] || role[i] != Role::Normal {
+            let checked = match role[i] {
+                Role::Normal => true,
+                // its w counts the contact's λ, which is kept
+                Role::Friction { normal, .. } => !out[normal],
+                _ => false,
+            };
+            if !out[i] || !checked {
                 continue;
             }
             let (mut wi, mut scale) = (q[i], 1.0 + q[i].abs());
-            for &j in &self.keep {
+            for &j in pressing.iter() {
                 wi += m[i * n + j] * z[j];
                 scale += (m[i * n + j] * z[j]).abs();
             }
@@ -439,8 +455,10 @@ impl Subproblem {
                 self.brought.push(i);
             }
         }
+        // a normal brought back brings its friction rows and λ
         for i in 0..n {
             if let Role::Friction { normal, lambda, .. } = role[i]
+                && out[lambda]
                 && !out[normal]
             {
                 out[i] = false;

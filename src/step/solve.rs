@@ -49,7 +49,7 @@ pub(super) fn solve_rows(m: &Model, data: &mut Data, level: Level) {
         let island = &data.solve.order[start..end];
         let rows = island.partition_point(|&v| v < data.con.len());
         constraint::prepare(m, &mut data.con);
-        constraint::clear_k_block(&mut data.con, &island[..rows], !left_any);
+        constraint::clear_k_block(&mut data.con, &island[..rows]);
         loop {
             let Data { kin, aba, con, solve: SolveData { out: lcp_out, group, .. }, .. } = data;
             timed!(data, Stage::Assembly, constraint::responses(m, kin, aba, con, |k, _| !lcp_out[k] && group[k] == label));
@@ -81,8 +81,11 @@ pub(super) const MAX_REGROW_RATE: f64 = 0.5;
 
 /// Marks in `data.solve.out` the variables the solve starts without: each contact whose q says the
 /// motion without its force separates it (q_n ≥ 0), with its friction rows and λ, unless it
-/// carried force in the warm set (it probably will again). A separating contact keeps no force
-/// unless others push it closed, which the solve checks; its test forces are then never pushed.
+/// carried force in the warm set (it probably will again), and the friction rows of a contact the
+/// warm set keeps pressing with none of them (a box resting on a box: most rows of a stack). A
+/// separating contact keeps no force unless others push it closed, and an idle friction row none
+/// unless the contact's tangential demand grows past what the rows kept hold, which the solve
+/// checks; their test forces are then never pushed.
 /// Limit rows stay: contact forces push joints into their limits too often (leaving out those
 /// with q ≥ 0 too had many brought back on Ant, for no gain). Nothing is left out while the recent
 /// share of solves that had to bring a contact back exceeds [`MAX_REGROW_RATE`]. Returns whether
@@ -100,7 +103,11 @@ pub(super) fn leave_out(data: &mut Data, level: Level, n: usize) -> bool {
             RowKind::Normal => out[j] = q[j] >= 0.0 && !(warm && guess[j]),
             RowKind::Tangent { normal } => {
                 let left = out[normal];
-                (out[j], out[data.solve.lambda[normal]]) = (left, left);
+                // a contact the warm set keeps pressing without friction force (a box resting on
+                // another) keeps its friction rows out until the answer presses on one (leaving
+                // out the idle rows of a contact with friction force brings one back too often)
+                let idle = warm && guess[normal] && (normal + 1..con.len()).take_while(|&r| con.kind[r] == RowKind::Tangent { normal }).all(|r| !guess[r]);
+                (out[j], out[data.solve.lambda[normal]]) = (left || idle, left);
             }
             _ => {}
         }
@@ -266,7 +273,7 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
     let h = m.opt.timestep;
     let Data { con, solve, .. } = data;
     let nr = con.len();
-    let SolveData { m: mm, q: all_q, out: all_out, warm: all_warm, force, role, lambda, order, local, island_q, island_out, island_warm, island_z, work, stats, .. } = solve;
+    let SolveData { m: mm, q: all_q, out: all_out, warm: all_warm, force, role, lambda, order, local, island_q, island_out, island_warm, island_z, unpushed, work, stats, .. } = solve;
     let vars = &order[island];
     let k = vars.len();
     // one island of every variable (a single character) is solved in place; an island of some is
@@ -303,7 +310,8 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
     // a row no force can move (K_jj ≈ 0 beside the island's others: the out-of-plane friction of
     // a planar model) carries no force; left in, it makes the LCP degenerate, so the solve leaves
     // it out (w = z, q = 0). Rows whose K column is not computed are left out already and read
-    // only as rows (their K rows, not written, are read as columns)
+    // only as rows, at the columns computed: each computed row's measures are scattered into them
+    // below (their own K rows are not written)
     let done = &con.column_done;
     let k_max = vars[..rows].iter().filter(|&&j| done[j]).map(|&j| con.k[j * nr + j]).fold(0.0, f64::max);
     let impact = constraint::impact_speed(h, m.opt.gravity.length());
@@ -322,9 +330,7 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
         }
         let krow = &con.k[j * nr..(j + 1) * nr];
         if !done[j] {
-            for (x, &jj) in mm[a * k..a * k + rows].iter_mut().zip(&vars[..rows]) {
-                *x = con.k[jj * nr + j];
-            }
+            mm[a * k..a * k + rows].fill(0.0);
         } else if contiguous {
             mm[a * k..a * k + rows].copy_from_slice(&krow[vars[0]..vars[0] + rows]);
         } else {
@@ -333,7 +339,7 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
             }
         }
         mm[a * k + rows..(a + 1) * k].fill(0.0);
-        let kjj = krow[j];
+        let kjj = if done[j] { krow[j] } else { 0.0 };
         mm[a * k + a] = kjj + lcp::REGULARISATION * kjj.abs().max(1e-300);
         match con.kind[j] {
             RowKind::Tangent { normal } => {
@@ -359,6 +365,19 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
                 role[a] = lcp::Role::Bounded { lambda: sigma, cap };
             }
             _ => role[a] = lcp::Role::Normal,
+        }
+    }
+    // the rows not computed, at the columns computed: K_jj' = K_j'j, nonzero only between rows
+    // that share a tree (within j''s span)
+    unpushed.clear();
+    unpushed.extend(vars[..rows].iter().enumerate().filter(|&(_, &j)| !done[j]).map(|(a, &j)| (j, a)));
+    if !unpushed.is_empty() {
+        for (b, &jj) in vars[..rows].iter().enumerate().filter(|&(_, &jj)| done[jj]) {
+            let (lo, hi) = con.sharing_span(jj);
+            let from = unpushed.partition_point(|&(j, _)| j < lo);
+            for &(j, a) in unpushed[from..].iter().take_while(|&&(j, _)| j <= hi) {
+                mm[a * k + b] = con.k[jj * nr + j];
+            }
         }
     }
     let solved = lcp::solve(k, mm, q, role, false, warm.then_some(&guess[..]), out, z, work, stats);
