@@ -189,6 +189,42 @@ fn a_ball_resting_on_a_ball_leaves_the_floor_bounce_at_twice_the_speed() {
     });
 }
 
+#[test]
+fn a_box_at_rest_holds_a_load_that_comes_later_and_slides_past_it() {
+    // resting without tangential load, its friction rows stay out of the solve (no test forces);
+    // gravity tilted later to r × its friction angle (µ = 0.5) must bring them back: it holds
+    // below the angle and slides at g (sin θ − µ cos θ) past it, from the tilt on
+    for mode in MODES {
+        for dt in STEPS {
+            for ratio in [0.99, 1.05] {
+                let mut m = model(&slope_box(0.0, 0.5, [0.1, 0.1, 0.1]), Integrator::Euler, mode, dt, 0.0);
+                m.opt.friction = FrictionModel::Pyramid;
+                let mut s = State::new(&m);
+                for _ in 0..(0.5 / dt).round() as usize {
+                    s.step(&m);
+                }
+                let (rest, x0) = (s.data.solve.stats, s.qpos[0]);
+                let theta = ratio * 0.5f64.atan();
+                m.opt.gravity = glam::DVec3::new(9.81 * theta.sin(), 0.0, -9.81 * theta.cos());
+                let seconds = 1.0;
+                for _ in 0..(seconds / dt).round() as usize {
+                    s.step(&m);
+                }
+                let st = s.data.solve.stats;
+                let exact = (9.81 * (theta.sin() - 0.5 * theta.cos())).max(0.0);
+                let a = s.qvel[0] / seconds;
+                let scheme = format!("slope {ratio} × friction angle {mode:?} dt {dt}");
+                assert!(rest.left_out > 0, "{scheme}: the friction rows at rest were solved ({rest:?})");
+                assert!(st.regrown > rest.regrown, "{scheme}: no friction row was brought back ({st:?})");
+                assert!((a - exact).abs() <= 0.02 * exact + 1e-6, "{scheme}: acceleration {a}, Coulomb {exact}");
+                if exact == 0.0 {
+                    assert!((s.qpos[0] - x0).abs() < 1e-6, "{scheme}: slid {} m", s.qpos[0] - x0);
+                }
+            }
+        }
+    }
+}
+
 /// `slope_box.xml`: a box of half-sizes `size` and friction `mu` on a slope of angle `theta` (tilted
 /// gravity).
 fn slope_box(theta: f64, mu: f64, size: [f64; 3]) -> String {
