@@ -716,6 +716,25 @@ struct PointAccel {
 impl PointAccel {
     /// No contact's yet.
     const NONE: PointAccel = PointAccel { normal: usize::MAX, accel: DVec3::ZERO };
+
+    /// Row j's acceleration: a joint row's from `qacc` (its dof's, signed), a contact row's along
+    /// its direction from its contact's point acceleration, `accel()` unless kept from the
+    /// contact's row before.
+    #[inline(always)]
+    fn row(&mut self, cd: &ConstraintData, j: usize, qacc: &[f64], accel: impl FnOnce() -> DVec3) -> f64 {
+        let normal = match cd.kind[j] {
+            RowKind::Normal => j,
+            RowKind::Tangent { normal } => normal,
+            RowKind::Limit | RowKind::Motion { .. } => {
+                let (dof, sign) = cd.dof[j];
+                return sign * qacc[dof];
+            }
+        };
+        if self.normal != normal {
+            *self = PointAccel { normal, accel: accel() };
+        }
+        cd.dir[j].dot(self.accel)
+    }
 }
 
 /// Whether tree `t` is one of the trees `trees` a test force moved.
@@ -730,15 +749,7 @@ fn moves(trees: [usize; 2], t: usize) -> bool {
 /// once for the rows of a contact (`point`), or a joint row's δq̈.
 #[inline(always)]
 fn delta_accel(cd: &ConstraintData, trees: [usize; 2], dqdd: &[f64], j: usize, point: &mut PointAccel) -> f64 {
-    let normal = match cd.kind[j] {
-        RowKind::Normal => j,
-        RowKind::Tangent { normal } => normal,
-        RowKind::Limit | RowKind::Motion { .. } => {
-            let (dof, sign) = cd.dof[j];
-            return sign * dqdd[dof];
-        }
-    };
-    if point.normal != normal {
+    point.row(cd, j, dqdd, || {
         let ([n0, n1], [t0, t1], r) = (cd.node[j], cd.tree[j], cd.arm[j]);
         let mut accel = DVec3::ZERO;
         if moves(trees, t0) {
@@ -747,30 +758,19 @@ fn delta_accel(cd: &ConstraintData, trees: [usize; 2], dqdd: &[f64], j: usize, p
         if moves(trees, t1) {
             accel -= cd.da[n1].point_velocity(r);
         }
-        *point = PointAccel { normal, accel };
-    }
-    cd.dir[j].dot(point.accel)
+        accel
+    })
 }
 
 /// Acceleration of row j with zero constraint force (its b): from the actual accelerations, with
 /// velocity-product and gravity terms.
 /// `point` carries the point's acceleration from a contact's row to its next ones.
 fn measure(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], cd: &ConstraintData, j: usize, point: &mut PointAccel) -> f64 {
-    let normal = match cd.kind[j] {
-        RowKind::Normal => j,
-        RowKind::Tangent { normal } => normal,
-        RowKind::Limit | RowKind::Motion { .. } => {
-            let (dof, sign) = cd.dof[j];
-            return sign * qacc0[dof];
-        }
-    };
-    if point.normal != normal {
+    point.row(cd, j, qacc0, || {
         let ([n0, n1], [p0, p1]) = (cd.node[j], cd.point[j]);
         let g = m.opt.gravity;
-        let accel = point_accel(kin, &aba.a, g, n0, kin.rel(n0, p0)) - point_accel(kin, &aba.a, g, n1, kin.rel(n1, p1));
-        *point = PointAccel { normal, accel };
-    }
-    cd.dir[j].dot(point.accel)
+        point_accel(kin, &aba.a, g, n0, kin.rel(n0, p0)) - point_accel(kin, &aba.a, g, n1, kin.rel(n1, p1))
+    })
 }
 
 /// The node ranges of the trees `trees` ([`Model::node_tree`]; [`WORLD`] and a repeat name

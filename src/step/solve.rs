@@ -319,6 +319,7 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
     let contiguous = rows > 0 && vars[rows - 1] - vars[0] + 1 == rows;
     // the λ and σ rows hold only the couplings their rows set
     mm[rows * k..].fill(0.0);
+    unpushed.clear();
     for (a, &j) in vars[..rows].iter().enumerate() {
         if (done[j] && con.k[j * nr + j] <= INERT_ROW * k_max) || (level == Level::Velocity && apart(m, con, j, impact)) {
             mm[a * k..(a + 1) * k].fill(0.0);
@@ -331,6 +332,7 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
         let krow = &con.k[j * nr..(j + 1) * nr];
         if !done[j] {
             mm[a * k..a * k + rows].fill(0.0);
+            unpushed.push((j, a));
         } else if contiguous {
             mm[a * k..a * k + rows].copy_from_slice(&krow[vars[0]..vars[0] + rows]);
         } else {
@@ -367,10 +369,8 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
             _ => role[a] = lcp::Role::Normal,
         }
     }
-    // the rows not computed, at the columns computed: K_jj' = K_j'j, nonzero only between rows
-    // that share a tree (within j''s span)
-    unpushed.clear();
-    unpushed.extend(vars[..rows].iter().enumerate().filter(|&(_, &j)| !done[j]).map(|(a, &j)| (j, a)));
+    // the rows not computed (but for unit rows), at the columns computed: K_jj' = K_j'j, nonzero
+    // only between rows that share a tree (within the span of those of row j')
     if !unpushed.is_empty() {
         for (b, &jj) in vars[..rows].iter().enumerate().filter(|&(_, &jj)| done[jj]) {
             let (lo, hi) = con.sharing_span(jj);
