@@ -168,13 +168,15 @@ pub struct PlaneGroup {
     pub radius: f64,
 }
 
+/// The tree geom g moves with ([`Model::node_tree`] of its body's node), or [`WORLD`].
+pub fn geom_tree(m: &Model, g: usize) -> usize {
+    let n = m.body_node[m.geom_body[g]];
+    if n == WORLD { WORLD } else { m.node_tree[n] }
+}
+
 /// Whether geoms i and j move with the same tree (not the world).
 pub fn same_tree(m: &Model, i: usize, j: usize) -> bool {
-    let tree = |g: usize| {
-        let n = m.body_node[m.geom_body[g]];
-        if n == WORLD { WORLD } else { m.node_tree[n] }
-    };
-    tree(i) != WORLD && tree(i) == tree(j)
+    geom_tree(m, i) != WORLD && geom_tree(m, i) == geom_tree(m, j)
 }
 
 /// Largest geom count for which [`Model::pair_bits`] is kept (2 MiB of bits).

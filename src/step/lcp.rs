@@ -20,8 +20,8 @@
 //! left-out normal, or friction row of a kept contact, whose w the answer makes negative is
 //! brought back and the caller solves again. The answer solves the whole LCP: a left-out row has
 //! z = 0 and w ≥ 0, a left-out contact's friction rows z = 0 and the λ that keeps their w ≥ 0, and
-//! no λ reaches a row outside its contact. Pivots cost O(n²) each; on the Ant's random-control steps a separating
-//! contact is common (one with pyramid friction is 6 variables).
+//! no λ reaches a row outside its contact. Pivots cost O(n²) each; on the Ant's random-control
+//! steps a separating contact is common (one with pyramid friction is 6 variables).
 
 /// Counters Python can read.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -386,8 +386,7 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], split: bool, warm: O
                 && out[i]
                 && out[lambda]
             {
-                let wi = q[i] + sub.keep.iter().map(|&j| m[i * n + j] * z[j]).sum::<f64>();
-                z[lambda] = z[lambda].max(-wi);
+                z[lambda] = z[lambda].max(-left_out_w(n, m, q, z, &sub.pressing, i).0);
             }
         }
     } else {
@@ -445,11 +444,7 @@ impl Subproblem {
             if !out[i] || !checked {
                 continue;
             }
-            let (mut wi, mut scale) = (q[i], 1.0 + q[i].abs());
-            for &j in pressing.iter() {
-                wi += m[i * n + j] * z[j];
-                scale += (m[i * n + j] * z[j]).abs();
-            }
+            let (wi, scale) = left_out_w(n, m, q, z, pressing, i);
             if wi < -LEFT_OUT_TOLERANCE * scale || wi.is_nan() {
                 out[i] = false;
                 self.brought.push(i);
@@ -467,6 +462,15 @@ impl Subproblem {
         }
         !self.brought.is_empty()
     }
+}
+
+/// w_i of a left-out row from the answer `z`, whose nonzero kept variables are `pressing`, and
+/// its scale as in [`residual`].
+fn left_out_w(n: usize, m: &[f64], q: &[f64], z: &[f64], pressing: &[usize], i: usize) -> (f64, f64) {
+    pressing.iter().fold((q[i], 1.0 + q[i].abs()), |(w, scale), &j| {
+        let a = m[i * n + j] * z[j];
+        (w + a, scale + a.abs())
+    })
 }
 
 /// Solves the LCP island by island. Variables couple when M has an entry between them; rows of

@@ -44,7 +44,7 @@ pub(super) fn solve_rows(m: &Model, data: &mut Data, level: Level) {
     while start < n {
         let label = data.solve.group[data.solve.order[start]];
         let end = (start..n).find(|&k| data.solve.group[data.solve.order[k]] != label).unwrap_or(n);
-        // the island's block of K, which its M reads whole (its rows come first among its
+        // the island's block of K, whose pushed rows its M reads (its rows come first among its
         // variables, in order)
         let island = &data.solve.order[start..end];
         let rows = island.partition_point(|&v| v < data.con.len());

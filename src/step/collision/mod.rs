@@ -165,7 +165,7 @@ impl CollisionData {
             least_slack: f64::NEG_INFINITY,
             shrink: 0.0,
             gap_skips: 0,
-            sweep: m.sweep_geoms.iter().map(|&g| SweepBox { lo: DVec3::ZERO, hi: DVec3::ZERO, geom: g, tree: geom_tree(m, g) }).collect(),
+            sweep: m.sweep_geoms.iter().map(|&g| SweepBox { lo: DVec3::ZERO, hi: DVec3::ZERO, geom: g, tree: crate::model::geom_tree(m, g) }).collect(),
             swept: Vec::with_capacity(if m.collision_pairs.len() < SWEEP_PAIRS { 0 } else { m.collision_pairs.len() }),
             // a model of few pairs tests them all, listed once here
             near: if m.collision_pairs.len() < SWEEP_PAIRS { (0..m.collision_pairs.len()).collect() } else { Vec::with_capacity(m.collision_pairs.len()) },
@@ -413,12 +413,6 @@ struct SweepBox {
     hi: DVec3,
     geom: usize,
     tree: usize,
-}
-
-/// The tree of geom g's body ([`WORLD`] for the world's geoms).
-fn geom_tree(m: &Model, g: usize) -> usize {
-    let n = m.body_node[m.geom_body[g]];
-    if n == WORLD { WORLD } else { m.node_tree[n] }
 }
 
 /// The index in `m.collision_pairs` of the pair of geoms i < j, if they make one.
