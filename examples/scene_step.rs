@@ -30,11 +30,11 @@ fn main() {
     let start = std::time::Instant::now();
     for _ in 0..steps {
         s.step(&m);
-        rows += s.data.con.len();
+        rows += s.data.constraints.con.len();
         contacts += s.data.coll.contacts.len();
     }
     let wall = start.elapsed().as_secs_f64();
     let per = steps.max(1);
     println!("{steps} steps in {wall:.3} s ({:.1} us/step), {} rows and {} contacts a step", wall * 1e6 / per as f64, rows / per, contacts / per);
-    println!("{:?}", s.data.solve.stats);
+    println!("{:?}", s.data.constraints.solve.stats);
 }

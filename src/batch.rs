@@ -11,13 +11,13 @@ use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use crate::data::Data;
+use crate::step::data::Data;
 use crate::model::Model;
 use crate::sensors::{self, Sensors};
 use crate::step::step;
 use crate::tasks::Task;
 
-pub use crate::math::MAX_STATE;
+pub use crate::math::{out_of_range, MAX_STATE};
 
 /// Most threads a batch accepts (a thread each costs its stack; beyond this a count is a mistake).
 pub const MAX_THREADS: usize = 1024;
@@ -30,12 +30,6 @@ pub const MAX_WORLDS: usize = 1 << 20;
 /// about a tenth of a 64-world Hopper env step (Intel's OpenMP runtime spins 200 ms by default,
 /// `KMP_BLOCKTIME`).
 pub const LINGER: Duration = Duration::from_micros(200);
-
-/// Whether a state entry is NaN or beyond [`MAX_STATE`] (±inf included).
-#[inline]
-pub fn out_of_range(x: f64) -> bool {
-    x.is_nan() || x.abs() > MAX_STATE
-}
 
 /// Scratch of N worlds and the thread pool that steps them.
 pub struct Batch {
@@ -93,18 +87,18 @@ pub struct BatchState<'a> {
 impl Batch {
     /// `seeds.len()` worlds; world i draws its random friction tangents from `seeds[i]`.
     /// `num_threads` = None uses all cores (`std::thread::available_parallelism`).
-    pub fn new(model: Arc<Model>, seeds: &[u64], num_threads: Option<usize>) -> crate::Result<Batch> {
+    pub fn new(model: Arc<Model>, seeds: &[u64], num_threads: Option<usize>) -> crate::error::Result<Batch> {
         if seeds.len() > MAX_WORLDS {
-            return Err(crate::Error::Input(format!("a batch holds at most {MAX_WORLDS} worlds, got {}", seeds.len())));
+            return Err(crate::error::Error::Input(format!("a batch holds at most {MAX_WORLDS} worlds, got {}", seeds.len())));
         }
         if num_threads.is_some_and(|t| t > MAX_THREADS) {
-            return Err(crate::Error::Input(format!("num_threads must be at most {MAX_THREADS}, got {}", num_threads.unwrap_or(0))));
+            return Err(crate::error::Error::Input(format!("num_threads must be at most {MAX_THREADS}, got {}", num_threads.unwrap_or(0))));
         }
         let data: Vec<Data> = seeds
             .iter()
             .map(|&s| {
                 let mut d = Data::new(&model);
-                d.history.rng = crate::math::splitmix64(s);
+                d.constraints.history.rng = crate::math::splitmix64(s);
                 d
             })
             .collect();
@@ -115,7 +109,7 @@ impl Batch {
             None
         } else {
             let built = rayon::ThreadPoolBuilder::new().num_threads(threads - 1).build();
-            Some(built.map_err(|e| crate::Error::Input(format!("cannot start the thread pool: {e}")))?)
+            Some(built.map_err(|e| crate::error::Error::Input(format!("cannot start the thread pool: {e}")))?)
         };
         let no_ctrl = vec![0.0; if model.nu == 0 { data.len() } else { 0 }];
         let (no_task, no_task_flag) = (vec![0.0; 3 * data.len()], vec![false; data.len()]);
@@ -139,8 +133,8 @@ impl Batch {
 
     /// Re-seeds world `i`'s random stream.
     pub fn seed(&mut self, i: usize, seed: u64) {
-        self.data[i].history.rng = crate::math::splitmix64(seed);
-        self.data[i].history.tangents.clear();
+        self.data[i].constraints.history.rng = crate::math::splitmix64(seed);
+        self.data[i].constraints.history.tangents.clear();
     }
 
     /// Advances the active worlds `n` steps in parallel, then writes their sensor outputs and, with

@@ -12,24 +12,22 @@
 
 pub mod error;
 pub mod math;
+pub mod timing;
 
-// ① description
+// rooms in dependency order: each imports only the rooms above it in this list
 pub mod mjcf;
-// ② compiled model
 pub mod model;
-// ③ state and scratch (a world's per-stage scratch lives with the step: `step::data`)
-pub use step::data;
-pub mod state;
-// ④ the step
+pub mod dynamics;
+pub mod integrate;
+pub mod collision;
+pub mod constraint;
 pub mod step;
-// ⑤ many worlds, and what environments observe of them
+pub mod compile;
 pub mod batch;
 pub mod sensors;
 pub mod tasks;
-// ⑥ pictures
 pub mod render;
-// reference algorithms, used as checks
-pub mod dynamics;
+pub use step::{data, state};
 
 #[cfg(feature = "python")]
 mod python;

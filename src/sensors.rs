@@ -5,7 +5,9 @@
 
 use glam::DVec3;
 
-use crate::data::{Data, SensorScratch, SolveData};
+use crate::constraint::solve::SolveData;
+use crate::constraint::Constraints;
+use crate::step::data::{Data, SensorScratch};
 use crate::math::{Force, SpatialInertia};
 use crate::model::{ConstraintMode, Model, WORLD};
 use crate::tasks::World;
@@ -91,7 +93,7 @@ pub fn body_root(m: &Model) -> Vec<usize> {
 
 /// Fills `out` for the state (qpos, qvel) and the constraint forces of the last step in `d`.
 pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64], out: Sensors<'_>) {
-    let Data { post, con, coll, solve: SolveData { force, .. }, sensors: SensorScratch { node_force: node_f, root_com }, .. } = d;
+    let Data { constraints: Constraints { post, con, solve: SolveData { force, .. }, .. }, coll, sensors: SensorScratch { node_force: node_f, root_com }, .. } = d;
     // the end state's kinematics, shared with the next step
     let kin = post.kinematics_at(m, qpos, qvel);
     // poses and velocities

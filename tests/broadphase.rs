@@ -9,8 +9,8 @@ use common::{random_state, random_tree_mjcf, Rng};
 use sinew::math::{DVec3, Motion};
 use sinew::model::{GeomType, PairTest};
 use sinew::data::Data;
-use sinew::step::collision::{collide, penetrations, reach_again, CollisionData};
-use sinew::step::kinematics::{forward, KinData};
+use sinew::collision::{collide, penetrations, reach_again, CollisionData};
+use sinew::dynamics::kinematics::{forward, KinData};
 use sinew::Model;
 
 /// Random trees, once as generated and once with every slide joint made a hinge (all arms finite).
@@ -131,22 +131,22 @@ fn walk(m: &Model, r: &mut Rng, steps: usize, jump: usize, drift: f64, v_max: f6
             (q, v) = random_state(m, r);
         }
         sinew::step::forward(m, &mut data, &q, &v, &ctrl);
-        collide(m, &data.kin, &data.aba, &q, &v, &data.qacc, &mut cd);
+        collide(m, &data.dynamics.kin, &data.dynamics.aba, &q, &v, &data.dynamics.qacc, &mut cd);
         let mut fresh = CollisionData::new(m);
-        collide(m, &data.kin, &data.aba, &q, &v, &data.qacc, &mut fresh);
+        collide(m, &data.dynamics.kin, &data.dynamics.aba, &q, &v, &data.dynamics.qacc, &mut fresh);
         assert_eq!(cd.contacts, fresh.contacts, "{} step {step}", m.name);
         skipped += cd.gap_skips;
         // constraint forces changed the velocities: the pairs the new ones can close
         let v_end: Vec<f64> = v.iter().map(|x| x * r.uniform(0.0, 30.0)).collect();
-        reach_again(m, &data.kin, &v_end, &mut node_v, &mut cd);
-        reach_again(m, &data.kin, &v_end, &mut node_v, &mut fresh);
+        reach_again(m, &data.dynamics.kin, &v_end, &mut node_v, &mut cd);
+        reach_again(m, &data.dynamics.kin, &v_end, &mut node_v, &mut fresh);
         assert_eq!(cd.contacts, fresh.contacts, "{} step {step}, end velocities", m.name);
         touching += !fresh.contacts.is_empty() as usize;
         for x in v.iter_mut() {
             *x = (*x + r.uniform(-drift, drift)).clamp(-v_max, v_max);
         }
         let dq = v.iter().map(|x| 0.01 * x).collect::<Vec<_>>();
-        sinew::step::integrate::integrate_pos(m, &mut q, &dq, 1.0);
+        sinew::integrate::integrate_pos(m, &mut q, &dq, 1.0);
     }
     (skipped, touching, steps)
 }

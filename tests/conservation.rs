@@ -27,12 +27,12 @@ fn momentum_drift(m: &Model, steps: usize, seed: u64) -> (f64, f64) {
         *v = r.uniform(-1.0, 1.0);
     }
     s.forward(m);
-    let (l0, p0) = world_momentum(m, &s.data.kin);
+    let (l0, p0) = world_momentum(m, &s.data.dynamics.kin);
     let (mut el, mut ep) = (0.0f64, 0.0f64);
     for _ in 0..steps {
         s.step(m);
-        sinew::step::kinematics::forward(m, &s.qpos, &s.qvel, &mut s.data.kin);
-        let (l, p) = world_momentum(m, &s.data.kin);
+        sinew::dynamics::kinematics::forward(m, &s.qpos, &s.qvel, &mut s.data.dynamics.kin);
+        let (l, p) = world_momentum(m, &s.data.dynamics.kin);
         el = el.max((l - l0).length() / l0.length());
         ep = ep.max((p - p0).length() / p0.length());
     }
@@ -187,15 +187,15 @@ fn chain_energy_drift(integrator: Integrator, dt: f64) -> f64 {
     m.opt.integrator = integrator;
     let mut s = State::new(&m);
     s.forward(&m);
-    let e0 = kinetic_energy(&m, &s.data.kin) + potential_energy(&m, &s.data.kin);
+    let e0 = kinetic_energy(&m, &s.data.dynamics.kin) + potential_energy(&m, &s.data.dynamics.kin);
     // energy scale: the whole chain's mass lifted by its length
     let scale = m.body_mass.iter().sum::<f64>() * 9.81 * 1.5;
     let mut worst = 0.0f64;
     let steps = (10.0 / dt).round() as usize;
     for _ in 0..steps {
         s.step(&m);
-        sinew::step::kinematics::forward(&m, &s.qpos, &s.qvel, &mut s.data.kin);
-        let e = kinetic_energy(&m, &s.data.kin) + potential_energy(&m, &s.data.kin);
+        sinew::dynamics::kinematics::forward(&m, &s.qpos, &s.qvel, &mut s.data.dynamics.kin);
+        let e = kinetic_energy(&m, &s.data.dynamics.kin) + potential_energy(&m, &s.data.dynamics.kin);
         worst = worst.max((e - e0).abs() / scale);
     }
     worst

@@ -17,21 +17,21 @@ fn check_tree(n: usize, free_root: bool, seed: u64) {
         let (q, v) = random_state(&m, &mut r);
         let tau: Vec<f64> = (0..m.nv).map(|_| r.uniform(-5.0, 5.0)).collect();
         // ABA with the applied force tau only: passive terms come from the model, so subtract them
-        sinew::step::kinematics::forward(&m, &q, &v, &mut data.kin);
-        sinew::step::aba::backward(&m, &data.kin, &tau, 0.0, &mut data.aba);
+        sinew::dynamics::kinematics::forward(&m, &q, &v, &mut data.dynamics.kin);
+        sinew::dynamics::aba::backward(&m, &data.dynamics.kin, &tau, 0.0, &mut data.dynamics.aba);
         let mut qacc = vec![0.0; m.nv];
-        sinew::step::aba::forward(&m, &data.kin, &mut data.aba, &mut qacc);
+        sinew::dynamics::aba::forward(&m, &data.dynamics.kin, &mut data.dynamics.aba, &mut qacc);
 
         // CRBA: M qacc = tau - C(q, v)
-        let mass = crba(&m, &data.kin);
-        let bias = rnea(&m, &data.kin, &vec![0.0; m.nv]);
+        let mass = crba(&m, &data.dynamics.kin);
+        let bias = rnea(&m, &data.dynamics.kin, &vec![0.0; m.nv]);
         let rhs: Vec<f64> = tau.iter().zip(&bias).map(|(t, c)| t - c).collect();
         let qacc_crba = cholesky_solve(&mass, &rhs);
         let e1 = rel_err(&qacc, &qacc_crba);
         assert!(e1 <= 1e-10, "ABA vs CRBA: rel err {e1:e} (n={n}, seed={seed})");
 
         // RNEA(q, v, qacc) + armature·qacc = tau
-        let mut back = rnea(&m, &data.kin, &qacc);
+        let mut back = rnea(&m, &data.dynamics.kin, &qacc);
         for (d, b) in back.iter_mut().enumerate() {
             *b += m.dof_armature[d] * qacc[d];
         }
@@ -64,8 +64,8 @@ fn mass_matrix_is_symmetric_positive_definite() {
     let m = Model::from_mjcf(&random_tree_mjcf(12, true, 3)).unwrap();
     let mut data = Data::new(&m);
     let (q, v) = random_state(&m, &mut Rng(9));
-    sinew::step::kinematics::forward(&m, &q, &v, &mut data.kin);
-    let mass = crba(&m, &data.kin);
+    sinew::dynamics::kinematics::forward(&m, &q, &v, &mut data.dynamics.kin);
+    let mass = crba(&m, &data.dynamics.kin);
     let nv = m.nv;
     for i in 0..nv {
         for j in 0..nv {
@@ -86,16 +86,16 @@ fn velocity_update_after_an_impulse_equals_a_fresh_aba() {
         let tau: Vec<f64> = (0..m.nv).map(|_| r.uniform(-5.0, 5.0)).collect();
         let mut data = Data::new(&m);
         let mut qacc = vec![0.0; m.nv];
-        sinew::step::kinematics::forward(&m, &q, &v, &mut data.kin);
-        sinew::step::aba::backward(&m, &data.kin, &tau, 0.01, &mut data.aba);
-        sinew::step::kinematics::forward_velocity(&m, &v2, &mut data.kin);
-        sinew::step::aba::backward_bias(&m, &data.kin, &tau, &mut data.aba);
-        sinew::step::aba::forward(&m, &data.kin, &mut data.aba, &mut qacc);
+        sinew::dynamics::kinematics::forward(&m, &q, &v, &mut data.dynamics.kin);
+        sinew::dynamics::aba::backward(&m, &data.dynamics.kin, &tau, 0.01, &mut data.dynamics.aba);
+        sinew::dynamics::kinematics::forward_velocity(&m, &v2, &mut data.dynamics.kin);
+        sinew::dynamics::aba::backward_bias(&m, &data.dynamics.kin, &tau, &mut data.dynamics.aba);
+        sinew::dynamics::aba::forward(&m, &data.dynamics.kin, &mut data.dynamics.aba, &mut qacc);
         let mut fresh = Data::new(&m);
         let mut qacc_fresh = vec![0.0; m.nv];
-        sinew::step::kinematics::forward(&m, &q, &v2, &mut fresh.kin);
-        sinew::step::aba::backward(&m, &fresh.kin, &tau, 0.01, &mut fresh.aba);
-        sinew::step::aba::forward(&m, &fresh.kin, &mut fresh.aba, &mut qacc_fresh);
+        sinew::dynamics::kinematics::forward(&m, &q, &v2, &mut fresh.dynamics.kin);
+        sinew::dynamics::aba::backward(&m, &fresh.dynamics.kin, &tau, 0.01, &mut fresh.dynamics.aba);
+        sinew::dynamics::aba::forward(&m, &fresh.dynamics.kin, &mut fresh.dynamics.aba, &mut qacc_fresh);
         let e = rel_err(&qacc, &qacc_fresh);
         assert!(e <= 1e-12, "velocity update vs fresh ABA: rel err {e:e} (seed={seed})");
     }
@@ -131,9 +131,9 @@ fn joints_sharing_a_body_move_as_nested_massless_bodies() {
         let tau: Vec<f64> = (0..ms.nv).map(|_| r.uniform(-5.0, 5.0)).collect();
         let mut acc = [vec![0.0; ms.nv], vec![0.0; ms.nv]];
         for ((m, d), a) in [(&ms, &mut ds), (&mn, &mut dn)].into_iter().zip(&mut acc) {
-            sinew::step::kinematics::forward(m, &q, &v, &mut d.kin);
-            sinew::step::aba::backward(m, &d.kin, &tau, 0.0, &mut d.aba);
-            sinew::step::aba::forward(m, &d.kin, &mut d.aba, a);
+            sinew::dynamics::kinematics::forward(m, &q, &v, &mut d.dynamics.kin);
+            sinew::dynamics::aba::backward(m, &d.dynamics.kin, &tau, 0.0, &mut d.dynamics.aba);
+            sinew::dynamics::aba::forward(m, &d.dynamics.kin, &mut d.dynamics.aba, a);
         }
         let e = rel_err(&acc[0], &acc[1]);
         assert!(e <= 1e-10, "shared-body vs nested qacc: rel err {e:e}");
@@ -157,9 +157,9 @@ fn accelerations_do_not_depend_on_where_the_model_is() {
         }
         let mut acc = [vec![0.0; m.nv], vec![0.0; m.nv]];
         for (qq, a) in [&q, &far].into_iter().zip(&mut acc) {
-            sinew::step::kinematics::forward(&m, qq, &v, &mut data.kin);
-            sinew::step::aba::backward(&m, &data.kin, &tau, 0.0, &mut data.aba);
-            sinew::step::aba::forward(&m, &data.kin, &mut data.aba, a);
+            sinew::dynamics::kinematics::forward(&m, qq, &v, &mut data.dynamics.kin);
+            sinew::dynamics::aba::backward(&m, &data.dynamics.kin, &tau, 0.0, &mut data.dynamics.aba);
+            sinew::dynamics::aba::forward(&m, &data.dynamics.kin, &mut data.dynamics.aba, a);
         }
         let e = rel_err(&acc[1], &acc[0]);
         assert!(e <= 1e-10, "qacc 20 km away vs at the origin: rel err {e:e}");

@@ -2,7 +2,7 @@
 //! positions at the end of the step; the velocity keeps only the correction term's d / T.
 #![allow(clippy::needless_range_loop)] // index loops follow the math's notation
 
-use sinew::step::stabilize::SLOP;
+use sinew::constraint::stabilize::SLOP;
 use sinew::{Model, State};
 
 const BALL: &str = r#"<mujoco><option timestep="0.002"/><worldbody><geom type="plane" size="5 5 .1"/>
@@ -16,9 +16,9 @@ fn a_ball_started_5_mm_inside_the_floor_is_out_after_one_step() {
     s.step(&m);
     assert!(s.qpos[2] >= 0.1 - SLOP, "still {} m inside", 0.1 - s.qpos[2]);
     // the correction term's velocity d / T and no more
-    let expected = 0.005 / sinew::step::constraint::CORRECTION_TIME;
+    let expected = 0.005 / sinew::constraint::CORRECTION_TIME;
     assert!((s.qvel[2] - expected).abs() < 1e-6 * expected, "vz = {}", s.qvel[2]);
-    assert_eq!(s.data.post.projections, 1);
+    assert_eq!(s.data.constraints.post.projections, 1);
     // it hops a quarter millimetre on that velocity and comes to rest on the floor
     for _ in 0..1000 {
         s.step(&m);

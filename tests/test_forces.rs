@@ -9,14 +9,15 @@ use common::{random_state, random_tree_mjcf, Rng};
 use sinew::dynamics::crba::{cholesky_solve, crba};
 use sinew::math::{DVec3, Motion};
 use sinew::model::{GeomType, Model, WORLD};
-use sinew::step::collision::Contact;
-use sinew::step::constraint::{self, ConstraintData, RowKind};
-use sinew::step::{aba, integrate, kinematics};
+use sinew::collision::Contact;
+use sinew::constraint::{self, ConstraintData, RowKind};
+use sinew::dynamics::{aba, kinematics};
+use sinew::integrate;
 use sinew::Data;
 
 /// Row j of J: the row's acceleration per unit q̈ of each dof, without velocity terms.
 fn jacobian(m: &Model, data: &Data, con: &ConstraintData) -> Vec<Vec<f64>> {
-    let kin = &data.kin;
+    let kin = &data.dynamics.kin;
     let mut rows = vec![vec![0.0; m.nv]; con.len()];
     for dof in 0..m.nv {
         // spatial accelerations of every node for q̈ = e_dof
@@ -58,10 +59,10 @@ fn check(xml: &str, seed: u64) {
     let mut r = Rng(seed);
     let mut data = Data::new(&m);
     let (q, v) = random_state(&m, &mut r);
-    kinematics::forward(&m, &q, &v, &mut data.kin);
-    aba::backward(&m, &data.kin, &vec![0.0; m.nv], 0.0, &mut data.aba);
+    kinematics::forward(&m, &q, &v, &mut data.dynamics.kin);
+    aba::backward(&m, &data.dynamics.kin, &vec![0.0; m.nv], 0.0, &mut data.dynamics.aba);
     let mut qacc = vec![0.0; m.nv];
-    aba::forward(&m, &data.kin, &mut data.aba, &mut qacc);
+    aba::forward(&m, &data.dynamics.kin, &mut data.dynamics.aba, &mut qacc);
     // synthetic contacts: random points between random geoms (bodies) and the world or each other
     let mut contacts = vec![];
     for k in 0..6 {
@@ -97,12 +98,12 @@ fn check(xml: &str, seed: u64) {
     let ctrl = vec![0.0; m2.nu];
     let ff = vec![0.0; 2 * m2.nu];
     let forced = vec![false; 2 * m2.njnt];
-    constraint::rows(&m2, &data.kin, &data.aba, &q, &v, &qacc, &forced, &ctrl, &ff, &contacts, |_, n, _, _| n.any_orthonormal_vector(), &mut con);
-    constraint::assemble(&m2, &data.kin, &data.aba, &qacc, &mut con);
+    constraint::rows::push_rows(&m2, &data.dynamics.kin, &data.dynamics.aba, &q, &v, &qacc, &forced, &ctrl, &ff, &contacts, |_, n, _, _| n.any_orthonormal_vector(), &mut con);
+    constraint::test_forces::assemble(&m2, &data.dynamics.kin, &data.dynamics.aba, &qacc, &mut con);
     let nr = con.len();
     assert!(nr >= 6, "rows {nr}");
     let j = jacobian(&m2, &data, &con);
-    let mass = crba(&m, &data.kin);
+    let mass = crba(&m, &data.dynamics.kin);
     let mut worst = 0.0f64;
     let scale = (0..nr).map(|i| con.k[i * nr + i].abs()).fold(0.0, f64::max);
     for c in 0..nr {
@@ -113,7 +114,7 @@ fn check(xml: &str, seed: u64) {
         }
     }
     assert!(worst <= 1e-9, "K vs J M⁻¹ Jᵀ: rel err {worst:e} (seed {seed})");
-    check_arc(&m, &data.kin, &q, &v, &con, seed);
+    check_arc(&m, &data.dynamics.kin, &q, &v, &con, seed);
 }
 
 /// The arc terms J̇ q̇ · n of each contact normal row, of its contact points and of its centres,
@@ -133,7 +134,7 @@ fn check_arc(m: &Model, kin0: &kinematics::KinData, q: &[f64], v: &[f64], con: &
     };
     let eps = 1e-4;
     for j in (0..con.len()).filter(|&j| con.kind[j] == RowKind::Normal) {
-        let arcs = constraint::arcs(kin0, con, j);
+        let arcs = constraint::system::arcs(kin0, con, j);
         for (arc, pts) in arcs.into_iter().zip([con.point[j], con.centre[j]]) {
             let second = (gap_at(eps, j, pts) - 2.0 * gap_at(0.0, j, pts) + gap_at(-eps, j, pts)) / (eps * eps);
             let scale = 1.0 + arc.abs();
@@ -184,15 +185,15 @@ fn limit_rows_match_the_inverse_mass_matrix() {
     let mut data = Data::new(&m);
     let q = vec![-1.0, 0.5];
     let v = vec![0.0, 0.0];
-    kinematics::forward(&m, &q, &v, &mut data.kin);
-    aba::backward(&m, &data.kin, &[0.0, 0.0], 0.0, &mut data.aba);
+    kinematics::forward(&m, &q, &v, &mut data.dynamics.kin);
+    aba::backward(&m, &data.dynamics.kin, &[0.0, 0.0], 0.0, &mut data.dynamics.aba);
     let mut qacc = vec![0.0; 2];
-    aba::forward(&m, &data.kin, &mut data.aba, &mut qacc);
+    aba::forward(&m, &data.dynamics.kin, &mut data.dynamics.aba, &mut qacc);
     let mut con = ConstraintData::new(&m);
-    constraint::rows(&m, &data.kin, &data.aba, &q, &v, &qacc, &[false; 4], &[], &[], &[], |_, n, _, _| n, &mut con);
+    constraint::rows::push_rows(&m, &data.dynamics.kin, &data.dynamics.aba, &q, &v, &qacc, &[false; 4], &[], &[], &[], |_, n, _, _| n, &mut con);
     assert_eq!(con.len(), 2, "both joints sit at a limit");
-    constraint::assemble(&m, &data.kin, &data.aba, &qacc, &mut con);
-    let mass = crba(&m, &data.kin);
+    constraint::test_forces::assemble(&m, &data.dynamics.kin, &data.dynamics.aba, &qacc, &mut con);
+    let mass = crba(&m, &data.dynamics.kin);
     let minv0 = cholesky_solve(&mass, &[1.0, 0.0]);
     let minv1 = cholesky_solve(&mass, &[0.0, 1.0]);
     // rows: joint a at its lower limit (+1), joint b at its upper limit (−1)

@@ -3,7 +3,7 @@
 
 use crate::math::Force;
 use crate::model::{Model, WORLD};
-use crate::step::kinematics::KinData;
+use crate::dynamics::kinematics::KinData;
 
 /// Dense joint-space inertia M(q) (nv × nv, row-major), armature included.
 pub fn crba(m: &Model, kin: &KinData) -> Vec<f64> {

@@ -1,4 +1,49 @@
-//! Reference algorithms that are not on the hot path: test oracles and diagnostics.
+//! Featherstone's dynamics of a kinematic tree: kinematics, applied forces, the articulated-body
+//! algorithm (the step's), and CRBA and RNEA (checks of it).
 
+pub mod aba;
 pub mod crba;
+pub mod forces;
+pub mod kinematics;
 pub mod rnea;
+
+use aba::AbaData;
+use kinematics::KinData;
+
+use crate::model::Model;
+
+/// One evaluation of a world's dynamics: kinematics, the ABA's quantities, the applied forces
+/// and the joint accelerations.
+#[derive(Clone, Debug, Default)]
+pub struct DynamicsData {
+    /// Poses, velocities and inertias of the nodes.
+    pub kin: KinData,
+    /// ABA inward-pass quantities and spatial accelerations.
+    pub aba: AbaData,
+    /// Total applied generalised force (nv): actuators + passive.
+    pub qfrc_applied: Vec<f64>,
+    /// Joint accelerations of the last evaluation (nv).
+    pub qacc: Vec<f64>,
+}
+
+impl DynamicsData {
+    /// Buffers sized for `m`.
+    pub fn new(m: &Model) -> Self {
+        DynamicsData { kin: KinData::new(m), aba: AbaData::new(m), qfrc_applied: vec![0.0; m.nv], qacc: vec![0.0; m.nv] }
+    }
+}
+
+/// Applied forces and both ABA passes, on the kinematics already in `dy.kin`; `h_damp` > 0
+/// treats joint damping implicitly over that step (Featherstone 2008, Table 7.1 passes 2–3).
+pub fn accelerations(m: &Model, dy: &mut DynamicsData, qpos: &[f64], qvel: &[f64], ctrl: &[f64], h_damp: f64) {
+    forces::applied(m, qpos, qvel, ctrl, &mut dy.qfrc_applied);
+    aba::backward(m, &dy.kin, &dy.qfrc_applied, h_damp, &mut dy.aba);
+    aba::forward(m, &dy.kin, &mut dy.aba, &mut dy.qacc);
+}
+
+/// Forward dynamics at (qpos, qvel, ctrl) without constraints: `dy.qacc` gets the true
+/// accelerations (no implicit damping), as MuJoCo's `mj_forward` with constraints disabled.
+pub fn forward(m: &Model, dy: &mut DynamicsData, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) {
+    kinematics::forward(m, qpos, qvel, &mut dy.kin);
+    accelerations(m, dy, qpos, qvel, ctrl, 0.0);
+}

@@ -2,7 +2,7 @@
 
 use crate::math::{Force, Motion};
 use crate::model::{Model, WORLD};
-use crate::step::kinematics::KinData;
+use crate::dynamics::kinematics::KinData;
 
 /// τ = ID(q, q̇, q̈) for the rigid bodies (armature and passive forces excluded), gravity as the
 /// fictitious base acceleration −g. `kin` must hold the kinematics of (q, q̇); in its world

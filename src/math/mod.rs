@@ -25,6 +25,12 @@ pub const SPLITMIX_GAMMA: u64 = 0x9E37_79B9_7F4A_7C15;
 /// mjMAXVAL), and the largest number the loader and the options accept.
 pub const MAX_STATE: f64 = 1e10;
 
+/// Whether a state entry is NaN or beyond [`MAX_STATE`] (±inf included).
+#[inline]
+pub fn out_of_range(x: f64) -> bool {
+    x.is_nan() || x.abs() > MAX_STATE
+}
+
 /// Skew-symmetric cross-product matrix: `skew(a) * b == a.cross(b)`.
 #[inline]
 pub fn skew(a: DVec3) -> DMat3 {

@@ -8,9 +8,6 @@
 //! qvel = world linear velocity then body-frame angular velocity), and a body without joints is
 //! welded to its parent's node with a fixed offset.
 
-mod compile;
-mod inertia;
-mod pairs;
 pub mod visual;
 
 use glam::{DMat3, DQuat, DVec3};
@@ -381,16 +378,6 @@ pub struct Model {
 }
 
 impl Model {
-    /// Parses and compiles MJCF text.
-    pub fn from_mjcf(xml: &str) -> crate::Result<Model> {
-        compile::compile(crate::mjcf::parse(xml)?)
-    }
-
-    /// Reads, parses and compiles an MJCF file.
-    pub fn from_mjcf_file(path: &std::path::Path) -> crate::Result<Model> {
-        Model::from_mjcf(&read_mjcf_file(path)?)
-    }
-
     /// Hinge and slide joints with a range: the joints limits act on (ball and free joints' ranges
     /// are not enforced).
     pub fn limited_joints(&self) -> impl Iterator<Item = usize> + '_ {
@@ -408,15 +395,4 @@ impl Model {
     pub fn body_id(&self, name: &str) -> Option<usize> {
         self.body_name.iter().position(|n| n == name)
     }
-}
-
-/// The text of an MJCF file: an `Io` error when it cannot be read, an `Xml` error naming the line
-/// when it is not UTF-8.
-pub fn read_mjcf_file(path: &std::path::Path) -> crate::Result<String> {
-    let bytes = std::fs::read(path).map_err(|e| crate::Error::Io(format!("cannot read MJCF file '{}': {e}", path.display())))?;
-    String::from_utf8(bytes).map_err(|e| {
-        let at = e.utf8_error().valid_up_to();
-        let line = 1 + e.as_bytes()[..at].iter().filter(|&&b| b == b'\n').count() as u32;
-        crate::Error::Xml { line, message: format!("'{}' is not UTF-8 text (invalid byte at offset {at})", path.display()) }
-    })
 }

@@ -4,9 +4,7 @@
 
 use glam::{DMat3, DVec3};
 
-use crate::error::{Error, Result};
 pub use crate::mjcf::{Builtin, TextureKind, TrackMode};
-use crate::mjcf::{ModelSpec, DEFAULT_GEOM_RGBA};
 
 /// A texture: a procedural pattern.
 #[derive(Clone, Debug, PartialEq)]
@@ -131,108 +129,4 @@ pub struct Visual {
     pub extent: Option<f64>,
     /// The model's centre as given by `<statistic>`.
     pub center: Option<DVec3>,
-}
-
-/// Resolves the names of `spec`'s visual elements against the compiled bodies (`body_id`).
-pub(super) fn compile(spec: &ModelSpec, body_id: impl Fn(&str) -> Option<usize>) -> Result<Visual> {
-    let v = &spec.visual;
-    let textures: Vec<Texture> = v
-        .textures
-        .iter()
-        .map(|t| Texture { kind: t.kind, builtin: t.builtin, rgb1: DVec3::from_array(t.rgb1), rgb2: DVec3::from_array(t.rgb2) })
-        .collect();
-    let find_tex = |name: &str, line: u32| {
-        v.textures
-            .iter()
-            .position(|t| t.name == name)
-            .ok_or_else(|| Error::model("material", Some("texture"), line, format!("unknown texture '{name}'")))
-    };
-    let mut materials = Vec::with_capacity(v.materials.len());
-    for m in &v.materials {
-        materials.push(Material {
-            texture: m.texture.as_deref().map(|t| find_tex(t, m.line)).transpose()?,
-            texrepeat: m.texrepeat,
-            texuniform: m.texuniform,
-            emission: m.emission,
-            specular: m.specular,
-            shininess: m.shininess,
-            reflectance: m.reflectance,
-        });
-    }
-    let target = |name: &Option<String>, tag: &str, line: u32| -> Result<Option<usize>> {
-        name.as_deref()
-            .map(|n| body_id(n).ok_or_else(|| Error::model(tag, Some("target"), line, format!("unknown body '{n}'"))))
-            .transpose()
-    };
-    let (mut geom_rgba, mut geom_material, mut lights, mut cameras) = (vec![], vec![], vec![], vec![]);
-    for (b, body) in spec.bodies.iter().enumerate() {
-        for g in &body.geoms {
-            let mat = match &g.material {
-                None => None,
-                Some(name) => Some(v.materials.iter().position(|m| &m.name == name).ok_or_else(|| {
-                    Error::model("geom", Some("material"), g.line, format!("unknown material '{name}'"))
-                })?),
-            };
-            // MuJoCo: a geom with a material and the default colour takes the material's
-            geom_rgba.push(match mat {
-                Some(i) if g.rgba == DEFAULT_GEOM_RGBA => v.materials[i].rgba,
-                _ => g.rgba,
-            });
-            geom_material.push(mat);
-        }
-        for l in &body.lights {
-            lights.push(Light {
-                body: b,
-                mode: l.mode,
-                target: target(&l.target, "light", body.line)?,
-                directional: l.directional,
-                castshadow: l.castshadow,
-                active: l.active,
-                pos: l.pos,
-                dir: l.dir,
-                diffuse: DVec3::from_array(l.diffuse),
-                ambient: DVec3::from_array(l.ambient),
-                specular: DVec3::from_array(l.specular),
-                attenuation: l.attenuation,
-                cos_cutoff: l.cutoff.to_radians().cos(),
-                exponent: l.exponent,
-            });
-        }
-        for c in &body.cameras {
-            cameras.push(Camera {
-                name: c.name.clone(),
-                body: b,
-                mode: c.mode,
-                target: target(&c.target, "camera", c.line)?,
-                pos: c.pos,
-                mat: DMat3::from_quat(c.quat),
-                fovy: c.fovy,
-            });
-        }
-    }
-    for (i, c) in cameras.iter().enumerate() {
-        if !c.name.is_empty() && cameras[..i].iter().any(|o| o.name == c.name) {
-            return Err(Error::Compile(format!("duplicate camera name '{}'", c.name)));
-        }
-    }
-    Ok(Visual {
-        geom_rgba,
-        geom_material,
-        materials,
-        skybox: textures.iter().position(|t| t.kind == TextureKind::Skybox),
-        textures,
-        lights,
-        cameras,
-        fovy: v.fovy,
-        azimuth: v.azimuth,
-        elevation: v.elevation,
-        znear: v.znear,
-        zfar: v.zfar,
-        head_ambient: DVec3::from_array(v.head_ambient),
-        head_diffuse: DVec3::from_array(v.head_diffuse),
-        head_specular: DVec3::from_array(v.head_specular),
-        head_active: v.head_active,
-        extent: v.extent,
-        center: v.center,
-    })
 }

@@ -10,7 +10,7 @@ use pyo3::types::PyDict;
 use super::errors::{as_f64, checked_values};
 use super::model::PyModel;
 use crate::batch::{Batch, BatchState, TaskRun};
-use crate::state::FlatState;
+use crate::step::state::FlatState;
 use crate::sensors::Sensors;
 use crate::tasks::Task;
 
@@ -445,7 +445,7 @@ impl PyBatch {
         let qpos = self.qpos.bind(py).readonly();
         let all = qpos.as_slice()?;
         let rows: Vec<&[f64]> = which.iter().map(|&i| &all[i * m.nq..(i + 1) * m.nq]).collect();
-        if let Some((k, v)) = rows.iter().enumerate().find_map(|(k, q)| q.iter().find(|x| crate::batch::out_of_range(**x)).map(|v| (k, *v))) {
+        if let Some((k, v)) = rows.iter().enumerate().find_map(|(k, q)| q.iter().find(|x| crate::math::out_of_range(**x)).map(|v| (k, *v))) {
             return Err(PyValueError::new_err(format!("cannot render world {}: its qpos holds {v}", which[k])));
         }
         super::render::draw(py, &m, &r, &rows, &cams, w, h, rgb, depth, false)

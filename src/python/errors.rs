@@ -1,11 +1,11 @@
-//! crate::Error → Python exceptions, and array-argument conversion with shape checks.
+//! crate::error::Error → Python exceptions, and array-argument conversion with shape checks.
 
 use numpy::{PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyOSError, PyUserWarning, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::create_exception;
 
-use crate::Error;
+use crate::error::Error;
 
 create_exception!(
     sinew,

@@ -22,7 +22,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ModelError", py.get_type::<errors::ModelError>())?;
     m.add("ModelWarning", py.get_type::<errors::ModelWarning>())?;
     m.add("SimulationError", py.get_type::<errors::SimulationError>())?;
-    m.add("MAX_STATE", crate::batch::MAX_STATE)?;
+    m.add("MAX_STATE", crate::math::MAX_STATE)?;
     m.add("MAX_RENDER_SIDE", crate::render::MAX_SIDE)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -57,7 +57,7 @@ impl PyModel {
     fn from_mjcf(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Self> {
         let loaded = py.detach(|| {
             super::errors::guard_model("Model.from_mjcf", || {
-                let source = crate::model::read_mjcf_file(&path)?;
+                let source = crate::mjcf::read_file(&path)?;
                 Model::from_mjcf(&source).map(|m| (m, source))
             })
         })?;
@@ -107,8 +107,8 @@ impl PyModel {
             };
         }
         if let Some(g) = gravity {
-            if g.iter().any(|x| crate::batch::out_of_range(*x)) {
-                return Err(PyValueError::new_err(format!("gravity must be finite and within ±{:e}, as in a model file", crate::batch::MAX_STATE)));
+            if g.iter().any(|x| crate::math::out_of_range(*x)) {
+                return Err(PyValueError::new_err(format!("gravity must be finite and within ±{:e}, as in a model file", crate::math::MAX_STATE)));
             }
             m.opt.gravity = glam::DVec3::from_array(g);
         }
@@ -125,7 +125,7 @@ impl PyModel {
             m.opt.limit = l;
         }
         if let Some((kp, kd)) = trajectory_gains {
-            if !(kp >= 0.0 && kd >= 0.0 && kp <= crate::batch::MAX_STATE && kd <= crate::batch::MAX_STATE) {
+            if !(kp >= 0.0 && kd >= 0.0 && kp <= crate::math::MAX_STATE && kd <= crate::math::MAX_STATE) {
                 return Err(PyValueError::new_err(format!("trajectory_gains must lie in [0, 1e10], got ({kp}, {kd})")));
             }
             if pd_gains.is_some() {
@@ -141,7 +141,7 @@ impl PyModel {
             };
         }
         if let Some((kp, kd)) = pd_gains {
-            if !(kp >= 0.0 && kd >= 0.0 && kp <= crate::batch::MAX_STATE && kd <= crate::batch::MAX_STATE) {
+            if !(kp >= 0.0 && kd >= 0.0 && kp <= crate::math::MAX_STATE && kd <= crate::math::MAX_STATE) {
                 return Err(PyValueError::new_err(format!("pd_gains must lie in [0, 1e10], got ({kp}, {kd})")));
             }
             m.opt.actuation = Actuation::Pd { kp, kd };

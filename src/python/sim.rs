@@ -9,12 +9,12 @@ use pyo3::prelude::*;
 use super::errors::{as_f64, checked_values, diverged, first_nonfinite, to_py};
 use super::model::PyModel;
 use crate::model::Model;
-use crate::step::kinematics;
-use crate::data::History;
-use crate::state::FlatState;
-use crate::Data;
+use crate::dynamics::kinematics;
+use crate::constraint::History;
+use crate::step::state::FlatState;
+use crate::step::data::Data;
 
-use crate::batch::out_of_range;
+use crate::math::out_of_range;
 
 /// One simulated world.
 #[pyclass(name = "Sim", module = "sinew._core")]
@@ -125,7 +125,7 @@ impl PySim {
     #[getter]
     fn xpos<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         self.kinematics(py)?;
-        let flat: Vec<f64> = self.data.kin.xpos.iter().flat_map(|v| v.to_array()).collect();
+        let flat: Vec<f64> = self.data.dynamics.kin.xpos.iter().flat_map(|v| v.to_array()).collect();
         PyArray1::from_vec(py, flat).reshape([self.model.nbody, 3])
     }
     /// Body orientations in world as rotation matrices (nbody, 3, 3) for the current qpos.
@@ -134,6 +134,7 @@ impl PySim {
         self.kinematics(py)?;
         let flat: Vec<f64> = self
             .data
+            .dynamics
             .kin
             .xmat
             .iter()
@@ -166,7 +167,7 @@ impl PySim {
         let (m, data) = (&self.model, &mut self.data);
         let (q, v, c) = (qpos.as_slice()?, qvel.as_slice()?, ctrl.as_slice()?);
         super::errors::guard("Sim.forward", || crate::step::forward(m, data, q, v, c))?;
-        self.qacc.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&self.data.qacc);
+        self.qacc.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&self.data.dynamics.qacc);
         Ok(())
     }
 
@@ -182,7 +183,7 @@ impl PySim {
             (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readonly());
         let (qpos, qvel, ctrl) = (qpos.as_slice_mut()?, qvel.as_slice_mut()?, ctrl.as_slice()?);
         let start = (qpos.to_vec(), qvel.to_vec(), self.time);
-        self.saved.clone_from(&data.history);
+        self.saved.clone_from(&data.constraints.history);
         let mut time = self.time;
         let failure = py.detach(|| {
             std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
@@ -218,7 +219,7 @@ impl PySim {
             )));
         }
         self.time = time;
-        self.qacc.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&self.data.qacc);
+        self.qacc.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&self.data.dynamics.qacc);
         Ok(())
     }
 
@@ -228,8 +229,8 @@ impl PySim {
         let nu = self.model.nu;
         let v = checked_values(&qvel_ref, "qvel_ref", &[nu])?;
         let a = checked_values(&qacc_ref, "qacc_ref", &[nu])?;
-        self.data.feedforward[..nu].copy_from_slice(&v);
-        self.data.feedforward[nu..].copy_from_slice(&a);
+        self.data.constraints.feedforward[..nu].copy_from_slice(&v);
+        self.data.constraints.feedforward[nu..].copy_from_slice(&a);
         Ok(())
     }
 
@@ -242,7 +243,7 @@ impl PySim {
         self.ctrl.bind(py).readwrite().as_slice_mut()?.fill(0.0);
         self.qacc.bind(py).readwrite().as_slice_mut()?.fill(0.0);
         self.time = 0.0;
-        self.data.feedforward.fill(0.0);
+        self.data.constraints.feedforward.fill(0.0);
         self.data.restore_history(&History::new());
         Ok(())
     }
@@ -286,9 +287,9 @@ impl PySim {
     /// negative when penetrating), normal_force and friction_force (world vector, N).
     #[getter]
     fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, pyo3::types::PyDict>>> {
-        use crate::step::constraint::RowKind;
+        use crate::constraint::RowKind;
         let m = &*self.model;
-        let con = &self.data.con;
+        let con = &self.data.constraints.con;
         let per_force = if m.opt.constraint_mode == crate::model::ConstraintMode::Velocity { 1.0 / m.opt.timestep } else { 1.0 };
         let mut out = Vec::new();
         for (ci, c) in self.data.coll.contacts.iter().enumerate() {
@@ -296,7 +297,7 @@ impl PySim {
             let mut ffric = glam::DVec3::ZERO;
             for j in 0..con.len() {
                 if con.source[j] == ci && con.kind[j].is_contact() {
-                    let f = self.data.solve.force.get(j).copied().unwrap_or(0.0) * per_force;
+                    let f = self.data.constraints.solve.force.get(j).copied().unwrap_or(0.0) * per_force;
                     match con.kind[j] {
                         RowKind::Normal => fnormal = f,
                         _ => ffric += con.dir[j] * f,
@@ -325,7 +326,7 @@ impl PySim {
     /// CRBA inertia K is built with: M + h × joint damping, which the constrained step treats
     /// implicitly), so that K = J M⁻¹ Jᵀ.
     fn constraint_system<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
-        use crate::step::constraint::RowKind;
+        use crate::constraint::RowKind;
         self.check_inputs(py)?;
         let m = &*self.model;
         let (qpos, qvel, ctrl) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly());
@@ -356,9 +357,9 @@ impl PySim {
     /// projections.
     #[getter]
     fn constraint_stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
-        let s = &self.data.solve.stats;
+        let s = &self.data.constraints.solve.stats;
         let d = pyo3::types::PyDict::new(py);
-        d.set_item("rows", self.data.con.len())?;
+        d.set_item("rows", self.data.constraints.con.len())?;
         d.set_item("solves", s.solves)?;
         d.set_item("pivots", s.pivots)?;
         d.set_item("warm_starts", s.warm_starts)?;
@@ -370,8 +371,8 @@ impl PySim {
         d.set_item("left_out", s.left_out)?;
         d.set_item("regrown", s.regrown)?;
         d.set_item("residual", s.residual)?;
-        d.set_item("impacts", self.data.solve.impacts)?;
-        d.set_item("projections", self.data.post.projections)?;
+        d.set_item("impacts", self.data.constraints.solve.impacts)?;
+        d.set_item("projections", self.data.constraints.post.projections)?;
         Ok(d)
     }
 
@@ -393,7 +394,7 @@ impl PySim {
 
     fn kinematics(&mut self, py: Python<'_>) -> PyResult<()> {
         let (qpos, qvel) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly());
-        kinematics::forward(&self.model, qpos.as_slice()?, qvel.as_slice()?, &mut self.data.kin);
+        kinematics::forward(&self.model, qpos.as_slice()?, qvel.as_slice()?, &mut self.data.dynamics.kin);
         Ok(())
     }
 }

@@ -15,7 +15,7 @@ use rayon::prelude::*;
 
 pub use camera::{CameraChoice, FreeCamera, View};
 use crate::model::{GeomType, Model};
-use crate::step::kinematics::{self, KinData};
+use crate::dynamics::kinematics::{self, KinData};
 
 /// Largest image side accepted, in pixels.
 pub const MAX_SIDE: usize = 16384;

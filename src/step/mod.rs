@@ -1,89 +1,28 @@
-//! ④ One simulation step. [`step`] reads as the pipeline; each stage lives in its own file
-//! (rows in `rows.rs`, impacts in `impact.rs`, the constraint solve in `solve.rs`, RK4 in `rk4.rs`).
+//! One simulation step. [`step`] reads as the pipeline; each stage lives in the room named for
+//! what it does (`dynamics`, `collision`, `constraint`, `integrate`).
 
-pub mod aba;
-pub mod collision;
 pub mod data;
-pub mod constraint;
-pub mod forces;
-pub mod integrate;
-pub mod kinematics;
-pub mod lcp;
-pub mod stabilize;
+pub mod state;
 
-use glam::DVec3;
+use crate::collision;
+mod impacts;
 
-use crate::data::{Data, RowKey};
-
-/// Pipeline stages, for the per-stage cost breakdown (cargo feature `stage-timing`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Stage {
-    /// Poses, velocities, velocity products.
-    Kinematics,
-    /// Applied forces and the ABA's passes.
-    Dynamics,
-    /// Contact detection (both checks).
-    Collision,
-    /// Constraint rows and their b.
-    Rows,
-    /// K and Δq̈ by test forces.
-    Assembly,
-    /// The LCP: vector, matrix, solve.
-    Lcp,
-    /// The velocity update after an impact.
-    Impact,
-    /// Time integration.
-    Integration,
-    /// Post-stabilisation check and projection.
-    Projection,
-}
-
-/// Number of [`Stage`]s.
-pub const STAGES: usize = 9;
-
-/// Stage names, in [`Stage`] order.
-pub const STAGE_NAMES: [&str; STAGES] = ["kinematics", "ABA", "collision", "rows", "K assembly", "LCP", "impact update", "integration", "post-stabilisation"];
-
-/// Runs `$body`, adding its wall time to `$data.stage_ns[$stage]` with the `stage-timing` feature.
-macro_rules! timed {
-    ($data:expr, $stage:expr, $body:expr) => {{
-        #[cfg(feature = "stage-timing")]
-        let start = std::time::Instant::now();
-        let out = $body;
-        #[cfg(feature = "stage-timing")]
-        {
-            $data.stage_ns[$stage as usize] += start.elapsed().as_nanos() as u64;
-        }
-        #[cfg(not(feature = "stage-timing"))]
-        let _ = $stage;
-        out
-    }};
-}
-mod impact;
-mod rk4;
-mod rows;
-mod solve;
-
+use impacts::impacts;
+use crate::constraint::rows::{build_rows, missed_contacts, missed_limits};
+use crate::constraint::solve::{apply_to_qacc, solve_rows, Level};
+use crate::constraint::{stabilize, test_forces, RowKind};
+use crate::dynamics::{self, kinematics};
+use crate::integrate::{self, rk4::rk4};
 use crate::model::{ConstraintMode, Integrator, Model};
-use constraint::RowKind;
-use impact::*;
-use rk4::*;
-use rows::*;
-use solve::*;
+use data::Data;
 
-/// Forward dynamics at (qpos, qvel, ctrl) without constraints: fills `data.qacc` with the true
-/// accelerations (no implicit damping), as MuJoCo's `mj_forward` with constraints disabled.
+pub use crate::timing::{Stage, STAGES, STAGE_NAMES};
+use crate::timing::timed;
+
+/// Forward dynamics at (qpos, qvel, ctrl) without constraints: fills `data.dynamics.qacc` with
+/// the true accelerations (no implicit damping), as MuJoCo's `mj_forward` with constraints disabled.
 pub fn forward(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) {
-    kinematics::forward(m, qpos, qvel, &mut data.kin);
-    dynamics(m, data, qpos, qvel, ctrl, 0.0);
-}
-
-/// Applied forces and both ABA passes, on the kinematics already in `data.kin`; `h_damp` > 0
-/// treats joint damping implicitly over that step.
-pub(super) fn dynamics(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64], h_damp: f64) {
-    forces::applied(m, qpos, qvel, ctrl, &mut data.qfrc_applied);
-    aba::backward(m, &data.kin, &data.qfrc_applied, h_damp, &mut data.aba);
-    aba::forward(m, &data.kin, &mut data.aba, &mut data.qacc);
+    dynamics::forward(m, &mut data.dynamics, qpos, qvel, ctrl);
 }
 
 /// Advances (qpos, qvel, time) by one time step under `ctrl`.
@@ -93,20 +32,20 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
     // leapfrog: the step's dynamics are the midpoint configuration's
     let leapfrog = m.opt.integrator == Integrator::Leapfrog;
     if leapfrog {
-        data.post.qpos_start.copy_from_slice(qpos);
-        data.post.qvel_start.copy_from_slice(qvel);
+        data.constraints.post.qpos_start.copy_from_slice(qpos);
+        data.constraints.post.qvel_start.copy_from_slice(qvel);
         timed!(data, Stage::Integration, integrate::integrate_pos(m, qpos, qvel, 0.5 * h));
     }
     // 1. poses and velocities
-    timed!(data, Stage::Kinematics, stabilize::kinematics_of(m, data, qpos, qvel));
+    timed!(data, Stage::Kinematics, stabilize::kinematics_of(m, &mut data.world(), qpos, qvel));
     // 2. articulated inertias and the constraint-free accelerations
-    timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, h_damp));
+    timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, qpos, qvel, ctrl, h_damp));
     // 3. contacts of this configuration (reach over the step from velocities and accelerations)
-    timed!(data, Stage::Collision, collision::collide(m, &data.kin, &data.aba, qpos, qvel, &data.qacc, &mut data.coll));
+    timed!(data, Stage::Collision, collision::collide(m, &data.dynamics.kin, &data.dynamics.aba, qpos, qvel, &data.dynamics.qacc, &mut data.coll));
     // 4. constraint rows: contacts (normal + friction), active limits, motion control
-    timed!(data, Stage::Rows, build_rows(m, data, qpos, qvel, ctrl));
-    data.history.constrained = !data.con.is_empty();
-    if data.con.is_empty() {
+    timed!(data, Stage::Rows, build_rows(m, &mut data.world(), qpos, qvel, ctrl));
+    data.constraints.history.constrained = !data.constraints.con.is_empty();
+    if data.constraints.con.is_empty() {
         // 8. nothing to constrain: the plain step
         free_step(m, data, qpos, qvel, ctrl, h_damp);
     } else {
@@ -114,12 +53,12 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
         constrain(m, data, qpos, qvel, ctrl, h_damp);
         // 8. integrate: semi-implicit Euler (the seed's scheme; RK4's constrained steps too), or
         // leapfrog's closing kick and drift
-        timed!(data, Stage::Integration, integrate::kick_drift(m, qpos, qvel, &data.qacc, h, lever));
+        timed!(data, Stage::Integration, integrate::kick_drift(m, qpos, qvel, &data.dynamics.qacc, h, lever));
         // 9. limits leapfrog's drift crossed, penetration and limits the linearised rows missed
         if leapfrog {
-            timed!(data, Stage::Projection, stabilize::hold_limits(m, &data.post, qpos));
+            timed!(data, Stage::Projection, stabilize::hold_limits(m, &data.constraints.post, qpos));
         }
-        timed!(data, Stage::Projection, stabilize::project(m, data, qpos, qvel));
+        timed!(data, Stage::Projection, stabilize::project(m, &mut data.world(), qpos, qvel));
     }
     *time += h;
 }
@@ -131,7 +70,7 @@ pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl
 /// turns out otherwise.
 fn damping_horizon(m: &Model, data: &Data) -> f64 {
     match m.opt.integrator {
-        Integrator::Rk4 if !(m.may_constrain() && data.history.constrained) => 0.0,
+        Integrator::Rk4 if !(m.may_constrain() && data.constraints.history.constrained) => 0.0,
         _ => m.opt.timestep,
     }
 }
@@ -140,14 +79,14 @@ fn damping_horizon(m: &Model, data: &Data) -> f64 {
 /// `h_damp`.
 fn free_step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl: &[f64], h_damp: f64) {
     let (h, lever) = (m.opt.timestep, m.opt.lever());
-    data.solve.force.clear();
+    data.constraints.solve.force.clear();
     match m.opt.integrator {
-        Integrator::Euler | Integrator::Leapfrog => timed!(data, Stage::Integration, integrate::kick_drift(m, qpos, qvel, &data.qacc, h, lever)),
+        Integrator::Euler | Integrator::Leapfrog => timed!(data, Stage::Integration, integrate::kick_drift(m, qpos, qvel, &data.dynamics.qacc, h, lever)),
         Integrator::Rk4 => {
             if h_damp != 0.0 {
-                timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, 0.0));
+                timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, qpos, qvel, ctrl, 0.0));
             }
-            timed!(data, Stage::Integration, rk4(m, data, qpos, qvel, ctrl, h))
+            timed!(data, Stage::Integration, rk4(m, &mut data.dynamics, &mut data.rk4, qpos, qvel, ctrl, h))
         }
     }
 }
@@ -160,44 +99,44 @@ fn constrain(m: &Model, data: &mut Data, qpos: &[f64], qvel: &mut [f64], ctrl: &
     let h = m.opt.timestep;
     // with constraints the step is semi-implicit Euler: damping implicit over the step
     if h_damp != h {
-        timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, h));
+        timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, qpos, qvel, ctrl, h));
     }
     let mut redo = false;
-    data.solve.impact_warm.clear();
+    data.constraints.solve.impact_warm.clear();
     loop {
         // 5. b; K by test forces once a solve needs it (rows that the constraint-free motion
         // already satisfies need no K)
-        timed!(data, Stage::Rows, constraint::bias(m, &data.kin, &data.aba, &data.qacc, &mut data.con));
+        timed!(data, Stage::Rows, test_forces::bias(m, &data.dynamics.kin, &data.dynamics.aba, &data.dynamics.qacc, &mut data.constraints.con));
         // 6. impacts (e > 0)
-        let impacted = impacts(m, data, qpos, qvel, ctrl);
+        let impacted = impacts(m, &mut data.world(), qpos, qvel, ctrl);
         if m.opt.constraint_mode == ConstraintMode::Velocity {
             // 7'. one impulse solve: q̈ = q̈₀ + Σ p_k Δq̈⁽ᵏ⁾ / h
-            solve_rows(m, data, Level::TimeStep);
-            apply_to_qacc(m, data, 1.0 / h);
+            solve_rows(m, &mut data.world(), Level::TimeStep);
+            apply_to_qacc(m, &mut data.world(), 1.0 / h);
         } else {
             // 7. constraint forces at the acceleration level, added to q̈
-            solve_rows(m, data, Level::Acceleration);
-            apply_to_qacc(m, data, 1.0);
+            solve_rows(m, &mut data.world(), Level::Acceleration);
+            apply_to_qacc(m, &mut data.world(), 1.0);
         }
         // with no force, no impulse and the accelerations the rows were chosen with, the motion
         // is the constraint-free one they were chosen for: nothing can have been missed
-        let pushed = impacted || h_damp != h || data.solve.force.iter().any(|&f| f != 0.0);
-        let missed = pushed && (missed_limits(m, data, qpos, qvel) | timed!(data, Stage::Collision, missed_contacts(m, data, qvel)));
+        let pushed = impacted || h_damp != h || data.constraints.solve.force.iter().any(|&f| f != 0.0);
+        let missed = pushed && (missed_limits(m, &mut data.world(), qpos, qvel) | timed!(data, Stage::Collision, missed_contacts(m, &mut data.world(), qvel)));
         if redo || !missed {
             break;
         }
         redo = true;
         // the first solve's limit rows stay (an impulse may have made them look inactive)
-        for r in (0..data.con.len()).filter(|&r| data.con.kind[r] == RowKind::Limit) {
-            let side = (data.con.dof[r].1 < 0.0) as usize;
-            data.rows.limit_forced[2 * data.con.source[r] + side] = true;
+        for r in (0..data.constraints.con.len()).filter(|&r| data.constraints.con.kind[r] == RowKind::Limit) {
+            let side = (data.constraints.con.dof[r].1 < 0.0) as usize;
+            data.constraints.rows.limit_forced[2 * data.constraints.con.source[r] + side] = true;
         }
-        timed!(data, Stage::Dynamics, dynamics(m, data, qpos, qvel, ctrl, h));
-        timed!(data, Stage::Rows, build_rows(m, data, qpos, qvel, ctrl));
-        data.solve.impact_warm.clear();
+        timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, qpos, qvel, ctrl, h));
+        timed!(data, Stage::Rows, build_rows(m, &mut data.world(), qpos, qvel, ctrl));
+        data.constraints.solve.impact_warm.clear();
     }
     if redo {
-        data.rows.limit_forced.fill(false);
+        data.constraints.rows.limit_forced.fill(false);
     }
 }
 
@@ -225,15 +164,15 @@ pub struct ConstraintSystem {
 pub fn constraint_system(m: &Model, data: &Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) -> ConstraintSystem {
     let mut d = data.clone();
     let h = m.opt.timestep;
-    kinematics::forward(m, qpos, qvel, &mut d.kin);
+    kinematics::forward(m, qpos, qvel, &mut d.dynamics.kin);
     // the constrained step's dynamics: damping implicit over the step, whatever the integrator
-    dynamics(m, &mut d, qpos, qvel, ctrl, h);
-    collision::collide(m, &d.kin, &d.aba, qpos, qvel, &d.qacc, &mut d.coll);
-    build_rows(m, &mut d, qpos, qvel, ctrl);
-    constraint::assemble(m, &d.kin, &d.aba, &d.qacc, &mut d.con);
-    let mut inertia = crate::dynamics::crba::crba(m, &d.kin);
+    dynamics::accelerations(m, &mut d.dynamics, qpos, qvel, ctrl, h);
+    collision::collide(m, &d.dynamics.kin, &d.dynamics.aba, qpos, qvel, &d.dynamics.qacc, &mut d.coll);
+    build_rows(m, &mut d.world(), qpos, qvel, ctrl);
+    test_forces::assemble(m, &d.dynamics.kin, &d.dynamics.aba, &d.dynamics.qacc, &mut d.constraints.con);
+    let mut inertia = crate::dynamics::crba::crba(m, &d.dynamics.kin);
     for (k, damping) in m.dof_damping.iter().enumerate() {
         inertia[k * m.nv + k] += h * damping;
     }
-    ConstraintSystem { kind: d.con.kind.clone(), jac: constraint::dense_jacobian(m, &d.kin, &d.con), k: d.con.k.clone(), b: d.con.b.clone(), inertia }
+    ConstraintSystem { kind: d.constraints.con.kind.clone(), jac: crate::constraint::rows::dense_jacobian(m, &d.dynamics.kin, &d.constraints.con), k: d.constraints.con.k.clone(), b: d.constraints.con.b.clone(), inertia }
 }

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use sinew::batch::out_of_range;
 use sinew::sensors::{self, Sensors};
-use sinew::state::FlatState;
+use sinew::step::state::FlatState;
 use sinew::{Model, State};
 
 use super::Rng;
@@ -193,7 +193,7 @@ fn run_steps(m: &Model, s: &mut State, steps: usize, rng: &mut Rng, t: &mut Tall
     let out = Sensors { xpos: &mut xpos, xmat: &mut xmat, xipos: &mut xipos, xvel: &mut xvel, cfrc_ext: &mut cfrc, qfrc_constraint: &mut qfrc, cinert: &mut cinert, cvel: &mut cvel };
     sensors::write(m, &root, &mut s.data, &s.qpos, &s.qvel, out);
     let outputs = [&xpos, &xmat, &xipos, &xvel, &cfrc, &qfrc, &cinert, &cvel];
-    if outputs.iter().any(|o| o.iter().any(|x| !x.is_finite())) || s.data.qacc.iter().any(|x| !x.is_finite()) {
+    if outputs.iter().any(|o| o.iter().any(|x| !x.is_finite())) || s.data.dynamics.qacc.iter().any(|x| !x.is_finite()) {
         t.silent_nonfinite += 1;
         t.failures.push(format!("{label}: non-finite outputs at a finite state"));
     }

@@ -5,7 +5,7 @@ pub mod fuzz;
 
 use sinew::math::{DVec3, Force};
 use sinew::model::{JointType, Model};
-use sinew::step::kinematics::KinData;
+use sinew::dynamics::kinematics::KinData;
 
 /// SplitMix64: tiny, seeded, reproducible.
 pub struct Rng(pub u64);

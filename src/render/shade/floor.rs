@@ -146,7 +146,7 @@ fn floor(x: f32) -> f32 {
 mod tests {
     use glam::DVec3;
 
-    use crate::Model;
+    use crate::model::Model;
     use crate::render::{CameraChoice, Frame, FreeCamera, Poses, Renderer};
 
     /// A tilted checker floor that mirrors, a light casting shadows, a headlight with specular, and

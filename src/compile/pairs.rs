@@ -1,10 +1,10 @@
 //! The collision data a model carries, decided once at compile time: bounding radii, MuJoCo's
 //! configuration-independent pair filters, and each pair's broadphase test (run by
-//! `step::collision`).
+//! `collision`).
 
 use glam::DVec3;
 
-use super::{GeomPair, GeomType, Model, PairTest, WORLD};
+use crate::model::{GeomPair, GeomType, Model, PairTest, WORLD};
 
 /// Bounding radius of a geom about its centre (planes: infinite).
 pub fn geom_rbound(kind: GeomType, s: [f64; 3]) -> f64 {

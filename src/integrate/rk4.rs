@@ -2,18 +2,19 @@
 //! without constraint rows; ball and free rotations by Runge–Kutta–Munthe-Kaas, which keeps the
 //! fourth order on SO(3) (Munthe-Kaas 1998; Hairer, Lubich & Wanner 2006, §IV.8.2).
 
-use super::*;
-use crate::model::JointType;
+use glam::DVec3;
+
+use super::{integrate_pos, Rk4Scratch, RK4_A, RK4_B};
+use crate::dynamics::{self, kinematics, DynamicsData};
+use crate::model::{JointType, Model};
 
 /// Classical RK4 over the whole (qpos, qvel) state. A rotation's stage state is `q₀ exp(uᵢ)`
 /// with `uᵢ = h Σⱼ Aᵢⱼ Kⱼ` and `Kⱼ = dexp⁻¹(ωⱼ)` at `uⱼ`: adding body-frame angular
 /// velocities taken at different orientations as if they were one vector would be second order.
-pub(super) fn rk4(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl: &[f64], h: f64) {
-    use integrate::{integrate_pos, RK4_A, RK4_B};
-    let mut rk = std::mem::take(&mut data.rk4);
+pub fn rk4(m: &Model, dy: &mut DynamicsData, rk: &mut Rk4Scratch, qpos: &mut [f64], qvel: &mut [f64], ctrl: &[f64], h: f64) {
     // stage 1 is the step's own evaluation (without implicit damping)
     rk.kv[0].copy_from_slice(qvel);
-    rk.ka[0].copy_from_slice(&data.qacc);
+    rk.ka[0].copy_from_slice(&dy.qacc);
     for i in 1..4 {
         // stage state: X0 + h Σ_j A_ij F_j
         rk.qpos.copy_from_slice(qpos);
@@ -31,10 +32,10 @@ pub(super) fn rk4(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64]
         }
         integrate_pos(m, &mut rk.qpos, &rk.dv, h);
         // the dynamics need the nodes only (the next step recomputes the kinematics)
-        kinematics::forward_nodes(m, &rk.qpos, &rk.qvel, &mut data.kin);
-        dynamics(m, data, &rk.qpos, &rk.qvel, ctrl, 0.0);
+        kinematics::forward_nodes(m, &rk.qpos, &rk.qvel, &mut dy.kin);
+        dynamics::accelerations(m, dy, &rk.qpos, &rk.qvel, ctrl, 0.0);
         rk.kv[i].copy_from_slice(&rk.qvel);
-        rk.ka[i].copy_from_slice(&data.qacc);
+        rk.ka[i].copy_from_slice(&dy.qacc);
         lie_algebra_velocity(m, &mut rk.kv[i], &rk.dv, h);
     }
     rk.dv.fill(0.0);
@@ -46,8 +47,7 @@ pub(super) fn rk4(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64]
     }
     integrate_pos(m, qpos, &rk.dv, h);
     // report the acceleration at the start of the step
-    data.qacc.copy_from_slice(&rk.ka[0]);
-    data.rk4 = rk;
+    dy.qacc.copy_from_slice(&rk.ka[0]);
 }
 
 /// Replaces each ball or free rotation's body-frame angular velocity ω in `kv` by the rate of

@@ -2,6 +2,8 @@
 //! Verlet) and classical RK4 (MuJoCo's `RK4`, same tableau). Quaternions move on the manifold and
 //! stay unit.
 
+pub mod rk4;
+
 use crate::math::{quat_integrate, quat_wxyz, DVec3};
 use crate::model::{JointType, Model};
 

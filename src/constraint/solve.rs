@@ -2,12 +2,70 @@
 //! warm start read through the rows' identities, K by test forces), solved by `lcp`, and its
 //! forces or impulses applied to q̈ or q̇.
 
-use super::*;
-use crate::data::SolveData;
-use crate::model::WORLD;
+use crate::timing::{timed, Stage};
+use super::history::RowKey;
+use super::impact::{approaching, rebound, INERT_ROW};
+use super::lcp::{LcpStats, LcpWork};
+use super::lcp;
+use super::system::{ConstraintData, RowKind};
+use super::test_forces::{add_response, clear_k_block, prepare, responses};
+use super::{closing_velocity, impact_speed, Constraints, World};
+use crate::collision;
+use crate::model::{Model, WORLD};
 
+/// The LCP of a step's constraint solves (`constraint::solve`): its matrix and vector, each
+/// variable's role, the answer, the warm start, Lemke's tableau and counters.
+#[derive(Clone, Debug, Default)]
+pub struct SolveData {
+    /// Constraint force (acceleration solve) or impulse (impact solve) per row and λ.
+    pub force: Vec<f64>,
+    /// LCP matrix of the island being solved (row-major).
+    pub m: Vec<f64>,
+    /// LCP vector.
+    pub q: Vec<f64>,
+    /// λ variable of each normal row with friction (usize::MAX: none).
+    pub lambda: Vec<usize>,
+    /// Role of each LCP variable of the island being solved.
+    pub role: Vec<lcp::Role>,
+    /// Island label of each LCP variable (`constraint::solve::island_labels`).
+    pub group: Vec<usize>,
+    /// The LCP variables island by island (by label, each island's in their order).
+    pub order: Vec<usize>,
+    /// Number of each variable in its island's LCP while that is posed (else usize::MAX).
+    pub local: Vec<usize>,
+    /// The island's q, variables left out, warm set and answer.
+    pub island_q: Vec<f64>,
+    /// See `island_q`.
+    pub island_out: Vec<bool>,
+    /// See `island_q`.
+    pub island_warm: Vec<bool>,
+    /// See `island_q`.
+    pub island_z: Vec<f64>,
+    /// The island's rows whose test forces are not pushed, with their numbers in its LCP (in
+    /// increasing row order): scratch for the matrix.
+    pub unpushed: Vec<(usize, usize)>,
+    /// Union–find forest over the nodes' trees, scratch for the labels (nnode).
+    pub tree_link: Vec<usize>,
+    /// LCP variables left out of the solve (held at zero force) and of K.
+    pub out: Vec<bool>,
+    /// Active set of this step's impact solve, which warm-starts the force solve on the same rows
+    /// after it (empty: no impact this step, or rows rebuilt since).
+    pub impact_warm: Vec<bool>,
+    /// The active set the force solve starts from (`constraint::solve::warm_guess`).
+    pub warm: Vec<bool>,
+    /// Last step's λ variable of each of its rows that owns one, scratch for `constraint::solve::warm_guess`.
+    pub warm_lambda: Vec<usize>,
+    /// Lemke tableau.
+    pub work: LcpWork,
+    /// Solver statistics.
+    pub stats: LcpStats,
+    /// Impact solves run.
+    pub impacts: u64,
+}
+
+/// Which solve the rows are posed for.
 #[derive(Clone, Copy, PartialEq, Eq)]
-pub(super) enum Level {
+pub enum Level {
     /// The seed's impact solve.
     Velocity,
     /// The seed's per-step force solve.
@@ -16,24 +74,24 @@ pub(super) enum Level {
     TimeStep,
 }
 
-/// Assembles the LCP over all rows plus one λ per friction row and solves it into `data.solve.force`.
-pub(super) fn solve_rows(m: &Model, data: &mut Data, level: Level) {
+/// Assembles the LCP over all rows plus one λ per friction row and solves it into `data.constraints.solve.force`.
+pub fn solve_rows(m: &Model, data: &mut World<'_>, level: Level) {
     // q, and the rows the solve starts without
     let n = timed!(data, Stage::Lcp, lcp_vector(m, data, level).map(|n| (n, leave_out(data, level, n))));
     let Some((n, warm)) = n else {
         // every row already satisfied without force (a limit at rest, contacts separating):
         // f = 0 solves the LCP (a friction row's λ takes up its demand) and K is not needed
-        data.solve.stats.solves += 1;
-        data.solve.stats.residual = 0.0;
+        data.constraints.solve.stats.solves += 1;
+        data.constraints.solve.stats.residual = 0.0;
         record_warm(data, level);
         return;
     };
     // island by island: K's columns for the rows kept; more when the answer pushes into a row
     // left out
-    let left_any = data.solve.out.contains(&true);
+    let left_any = data.constraints.solve.out.contains(&true);
     let mut brought_back = false;
     island_labels(data, n);
-    let SolveData { group, order, .. } = &mut data.solve;
+    let SolveData { group, order, .. } = &mut data.constraints.solve;
     order.clear();
     order.extend(0..n);
     // one island (a single character) keeps the variables' order
@@ -42,17 +100,18 @@ pub(super) fn solve_rows(m: &Model, data: &mut Data, level: Level) {
     }
     let mut start = 0;
     while start < n {
-        let label = data.solve.group[data.solve.order[start]];
-        let end = (start..n).find(|&k| data.solve.group[data.solve.order[k]] != label).unwrap_or(n);
+        let label = data.constraints.solve.group[data.constraints.solve.order[start]];
+        let end = (start..n).find(|&k| data.constraints.solve.group[data.constraints.solve.order[k]] != label).unwrap_or(n);
         // the island's block of K, whose pushed rows its M reads (its rows come first among its
         // variables, in order)
-        let island = &data.solve.order[start..end];
-        let rows = island.partition_point(|&v| v < data.con.len());
-        constraint::prepare(m, &mut data.con);
-        constraint::clear_k_block(&mut data.con, &island[..rows]);
+        let island = &data.constraints.solve.order[start..end];
+        let rows = island.partition_point(|&v| v < data.constraints.con.len());
+        prepare(m, &mut data.constraints.con);
+        clear_k_block(&mut data.constraints.con, &island[..rows]);
         loop {
-            let Data { kin, aba, con, solve: SolveData { out: lcp_out, group, .. }, .. } = data;
-            timed!(data, Stage::Assembly, constraint::responses(m, kin, aba, con, |k, _| !lcp_out[k] && group[k] == label));
+            let (kin, aba) = (&data.dynamics.kin, &data.dynamics.aba);
+            let Constraints { con, solve: SolveData { out: lcp_out, group, .. }, .. } = &mut *data.constraints;
+            timed!(data, Stage::Assembly, responses(m, kin, aba, con, |k, _| !lcp_out[k] && group[k] == label));
             if timed!(data, Stage::Lcp, lcp_matrix_and_solve(m, data, level, start..end, warm)) {
                 break;
             }
@@ -64,22 +123,22 @@ pub(super) fn solve_rows(m: &Model, data: &mut Data, level: Level) {
     // how often leaving rows out has cost another solve lately: past MAX_REGROW_RATE (a pile of
     // bodies, whose separating contacts the others keep pushing closed) nothing is left out,
     // and the rate decays, so that leaving out is tried again later
-    data.history.regrow_rate = if left_any {
-        (1.0 - REGROW_MEMORY) * data.history.regrow_rate + REGROW_MEMORY * brought_back as u8 as f64
+    data.constraints.history.regrow_rate = if left_any {
+        (1.0 - REGROW_MEMORY) * data.constraints.history.regrow_rate + REGROW_MEMORY * brought_back as u8 as f64
     } else {
-        REGROW_DECAY * data.history.regrow_rate
+        REGROW_DECAY * data.constraints.history.regrow_rate
     };
 }
 
-/// Weight of the latest solve that left rows out in [`crate::data::History::regrow_rate`].
+/// Weight of the latest solve that left rows out in [`crate::step::data::History::regrow_rate`].
 pub(super) const REGROW_MEMORY: f64 = 0.1;
-/// Decay of [`crate::data::History::regrow_rate`] per solve that left nothing out (from 1 to below
+/// Decay of [`crate::step::data::History::regrow_rate`] per solve that left nothing out (from 1 to below
 /// [`MAX_REGROW_RATE`] in about 70 solves).
 pub(super) const REGROW_DECAY: f64 = 0.99;
 /// Regrow rate above which a solve leaves nothing out.
 pub(super) const MAX_REGROW_RATE: f64 = 0.5;
 
-/// Marks in `data.solve.out` the variables the solve starts without: each contact whose q says the
+/// Marks in `data.constraints.solve.out` the variables the solve starts without: each contact whose q says the
 /// motion without its force separates it (q_n ≥ 0), with its friction rows and λ, unless it
 /// carried force in the warm set (it probably will again), and the friction rows of a contact the
 /// warm set keeps pressing with none of them (a box resting on a box: most rows of a stack). A
@@ -90,12 +149,12 @@ pub(super) const MAX_REGROW_RATE: f64 = 0.5;
 /// with q ≥ 0 too had many brought back on Ant, for no gain). Nothing is left out while the recent
 /// share of solves that had to bring a contact back exceeds [`MAX_REGROW_RATE`]. Returns whether
 /// a warm set applies ([`warm_guess`]).
-pub(super) fn leave_out(data: &mut Data, level: Level, n: usize) -> bool {
+pub fn leave_out(data: &mut World<'_>, level: Level, n: usize) -> bool {
     let warm = warm_guess(data, level, n);
-    let (con, q, guess, out) = (&data.con, &data.solve.q, &data.solve.warm, &mut data.solve.out);
+    let (con, q, guess, out) = (&data.constraints.con, &data.constraints.solve.q, &data.constraints.solve.warm, &mut data.constraints.solve.out);
     out.clear();
     out.resize(n, false);
-    if data.history.regrow_rate > MAX_REGROW_RATE {
+    if data.constraints.history.regrow_rate > MAX_REGROW_RATE {
         return warm;
     }
     for j in 0..con.len() {
@@ -107,7 +166,7 @@ pub(super) fn leave_out(data: &mut Data, level: Level, n: usize) -> bool {
                 // another) keeps its friction rows out until the answer presses on one (leaving
                 // out the idle rows of a contact with friction force brings one back too often)
                 let idle = warm && guess[normal] && (normal + 1..con.len()).take_while(|&r| con.kind[r] == RowKind::Tangent { normal }).all(|r| !guess[r]);
-                (out[j], out[data.solve.lambda[normal]]) = (left || idle, left);
+                (out[j], out[data.constraints.solve.lambda[normal]]) = (left || idle, left);
             }
             _ => {}
         }
@@ -115,14 +174,15 @@ pub(super) fn leave_out(data: &mut Data, level: Level, n: usize) -> bool {
     warm
 }
 
-/// The active set a force solve starts from, into `data.solve.warm` (n variables); whether there is
+/// The active set a force solve starts from, into `data.constraints.solve.warm` (n variables); whether there is
 /// one. After this step's impact solve, on the same rows: its active set (a contact the impact
 /// stopped now rests on its force). Else last step's, read through the rows' identities
 /// ([`row_key`]): a row last step also had keeps its activity, and so does its contact's λ (a
 /// bounded motion row's σ); a new row starts inactive. With the same rows as last step this is
 /// last step's active set as it was.
-pub(super) fn warm_guess(data: &mut Data, level: Level, n: usize) -> bool {
-    let Data { con, coll, history, solve, .. } = data;
+pub fn warm_guess(data: &mut World<'_>, level: Level, n: usize) -> bool {
+    let coll = &*data.coll;
+    let Constraints { con, history, solve, .. } = &mut *data.constraints;
     let SolveData { impact_warm, warm: guess, lambda: lcp_lambda, warm_lambda: old_lambda, .. } = solve;
     guess.clear();
     if level == Level::Velocity {
@@ -163,7 +223,7 @@ pub(super) fn warm_guess(data: &mut Data, level: Level, n: usize) -> bool {
 /// usize::MAX): one per contact with friction rows, shared by them (eq. 21 sums their forces), and
 /// one σ per torque-bounded motion-control row (the same pattern with a constant bound), in the
 /// order of their rows; `owner(j)` is the row owning row j's λ. Returns the variable count.
-pub(super) fn number_lambdas(nr: usize, owner: impl Fn(usize) -> Option<usize>, lambda: &mut Vec<usize>) -> usize {
+pub fn number_lambdas(nr: usize, owner: impl Fn(usize) -> Option<usize>, lambda: &mut Vec<usize>) -> usize {
     lambda.clear();
     lambda.resize(nr, usize::MAX);
     let mut n = nr;
@@ -181,23 +241,23 @@ pub(super) fn number_lambdas(nr: usize, owner: impl Fn(usize) -> Option<usize>, 
 /// The LCP's variables (rows, then one λ per contact with friction and one σ per bounded
 /// motion-control row: [`number_lambdas`]) and its vector q, into `data`; their count, or None
 /// when q ≥ 0 on every row but friction rows.
-pub(super) fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usize> {
+pub fn lcp_vector(m: &Model, data: &mut World<'_>, level: Level) -> Option<usize> {
     let (h, lever) = (m.opt.timestep, m.opt.lever());
     // slower approaches are not impacts and get no restitution: resting contacts do not jitter
-    let impact = constraint::impact_speed(h, m.opt.gravity.length());
-    let nr = data.con.len();
-    let kind = &data.con.kind;
+    let impact = impact_speed(h, m.opt.gravity.length());
+    let nr = data.constraints.con.len();
+    let kind = &data.constraints.con.kind;
     let n = number_lambdas(nr, |j| match kind[j] {
         RowKind::Tangent { normal } => Some(normal),
         RowKind::Motion { bounded: true } => Some(j),
         _ => None,
-    }, &mut data.solve.lambda);
-    data.solve.q.clear();
-    data.solve.q.resize(n, 0.0);
-    data.solve.force.clear();
-    data.solve.force.resize(n, 0.0);
-    let con = &data.con;
-    let q = &mut data.solve.q;
+    }, &mut data.constraints.solve.lambda);
+    data.constraints.solve.q.clear();
+    data.constraints.solve.q.resize(n, 0.0);
+    data.constraints.solve.force.clear();
+    data.constraints.solve.force.resize(n, 0.0);
+    let con = &data.constraints.con;
+    let q = &mut data.constraints.solve.q;
     // contact points and centres move on arcs the rows' linear prediction leaves out: the
     // end-of-step targets add `con.lift` (`constraint::arc_lift`)
     for j in 0..nr {
@@ -215,14 +275,14 @@ pub(super) fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usi
             // constraint-free v_p = v + h b
             (RowKind::Tangent { .. }, Level::TimeStep) => -(vel + h * con.b[j]),
             (_, Level::TimeStep) => {
-                let mut target = constraint::closing_velocity(dist, con.dist_start[j], h, lever) + con.lift[j];
+                let mut target = closing_velocity(dist, con.dist_start[j], h, lever) + con.lift[j];
                 if -vel > impact && dist + lever * vel < 0.0 && m.opt.restitution > 0.0 {
                     target = target.max(rebound(vel, dist, con.b[j], m.opt.restitution, h, m.opt.integrator));
                 }
                 target - (vel + h * con.b[j])
             }
             (_, Level::Acceleration) => {
-                let target = constraint::closing_velocity(dist, con.dist_start[j], h, lever) + con.lift[j];
+                let target = closing_velocity(dist, con.dist_start[j], h, lever) + con.lift[j];
                 (target - vel) / h
             }
             // end-of-step velocity v⁺ for a row that closes within this step: the rebound with
@@ -254,8 +314,8 @@ pub(super) fn lcp_vector(m: &Model, data: &mut Data, level: Level) -> Option<usi
 /// (sequential collisions: a ball resting on a ball dropped on the floor leaves at about 2v, the
 /// last of a line of balls with the first one's speed), each pass keeping what its restitution
 /// keeps.
-/// `impact`: [`constraint::impact_speed`].
-fn apart(m: &Model, con: &constraint::ConstraintData, j: usize, impact: f64) -> bool {
+/// `impact`: [`impact_speed`].
+fn apart(m: &Model, con: &ConstraintData, j: usize, impact: f64) -> bool {
     let r = match con.kind[j] {
         RowKind::Tangent { normal } => normal,
         RowKind::Normal | RowKind::Limit => j,
@@ -265,13 +325,13 @@ fn apart(m: &Model, con: &constraint::ConstraintData, j: usize, impact: f64) -> 
     !approaching(con.vel[r], con.dist[r], con.vel[r] + h * con.b[r], m.opt.lever(), impact)
 }
 
-/// The LCP of one island, the variables `data.solve.order[island]` (every row and λ of a set of
+/// The LCP of one island, the variables `data.constraints.solve.order[island]` (every row and λ of a set of
 /// trees that touch, in their order): M from K and the friction and bound couplings, solved into
-/// `data.solve.force`, from the warm set in `data.solve.warm` when `warm` ([`warm_guess`]). False
+/// `data.constraints.solve.force`, from the warm set in `data.constraints.solve.warm` when `warm` ([`warm_guess`]). False
 /// when the solve brought back rows left out, whose K columns it needs.
-pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, island: std::ops::Range<usize>, warm: bool) -> bool {
+pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, island: std::ops::Range<usize>, warm: bool) -> bool {
     let h = m.opt.timestep;
-    let Data { con, solve, .. } = data;
+    let Constraints { con, solve, .. } = &mut *data.constraints;
     let nr = con.len();
     let SolveData { m: mm, q: all_q, out: all_out, warm: all_warm, force, role, lambda, order, local, island_q, island_out, island_warm, island_z, unpushed, work, stats, .. } = solve;
     let vars = &order[island];
@@ -314,7 +374,7 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
     // below (their own K rows are not written)
     let done = &con.column_done;
     let k_max = vars[..rows].iter().filter(|&&j| done[j]).map(|&j| con.k[j * nr + j]).fold(0.0, f64::max);
-    let impact = constraint::impact_speed(h, m.opt.gravity.length());
+    let impact = impact_speed(h, m.opt.gravity.length());
     // the island's rows one run of rows (one island, a tree's alone): each row of K is copied whole
     let contiguous = rows > 0 && vars[rows - 1] - vars[0] + 1 == rows;
     // the λ and σ rows hold only the couplings their rows set
@@ -389,13 +449,13 @@ pub(super) fn lcp_matrix_and_solve(m: &Model, data: &mut Data, level: Level, isl
     solved
 }
 
-/// Labels each of the n LCP variables with its island into `data.solve.group`: the trees its row
+/// Labels each of the n LCP variables with its island into `data.constraints.solve.group`: the trees its row
 /// touches joined with every tree a contact connects them to (union–find over the rows), named
 /// by the root node of the least tree; a λ or σ takes its row's. Rows of different labels share
 /// no body, so K (and M) has no entry between them.
-fn island_labels(data: &mut Data, n: usize) {
-    let SolveData { group, tree_link: link, lambda, .. } = &mut data.solve;
-    let con = &data.con;
+fn island_labels(data: &mut World<'_>, n: usize) {
+    let SolveData { group, tree_link: link, lambda, .. } = &mut data.constraints.solve;
+    let con = &data.constraints.con;
     group.clear();
     // rows that name one tree alone (one character's) make one island
     let first = con.tree.first().map_or(WORLD, |t| if t[0] != WORLD { t[0] } else { t[1] });
@@ -430,23 +490,23 @@ fn island_labels(data: &mut Data, n: usize) {
 
 /// Keeps the active set of a solve: an impact's for the force solve after it, an
 /// acceleration-level or time-stepping one's for the next step's.
-pub(super) fn record_warm(data: &mut Data, level: Level) {
+pub fn record_warm(data: &mut World<'_>, level: Level) {
     if level == Level::Velocity {
-        data.solve.impact_warm.clear();
-        data.solve.impact_warm.extend(data.solve.force.iter().map(|&f| f > 0.0));
+        data.constraints.solve.impact_warm.clear();
+        data.constraints.solve.impact_warm.extend(data.constraints.solve.force.iter().map(|&f| f > 0.0));
     } else {
-        data.history.warm.clear();
-        data.history.warm.extend(data.solve.force.iter().map(|&f| f > 0.0));
-        data.history.warm_rows.clear();
-        for j in 0..data.con.len() {
-            let key = row_key(&data.con, &data.coll.contacts, j);
-            data.history.warm_rows.push(key);
+        data.constraints.history.warm.clear();
+        data.constraints.history.warm.extend(data.constraints.solve.force.iter().map(|&f| f > 0.0));
+        data.constraints.history.warm_rows.clear();
+        for j in 0..data.constraints.con.len() {
+            let key = row_key(&data.constraints.con, &data.coll.contacts, j);
+            data.constraints.history.warm_rows.push(key);
         }
     }
 }
 
 /// Identity of row j across steps ([`RowKey`]).
-pub(super) fn row_key(con: &constraint::ConstraintData, contacts: &[collision::Contact], j: usize) -> RowKey {
+pub fn row_key(con: &ConstraintData, contacts: &[collision::Contact], j: usize) -> RowKey {
     match con.kind[j] {
         RowKind::Limit => RowKey::Limit { joint: con.source[j], lower: con.dof[j].1 > 0.0 },
         RowKind::Motion { bounded } => RowKey::Motion { actuator: con.source[j], bounded, positive: con.dof[j].1 > 0.0 },
@@ -462,19 +522,19 @@ pub(super) fn row_key(con: &constraint::ConstraintData, contacts: &[collision::C
 }
 
 /// q̈ += scale · Σ_k f_k Δq̈⁽ᵏ⁾.
-pub(super) fn apply_to_qacc(m: &Model, data: &mut Data, scale: f64) {
-    let mut qacc = std::mem::take(&mut data.qacc);
+pub fn apply_to_qacc(m: &Model, data: &mut World<'_>, scale: f64) {
+    let mut qacc = std::mem::take(&mut data.dynamics.qacc);
     apply(m, data, &mut qacc, scale);
-    data.qacc = qacc;
+    data.dynamics.qacc = qacc;
 }
 
 /// target += scale · Σ_k f_k Δq̈⁽ᵏ⁾ (forces into accelerations, or impulses into velocities).
-pub(super) fn apply(m: &Model, data: &Data, target: &mut [f64], scale: f64) {
+pub fn apply(m: &Model, data: &World<'_>, target: &mut [f64], scale: f64) {
     let nv = m.nv;
-    for k in 0..data.con.len() {
-        let f = data.solve.force[k] * scale;
+    for k in 0..data.constraints.con.len() {
+        let f = data.constraints.solve.force[k] * scale;
         if f != 0.0 {
-            constraint::add_response(m, data.con.tree[k], f, &data.con.dqdd[k * nv..(k + 1) * nv], target);
+            add_response(m, data.constraints.con.tree[k], f, &data.constraints.con.dqdd[k * nv..(k + 1) * nv], target);
         }
     }
 }

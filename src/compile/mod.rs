@@ -3,13 +3,30 @@
 
 use glam::{DMat3, DVec3};
 
-use super::inertia::geom_inertia;
-use super::{GapPair, GeomType, Model, Options, PairTest, PlaneGroup, WORLD};
+mod inertia;
+mod pairs;
+mod visual;
+
+use inertia::geom_inertia;
+use crate::model::{GapPair, GeomType, Model, Options, PairTest, PlaneGroup, WORLD};
 use crate::error::{Error, Result};
 use crate::math::{SpatialInertia, Xform};
 use crate::mjcf::{InertiaFromGeom, JointType, ModelSpec};
 
-pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
+impl Model {
+    /// Parses and compiles MJCF text.
+    pub fn from_mjcf(xml: &str) -> Result<Model> {
+        compile(crate::mjcf::parse(xml)?)
+    }
+
+    /// Reads, parses and compiles an MJCF file.
+    pub fn from_mjcf_file(path: &std::path::Path) -> Result<Model> {
+        Model::from_mjcf(&crate::mjcf::read_file(path)?)
+    }
+}
+
+/// `ModelSpec` → `Model`.
+fn compile(spec: ModelSpec) -> Result<Model> {
     let nbody = spec.bodies.len();
 
     // body mass properties, in body frames
@@ -58,9 +75,9 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
             contact: spec.option.contact,
             limit: spec.option.limit,
             restitution: spec.restitution.unwrap_or(0.0),
-            friction: super::FrictionModel::Pyramid,
-            actuation: super::Actuation::Motor,
-            constraint_mode: super::ConstraintMode::Acceleration,
+            friction: crate::model::FrictionModel::Pyramid,
+            actuation: crate::model::Actuation::Motor,
+            constraint_mode: crate::model::ConstraintMode::Acceleration,
         },
         nq: 0,
         nv: 0,
@@ -237,7 +254,7 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
             m.geom_pos.push(g.pos);
             m.geom_quat.push(g.quat);
             m.geom_mat.push(DMat3::from_quat(g.quat));
-            m.geom_rbound.push(super::pairs::geom_rbound(g.kind, g.size));
+            m.geom_rbound.push(pairs::geom_rbound(g.kind, g.size));
             m.geom_friction.push(g.friction);
             m.geom_contype.push(g.contype);
             m.geom_conaffinity.push(g.conaffinity);
@@ -280,8 +297,8 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
 
     for i in 0..m.ngeom {
         for j in i + 1..m.ngeom {
-            if super::pairs::can_collide(&m, i, j) {
-                m.collision_pairs.push(super::pairs::geom_pair(&m, i, j));
+            if pairs::can_collide(&m, i, j) {
+                m.collision_pairs.push(pairs::geom_pair(&m, i, j));
             }
         }
     }
@@ -290,11 +307,11 @@ pub(super) fn compile(spec: ModelSpec) -> Result<Model> {
     m.dof_arm = dof_arms(&m);
     m.plane_groups = plane_groups(&mut m);
     // the forward dynamics at qpos0, as MuJoCo's mj_setConst runs it
-    let mut data = crate::Data::new(&m);
+    let mut data = crate::step::data::Data::new(&m);
     crate::step::forward(&m, &mut data, &m.qpos0, &vec![0.0; m.nv], &vec![0.0; m.nu]);
     check_solvable(&m, &data)?;
-    m.motion_plane = motion_plane(&m, &data.kin);
-    m.vis = super::visual::compile(&spec, |n| m.body_id(n))?;
+    m.motion_plane = motion_plane(&m, &data.dynamics.kin);
+    m.vis = visual::compile(&spec, |n| m.body_id(n))?;
     Ok(m)
 }
 
@@ -306,7 +323,7 @@ fn sweep_lists(m: &mut Model) {
     m.pairs_unswept.clear();
     for (k, p) in m.collision_pairs.iter().enumerate().rev() {
         first[p.g1] = k;
-        if p.test == PairTest::Spheres && !super::same_tree(m, p.g1, p.g2) {
+        if p.test == PairTest::Spheres && !crate::model::same_tree(m, p.g1, p.g2) {
             (swept[p.g1], swept[p.g2]) = (true, true);
         } else {
             m.pairs_unswept.push(k);
@@ -320,7 +337,7 @@ fn sweep_lists(m: &mut Model) {
     m.geom_first_pair = first;
     m.pair_partner = m.collision_pairs.iter().map(|p| p.g2 as u32).collect();
     m.pair_bits.clear();
-    if m.ngeom <= super::PAIR_BITS_GEOMS {
+    if m.ngeom <= crate::model::PAIR_BITS_GEOMS {
         m.pair_bits.resize((m.ngeom * m.ngeom).div_ceil(64), 0);
         for p in &m.collision_pairs {
             let bit = p.g1 * m.ngeom + p.g2;
@@ -454,7 +471,7 @@ fn plane_groups(m: &mut Model) -> Vec<PlaneGroup> {
 /// The normal every hinge axis is parallel to and every slide axis perpendicular to, in world at
 /// the reference configuration (rotations about that normal keep it so), or None.
 /// `kin`: the kinematics at qpos0.
-fn motion_plane(m: &Model, kin: &crate::step::kinematics::KinData) -> Option<DVec3> {
+fn motion_plane(m: &Model, kin: &crate::dynamics::kinematics::KinData) -> Option<DVec3> {
     // a hinge's or slide's axis in world: its subspace column's rotation or translation part
     let world_axis = |j: usize| {
         let n = m.jnt_node[j];
@@ -473,8 +490,8 @@ fn motion_plane(m: &Model, kin: &crate::step::kinematics::KinData) -> Option<DVe
 /// Every joint must move some mass: the articulated inertia seen by each dof at the reference
 /// configuration must be positive definite, or the forward dynamics would divide by zero
 /// (`data`: the forward dynamics at qpos0).
-fn check_solvable(m: &Model, data: &crate::Data) -> Result<()> {
-    if let Some(n) = data.aba.singular_node {
+fn check_solvable(m: &Model, data: &crate::step::data::Data) -> Result<()> {
+    if let Some(n) = data.dynamics.aba.singular_node {
         let j0 = m.node_jntadr[n];
         let names: Vec<String> = m.jnt_name[j0..j0 + m.node_jntnum[n]].iter().map(|s| format!("'{s}'")).collect();
         let (noun, verb) = if names.len() == 1 { ("joint", "moves") } else { ("joints", "move") };

@@ -34,8 +34,8 @@ use glam::{DMat3, DVec3};
 use crate::math::quat_wxyz;
 use crate::model::{GeomPair, GeomType, JointType, Model, PairTest, WORLD};
 
-use super::aba::AbaData;
-use super::kinematics::KinData;
+use crate::dynamics::aba::AbaData;
+use crate::dynamics::kinematics::KinData;
 use crate::math::Motion;
 
 mod narrowphase;
@@ -659,7 +659,7 @@ pub fn reach_again(m: &Model, kin: &KinData, qvel_end: &[f64], v_end: &mut [Moti
 /// The nodes' end velocities from `qvel_end` into `v_end`, and from them
 /// [`CollisionData::geom_speed_end`] (posing the geoms not yet posed).
 fn end_speeds(m: &Model, kin: &KinData, qvel_end: &[f64], v_end: &mut [Motion], out: &mut CollisionData) {
-    super::kinematics::velocities(m, kin, qvel_end, v_end);
+    crate::dynamics::kinematics::velocities(m, kin, qvel_end, v_end);
     for g in 0..m.ngeom {
         if !posed(out, g) {
             pose(m, kin, out, g);

@@ -15,16 +15,17 @@
 
 use glam::DVec3;
 
-use crate::data::{Data, SolveData};
+use super::lcp::{self, LcpWork, Role};
+use super::solve::SolveData;
+use super::system::{self as constraint, RowKind};
+use super::test_forces::{add_response, delta_pass, responses, tree_dofs};
+use super::{Constraints, World};
+use crate::collision::{self, CollisionData};
+use crate::dynamics::aba::AbaData;
+use crate::dynamics::kinematics::{self, KinData};
+use crate::integrate::integrate_pos;
 use crate::math::{Force, Motion};
 use crate::model::{Model, WORLD};
-
-use super::aba::AbaData;
-use super::collision::{self, CollisionData};
-use super::constraint::{self, RowKind};
-use super::integrate::integrate_pos;
-use super::kinematics::{self, KinData};
-use super::lcp::{self, LcpWork, Role};
 
 /// Penetration left to the Baumgarte term (m).
 pub const SLOP: f64 = 1e-4;
@@ -62,7 +63,7 @@ pub struct StabilizeData {
     /// qpos at the start of a leapfrog step, before its opening drift (nq).
     pub qpos_start: Vec<f64>,
     /// qvel at the start of a leapfrog step (nv), which its opening drift moved with, and the
-    /// nodes' spatial velocities of it at the midpoint (scratch for `step::rows`).
+    /// nodes' spatial velocities of it at the midpoint (scratch for `constraint::rows`).
     pub qvel_start: Vec<f64>,
     /// See `qvel_start`.
     pub v_start: Vec<Motion>,
@@ -126,16 +127,16 @@ impl StabilizeData {
 }
 
 /// Projects `qpos` (after the step, with `qvel` after the step) out of penetration, using the rows
-/// and Δq̈ in `data.con` and the kinematics and ABA quantities of the step's start. The
+/// and Δq̈ in `data.constraints.con` and the kinematics and ABA quantities of the step's start. The
 /// projection's LCP counts in `data.stats`.
-pub fn project(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &[f64]) {
-    if !(0..data.con.len()).any(|j| data.con.kind[j] == RowKind::Normal) && !m.limited_joints().any(|j| violation(m, qpos, j).is_some()) {
+pub fn project(m: &Model, data: &mut World<'_>, qpos: &mut [f64], qvel: &[f64]) {
+    if !(0..data.constraints.con.len()).any(|j| data.constraints.con.kind[j] == RowKind::Normal) && !m.limited_joints().any(|j| violation(m, qpos, j).is_some()) {
         return;
     }
     for _ in 0..PASSES {
         if !gather(m, data, qpos, qvel) {
             // post.kin is the kinematics of the next step's state: kept for it
-            data.post.keep(qpos, qvel);
+            data.constraints.post.keep(qpos, qvel);
             return;
         }
         solve(m, data, qpos);
@@ -158,14 +159,14 @@ pub fn hold_limits(m: &Model, post: &StabilizeData, qpos: &mut [f64]) {
     }
 }
 
-/// Stage 1 of a step: the kinematics of (qpos, qvel) into `data.kin`, taken from the last
+/// Stage 1 of a step: the kinematics of (qpos, qvel) into `data.dynamics.kin`, taken from the last
 /// projection's check when that was of the same state.
-pub fn kinematics_of(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) {
-    let post = &mut data.post;
+pub fn kinematics_of(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]) {
+    let post = &mut data.constraints.post;
     if post.holds(qpos, qvel) {
-        std::mem::swap(&mut data.kin, &mut post.kin);
+        std::mem::swap(&mut data.dynamics.kin, &mut post.kin);
     } else {
-        kinematics::forward(m, qpos, qvel, &mut data.kin);
+        kinematics::forward(m, qpos, qvel, &mut data.dynamics.kin);
     }
     post.cached = false;
 }
@@ -188,8 +189,9 @@ fn violation(m: &Model, qpos: &[f64], j: usize) -> Option<(f64, f64)> {
 
 /// Checks the configuration `qpos`: false when no contact penetrates beyond [`SLOP`] and no joint
 /// is past a limit beyond [`LIMIT_SLOP`], else true with the projection rows filled.
-fn gather(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
-    let Data { kin, aba, con, coll, post, .. } = data;
+fn gather(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]) -> bool {
+    let (kin, aba, coll) = (&data.dynamics.kin, &data.dynamics.aba, &*data.coll);
+    let Constraints { con, post, .. } = &mut *data.constraints;
     let nv = m.nv;
     kinematics::forward(m, qpos, qvel, &mut post.kin);
     collision::penetrations(m, &post.kin, &mut post.coll);
@@ -198,7 +200,7 @@ fn gather(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
         return false;
     }
     // the rows' Δq̈ (a solve computes only those of the rows it kept)
-    constraint::responses(m, kin, aba, con, |_, kind| matches!(kind, RowKind::Normal | RowKind::Limit));
+    responses(m, kin, aba, con, |_, kind| matches!(kind, RowKind::Normal | RowKind::Limit));
     post.gap.clear();
     post.jac.clear();
     post.dqdd.clear();
@@ -268,7 +270,7 @@ fn gather(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64]) -> bool {
         let start = post.dqdd.len();
         post.dqdd.resize(start + nv, 0.0);
         let trees = nodes.map(|n| if n == WORLD { WORLD } else { m.node_tree[n] });
-        constraint::delta_pass(m, kin, aba, trees, None, &mut post.dpa, &mut post.du, &mut post.da, &mut post.dqdd[start..]);
+        delta_pass(m, kin, aba, trees, None, &mut post.dpa, &mut post.du, &mut post.da, &mut post.dqdd[start..]);
         post.limit.push(None);
         post.tree.push(trees);
     }
@@ -307,7 +309,7 @@ fn push_limit_row(m: &Model, kin: &KinData, aba: &AbaData, post: &mut StabilizeD
     post.dpa.fill(Force::ZERO);
     post.dqdd.resize(start + nv, 0.0);
     let tree = m.node_tree[m.jnt_node[joint]];
-    constraint::delta_pass(m, kin, aba, [tree, WORLD], Some((dof, sign)), &mut post.dpa, &mut post.du, &mut post.da, &mut post.dqdd[start..]);
+    delta_pass(m, kin, aba, [tree, WORLD], Some((dof, sign)), &mut post.dpa, &mut post.du, &mut post.da, &mut post.dqdd[start..]);
     post.limit.push(Some((joint, sign)));
     post.tree.push([tree, WORLD]);
 }
@@ -331,8 +333,9 @@ fn push_jacobian(m: &Model, kin: &KinData, nodes: [usize; 2], jac: [Force; 2], o
 /// One projection δq = Σ p_k Δq̈⁽ᵏ⁾ from the LCP on the rows in `post`. A limit without a row that
 /// δq would cross gets one (Δq̈ by a unit test torque) and the LCP is solved again; if one is still
 /// crossed after that, the step is shortened to stop at it.
-fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
-    let Data { kin, aba, post, solve: SolveData { stats, .. }, .. } = data;
+fn solve(m: &Model, data: &mut World<'_>, qpos: &mut [f64]) {
+    let (kin, aba) = (&data.dynamics.kin, &data.dynamics.aba);
+    let Constraints { post, solve: SolveData { stats, .. }, .. } = &mut *data.constraints;
     post.projections += 1;
     let nv = m.nv;
     for attempt in 0..=LIMIT_PASSES {
@@ -351,7 +354,7 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
                     continue;
                 }
                 let mut dot = 0.0;
-                for r in constraint::tree_dofs(m, trees) {
+                for r in tree_dofs(m, trees) {
                     dot += post.jac[a * nv + r.start..a * nv + r.end].iter().zip(&post.dqdd[b * nv + r.start..b * nv + r.end]).map(|(x, y)| x * y).sum::<f64>();
                 }
                 (post.m[a * k + b], post.m[b * k + a]) = (dot, dot);
@@ -373,7 +376,7 @@ fn solve(m: &Model, data: &mut Data, qpos: &mut [f64]) {
         for a in 0..k {
             let p = post.p[a];
             if p != 0.0 {
-                constraint::add_response(m, post.tree[a], p, &post.dqdd[a * nv..(a + 1) * nv], &mut post.dq);
+                add_response(m, post.tree[a], p, &post.dqdd[a * nv..(a + 1) * nv], &mut post.dq);
             }
         }
         if attempt == LIMIT_PASSES {

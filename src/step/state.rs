@@ -1,7 +1,7 @@
 //! ③ The integrable state of one world, for Rust users and tests (the Python layer keeps the same
 //! arrays in NumPy and steps them in place).
 
-use crate::data::Data;
+use crate::step::data::Data;
 use crate::model::Model;
 
 /// qpos, qvel, ctrl and time of one world, with its scratch.
@@ -33,13 +33,13 @@ impl State {
     /// Accelerations at the current state without advancing (writes `data`).
     pub fn forward(&mut self, m: &Model) -> &[f64] {
         crate::step::forward(m, &mut self.data, &self.qpos, &self.qvel, &self.ctrl);
-        &self.data.qacc
+        &self.data.dynamics.qacc
     }
 }
 
 /// A world's state as one flat array, as `Sim.get_state` and `Batch.get_state` give it:
 /// [time, qpos (nq), qvel (nv), ctrl (nu)], MuJoCo's integration state, then for a full state the
-/// trajectory feed-forward (2 nu) and the history the next step reads ([`crate::data::History`]).
+/// trajectory feed-forward (2 nu) and the history the next step reads ([`crate::constraint::History`]).
 pub struct FlatState<'a> {
     /// Simulated time.
     pub time: f64,
@@ -50,7 +50,7 @@ pub struct FlatState<'a> {
     /// Controls.
     pub ctrl: &'a [f64],
     /// Feed-forward and history of a full state.
-    pub full: Option<(&'a [f64], crate::data::History)>,
+    pub full: Option<(&'a [f64], crate::constraint::History)>,
 }
 
 impl<'a> FlatState<'a> {
@@ -61,33 +61,33 @@ impl<'a> FlatState<'a> {
         out.extend_from_slice(qvel);
         out.extend_from_slice(ctrl);
         if let Some(d) = data {
-            out.extend_from_slice(&d.feedforward);
-            d.history.to_flat(out);
+            out.extend_from_slice(&d.constraints.feedforward);
+            d.constraints.history.to_flat(out);
         }
     }
 
     /// Reads a flat state of `m`, checking its length and every number (finite time, qpos, qvel
     /// and ctrl within the divergence bound; a valid history).
-    pub fn read(m: &Model, v: &'a [f64]) -> crate::Result<FlatState<'a>> {
+    pub fn read(m: &Model, v: &'a [f64]) -> crate::error::Result<FlatState<'a>> {
         let (nq, nv, nu) = (m.nq, m.nv, m.nu);
         let short = 1 + nq + nv + nu;
         let len = v.len();
-        if len != short && len < short + 2 * nu + crate::data::FLAT_HISTORY_MIN {
-            return Err(crate::Error::Input(format!(
+        if len != short && len < short + 2 * nu + crate::constraint::history::FLAT_HISTORY_MIN {
+            return Err(crate::error::Error::Input(format!(
                 "state: expected shape [{short}] (time, qpos, qvel, ctrl) or a full state from get_state(full=True), got length {len}"
             )));
         }
-        if let Some(i) = v[..short].iter().position(|&x| crate::batch::out_of_range(x)) {
-            return Err(crate::Error::Input(format!("state: element {i} is {} (must be finite, within ±{:e})", v[i], crate::batch::MAX_STATE)));
+        if let Some(i) = v[..short].iter().position(|&x| crate::math::out_of_range(x)) {
+            return Err(crate::error::Error::Input(format!("state: element {i} is {} (must be finite, within ±{:e})", v[i], crate::math::MAX_STATE)));
         }
         let full = if len == short {
             None
         } else {
             let ff = &v[short..short + 2 * nu];
             if let Some(i) = ff.iter().position(|x| !x.is_finite()) {
-                return Err(crate::Error::Input(format!("state: feed-forward element {i} is {} (must be finite)", ff[i])));
+                return Err(crate::error::Error::Input(format!("state: feed-forward element {i} is {} (must be finite)", ff[i])));
             }
-            Some((ff, crate::data::History::from_flat(&v[short + 2 * nu..], m.ngeom)?))
+            Some((ff, crate::constraint::History::from_flat(&v[short + 2 * nu..], m.ngeom)?))
         };
         Ok(FlatState { time: v[0], qpos: &v[1..1 + nq], qvel: &v[1 + nq..1 + nq + nv], ctrl: &v[1 + nq + nv..short], full })
     }
@@ -96,12 +96,12 @@ impl<'a> FlatState<'a> {
     pub fn restore(&self, data: &mut Data) {
         match &self.full {
             Some((ff, history)) => {
-                data.feedforward.copy_from_slice(ff);
+                data.constraints.feedforward.copy_from_slice(ff);
                 data.restore_history(history);
             }
             None => {
-                data.feedforward.fill(0.0);
-                data.restore_history(&crate::data::History::new());
+                data.constraints.feedforward.fill(0.0);
+                data.restore_history(&crate::constraint::History::new());
             }
         }
     }

@@ -1,0 +1,77 @@
+//! Constraints as rows of `a = K f + b` (Kokkevis 2004): the rows of a step (contacts with
+//! friction, joint limits, motion control), K and b by test forces, impacts, the LCP that finds
+//! the forces, and post-stabilisation.
+//!
+//! Files in the order a step uses them: `system` (the rows as arrays), `rows` (building them),
+//! `test_forces` (K and b), `impact`, `solve` (posing the LCP per island), `lcp` (solving it),
+//! `stabilize`; `history` is what the next step reads.
+
+pub mod history;
+pub mod impact;
+pub mod lcp;
+pub mod rows;
+pub mod solve;
+pub mod stabilize;
+pub mod system;
+pub mod test_forces;
+
+use crate::collision::CollisionData;
+use crate::dynamics::DynamicsData;
+use crate::model::Model;
+
+pub use history::{History, RowKey};
+pub use system::{closing_velocity, correction_velocity, impact_speed, jacobian, ConstraintData, RowKind, CORRECTION_TIME, IMPACT_SPEED, SLIDING_SPEED};
+
+/// What the constraint stages keep for one world: the rows, the solve, post-stabilisation, the
+/// history the next step reads, and motion control's feed-forward.
+#[derive(Clone, Debug, Default)]
+pub struct Constraints {
+    /// Constraint rows, K, b.
+    pub con: ConstraintData,
+    /// The constraint solves' LCP, answer, warm start and counters.
+    pub solve: solve::SolveData,
+    /// What building the rows needs besides them.
+    pub rows: rows::RowScratch,
+    /// Post-stabilisation scratch and counters.
+    pub post: stabilize::StabilizeData,
+    /// What the next step reads from the steps before it.
+    pub history: History,
+    /// Trajectory feed-forward for motion control: reference velocities then accelerations (2 × nu).
+    pub feedforward: Vec<f64>,
+}
+
+impl Constraints {
+    /// Buffers sized for `m`.
+    pub fn new(m: &Model) -> Self {
+        Constraints {
+            con: ConstraintData::new(m),
+            solve: solve::SolveData::default(),
+            rows: rows::RowScratch { limit_forced: vec![false; 2 * m.njnt], tangents_next: vec![] },
+            post: stabilize::StabilizeData::new(m),
+            history: History::new(),
+            feedforward: vec![0.0; 2 * m.nu],
+        }
+    }
+
+    /// Drops the rows, forces and cached kinematics of the last step.
+    pub fn forget_scratch(&mut self) {
+        self.solve.force.clear();
+        self.solve.impact_warm.clear();
+        self.con.clear();
+        self.post.forget();
+    }
+}
+
+/// One world as the constraint stages see it: its dynamics (which an impact re-evaluates), its
+/// contacts and the constraint stages' own data.
+pub struct World<'a> {
+    /// Kinematics, ABA quantities, applied forces and q̈.
+    pub dynamics: &'a mut DynamicsData,
+    /// Geom poses and contacts.
+    pub coll: &'a mut CollisionData,
+    /// Rows, solve, post-stabilisation, history.
+    pub constraints: &'a mut Constraints,
+    /// Nanoseconds per pipeline stage.
+    #[cfg(feature = "stage-timing")]
+    pub stage_ns: &'a mut [u64; crate::timing::STAGES],
+}

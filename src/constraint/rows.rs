@@ -1,0 +1,314 @@
+//! Stage 4 — the step's constraint rows: contacts with their friction tangents (the seed's
+//! static tangent kept per contact, else one drawn from the world's random stream), reachable
+//! limits and motion control; and the limits and contacts a constrained motion reaches without a
+//! row, added for a second solve.
+
+use glam::DVec3;
+
+use super::system::{arc_lift, point_accel, jacobian, node_of_geom, point_vel, velocity_products, ConstraintData, NewRow, RowKind, SLIDING_SPEED};
+use super::test_forces::{measure, PointAccel};
+use super::{Constraints, History, World};
+use crate::collision::{self, Contact};
+use crate::dynamics::aba::AbaData;
+use crate::dynamics::kinematics::{self, KinData};
+use crate::math::Motion;
+use crate::model::{Actuation, FrictionModel, GeomType, Model, WORLD};
+
+/// What building a step's rows needs besides them (`constraint::rows`).
+#[derive(Clone, Debug, Default)]
+pub struct RowScratch {
+    /// Limits whose rows this step must include (2 per joint: lower, upper).
+    pub limit_forced: Vec<bool>,
+    /// Friction tangents being recorded this step.
+    pub tangents_next: Vec<((usize, usize, usize), DVec3)>,
+}
+
+/// Appends to the contacts those the step's final velocities q̇ + h q̈ can reach but the first
+/// detection's margin did not cover.
+pub fn missed_contacts(m: &Model, data: &mut World<'_>, qvel: &[f64]) -> bool {
+    if !m.opt.contact || m.collision_pairs.is_empty() {
+        return false;
+    }
+    let h = m.opt.timestep;
+    let (kin, qacc, coll, post) = (&data.dynamics.kin, &data.dynamics.qacc, &mut *data.coll, &mut data.constraints.post);
+    for ((e, v), a) in post.vel_end.iter_mut().zip(qvel).zip(qacc.iter()) {
+        *e = v + h * a;
+    }
+    // post.kin is free until the post-stabilisation check, which recomputes it
+    collision::reach_again(m, kin, &post.vel_end, &mut post.kin.v, coll)
+}
+
+/// Marks in `data.constraints.rows.limit_forced` each limit without a row that q̇ + h q̈ would cross within the step.
+pub fn missed_limits(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]) -> bool {
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
+    let mut any = false;
+    for j in m.limited_joints() {
+        let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
+        let [lo, hi] = m.jnt_range[j];
+        let v_end = qvel[da] + h * data.dynamics.qacc[da];
+        for (side, (dist, sign)) in [(qpos[qa] - lo, 1.0), (hi - qpos[qa], -1.0)].into_iter().enumerate() {
+            let has_row = || (0..data.constraints.con.len()).any(|r| data.constraints.con.kind[r] == RowKind::Limit && data.constraints.con.source[r] == j && data.constraints.con.dof[r].1 == sign);
+            if dist + lever * sign * v_end < 0.0 && !has_row() {
+                data.constraints.rows.limit_forced[2 * j + side] = true;
+                any = true;
+            }
+        }
+    }
+    any
+}
+
+/// Stage 4: the step's rows into `constraints.con`, with each contact's friction tangent chosen
+/// (and recorded in the history for the next step).
+pub fn build_rows(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) {
+    let (kin, aba, qacc, coll) = (&data.dynamics.kin, &data.dynamics.aba, &data.dynamics.qacc, &*data.coll);
+    let Constraints { con, history, rows: RowScratch { tangents_next, limit_forced }, feedforward, .. } = &mut *data.constraints;
+    let History { tangents, rng, .. } = history;
+    tangents_next.clear();
+    let h = m.opt.timestep;
+    push_rows(
+        m,
+        kin,
+        aba,
+        qpos,
+        qvel,
+        qacc,
+        limit_forced,
+        ctrl,
+        feedforward,
+        &coll.contacts,
+        |ci, n, vt, at| {
+            let c = &coll.contacts[ci];
+            let key = (c.geom1, c.geom2, c.feature);
+            // the slip the step would give the contact without constraint forces
+            let slip = vt + h * at;
+            // friction opposes that slip: sliding (Kokkevis 2004, §8.1) and a contact at rest that
+            // the step would set slipping alike. Not the sliding velocity alone: near the slip
+            // threshold it is tiny, and its direction at each of a body's contacts swings with
+            // the body's spin, so friction along it turns the body to and fro, each step the other
+            // way (a box on a slope just past its friction angle). A contact the step leaves at
+            // rest keeps the last valid tangent of a persisting contact, or a random one when new,
+            // as the seed does
+            let t = if slip.length() > SLIDING_SPEED {
+                -slip / slip.length()
+            } else if let Some((_, t)) = tangents.iter().find(|(k, t)| *k == key && t.dot(n).abs() < 1e-6) {
+                *t
+            } else {
+                random_tangent(rng, n)
+            };
+            tangents_next.push((key, t));
+            t
+        },
+        con,
+    );
+    std::mem::swap(tangents, tangents_next);
+    // leapfrog's rows are built at the midpoint: each gap before the opening drift, from the
+    // velocities the drift moved with (an impact since has changed q̇, not the drift)
+    let lever = m.opt.lever();
+    if lever < h {
+        let post = &mut data.constraints.post;
+        kinematics::velocities(m, &data.dynamics.kin, &post.qvel_start, &mut post.v_start);
+        let con = &mut data.constraints.con;
+        for j in (0..con.len()).filter(|&j| matches!(con.kind[j], RowKind::Normal | RowKind::Limit)) {
+            let vel_start = row_velocity(con, j, &post.v_start, &post.qvel_start);
+            con.dist_start[j] = con.dist[j] - (h - lever) * vel_start;
+        }
+    }
+}
+
+/// A unit vector orthogonal to `n` at a random angle, from the world's own SplitMix64 stream.
+pub fn random_tangent(state: &mut u64, n: DVec3) -> DVec3 {
+    let z = crate::math::splitmix64(*state);
+    *state = state.wrapping_add(crate::math::SPLITMIX_GAMMA);
+    let angle = (z >> 11) as f64 / (1u64 << 53) as f64 * std::f64::consts::TAU;
+    let (a, b) = n.any_orthonormal_pair();
+    a * angle.cos() + b * angle.sin()
+}
+
+/// Builds the rows for `contacts`, limits active or reachable within the step (`qacc0`: the
+/// constraint-free accelerations) or marked in `forced` (2 per joint: lower, upper) and, when the actuation is trajectory following,
+/// motion control of every actuated joint toward `ctrl` (position targets) with feed-forward
+/// velocity and acceleration `feedforward` (2 × nu). `tangent_for(i, n, v_t, a_t)` picks the
+/// friction direction of contact i from its tangential velocity and constraint-free tangential
+/// acceleration (the caller handles sliding, persistence and the seeded random choice).
+#[allow(clippy::too_many_arguments)]
+pub fn push_rows(
+    m: &Model,
+    kin: &KinData,
+    aba: &AbaData,
+    qpos: &[f64],
+    qvel: &[f64],
+    qacc0: &[f64],
+    forced: &[bool],
+    ctrl: &[f64],
+    feedforward: &[f64],
+    contacts: &[Contact],
+    mut tangent_for: impl FnMut(usize, DVec3, DVec3, DVec3) -> DVec3,
+    out: &mut ConstraintData,
+) {
+    out.clear();
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
+    if !contacts.is_empty() {
+        velocity_products(m, kin, &mut out.a_vp);
+    }
+    for (ci, c) in contacts.iter().enumerate() {
+        let nodes = [node_of_geom(m, c.geom1), node_of_geom(m, c.geom2)];
+        let local = |n: usize| if n == WORLD { c.pos } else { kin.node_rot[n].transpose() * (c.pos - kin.node_pos[n]) };
+        let pts = [local(nodes[0]), local(nodes[1])];
+        // the contact point relative to the origin: the same world point on both sides
+        let r = c.pos - kin.origin;
+        let vrel = point_vel(kin, nodes[0], r) - point_vel(kin, nodes[1], r);
+        let g = m.opt.gravity;
+        let arel = point_accel(kin, &aba.a, g, nodes[0], r) - point_accel(kin, &aba.a, g, nodes[1], r);
+        let normal_row = out.len();
+        out.push(m, NewRow::contact(RowKind::Normal, nodes, pts, c.normal, c.mu, ci));
+        out.vel[normal_row] = c.normal.dot(vrel);
+        out.jac[normal_row] = jacobian(nodes, [r; 2], [c.normal; 2]);
+        out.arm[normal_row] = r;
+        out.dist[normal_row] = c.dist;
+        out.dist_start[normal_row] = c.dist;
+        // a sphere's or capsule's surface is a radius from its centre along the normal (+n points
+        // into geom1; `pos` lies midway between the surfaces)
+        let centre = |g: usize, sign: f64, n: usize, p: DVec3| match m.geom_type[g] {
+            GeomType::Sphere | GeomType::Capsule if n != WORLD => {
+                p + kin.node_rot[n].transpose() * c.normal * (sign * (m.geom_size[g][0] + 0.5 * c.dist))
+            }
+            _ => p,
+        };
+        out.centre[normal_row] = [centre(c.geom1, 1.0, nodes[0], pts[0]), centre(c.geom2, -1.0, nodes[1], pts[1])];
+        out.lift[normal_row] = arc_lift(kin, out, normal_row, h, lever);
+        if c.friction && c.mu > 0.0 {
+            let vt = vrel - c.normal * c.normal.dot(vrel);
+            let at = arel - c.normal * c.normal.dot(arel);
+            let t = tangent_for(ci, c.normal, vt, at);
+            // in a planar model a normal in the plane leaves one tangent line that motion can
+            // use: the tangent is turned onto it, and the pyramid's rows across the plane, which
+            // no force could move, are not built
+            let line = m.motion_plane.filter(|p| p.dot(c.normal).abs() < 1e-9).map(|p| p.cross(c.normal).normalize());
+            let t = match line {
+                Some(e) if t.dot(e) < 0.0 => -e,
+                Some(e) => e,
+                None => t,
+            };
+            let dirs = match (m.opt.friction, line) {
+                (FrictionModel::OneTangent, _) => [t, DVec3::ZERO, DVec3::ZERO, DVec3::ZERO],
+                (FrictionModel::Pyramid, Some(_)) => [t, -t, DVec3::ZERO, DVec3::ZERO],
+                (FrictionModel::Pyramid, None) => {
+                    let t2 = c.normal.cross(t);
+                    [t, -t, t2, -t2]
+                }
+            };
+            for (k, d) in dirs.into_iter().enumerate().filter(|(_, d)| *d != DVec3::ZERO) {
+                let row = out.len();
+                out.push(m, NewRow::contact(RowKind::Tangent { normal: normal_row }, nodes, pts, d, c.mu, ci));
+                out.vel[row] = d.dot(vrel);
+                out.jac[row] = jacobian(nodes, [r; 2], [d; 2]);
+                out.arm[row] = r;
+                if k % 2 == 1 {
+                    out.mirror[row] = row - 1;
+                }
+            }
+        }
+    }
+    if m.opt.limit {
+        for j in m.limited_joints() {
+            let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
+            let [lo, hi] = m.jnt_range[j];
+            for (side, (dist, sign)) in [(qpos[qa] - lo, 1.0), (hi - qpos[qa], -1.0)].into_iter().enumerate() {
+                let v = sign * qvel[da];
+                // active when at the limit or able to reach it within this step (which moves the
+                // joint by lever × (v + h q̈₀), q̈₀ constraint-free), or when `forced`
+                let v_end = v + h * sign * qacc0[da];
+                if dist + lever * v.min(v_end).min(0.0) <= m.jnt_margin[j] || forced[2 * j + side] {
+                    let r = out.len();
+                    out.push(m, NewRow::joint(RowKind::Limit, (da, sign), j));
+                    out.vel[r] = v;
+                    out.dist[r] = dist;
+                    out.dist_start[r] = dist;
+                }
+            }
+        }
+    }
+    if let Actuation::Trajectory { kp, kd } = m.opt.actuation {
+        for a in 0..m.nu {
+            let da = m.jnt_dofadr[m.actuator_jnt[a]];
+            let ad = motion_target(m, a, kp, kd, qpos, qvel, ctrl, feedforward);
+            let limit = m.actuator_ctrllimited[a].then(|| m.actuator_gear[a].abs() * m.actuator_ctrlrange[a][0].abs().max(m.actuator_ctrlrange[a][1].abs()));
+            for sign in [1.0, -1.0] {
+                let r = out.len();
+                out.push(m, NewRow::joint(RowKind::Motion { bounded: limit.is_some() }, (da, sign), a));
+                out.vel[r] = sign * qvel[da];
+                out.desired[r] = sign * ad;
+                out.cap[r] = limit.unwrap_or(f64::INFINITY);
+                if sign < 0.0 {
+                    out.mirror[r] = r - 1;
+                }
+            }
+        }
+    }
+}
+
+/// J of the rows (rows × nv, row-major): each row's velocity per unit joint velocity, the row's
+/// spatial forces `jac` read against the motion subspaces of the nodes from each side's node to
+/// the root (a row's velocity is Σ_sides v_node · jac).
+pub fn dense_jacobian(m: &Model, kin: &KinData, out: &ConstraintData) -> Vec<f64> {
+    let nv = m.nv;
+    let mut jm = vec![0.0; out.len() * nv];
+    for j in 0..out.len() {
+        let row = &mut jm[j * nv..(j + 1) * nv];
+        if !out.kind[j].is_contact() {
+            row[out.dof[j].0] = out.dof[j].1;
+            continue;
+        }
+        for side in 0..2 {
+            let mut n = out.node[j][side];
+            while n != WORLD {
+                for r in 0..m.node_nv[n] {
+                    row[m.node_dofadr[n] + r] += kin.s[n][r].dot(&out.jac[j][side]);
+                }
+                n = m.node_parent[n];
+            }
+        }
+    }
+    jm
+}
+
+/// Desired acceleration of actuator a's joint: q̈^d = q̈_ref + kd (q̇_ref − q̇) + kp (q_ref − q).
+#[allow(clippy::too_many_arguments)]
+fn motion_target(m: &Model, a: usize, kp: f64, kd: f64, qpos: &[f64], qvel: &[f64], ctrl: &[f64], feedforward: &[f64]) -> f64 {
+    let j = m.actuator_jnt[a];
+    let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
+    feedforward[m.nu + a] + kd * (feedforward[a] - qvel[da]) + kp * (ctrl[a] - qpos[qa])
+}
+
+/// Row j's velocity J_j q̇, from the nodes' spatial velocities `v` of that `qvel`.
+pub fn row_velocity(out: &ConstraintData, j: usize, v: &[Motion], qvel: &[f64]) -> f64 {
+    match out.kind[j] {
+        RowKind::Normal | RowKind::Tangent { .. } => {
+            let side = |s: usize| if out.node[j][s] == WORLD { 0.0 } else { v[out.node[j][s]].dot(&out.jac[j][s]) };
+            side(0) + side(1)
+        }
+        RowKind::Limit | RowKind::Motion { .. } => out.dof[j].1 * qvel[out.dof[j].0],
+    }
+}
+
+/// After an impulse has changed the velocities but not the configuration: the rows' velocities,
+/// motion-control targets and b at the new velocities, with the ABA of the new state. K and Δq̈
+/// depend on the configuration only and are kept.
+#[allow(clippy::too_many_arguments)]
+pub fn refresh(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f64], ctrl: &[f64], feedforward: &[f64], qacc0: &[f64], out: &mut ConstraintData) {
+    if out.kind.contains(&RowKind::Normal) {
+        velocity_products(m, kin, &mut out.a_vp);
+    }
+    let mut point = PointAccel::NONE;
+    for j in 0..out.len() {
+        if out.kind[j] == RowKind::Normal {
+            out.lift[j] = arc_lift(kin, out, j, m.opt.timestep, m.opt.lever());
+        }
+        out.vel[j] = row_velocity(out, j, &kin.v, qvel);
+        if let (RowKind::Motion { .. }, Actuation::Trajectory { kp, kd }) = (out.kind[j], m.opt.actuation) {
+            out.desired[j] = out.dof[j].1 * motion_target(m, out.source[j], kp, kd, qpos, qvel, ctrl, feedforward);
+        }
+        out.b[j] = measure(m, kin, aba, qacc0, out, j, &mut point);
+    }
+}
+

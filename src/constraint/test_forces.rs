@@ -1,0 +1,343 @@
+//! K and b by test forces (Kokkevis 2004, §5): column k of K is measured by pushing a unit test
+//! force of row k through the ABA quantities kept from the inward pass (I^A, U, D⁻¹): a delta
+//! inward pass and a delta outward pass, no 6×6 work, O(n) per column, O(mn + m²) in all.
+
+use glam::DVec3;
+
+use super::system::{point_accel, tree_lists, ConstraintData, RowKind};
+use crate::dynamics::aba;
+use crate::dynamics::aba::AbaData;
+use crate::dynamics::kinematics::KinData;
+use crate::math::{Force, Motion};
+use crate::model::{Model, WORLD};
+
+/// Fills K (every entry: zero between rows of separate trees; by test forces), Δq̈ per unit
+/// force, and b from the ABA outward-pass accelerations `aba.a` and `qacc0` of the same state.
+pub fn assemble(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], out: &mut ConstraintData) {
+    bias(m, kin, aba, qacc0, out);
+    out.assembled = false;
+    out.k.clear();
+    responses(m, kin, aba, out, |_, _| true);
+}
+
+/// b alone: each row's acceleration with zero constraint force.
+pub fn bias(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], out: &mut ConstraintData) {
+    out.b.clear();
+    let mut point = PointAccel::NONE;
+    for j in 0..out.len() {
+        let b = measure(m, kin, aba, qacc0, out, j, &mut point);
+        out.b.push(b);
+    }
+}
+
+/// K's columns and Δq̈ of the rows `needed` (by index and kind) not yet computed, by test forces (they depend on the
+/// configuration, not on velocities). Each column is measured at every row, so a row left out
+/// still has its accelerations under the forces of the rows computed.
+pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintData, needed: impl Fn(usize, RowKind) -> bool) {
+    prepare(m, out);
+    for k in 0..out.len() {
+        if out.column_done[k] || !needed(k, out.kind[k]) {
+            continue;
+        }
+        // a mirror row's column comes with its mirrored row's
+        let pushed = if out.mirror[k] == usize::MAX { k } else { out.mirror[k] };
+        if !out.column_done[pushed] {
+            push_test_force(m, kin, aba, out, pushed);
+        }
+    }
+}
+
+/// Column k of K and Δq̈ of row k, from a unit test force of row k (Kokkevis 2004; δp^A = −f at
+/// the point's node), and those of the row mirroring k (the next row, if it is k's mirror), their
+/// negations.
+fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintData, k: usize) {
+    let (nr, nv) = (out.len(), m.nv);
+    let mirrored = k + 1 < nr && out.mirror[k + 1] == k;
+    // the force moves only the nodes of the row's trees
+    let trees = out.tree[k];
+    for range in tree_ranges(m, trees) {
+        out.dpa[range].fill(Force::ZERO);
+    }
+    let mut dtau = None;
+    match out.kind[k] {
+        RowKind::Limit | RowKind::Motion { .. } => dtau = Some(out.dof[k]),
+        _ => {
+            for side in 0..2 {
+                let n = out.node[k][side];
+                if n != WORLD {
+                    out.dpa[n] -= out.jac[k][side];
+                }
+            }
+        }
+    }
+    delta_pass(m, kin, aba, trees, dtau, &mut out.dpa, &mut out.du, &mut out.da, &mut out.dqdd[k * nv..(k + 1) * nv]);
+    // K is symmetric (J M⁻¹ Jᵀ): this force's measures at the rows of its trees are row k (and
+    // its mirror's, negated), written whole (contiguous); a row pushed before holds its own
+    // measure of this force; rows of other trees are not written (zero, once their block is
+    // cleared: `clear_k_block`)
+    let mut kk = std::mem::take(&mut out.k);
+    let dqdd = &out.dqdd[k * nv..(k + 1) * nv];
+    let (first, second, a) = tree_lists(out, trees);
+    let mut point = PointAccel::NONE;
+    // a row of both trees is in both lists: read once
+    for &j in first.iter().chain(second.iter().filter(|&&j| a == WORLD || !out.tree[j].contains(&a))) {
+        let v = k_entry(out, &kk, trees, dqdd, j, k, &mut point);
+        kk[k * nr + j] = v;
+        if mirrored {
+            // (−d)·a = −(d·a) exactly: the mirror row's own measure
+            kk[(k + 1) * nr + j] = -v;
+        }
+    }
+    out.k = kk;
+    out.column_done[k] = true;
+    if mirrored {
+        let (done, rest) = out.dqdd.split_at_mut((k + 1) * nv);
+        for r in tree_dofs(m, trees) {
+            for (d, s) in rest[r.clone()].iter_mut().zip(&done[k * nv + r.start..k * nv + r.end]) {
+                *d = -s;
+            }
+        }
+        out.column_done[k + 1] = true;
+    }
+}
+
+/// Sizes K and Δq̈ for the rows and lists each tree's rows, once per set of rows. Test forces
+/// write K only between rows that share a tree (and Δq̈ on the row's trees' dofs); the other
+/// entries keep what they held: a reader of a block of K zeroes it first ([`clear_k_block`]).
+pub fn prepare(m: &Model, out: &mut ConstraintData) {
+    if out.assembled {
+        return;
+    }
+    let (nr, nv) = (out.len(), m.nv);
+    out.k.resize(nr * nr, 0.0);
+    if out.dqdd.len() < nr * nv {
+        out.dqdd.resize(nr * nv, 0.0);
+    }
+    out.column_done.clear();
+    out.column_done.resize(nr, false);
+    list_tree_rows(m.nnode, out);
+    out.assembled = true;
+}
+
+/// Zeroes K between the rows `rows` (an island's, increasing), unless a column of theirs is
+/// computed already (they were zeroed for an earlier solve of the same rows), or they are every
+/// row, with the trees K was last zeroed whole for (K between rows of no shared tree is still
+/// zero: test forces write only between rows that share one). K is then zero between those of
+/// separate trees, and the row of each row pushed holds its measures.
+pub fn clear_k_block(out: &mut ConstraintData, rows: &[usize]) {
+    let (Some(&first), Some(&last)) = (rows.first(), rows.last()) else { return };
+    if rows.iter().any(|&j| out.column_done[j]) {
+        return;
+    }
+    let nr = out.len();
+    let whole = rows.len() == nr;
+    if whole && out.zeroed_trees == out.tree {
+        return;
+    }
+    out.zeroed_trees.clear();
+    if whole {
+        out.zeroed_trees.extend_from_slice(&out.tree);
+    }
+    for &j in rows {
+        let row = &mut out.k[j * nr..(j + 1) * nr];
+        if last - first + 1 == rows.len() {
+            row[first..=last].fill(0.0);
+        } else {
+            for &jj in rows {
+                row[jj] = 0.0;
+            }
+        }
+    }
+}
+
+/// [`ConstraintData`]'s lists of each tree's rows (counted, then filled: O(nnode + rows)).
+fn list_tree_rows(nnode: usize, out: &mut ConstraintData) {
+    let start = &mut out.tree_row_start;
+    start.clear();
+    start.resize(nnode + 1, 0);
+    // a row's distinct trees (WORLD: none)
+    let sides = |[a, b]: [usize; 2]| [a, if b == a { WORLD } else { b }];
+    for &trees in &out.tree {
+        for t in sides(trees) {
+            if t != WORLD {
+                start[t + 1] += 1;
+            }
+        }
+    }
+    for t in 0..nnode {
+        start[t + 1] += start[t];
+    }
+    out.tree_rows.clear();
+    out.tree_rows.resize(start[nnode], 0);
+    // filled from each list's end, rows in reverse: each list ends up in row order
+    for (j, &trees) in out.tree.iter().enumerate().rev() {
+        for t in sides(trees) {
+            if t != WORLD {
+                start[t + 1] -= 1;
+                out.tree_rows[start[t + 1]] = j;
+            }
+        }
+    }
+    // each count was taken back once per row: start[t + 1] is now where tree t's list starts,
+    // so the array is shifted by one
+    start.rotate_left(1);
+    start[nnode] = out.tree_rows.len();
+}
+
+/// K_jk, with K's rows so far in `kk`, the test force of row k on the trees `trees` having
+/// left its responses in `cd.da` and `dqdd`; `point` carries the last contact's point
+/// acceleration from row to row.
+#[inline(always)]
+fn k_entry(cd: &ConstraintData, kk: &[f64], trees: [usize; 2], dqdd: &[f64], j: usize, k: usize, point: &mut PointAccel) -> f64 {
+    if cd.column_done[j] { kk[j * cd.len() + k] } else { delta_accel(cd, trees, dqdd, j, point) }
+}
+
+/// The relative acceleration of a contact's point (side 1's less side 2's), under a test force
+/// ([`delta_accel`]) or with no constraint force ([`measure`]), kept while the rows of that contact
+/// (its normal row `normal` and the friction rows after it) are read in turn.
+pub(super) struct PointAccel {
+    normal: usize,
+    accel: DVec3,
+}
+
+impl PointAccel {
+    /// No contact's yet.
+    pub(super) const NONE: PointAccel = PointAccel { normal: usize::MAX, accel: DVec3::ZERO };
+
+    /// Row j's acceleration: a joint row's from `qacc` (its dof's, signed), a contact row's along
+    /// its direction from its contact's point acceleration, `accel()` unless kept from the
+    /// contact's row before.
+    #[inline(always)]
+    pub(super) fn row(&mut self, cd: &ConstraintData, j: usize, qacc: &[f64], accel: impl FnOnce() -> DVec3) -> f64 {
+        let normal = match cd.kind[j] {
+            RowKind::Normal => j,
+            RowKind::Tangent { normal } => normal,
+            RowKind::Limit | RowKind::Motion { .. } => {
+                let (dof, sign) = cd.dof[j];
+                return sign * qacc[dof];
+            }
+        };
+        if self.normal != normal {
+            *self = PointAccel { normal, accel: accel() };
+        }
+        cd.dir[j].dot(self.accel)
+    }
+}
+
+/// Whether tree `t` is one of the trees `trees` a test force moved.
+#[inline]
+fn moves(trees: [usize; 2], t: usize) -> bool {
+    t != WORLD && (t == trees[0] || t == trees[1])
+}
+
+/// Acceleration of row j under the test force on the trees `trees` whose responses are in
+/// `cd.da` and `dqdd` (a K entry): a contact's delta point acceleration (δa_n's at the point, over
+/// the sides in those trees: the others do not move) along its direction, the point's computed
+/// once for the rows of a contact (`point`), or a joint row's δq̈.
+#[inline(always)]
+fn delta_accel(cd: &ConstraintData, trees: [usize; 2], dqdd: &[f64], j: usize, point: &mut PointAccel) -> f64 {
+    point.row(cd, j, dqdd, || {
+        let ([n0, n1], [t0, t1], r) = (cd.node[j], cd.tree[j], cd.arm[j]);
+        let mut accel = DVec3::ZERO;
+        if moves(trees, t0) {
+            accel += cd.da[n0].point_velocity(r);
+        }
+        if moves(trees, t1) {
+            accel -= cd.da[n1].point_velocity(r);
+        }
+        accel
+    })
+}
+
+/// Acceleration of row j with zero constraint force (its b): from the actual accelerations, with
+/// velocity-product and gravity terms.
+/// `point` carries the point's acceleration from a contact's row to its next ones.
+pub(super) fn measure(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], cd: &ConstraintData, j: usize, point: &mut PointAccel) -> f64 {
+    point.row(cd, j, qacc0, || {
+        let ([n0, n1], [p0, p1]) = (cd.node[j], cd.point[j]);
+        let g = m.opt.gravity;
+        point_accel(kin, &aba.a, g, n0, kin.rel(n0, p0)) - point_accel(kin, &aba.a, g, n1, kin.rel(n1, p1))
+    })
+}
+
+/// The node ranges of the trees `trees` ([`Model::node_tree`]; [`WORLD`] and a repeat name
+/// none), first node first.
+pub fn tree_ranges(m: &Model, trees: [usize; 2]) -> [std::ops::Range<usize>; 2] {
+    let [a, b] = trees;
+    let (a, b) = if a == WORLD || (b != WORLD && b < a) { (b, a) } else { (a, b) };
+    let range = |t: usize| if t == WORLD { 0..0 } else { t..m.node_end[t] };
+    [range(a), if b == a { 0..0 } else { range(b) }]
+}
+
+/// target += f · Δq̈ of a row on the trees `trees`, whose Δq̈ (`dqdd`, nv long) is zero, and not
+/// kept, off their dofs.
+pub fn add_response(m: &Model, trees: [usize; 2], f: f64, dqdd: &[f64], target: &mut [f64]) {
+    for r in tree_dofs(m, trees) {
+        for (t, d) in target[r.clone()].iter_mut().zip(&dqdd[r]) {
+            *t += f * d;
+        }
+    }
+}
+
+/// The dof ranges of the trees `trees`, as [`tree_ranges`].
+pub fn tree_dofs(m: &Model, trees: [usize; 2]) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
+    tree_ranges(m, trees).into_iter().filter(|r| !r.is_empty()).map(|r| m.node_dofadr[r.start]..m.node_dofadr[r.end - 1] + m.node_nv[r.end - 1])
+}
+
+/// Response of the articulated system to the test forces in `dpa` (world coordinates) or the unit
+/// joint torque `dtau` = (dof, value) on the nodes of the trees `trees` (the others do not move):
+/// a delta ABA with the inertias of the main pass (velocity terms cancel). Writes Δq̈ of those
+/// trees' dofs into `dqdd` and spatial Δa of their nodes into `da`; leaves `dpa` modified.
+#[allow(clippy::too_many_arguments)]
+pub fn delta_pass(
+    m: &Model,
+    kin: &KinData,
+    aba: &AbaData,
+    trees: [usize; 2],
+    dtau: Option<(usize, f64)>,
+    dpa: &mut [Force],
+    du: &mut [[f64; 6]],
+    da: &mut [Motion],
+    dqdd: &mut [f64],
+) {
+    // inward: δu_i = δτ_i − S_iᵀ δp^A_i;  δp^A_λ += δp^A_i + U_i D_i⁻¹ δu_i; nodes off the
+    // test force's path to the root have δp^A = 0 and δu = 0
+    let ranges = tree_ranges(m, trees);
+    for part in [1, 0] {
+        for i in ranges[part].clone().rev() {
+            let k = m.node_nv[i];
+            let d0 = m.node_dofadr[i];
+            let torqued = matches!(dtau, Some((dof, _)) if dof >= d0 && dof < d0 + k);
+            if !torqued && dpa[i] == Force::ZERO {
+                du[i] = [0.0; 6];
+                continue;
+            }
+            for r in 0..k {
+                let t = match dtau {
+                    Some((dof, v)) if dof == d0 + r => v,
+                    _ => 0.0,
+                };
+                du[i][r] = t - kin.s[i][r].dot(&dpa[i]);
+            }
+            let p = m.node_parent[i];
+            if p == WORLD {
+                continue;
+            }
+            let mut pa = dpa[i];
+            let mut w = du[i];
+            aba::solve_d(k, &aba.d_inv[i], &mut w);
+            for r in 0..k {
+                pa += aba.u_mat[i][r] * w[r];
+            }
+            dpa[p] += pa;
+        }
+    }
+    // outward: δa'_i = δa_λ;  δq̈_i = D⁻¹(δu_i − Uᵀ δa'_i);  δa_i = δa'_i + S δq̈_i
+    for part in [0, 1] {
+        for i in ranges[part].clone() {
+            let p = m.node_parent[i];
+            let a = if p == WORLD { Motion::ZERO } else { da[p] };
+            da[i] = aba::joint_accel(m, kin, aba, i, &du[i], a, dqdd);
+        }
+    }
+}
