@@ -1,5 +1,5 @@
 """Cost of the two friction models: single-world steps/s on the gymnasium models under random
-controls (reset every 1000 steps), the one-tangent ("seed") model beside the pyramid.
+controls (reset every 1000 steps), the one-tangent ("one_tangent") model beside the pyramid.
 
     python benches/friction_models.py [--out results/friction_models.md]
 """
@@ -40,7 +40,7 @@ def main():
         "|---|---|---|---|",
     ]
     for name in MODELS:
-        seed, pyramid = steps_per_second(name, "seed"), steps_per_second(name, "pyramid")
+        seed, pyramid = steps_per_second(name, "one_tangent"), steps_per_second(name, "pyramid")
         lines.append(f"| {name} | {seed:,.0f} | {pyramid:,.0f} | {seed / pyramid - 1:+.0%} |")
     emit("\n".join(lines) + "\n", args.out)
 

@@ -64,7 +64,7 @@ def main():
         "|---|---|---|---|---|---|---|---|",
     ]
     for dt in (0.002, 0.01):
-        mj, runs = [], {"pyramid": [], "seed": []}
+        mj, runs = [], {"pyramid": [], "one_tangent": []}
         for _ in range(args.rounds):
             mj.append(mujoco_run(dt))
             for friction in runs:

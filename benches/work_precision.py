@@ -351,7 +351,7 @@ def run_gym(name, dt, engine, config, T=0.5):
     return qpos().copy(), elapsed / T, pen, lim
 
 
-SINEW_CONTACT = ([(mode, fr, "Euler") for mode in ("acceleration", "velocity") for fr in ("seed", "pyramid")]
+SINEW_CONTACT = ([(mode, fr, "Euler") for mode in ("acceleration", "velocity") for fr in ("one_tangent", "pyramid")]
                  + [(mode, "pyramid", "leapfrog") for mode in ("acceleration", "velocity")])
 MUJOCO_CONTACT = [(integ, cone) for integ in ("mjINT_EULER", "mjINT_IMPLICITFAST") for cone in ("mjCONE_PYRAMIDAL", "mjCONE_ELLIPTIC")]
 

@@ -5,7 +5,7 @@
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     if args.len() != 4 {
-        eprintln!("usage: scene_step MODEL.xml SECONDS pyramid|seed");
+        eprintln!("usage: scene_step MODEL.xml SECONDS pyramid|one_tangent");
         std::process::exit(2);
     }
     let mut m = match sinew::Model::from_mjcf_file(std::path::Path::new(&args[1])) {
@@ -20,7 +20,7 @@ fn main() {
         std::process::exit(2);
     };
     m.opt.friction = match args[3].as_str() {
-        "seed" => sinew::model::FrictionModel::OneTangent,
+        "one_tangent" | "seed" => sinew::model::FrictionModel::OneTangent,
         _ => sinew::model::FrictionModel::Pyramid,
     };
     m.opt.integrator = sinew::model::Integrator::Euler;

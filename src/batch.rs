@@ -1,4 +1,4 @@
-//! ⑤ Many worlds sharing one immutable [`Model`], stepped in parallel: the calling thread takes
+//! Many worlds sharing one immutable [`Model`], stepped in parallel: the calling thread takes
 //! worlds one at a time from the front of a shared queue, the workers of a rayon pool from its
 //! back.
 //!

@@ -29,6 +29,13 @@ pub enum Error {
     Io(String),
     /// Bad runtime input: wrong shape, non-finite value, out-of-range option.
     Input(String),
+    /// An error in a model file: the file, and the error.
+    InFile {
+        /// The file's path as given.
+        file: String,
+        /// What is wrong in it.
+        error: Box<Error>,
+    },
 }
 
 /// Result alias for sinew.
@@ -42,6 +49,14 @@ impl Error {
             attribute: attribute.map(str::to_string),
             line,
             message: message.into(),
+        }
+    }
+
+    /// The error as one in the file `path` (an error already naming a file is kept).
+    pub fn in_file(self, path: &std::path::Path) -> Self {
+        match self {
+            Error::InFile { .. } | Error::Io(_) => self,
+            error => Error::InFile { file: path.display().to_string(), error: Box::new(error) },
         }
     }
 }
@@ -59,6 +74,7 @@ impl fmt::Display for Error {
             Error::Compile(m) => write!(f, "model compilation failed: {m}"),
             Error::Io(m) => write!(f, "{m}"),
             Error::Input(m) => write!(f, "{m}"),
+            Error::InFile { file, error } => write!(f, "{file}: {error}"),
         }
     }
 }

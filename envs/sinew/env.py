@@ -21,7 +21,8 @@ Actions (keyword ``action_mode``):
   q̈ = kp (target − q) − kd q̇ together with contacts and limits, each bounded by its motor's
   gear · max|ctrlrange|; ``trajectory_gains=(kp, kd)`` in 1/s² and 1/s (default (100, 20)).
 
-Physics: ``friction="pyramid"`` (default) or ``"seed"`` (the paper's one tangent);
+Physics: ``friction="pyramid"`` (default) or ``"one_tangent"`` (the paper's one tangent; ``"seed"``
+is the old name of it);
 ``constraint_mode="acceleration"`` (default: the seed's impact solve for rebounding contacts,
 e > 0, then the acceleration-level solve) or
 ``"velocity"`` (velocity-level time stepping).
@@ -145,8 +146,8 @@ class BatchTask:
         within = np.abs(a) <= MAX_ACTION
         if not within.all():
             bad = ~within.all(axis=1)
-            raise ValueError(f"actions are not finite (NaN or inf) or beyond ±{MAX_ACTION:g} for env indices "
-                             f"{np.flatnonzero(bad).tolist()}")
+            which = "" if self.num_envs == 1 else f" for env indices {np.flatnonzero(bad).tolist()}"
+            raise ValueError(f"actions are not finite (NaN or inf) or beyond ±{MAX_ACTION:g}{which}")
         return a
 
     def reset_worlds(self, idx: np.ndarray, rngs: list) -> None:
@@ -508,3 +509,24 @@ class SinewVectorEnv(VectorEnv):
                 # an entry no env reports is left out, as SyncVectorEnv leaves it out
                 out[k], out["_" + k] = v, stepped
         return out
+
+
+def _task_classes(name: str) -> tuple[type, type]:
+    """The single and vector env classes of one task (``sinew.env.HopperEnv``,
+    ``sinew.env.HopperVectorEnv``): gymnasium's entry points, so that ``make`` passes only the
+    caller's keywords."""
+    doc = f"``sinew/{name}-v0``: see :class:`SinewEnv` and :class:`SinewVectorEnv`."
+
+    def single_init(self, task: str = name, *args, **kwargs):
+        SinewEnv.__init__(self, task, *args, **kwargs)
+
+    def vector_init(self, task: str = name, *args, **kwargs):
+        SinewVectorEnv.__init__(self, task, *args, **kwargs)
+
+    single = type(f"{name}Env", (SinewEnv,), {"__init__": single_init, "__module__": __name__, "__doc__": doc})
+    vector = type(f"{name}VectorEnv", (SinewVectorEnv,), {"__init__": vector_init, "__module__": __name__, "__doc__": doc})
+    return single, vector
+
+
+for _name in TASKS:
+    globals()[f"{_name}Env"], globals()[f"{_name}VectorEnv"] = _task_classes(_name)

@@ -12,8 +12,7 @@ def register_envs() -> None:
             continue
         gymnasium.register(
             id=env_id,
-            entry_point="sinew.env:SinewEnv",
-            vector_entry_point="sinew.env:SinewVectorEnv",
+            entry_point=f"sinew.env:{name}Env",
+            vector_entry_point=f"sinew.env:{name}VectorEnv",
             max_episode_steps=cls.max_episode_steps,
-            kwargs={"task": name},
         )

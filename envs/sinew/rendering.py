@@ -15,6 +15,8 @@ drawn. Metric depth is z = n f / (f − d (f − n)).
 
 from __future__ import annotations
 
+import os
+import sys
 from typing import Any
 
 import gymnasium
@@ -59,6 +61,7 @@ class Viewer:
         # each world's free camera, set up at its first frame
         self._free: dict[int, dict] = {}
         self._window = None
+        self._warned_no_display = False
 
     def camera(self, qpos: np.ndarray, world: int = 0):
         """The ``camera`` argument of ``Batch.render`` for world ``world`` at ``qpos`` (its free
@@ -94,7 +97,16 @@ class Viewer:
         return list(out)
 
     def show(self, frame: np.ndarray) -> None:
-        """Shows an RGB frame in a pygame window."""
+        """Shows an RGB frame in a pygame window; without a display (Linux with neither DISPLAY,
+        WAYLAND_DISPLAY nor an SDL_VIDEODRIVER set) it warns once and shows nothing, as opening a
+        window would fail."""
+        display = ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER")
+        if sys.platform.startswith("linux") and not any(os.environ.get(k) for k in display):
+            if not self._warned_no_display:
+                gymnasium.logger.warn('render_mode="human": no display (DISPLAY, WAYLAND_DISPLAY and SDL_VIDEODRIVER are unset), '
+                                      'nothing is shown; use render_mode="rgb_array" for frames')
+                self._warned_no_display = True
+            return
         try:
             import pygame
         except ImportError as e:

@@ -17,6 +17,7 @@ from stable_baselines3.common.vec_env.base_vec_env import VecEnv
 
 from sinew.env import BatchTask
 from sinew.rendering import Viewer
+from sinew.tasks import TASKS
 
 
 class SinewVecEnv(VecEnv):
@@ -105,12 +106,14 @@ def make_vec_env(env_id: str, n_envs: int = 1, seed: int | None = None, **env_kw
     ``max_episode_steps`` is given.
     """
     spec = gymnasium.spec(env_id)
-    if not spec.entry_point == "sinew.env:SinewEnv":
+    entry = spec.entry_point if isinstance(spec.entry_point, str) else ""
+    task = entry.removeprefix("sinew.env:").removesuffix("Env")
+    if not entry.startswith("sinew.env:") or task not in TASKS:
         raise ValueError(f"{env_id} is not a sinew environment")
     kwargs = dict(spec.kwargs)
     kwargs.update(env_kwargs)
     max_steps = kwargs.pop("max_episode_steps", spec.max_episode_steps)
-    return SinewVecEnv(n_envs=n_envs, max_episode_steps=max_steps, seed=seed, **kwargs)
+    return SinewVecEnv(task, n_envs=n_envs, max_episode_steps=max_steps, seed=seed, **kwargs)
 
 
 __all__: Sequence[str] = ["SinewVecEnv", "make_vec_env"]

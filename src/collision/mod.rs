@@ -1,4 +1,4 @@
-//! Stage 2 — collision detection: contact points for the current configuration.
+//! Stage 3 — collision detection: contact points for the current configuration.
 //!
 //! Pairs: plane–{sphere, capsule, box}, sphere–sphere, sphere–capsule, capsule–capsule, sphere–box
 //! (exact), capsule–box (the segment's ends and its point nearest the box, as spheres) and box–box

@@ -21,7 +21,7 @@ impl Model {
 
     /// Reads, parses and compiles an MJCF file.
     pub fn from_mjcf_file(path: &std::path::Path) -> Result<Model> {
-        Model::from_mjcf(&crate::mjcf::read_file(path)?)
+        Model::from_mjcf(&crate::mjcf::read_file(path)?).map_err(|e| e.in_file(path))
     }
 }
 

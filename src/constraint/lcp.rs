@@ -1,4 +1,4 @@
-//! Stage 4 — the mixed LCP  w = M z + q,  z ≥ 0 ⟂ w ≥ 0, by Lemke's complementary pivoting.
+//! The LCP solver of stages 6, 7 and 9 — the mixed LCP  w = M z + q,  z ≥ 0 ⟂ w ≥ 0, by Lemke's complementary pivoting.
 //!
 //! Why Lemke: the seed's friction rows (Kokkevis 2004, eqs. 19–21) make M non-symmetric and not
 //! positive definite ([[K_nn, K_nt, 0], [K_tn, K_tt, 1], [μ, −1, 0]] per contact), so Dantzig-style

@@ -1,4 +1,4 @@
-//! K and b by test forces (Kokkevis 2004, §5): column k of K is measured by pushing a unit test
+//! Stage 5 — K and b by test forces (Kokkevis 2004, §5): column k of K is measured by pushing a unit test
 //! force of row k through the ABA quantities kept from the inward pass (I^A, U, D⁻¹): a delta
 //! inward pass and a delta outward pass, no 6×6 work, O(n) per column, O(mn + m²) in all.
 

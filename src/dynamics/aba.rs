@@ -1,4 +1,4 @@
-//! Featherstone's articulated-body algorithm (Featherstone 2008, §7.3, Table 7.1), split in two so
+//! Stage 2 — Featherstone's articulated-body algorithm (Featherstone 2008, §7.3, Table 7.1), split in two so
 //! the constraint stage can reuse the articulated inertias between the passes. Everything is in
 //! the world coordinates of [`KinData`] (about its `origin`), so every ^iX_λ of the table is the
 //! identity: a child's I^a and p^a add to its parent's as they are, and a parent's acceleration is

@@ -1,4 +1,4 @@
-//! Last stage — time integration: semi-implicit Euler (MuJoCo's `Euler`), leapfrog (position
+//! Stage 8 — time integration: semi-implicit Euler (MuJoCo's `Euler`), leapfrog (position
 //! Verlet) and classical RK4 (MuJoCo's `RK4`, same tableau). Quaternions move on the manifold and
 //! stay unit.
 

@@ -1,4 +1,4 @@
-//! ① Model description: the MJCF (MuJoCo XML) subset sinew reads, parsed into a [`ModelSpec`] with
+//! Model description: the MJCF (MuJoCo XML) subset sinew reads, parsed into a [`ModelSpec`] with
 //! defaults resolved, angles in radians and orientations as quaternions. `model::compile` turns the
 //! spec into a [`crate::Model`].
 //!

@@ -1,4 +1,4 @@
-//! ② The compiled model: immutable, flat arrays, every index resolved. Shared by all worlds.
+//! The compiled model: immutable, flat arrays, every index resolved. Shared by all worlds.
 //!
 //! Arrays follow MuJoCo's `<object>_<field>` naming. Joints, dofs and qpos/qvel addresses are in
 //! MuJoCo's order. The dynamics tree has one *node* per body with joints (a body whose joints

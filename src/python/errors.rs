@@ -20,6 +20,11 @@ create_exception!(sinew, SimulationError, PyRuntimeError, "A simulation whose st
 /// `attribute` and `line` attributes.
 pub fn to_py(py: Python<'_>, e: Error) -> PyErr {
     let msg = e.to_string();
+    exception(py, e, msg)
+}
+
+/// The exception of `e`'s kind with the message `msg` (an error in a file: its error's kind).
+fn exception(py: Python<'_>, e: Error, msg: String) -> PyErr {
     match e {
         Error::Xml { line, .. } => {
             let err = ModelError::new_err(msg);
@@ -40,6 +45,7 @@ pub fn to_py(py: Python<'_>, e: Error) -> PyErr {
         Error::Compile(_) => ModelError::new_err(msg),
         Error::Io(_) => PyOSError::new_err(msg),
         Error::Input(_) => PyValueError::new_err(msg),
+        Error::InFile { error, .. } => exception(py, *error, msg),
     }
 }
 

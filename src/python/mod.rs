@@ -1,4 +1,5 @@
-//! ⑥ pyo3 bindings (feature `python`): conversion and error mapping only, no physics.
+//! pyo3 bindings (feature `python`): conversion, error mapping, and the Python classes over
+//! `step`, `batch` and `render`.
 
 mod batch;
 mod errors;

@@ -42,6 +42,13 @@ fn emit_warnings(py: Python<'_>, m: &Model) -> PyResult<()> {
     Ok(())
 }
 
+fn friction_name(f: FrictionModel) -> &'static str {
+    match f {
+        FrictionModel::OneTangent => "one_tangent",
+        FrictionModel::Pyramid => "pyramid",
+    }
+}
+
 fn integrator_name(i: Integrator) -> &'static str {
     match i {
         Integrator::Euler => "Euler",
@@ -58,7 +65,7 @@ impl PyModel {
         let loaded = py.detach(|| {
             super::errors::guard_model("Model.from_mjcf", || {
                 let source = crate::mjcf::read_file(&path)?;
-                Model::from_mjcf(&source).map(|m| (m, source))
+                Model::from_mjcf(&source).map(|m| (m, source)).map_err(|e| e.in_file(&path))
             })
         })?;
         let (m, source) = loaded.map_err(|e| to_py(py, e))?;
@@ -148,9 +155,10 @@ impl PyModel {
         }
         if let Some(f) = friction {
             m.opt.friction = match f {
-                "seed" => FrictionModel::OneTangent,
+                // "seed" (the paper's model) is the old name, still accepted
+                "one_tangent" | "seed" => FrictionModel::OneTangent,
                 "pyramid" => FrictionModel::Pyramid,
-                _ => return Err(PyValueError::new_err(format!("friction must be 'seed' or 'pyramid', got '{f}'"))),
+                _ => return Err(PyValueError::new_err(format!("friction must be 'pyramid' or 'one_tangent', got '{f}'"))),
             };
         }
         Ok(PyModel::new(m, self.source.clone()))
@@ -201,13 +209,10 @@ impl PyModel {
     fn restitution(&self) -> f64 {
         self.inner.opt.restitution
     }
-    /// Friction formulation: "seed" (one tangent, Kokkevis eqs. 19–21) or "pyramid" (±t₁, ±t₂).
+    /// Friction formulation: "pyramid" (±t₁, ±t₂) or "one_tangent" (the seed's, Kokkevis eqs. 19–21).
     #[getter]
     fn friction(&self) -> &'static str {
-        match self.inner.opt.friction {
-            FrictionModel::OneTangent => "seed",
-            FrictionModel::Pyramid => "pyramid",
-        }
+        friction_name(self.inner.opt.friction)
     }
     /// "acceleration" (the seed's impact solve when a contact rebounds, e > 0, then the force
     /// solve) or "velocity" (time stepping).
@@ -428,10 +433,7 @@ impl PyModel {
         d.set_item("restitution", o.restitution)?;
         d.set_item("contact", o.contact)?;
         d.set_item("limit", o.limit)?;
-        d.set_item("friction", match o.friction {
-            FrictionModel::OneTangent => "seed",
-            FrictionModel::Pyramid => "pyramid",
-        })?;
+        d.set_item("friction", friction_name(o.friction))?;
         d.set_item("constraint_mode", match o.constraint_mode {
             ConstraintMode::Acceleration => "acceleration",
             ConstraintMode::Velocity => "velocity",

@@ -1,4 +1,4 @@
-//! ⑥ Pictures of worlds without GL: every pixel's ray is cast against the analytic geoms (plane,
+//! Pictures of worlds without GL: every pixel's ray is cast against the analytic geoms (plane,
 //! sphere, capsule, cylinder, box, ellipsoid) and shaded as MuJoCo's fixed-function renderer
 //! shades (headlight and model lights, Phong specular, shadows, checker and gradient textures,
 //! planar reflections). Depth is MuJoCo's z-buffer value from the model's near and far planes.

@@ -1,4 +1,4 @@
-//! ③ The integrable state of one world, for Rust users and tests (the Python layer keeps the same
+//! The integrable state of one world, for Rust users and tests (the Python layer keeps the same
 //! arrays in NumPy and steps them in place).
 
 use crate::step::data::Data;

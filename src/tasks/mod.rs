@@ -1,4 +1,4 @@
-//! ⑤ Task logic of the gymnasium environments, run per world inside the batch's parallel step:
+//! Task logic of the gymnasium environments, run per world inside the batch's parallel step:
 //! the observation, reward terms and termination of gymnasium's MuJoCo v5 env of the same name
 //! (`gymnasium/envs/mujoco/*_v5.py`), from sinew's own state and sensor outputs. One file per
 //! task; [`make`] is the registry. Reset noise, which must come from each world's numpy

@@ -26,7 +26,7 @@ STACK = ('<mujoco><option timestep="{dt}"/><worldbody><geom type="plane" size="5
          + "</worldbody></mujoco>")
 
 
-def bounce_peak(dt, mode, friction="seed", integrator="Euler"):
+def bounce_peak(dt, mode, friction="one_tangent", integrator="Euler"):
     """Highest point of the ball's gap over the floor after its first rebound (1.5 s), and the Sim."""
     m = sinew.Model.from_mjcf_string(BALL.format(dt=dt))
     sim = sinew.Sim(m.with_options(constraint_mode=mode, friction=friction, integrator=integrator))
@@ -51,7 +51,7 @@ def stack_drift(dt, mode, friction, seconds=10.0, integrator="Euler"):
     return worst, sim
 
 
-@pytest.mark.parametrize("friction, rows_per_corner", [("seed", 2), ("pyramid", 5)])
+@pytest.mark.parametrize("friction, rows_per_corner", [("one_tangent", 2), ("pyramid", 5)])
 @pytest.mark.parametrize("mode", ["acceleration", "velocity"])
 @pytest.mark.parametrize("dt", [0.002, 0.01])
 def test_resting_box_does_not_sink_or_slide(dt, mode, friction, rows_per_corner):
@@ -84,7 +84,7 @@ def test_joint_driven_into_its_limit_stops_and_stays(dt, mode):
 @pytest.mark.parametrize("mode", ["acceleration", "velocity"])
 @pytest.mark.parametrize("dt", [0.002, 0.01])
 def test_ball_rebounds_to_e_squared_of_its_drop_height(dt, mode, integrator):
-    """The rebound keeps the discrete energy of both integrators (see `rebound` in src/step/mod.rs)."""
+    """The rebound keeps the discrete energy of both integrators (see `rebound` in src/constraint/impact.rs)."""
     peak, sim = bounce_peak(dt, mode, integrator=integrator)
     assert sim.model.restitution == 0.5
     expected = 0.25 * 0.9
@@ -248,7 +248,7 @@ def test_painleve_rod_ends_finite_without_gaining_energy(mode, dt):
     th, half = math.atan(2.0), 0.5
     xml = f"""<mujoco><option timestep="{dt}"/><worldbody><geom type="plane" size="10 10 .1" friction="1.5"/>
     <body><freejoint/><geom type="capsule" size="0.01 {half}" friction="1.5" mass="1"/></body></worldbody></mujoco>"""
-    m = sinew.Model.from_mjcf_string(xml).with_options(constraint_mode=mode, friction="seed")
+    m = sinew.Model.from_mjcf_string(xml).with_options(constraint_mode=mode, friction="one_tangent")
     sim = sinew.Sim(m)
     a = math.pi / 2 - th
     sim.qpos[3:7] = [math.cos(a / 2), 0, math.sin(a / 2), 0]
@@ -323,7 +323,7 @@ def test_redundant_coplanar_contacts_carry_exactly_the_weight(boxes, mode):
 
 
 @pytest.mark.parametrize("integrator", ["Euler", "leapfrog"])
-@pytest.mark.parametrize("friction", ["seed", "pyramid"])
+@pytest.mark.parametrize("friction", ["one_tangent", "pyramid"])
 @pytest.mark.parametrize("mode", ["acceleration", "velocity"])
 @pytest.mark.parametrize("dt", [0.002, 0.01])
 def test_five_stacked_boxes_stay_stacked(dt, mode, friction, integrator):

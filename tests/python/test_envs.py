@@ -245,7 +245,7 @@ def test_vector_env_equals_single_envs_with_the_same_seeds(name):
 
 
 def batch_rollout(n, threads, seeds_from=0, steps=300):
-    m = sinew.Model.from_mjcf(sinew.tasks.ASSETS + "/hopper.xml").with_options(friction="seed")
+    m = sinew.Model.from_mjcf(sinew.tasks.ASSETS + "/hopper.xml").with_options(friction="one_tangent")
     b = sinew.Batch(m, n, seed=seeds_from, num_threads=threads)
     rng = np.random.default_rng(5)
     b.qpos[:] += rng.uniform(-0.1, 0.1, size=b.qpos.shape)
@@ -277,7 +277,7 @@ def test_batch_rejects_absurd_sizes_with_value_errors():
 def test_batch_world_does_not_depend_on_batch_size():
     # world 0 of a batch of 5 with seed s equals world 3 of a batch of 7 with seed s − 3,
     # given the same per-world inputs: the inputs here differ per batch, so compare one world
-    m = sinew.Model.from_mjcf(sinew.tasks.ASSETS + "/hopper.xml").with_options(friction="seed")
+    m = sinew.Model.from_mjcf(sinew.tasks.ASSETS + "/hopper.xml").with_options(friction="one_tangent")
     outs = []
     for n, seed, i in [(1, 4, 0), (5, 0, 4), (7, 2, 2)]:
         b = sinew.Batch(m, n, seed=seed, num_threads=2)
