@@ -14,7 +14,8 @@ use std::time::{Duration, Instant};
 use crate::step::data::Data;
 use crate::model::Model;
 use crate::sensors::{self, Sensors};
-use crate::step::step;
+use crate::state::WorldState;
+use crate::step::run::{advance, guarded};
 use crate::tasks::Task;
 
 pub use crate::math::{out_of_range, MAX_STATE};
@@ -167,10 +168,7 @@ impl Batch {
                 .zip(obs.chunks_mut(obs_dim.max(1)).zip(reward.iter_mut()).zip(terminated.iter_mut()).zip(info.chunks_mut(ninfo.max(1))))
                 .map(|((((((d, ((qpos, qvel), ctrl)), ((time, diverged), &active)), ((xpos, xmat), xipos)), ((xvel, cfrc_ext), qfrc_constraint)), (cinert, cvel)), (((obs, reward), terminated), info))| World {
                     data: d,
-                    qpos: &mut qpos[..m.nq],
-                    qvel: &mut qvel[..m.nv],
-                    ctrl: &ctrl[..m.nu],
-                    time,
+                    state: WorldState { time, qpos: &mut qpos[..m.nq], qvel: &mut qvel[..m.nv], ctrl: &ctrl[..m.nu] },
                     diverged,
                     active,
                     out: Sensors { xpos, xmat, xipos, xvel, cfrc_ext, qfrc_constraint: &mut qfrc_constraint[..m.nv], cinert, cvel },
@@ -240,10 +238,7 @@ impl Batch {
 /// One world's rows of a batch's arrays, for one call of [`Batch::step`].
 struct World<'a> {
     data: &'a mut Data,
-    qpos: &'a mut [f64],
-    qvel: &'a mut [f64],
-    ctrl: &'a [f64],
-    time: &'a mut f64,
+    state: WorldState<'a>,
     diverged: &'a mut bool,
     active: bool,
     out: Sensors<'a>,
@@ -254,58 +249,39 @@ struct World<'a> {
 }
 
 /// `n` steps of one world (reset alone if it diverges), then its sensor outputs and, with a task,
-/// its observation, reward terms and termination.
-/// A panic (a bug) leaves the world as the call found it, its history forgotten, and its message
-/// in [`Data::fault`].
+/// its observation, reward terms and termination, under the step's panic guard: a panic (a bug)
+/// leaves the world as the call found it, its history forgotten, and its message in
+/// [`Data::fault`].
 fn env_step(m: &Model, root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>) {
-    let World { data, qpos, qvel, ctrl, time, diverged, active, mut out, obs, reward, terminated, info } = w;
+    let World { data, mut state, diverged, active, mut out, obs, reward, terminated, info } = w;
     *diverged = false;
+    data.fault.message = None;
     if !active {
         return;
     }
-    let fault = &mut data.fault;
-    fault.message = None;
-    fault.qpos.copy_from_slice(qpos);
-    fault.qvel.copy_from_slice(qvel);
-    fault.time = *time;
-    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        let world = World { data: &mut *data, qpos: &mut *qpos, qvel: &mut *qvel, ctrl, time: &mut *time, diverged: &mut *diverged, active, out: out.reborrow(), obs: &mut *obs, reward: &mut *reward, terminated: &mut *terminated, info: &mut *info };
-        env_step_unguarded(m, root, task, n, world)
-    }));
-    if let Err(e) = outcome {
-        let f = &mut data.fault;
-        qpos.copy_from_slice(&f.qpos);
-        qvel.copy_from_slice(&f.qvel);
-        *time = f.time;
-        f.message = Some(crate::error::panic_message(&*e));
-        data.forget_history();
-    }
-}
-
-fn env_step_unguarded(m: &Model, root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>) {
-    let World { data, qpos, qvel, ctrl, time, diverged, mut out, obs, reward, terminated, info, .. } = w;
-    // the rewarded position before the env step, from the outputs of the state it starts in
-    let before = task.map(|t| t.position(m, &out.world_view(qpos, qvel, ctrl)));
-    for _ in 0..n {
-        step(m, data, qpos, qvel, ctrl, time);
-        if qpos.iter().chain(qvel.iter()).any(|&x| out_of_range(x)) || out_of_range(*time) {
-            reset_world(m, data, qpos, qvel);
-            *time = 0.0;
+    let outcome = guarded(data, &mut state, |data, s| {
+        // the rewarded position before the env step, from the outputs of the state it starts in
+        let before = task.map(|t| t.position(m, &out.world_view(s.qpos, s.qvel, s.ctrl)));
+        if advance(m, data, s, n).is_some() {
+            reset_world(m, data, s.qpos, s.qvel);
+            *s.time = 0.0;
             *diverged = true;
-            break;
         }
-    }
-    sensors::write(m, root, data, qpos, qvel, out.reborrow());
-    if let (Some(t), Some(before)) = (task, before) {
-        let view = out.world_view(qpos, qvel, ctrl);
-        t.observe(m, &view, obs);
-        *terminated = t.evaluate(m, &view, obs, before, n as f64 * m.opt.timestep, info);
-        *reward = info[..t.reward_terms()].iter().sum();
-        // a diverged world was reset: its step earns nothing and ends the episode
-        if *diverged {
-            *reward = 0.0;
-            *terminated = true;
+        sensors::write(m, root, data, s.qpos, s.qvel, out.reborrow());
+        if let (Some(t), Some(before)) = (task, before) {
+            let view = out.world_view(s.qpos, s.qvel, s.ctrl);
+            t.observe(m, &view, obs);
+            *terminated = t.evaluate(m, &view, obs, before, n as f64 * m.opt.timestep, info);
+            *reward = info[..t.reward_terms()].iter().sum();
+            // a diverged world was reset: its step earns nothing and ends the episode
+            if *diverged {
+                *reward = 0.0;
+                *terminated = true;
+            }
         }
+    });
+    if let Err(message) = outcome {
+        data.fault.message = Some(message);
     }
 }
 

@@ -17,17 +17,18 @@ pub mod timing;
 // rooms in dependency order: each imports only the rooms above it in this list
 pub mod mjcf;
 pub mod model;
+pub mod state;
 pub mod dynamics;
+pub mod compile;
 pub mod integrate;
 pub mod collision;
 pub mod constraint;
 pub mod step;
-pub mod compile;
 pub mod batch;
 pub mod sensors;
 pub mod tasks;
 pub mod render;
-pub use step::{data, state};
+pub use step::data;
 
 #[cfg(feature = "python")]
 mod python;
@@ -35,4 +36,4 @@ mod python;
 pub use data::Data;
 pub use error::{Error, Result};
 pub use model::Model;
-pub use state::State;
+pub use step::state::State;

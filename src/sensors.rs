@@ -93,9 +93,9 @@ pub fn body_root(m: &Model) -> Vec<usize> {
 
 /// Fills `out` for the state (qpos, qvel) and the constraint forces of the last step in `d`.
 pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64], out: Sensors<'_>) {
-    let Data { constraints: Constraints { post, con, solve: SolveData { force, .. }, .. }, coll, sensors: SensorScratch { node_force: node_f, root_com }, .. } = d;
+    let Data { dynamics, constraints: Constraints { con, solve: SolveData { force, .. }, .. }, coll, sensors: SensorScratch { node_force: node_f, root_com }, .. } = d;
     // the end state's kinematics, shared with the next step
-    let kin = post.kinematics_at(m, qpos, qvel);
+    let kin = dynamics.ahead.at(m, qpos, qvel);
     // poses and velocities
     for b in 0..m.nbody {
         out.xpos[3 * b..3 * b + 3].copy_from_slice(&kin.xpos[b].to_array());

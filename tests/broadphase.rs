@@ -12,6 +12,7 @@ use sinew::data::Data;
 use sinew::collision::{collide, penetrations, reach_again, CollisionData};
 use sinew::dynamics::kinematics::{forward, KinData};
 use sinew::Model;
+use sinew::state::WorldState;
 
 /// Random trees, once as generated and once with every slide joint made a hinge (all arms finite).
 fn trees() -> Vec<Model> {
@@ -130,10 +131,12 @@ fn walk(m: &Model, r: &mut Rng, steps: usize, jump: usize, drift: f64, v_max: f6
         if step % jump == jump - 1 {
             (q, v) = random_state(m, r);
         }
-        sinew::step::forward(m, &mut data, &q, &v, &ctrl);
-        collide(m, &data.dynamics.kin, &data.dynamics.aba, &q, &v, &data.dynamics.qacc, &mut cd);
+        let mut time = 0.0;
+        let s = WorldState { time: &mut time, qpos: &mut q, qvel: &mut v, ctrl: &ctrl };
+        sinew::step::forward(m, &mut data, &s);
+        collide(m, &data.dynamics, &s, &mut cd);
         let mut fresh = CollisionData::new(m);
-        collide(m, &data.dynamics.kin, &data.dynamics.aba, &q, &v, &data.dynamics.qacc, &mut fresh);
+        collide(m, &data.dynamics, &s, &mut fresh);
         assert_eq!(cd.contacts, fresh.contacts, "{} step {step}", m.name);
         skipped += cd.gap_skips;
         // constraint forces changed the velocities: the pairs the new ones can close

@@ -36,6 +36,8 @@ use crate::model::{GeomPair, GeomType, JointType, Model, PairTest, WORLD};
 
 use crate::dynamics::aba::AbaData;
 use crate::dynamics::kinematics::KinData;
+use crate::dynamics::DynamicsData;
+use crate::state::WorldState;
 use crate::math::Motion;
 
 mod narrowphase;
@@ -288,10 +290,11 @@ fn arm_speed(m: &Model, speeds: impl Iterator<Item = f64>) -> f64 {
     if s.is_nan() { f64::INFINITY } else { s }
 }
 
-/// Detects all contacts of the configuration `qpos`, whose kinematics are in `kin`, with `aba`
-/// and `qacc` holding the constraint-free accelerations of the same state (for how far a geom can
-/// move within the step).
-pub fn collide(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f64], qacc: &[f64], out: &mut CollisionData) {
+/// Detects all contacts of the configuration `s.qpos`, whose kinematics are in `dy.kin`, with
+/// `dy.aba` and `dy.qacc` holding the constraint-free accelerations of the same state (for how
+/// far a geom can move within the step).
+pub fn collide(m: &Model, dy: &DynamicsData, s: &WorldState<'_>, out: &mut CollisionData) {
+    let (kin, aba, qacc, qpos, qvel) = (&dy.kin, &dy.aba, &dy.qacc, &*s.qpos, &*s.qvel);
     // the step's end velocity (each joint's at most |q̇ + h q̈|) moves a point by lever × its
     // speed: one bound for all moving geoms decides the plane groups (and the gaps); each geom's
     // own, usually tighter and dearer, serves the pair tests

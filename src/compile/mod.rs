@@ -12,6 +12,7 @@ use crate::model::{GapPair, GeomType, Model, Options, PairTest, PlaneGroup, WORL
 use crate::error::{Error, Result};
 use crate::math::{SpatialInertia, Xform};
 use crate::mjcf::{InertiaFromGeom, JointType, ModelSpec};
+use crate::dynamics::DynamicsData;
 
 impl Model {
     /// Parses and compiles MJCF text.
@@ -307,10 +308,10 @@ fn compile(spec: ModelSpec) -> Result<Model> {
     m.dof_arm = dof_arms(&m);
     m.plane_groups = plane_groups(&mut m);
     // the forward dynamics at qpos0, as MuJoCo's mj_setConst runs it
-    let mut data = crate::step::data::Data::new(&m);
-    crate::step::forward(&m, &mut data, &m.qpos0, &vec![0.0; m.nv], &vec![0.0; m.nu]);
-    check_solvable(&m, &data)?;
-    m.motion_plane = motion_plane(&m, &data.dynamics.kin);
+    let mut dy = DynamicsData::new(&m);
+    crate::dynamics::forward(&m, &mut dy, &m.qpos0, &vec![0.0; m.nv], &vec![0.0; m.nu]);
+    check_solvable(&m, &dy)?;
+    m.motion_plane = motion_plane(&m, &dy.kin);
     m.vis = visual::compile(&spec, |n| m.body_id(n))?;
     Ok(m)
 }
@@ -490,8 +491,8 @@ fn motion_plane(m: &Model, kin: &crate::dynamics::kinematics::KinData) -> Option
 /// Every joint must move some mass: the articulated inertia seen by each dof at the reference
 /// configuration must be positive definite, or the forward dynamics would divide by zero
 /// (`data`: the forward dynamics at qpos0).
-fn check_solvable(m: &Model, data: &crate::step::data::Data) -> Result<()> {
-    if let Some(n) = data.dynamics.aba.singular_node {
+fn check_solvable(m: &Model, dy: &DynamicsData) -> Result<()> {
+    if let Some(n) = dy.aba.singular_node {
         let j0 = m.node_jntadr[n];
         let names: Vec<String> = m.jnt_name[j0..j0 + m.node_jntnum[n]].iter().map(|s| format!("'{s}'")).collect();
         let (noun, verb) = if names.len() == 1 { ("joint", "moves") } else { ("joints", "move") };

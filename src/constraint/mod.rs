@@ -38,6 +38,18 @@ pub struct Constraints {
     pub history: History,
     /// Trajectory feed-forward for motion control: reference velocities then accelerations (2 × nu).
     pub feedforward: Vec<f64>,
+    /// The state a leapfrog step began with, before its opening drift.
+    pub start: StepStart,
+}
+
+/// The state a leapfrog step began with: its rows' gaps are taken before the opening drift, and
+/// the limits the drift crossed are held (`stabilize::hold_limits`).
+#[derive(Clone, Debug, Default)]
+pub struct StepStart {
+    /// qpos before the opening drift (nq).
+    pub qpos: Vec<f64>,
+    /// qvel the opening drift moved with (nv).
+    pub qvel: Vec<f64>,
 }
 
 impl Constraints {
@@ -46,19 +58,19 @@ impl Constraints {
         Constraints {
             con: ConstraintData::new(m),
             solve: solve::SolveData::default(),
-            rows: rows::RowScratch { limit_forced: vec![false; 2 * m.njnt], tangents_next: vec![] },
+            rows: rows::RowScratch::new(m),
             post: stabilize::StabilizeData::new(m),
             history: History::new(),
             feedforward: vec![0.0; 2 * m.nu],
+            start: StepStart { qpos: vec![0.0; m.nq], qvel: vec![0.0; m.nv] },
         }
     }
 
-    /// Drops the rows, forces and cached kinematics of the last step.
+    /// Drops the rows and forces of the last step.
     pub fn forget_scratch(&mut self) {
         self.solve.force.clear();
         self.solve.impact_warm.clear();
         self.con.clear();
-        self.post.forget();
     }
 }
 

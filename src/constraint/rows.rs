@@ -12,6 +12,7 @@ use crate::collision::{self, Contact};
 use crate::dynamics::aba::AbaData;
 use crate::dynamics::kinematics::{self, KinData};
 use crate::math::Motion;
+use crate::state::WorldState;
 use crate::model::{Actuation, FrictionModel, GeomType, Model, WORLD};
 
 /// What building a step's rows needs besides them (`constraint::rows`).
@@ -21,25 +22,45 @@ pub struct RowScratch {
     pub limit_forced: Vec<bool>,
     /// Friction tangents being recorded this step.
     pub tangents_next: Vec<((usize, usize, usize), DVec3)>,
+    /// The step's end velocities q̇ + h q̈ (nv) and the nodes' spatial velocities of them (nnode),
+    /// for the second contact check.
+    vel_end: Vec<f64>,
+    v_end: Vec<Motion>,
+    /// The nodes' spatial velocities at a leapfrog step's midpoint from the velocities its
+    /// opening drift moved with (nnode).
+    v_start: Vec<Motion>,
+}
+
+impl RowScratch {
+    /// Buffers sized for `m`.
+    pub fn new(m: &Model) -> Self {
+        RowScratch {
+            limit_forced: vec![false; 2 * m.njnt],
+            tangents_next: vec![],
+            vel_end: vec![0.0; m.nv],
+            v_end: vec![Motion::ZERO; m.nnode],
+            v_start: vec![Motion::ZERO; m.nnode],
+        }
+    }
 }
 
 /// Appends to the contacts those the step's final velocities q̇ + h q̈ can reach but the first
 /// detection's margin did not cover.
-pub fn missed_contacts(m: &Model, data: &mut World<'_>, qvel: &[f64]) -> bool {
+pub fn missed_contacts(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) -> bool {
     if !m.opt.contact || m.collision_pairs.is_empty() {
         return false;
     }
     let h = m.opt.timestep;
-    let (kin, qacc, coll, post) = (&data.dynamics.kin, &data.dynamics.qacc, &mut *data.coll, &mut data.constraints.post);
-    for ((e, v), a) in post.vel_end.iter_mut().zip(qvel).zip(qacc.iter()) {
+    let (kin, qacc, coll, rows) = (&data.dynamics.kin, &data.dynamics.qacc, &mut *data.coll, &mut data.constraints.rows);
+    for ((e, v), a) in rows.vel_end.iter_mut().zip(s.qvel.iter()).zip(qacc.iter()) {
         *e = v + h * a;
     }
-    // post.kin is free until the post-stabilisation check, which recomputes it
-    collision::reach_again(m, kin, &post.vel_end, &mut post.kin.v, coll)
+    collision::reach_again(m, kin, &rows.vel_end, &mut rows.v_end, coll)
 }
 
 /// Marks in `data.constraints.rows.limit_forced` each limit without a row that q̇ + h q̈ would cross within the step.
-pub fn missed_limits(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]) -> bool {
+pub fn missed_limits(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) -> bool {
+    let (qpos, qvel) = (&*s.qpos, &*s.qvel);
     let (h, lever) = (m.opt.timestep, m.opt.lever());
     let mut any = false;
     for j in m.limited_joints() {
@@ -59,9 +80,10 @@ pub fn missed_limits(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]
 
 /// Stage 4: the step's rows into `constraints.con`, with each contact's friction tangent chosen
 /// (and recorded in the history for the next step).
-pub fn build_rows(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) {
+pub fn build_rows(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) {
+    let (qpos, qvel, ctrl) = (&*s.qpos, &*s.qvel, s.ctrl);
     let (kin, aba, qacc, coll) = (&data.dynamics.kin, &data.dynamics.aba, &data.dynamics.qacc, &*data.coll);
-    let Constraints { con, history, rows: RowScratch { tangents_next, limit_forced }, feedforward, .. } = &mut *data.constraints;
+    let Constraints { con, history, rows: RowScratch { tangents_next, limit_forced, .. }, feedforward, .. } = &mut *data.constraints;
     let History { tangents, rng, .. } = history;
     tangents_next.clear();
     let h = m.opt.timestep;
@@ -105,11 +127,10 @@ pub fn build_rows(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64], c
     // velocities the drift moved with (an impact since has changed q̇, not the drift)
     let lever = m.opt.lever();
     if lever < h {
-        let post = &mut data.constraints.post;
-        kinematics::velocities(m, &data.dynamics.kin, &post.qvel_start, &mut post.v_start);
-        let con = &mut data.constraints.con;
+        let Constraints { con, rows, start, .. } = &mut *data.constraints;
+        kinematics::velocities(m, &data.dynamics.kin, &start.qvel, &mut rows.v_start);
         for j in (0..con.len()).filter(|&j| matches!(con.kind[j], RowKind::Normal | RowKind::Limit)) {
-            let vel_start = row_velocity(con, j, &post.v_start, &post.qvel_start);
+            let vel_start = row_velocity(con, j, &rows.v_start, &start.qvel);
             con.dist_start[j] = con.dist[j] - (h - lever) * vel_start;
         }
     }

@@ -19,13 +19,14 @@ use super::lcp::{self, LcpWork, Role};
 use super::solve::SolveData;
 use super::system::{self as constraint, RowKind};
 use super::test_forces::{add_response, delta_pass, responses, tree_dofs};
-use super::{Constraints, World};
+use super::{Constraints, StepStart, World};
 use crate::collision::{self, CollisionData};
 use crate::dynamics::aba::AbaData;
 use crate::dynamics::kinematics::{self, KinData};
 use crate::integrate::integrate_pos;
 use crate::math::{Force, Motion};
 use crate::model::{Model, WORLD};
+use crate::state::WorldState;
 
 /// Penetration left to the Baumgarte term (m).
 pub const SLOP: f64 = 1e-4;
@@ -38,8 +39,6 @@ const PASSES: usize = 3;
 /// Scratch of the projection, allocated with the world.
 #[derive(Clone, Debug, Default)]
 pub struct StabilizeData {
-    /// Kinematics of the configuration after the step.
-    pub kin: KinData,
     /// Penetrating contacts of the configuration after the step.
     coll: CollisionData,
     /// Projection rows: gap after the step, J (nv each), Δq̈ per unit p (nv each, meaningful on the
@@ -58,22 +57,9 @@ pub struct StabilizeData {
     dpa: Vec<Force>,
     du: Vec<[f64; 6]>,
     da: Vec<Motion>,
-    /// End-of-step velocities (nv), scratch for the step's second contact check.
-    pub vel_end: Vec<f64>,
-    /// qpos at the start of a leapfrog step, before its opening drift (nq).
-    pub qpos_start: Vec<f64>,
-    /// qvel at the start of a leapfrog step (nv), which its opening drift moved with, and the
-    /// nodes' spatial velocities of it at the midpoint (scratch for `constraint::rows`).
-    pub qvel_start: Vec<f64>,
-    /// See `qvel_start`.
-    pub v_start: Vec<Motion>,
     work: LcpWork,
     /// Variables the solve leaves out.
     left_out: Vec<bool>,
-    /// Whether `kin` holds the kinematics of (`qpos`, `qvel`).
-    cached: bool,
-    qpos: Vec<f64>,
-    qvel: Vec<f64>,
     /// Projections run.
     pub projections: u64,
 }
@@ -82,61 +68,28 @@ impl StabilizeData {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
         StabilizeData {
-            kin: KinData::new(m),
             coll: CollisionData::new(m),
             dq: vec![0.0; m.nv],
             dpa: vec![Force::ZERO; m.nnode],
             du: vec![[0.0; 6]; m.nnode],
             da: vec![Motion::ZERO; m.nnode],
-            vel_end: vec![0.0; m.nv],
-            qpos_start: vec![0.0; m.nq],
-            qvel_start: vec![0.0; m.nv],
-            v_start: vec![Motion::ZERO; m.nnode],
             ..Default::default()
         }
-    }
-
-    /// Drops the cached kinematics of the last step's end state.
-    pub fn forget(&mut self) {
-        self.cached = false;
-    }
-
-    /// The kinematics of (`qpos`, `qvel`): the last projection check's when it was of this state,
-    /// else computed here and kept for the next step's [`kinematics_of`].
-    pub fn kinematics_at(&mut self, m: &Model, qpos: &[f64], qvel: &[f64]) -> &KinData {
-        if !self.holds(qpos, qvel) {
-            kinematics::forward(m, qpos, qvel, &mut self.kin);
-            self.keep(qpos, qvel);
-        }
-        &self.kin
-    }
-
-    /// Whether `kin` is the kinematics of (`qpos`, `qvel`).
-    fn holds(&self, qpos: &[f64], qvel: &[f64]) -> bool {
-        self.cached && self.qpos == qpos && self.qvel == qvel
-    }
-
-    /// Marks `kin` as the kinematics of (`qpos`, `qvel`).
-    fn keep(&mut self, qpos: &[f64], qvel: &[f64]) {
-        self.cached = true;
-        self.qpos.clear();
-        self.qpos.extend_from_slice(qpos);
-        self.qvel.clear();
-        self.qvel.extend_from_slice(qvel);
     }
 }
 
 /// Projects `qpos` (after the step, with `qvel` after the step) out of penetration, using the rows
 /// and Δq̈ in `data.constraints.con` and the kinematics and ABA quantities of the step's start. The
 /// projection's LCP counts in `data.stats`.
-pub fn project(m: &Model, data: &mut World<'_>, qpos: &mut [f64], qvel: &[f64]) {
+pub fn project(m: &Model, data: &mut World<'_>, s: &mut WorldState<'_>) {
+    let (qpos, qvel) = (&mut *s.qpos, &*s.qvel);
     if !(0..data.constraints.con.len()).any(|j| data.constraints.con.kind[j] == RowKind::Normal) && !m.limited_joints().any(|j| violation(m, qpos, j).is_some()) {
         return;
     }
     for _ in 0..PASSES {
         if !gather(m, data, qpos, qvel) {
-            // post.kin is the kinematics of the next step's state: kept for it
-            data.constraints.post.keep(qpos, qvel);
+            // the check's kinematics are the next step's: kept for it
+            data.dynamics.ahead.keep(qpos, qvel);
             return;
         }
         solve(m, data, qpos);
@@ -147,28 +100,16 @@ pub fn project(m: &Model, data: &mut World<'_>, qpos: &mut [f64], qvel: &[f64]) 
 /// the midpoint, where the limit is already crossed, and correct it over `CORRECTION_TIME`): a
 /// violation the step created is removed from the positions, velocities kept, and one the step
 /// began with is not deepened — each limited joint ends within [min(q_start, lo), max(q_start, hi)].
-pub fn hold_limits(m: &Model, post: &StabilizeData, qpos: &mut [f64]) {
+pub fn hold_limits(m: &Model, start: &StepStart, qpos: &mut [f64]) {
     if !m.opt.limit {
         return;
     }
     for j in m.limited_joints() {
         let a = m.jnt_qposadr[j];
         let [lo, hi] = m.jnt_range[j];
-        let start = post.qpos_start[a];
-        qpos[a] = qpos[a].clamp(start.min(lo), start.max(hi));
+        let q0 = start.qpos[a];
+        qpos[a] = qpos[a].clamp(q0.min(lo), q0.max(hi));
     }
-}
-
-/// Stage 1 of a step: the kinematics of (qpos, qvel) into `data.dynamics.kin`, taken from the last
-/// projection's check when that was of the same state.
-pub fn kinematics_of(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]) {
-    let post = &mut data.constraints.post;
-    if post.holds(qpos, qvel) {
-        std::mem::swap(&mut data.dynamics.kin, &mut post.kin);
-    } else {
-        kinematics::forward(m, qpos, qvel, &mut data.dynamics.kin);
-    }
-    post.cached = false;
 }
 
 /// Limit row sign and (negative) gap of joint j when it is past a limit by more than [`LIMIT_SLOP`].
@@ -191,10 +132,11 @@ fn violation(m: &Model, qpos: &[f64], j: usize) -> Option<(f64, f64)> {
 /// is past a limit beyond [`LIMIT_SLOP`], else true with the projection rows filled.
 fn gather(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]) -> bool {
     let (kin, aba, coll) = (&data.dynamics.kin, &data.dynamics.aba, &*data.coll);
+    let ahead = &mut data.dynamics.ahead;
     let Constraints { con, post, .. } = &mut *data.constraints;
     let nv = m.nv;
-    kinematics::forward(m, qpos, qvel, &mut post.kin);
-    collision::penetrations(m, &post.kin, &mut post.coll);
+    kinematics::forward(m, qpos, qvel, &mut ahead.kin);
+    collision::penetrations(m, &ahead.kin, &mut post.coll);
     // every row's gap below is a fresh detection's or at least zero
     if post.coll.contacts.iter().all(|c| c.dist >= -SLOP) && !m.limited_joints().any(|j| violation(m, qpos, j).is_some()) {
         return false;
@@ -208,7 +150,7 @@ fn gather(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]) -> bool {
     post.tree.clear();
     // the step's contact rows, their points carried by each side's node:
     // d' = d + n'·(p₁' − p₂'), n' turned with side 2 (a first-order estimate)
-    let new = &post.kin;
+    let new = &ahead.kin;
     for j in (0..con.len()).filter(|&j| con.kind[j] == RowKind::Normal) {
         let moved = |side: usize| {
             let n = con.node[j][side];

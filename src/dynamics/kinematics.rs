@@ -11,6 +11,65 @@ use glam::{DMat3, DVec3};
 use crate::math::{quat_wxyz, Motion, SpatialInertia, Xform};
 use crate::model::{JointType, Model, WORLD};
 
+/// Kinematics of a state computed ahead of the step that starts from it: post-stabilisation's
+/// last check computes the end state's, the sensors read them, and the next step's stage 1
+/// takes them instead of computing them again.
+#[derive(Clone, Debug, Default)]
+pub struct KinCache {
+    /// The kinematics of (`qpos`, `qvel`) when `cached`.
+    pub kin: KinData,
+    cached: bool,
+    qpos: Vec<f64>,
+    qvel: Vec<f64>,
+}
+
+impl KinCache {
+    /// Buffers sized for `m`, holding nothing.
+    pub fn new(m: &Model) -> Self {
+        KinCache { kin: KinData::new(m), ..Default::default() }
+    }
+
+    /// Holds nothing any more.
+    pub fn forget(&mut self) {
+        self.cached = false;
+    }
+
+    /// Whether `kin` is the kinematics of (`qpos`, `qvel`).
+    pub fn holds(&self, qpos: &[f64], qvel: &[f64]) -> bool {
+        self.cached && self.qpos == qpos && self.qvel == qvel
+    }
+
+    /// Marks `kin` as the kinematics of (`qpos`, `qvel`).
+    pub fn keep(&mut self, qpos: &[f64], qvel: &[f64]) {
+        self.cached = true;
+        self.qpos.clear();
+        self.qpos.extend_from_slice(qpos);
+        self.qvel.clear();
+        self.qvel.extend_from_slice(qvel);
+    }
+
+    /// The kinematics of (`qpos`, `qvel`): the cached ones when they are of this state, else
+    /// computed here and kept.
+    pub fn at(&mut self, m: &Model, qpos: &[f64], qvel: &[f64]) -> &KinData {
+        if !self.holds(qpos, qvel) {
+            forward(m, qpos, qvel, &mut self.kin);
+            self.keep(qpos, qvel);
+        }
+        &self.kin
+    }
+
+    /// Stage 1: the kinematics of (`qpos`, `qvel`) into `kin`, taken from the cache when it
+    /// holds them (the cache is then spent).
+    pub fn take_into(&mut self, m: &Model, qpos: &[f64], qvel: &[f64], kin: &mut KinData) {
+        if self.holds(qpos, qvel) {
+            std::mem::swap(kin, &mut self.kin);
+        } else {
+            forward(m, qpos, qvel, kin);
+        }
+        self.cached = false;
+    }
+}
+
 /// Kinematic quantities of one configuration and velocity.
 #[derive(Clone, Debug, Default)]
 pub struct KinData {

@@ -8,7 +8,7 @@ pub mod kinematics;
 pub mod rnea;
 
 use aba::AbaData;
-use kinematics::KinData;
+use kinematics::{KinCache, KinData};
 
 use crate::model::Model;
 
@@ -24,13 +24,21 @@ pub struct DynamicsData {
     pub qfrc_applied: Vec<f64>,
     /// Joint accelerations of the last evaluation (nv).
     pub qacc: Vec<f64>,
+    /// The kinematics of the state the next evaluation starts from, when computed ahead.
+    pub ahead: KinCache,
 }
 
 impl DynamicsData {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
-        DynamicsData { kin: KinData::new(m), aba: AbaData::new(m), qfrc_applied: vec![0.0; m.nv], qacc: vec![0.0; m.nv] }
+        DynamicsData { kin: KinData::new(m), aba: AbaData::new(m), qfrc_applied: vec![0.0; m.nv], qacc: vec![0.0; m.nv], ahead: KinCache::new(m) }
     }
+}
+
+/// Stage 1: the kinematics of (qpos, qvel) into `dy.kin`, taken from `dy.ahead` when it holds
+/// them.
+pub fn kinematics(m: &Model, dy: &mut DynamicsData, qpos: &[f64], qvel: &[f64]) {
+    dy.ahead.take_into(m, qpos, qvel, &mut dy.kin);
 }
 
 /// Applied forces and both ABA passes, on the kinematics already in `dy.kin`; `h_damp` > 0

@@ -7,11 +7,13 @@ use glam::DVec3;
 use super::{integrate_pos, Rk4Scratch, RK4_A, RK4_B};
 use crate::dynamics::{self, kinematics, DynamicsData};
 use crate::model::{JointType, Model};
+use crate::state::WorldState;
 
 /// Classical RK4 over the whole (qpos, qvel) state. A rotation's stage state is `q₀ exp(uᵢ)`
 /// with `uᵢ = h Σⱼ Aᵢⱼ Kⱼ` and `Kⱼ = dexp⁻¹(ωⱼ)` at `uⱼ`: adding body-frame angular
 /// velocities taken at different orientations as if they were one vector would be second order.
-pub fn rk4(m: &Model, dy: &mut DynamicsData, rk: &mut Rk4Scratch, qpos: &mut [f64], qvel: &mut [f64], ctrl: &[f64], h: f64) {
+pub fn rk4(m: &Model, dy: &mut DynamicsData, rk: &mut Rk4Scratch, s: &mut WorldState<'_>, h: f64) {
+    let (qpos, qvel, ctrl) = (&mut *s.qpos, &mut *s.qvel, s.ctrl);
     // stage 1 is the step's own evaluation (without implicit damping)
     rk.kv[0].copy_from_slice(qvel);
     rk.ka[0].copy_from_slice(&dy.qacc);

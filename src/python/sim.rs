@@ -11,6 +11,8 @@ use super::model::PyModel;
 use crate::model::Model;
 use crate::dynamics::kinematics;
 use crate::constraint::History;
+use crate::state::WorldState;
+use crate::step::run::{advance, guarded, Divergence};
 use crate::step::state::FlatState;
 use crate::step::data::Data;
 
@@ -29,16 +31,6 @@ pub struct PySim {
     time: f64,
     /// The history at the start of the running `step` call, restored if it diverges.
     saved: History,
-}
-
-/// First state entry that is non-finite or beyond `MAX_STATE`, as (array name, index, value).
-fn bad_entry(qpos: &[f64], qvel: &[f64]) -> Option<(&'static str, usize, f64)> {
-    for (name, v) in [("qpos", qpos), ("qvel", qvel)] {
-        if let Some(i) = v.iter().position(|&x| out_of_range(x)) {
-            return Some((name, i, v[i]));
-        }
-    }
-    None
 }
 
 impl PySim {
@@ -154,8 +146,8 @@ impl PySim {
         let cam = super::render::camera(&self.model, &r, camera.as_ref())?;
         let qpos = self.qpos.bind(py).readonly();
         let q = qpos.as_slice()?;
-        if let Some((name, i, v)) = bad_entry(q, &[]) {
-            return Err(PyValueError::new_err(format!("cannot render: {name}[{i}] is {v}")));
+        if let Some(i) = q.iter().position(|&x| out_of_range(x)) {
+            return Err(PyValueError::new_err(format!("cannot render: qpos[{i}] is {}", q[i])));
         }
         super::render::draw(py, &self.model, &r, &[q], &[cam], w, h, rgb, depth, true)
     }
@@ -163,10 +155,10 @@ impl PySim {
     /// Computes qacc for the current state without advancing time.
     fn forward(&mut self, py: Python<'_>) -> PyResult<()> {
         self.check_inputs(py)?;
-        let (qpos, qvel, ctrl) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly());
-        let (m, data) = (&self.model, &mut self.data);
-        let (q, v, c) = (qpos.as_slice()?, qvel.as_slice()?, ctrl.as_slice()?);
-        super::errors::guard("Sim.forward", || crate::step::forward(m, data, q, v, c))?;
+        let (mut qpos, mut qvel, ctrl) = (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readonly());
+        let (m, data, mut time) = (&self.model, &mut self.data, self.time);
+        let s = WorldState { time: &mut time, qpos: qpos.as_slice_mut()?, qvel: qvel.as_slice_mut()?, ctrl: ctrl.as_slice()? };
+        super::errors::guard("Sim.forward", || crate::step::forward(m, data, &s))?;
         self.qacc.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&self.data.dynamics.qacc);
         Ok(())
     }
@@ -181,44 +173,23 @@ impl PySim {
         let data = &mut self.data;
         let (mut qpos, mut qvel, ctrl) =
             (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readonly());
-        let (qpos, qvel, ctrl) = (qpos.as_slice_mut()?, qvel.as_slice_mut()?, ctrl.as_slice()?);
-        let start = (qpos.to_vec(), qvel.to_vec(), self.time);
+        let start = self.time;
+        let mut s = WorldState { time: &mut self.time, qpos: qpos.as_slice_mut()?, qvel: qvel.as_slice_mut()?, ctrl: ctrl.as_slice()? };
         self.saved.clone_from(&data.constraints.history);
-        let mut time = self.time;
-        let failure = py.detach(|| {
-            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                for k in 0..n {
-                    crate::step::step(m, data, qpos, qvel, ctrl, &mut time);
-                    if let Some(bad) = bad_entry(qpos, qvel).or_else(|| out_of_range(time).then_some(("time", 0, time))) {
-                        return Some((k, bad));
-                    }
-                }
-                None
-            }))
-        });
-        let failure = match failure {
-            Ok(f) => f,
-            Err(e) => {
-                qpos.copy_from_slice(&start.0);
-                qvel.copy_from_slice(&start.1);
-                self.time = start.2;
-                data.restore_history(&self.saved);
-                return Err(super::errors::internal("Sim.step", crate::error::panic_message(&*e) + &format!("; state restored to t={:.6} s", start.2)));
-            }
+        let outcome = py.detach(|| guarded(data, &mut s, |data, s| advance(m, data, s, n)));
+        let error = match outcome {
+            Ok(None) => None,
+            Ok(Some(Divergence { step, entry: (name, i, v), time })) => Some(diverged(format!(
+                "simulation diverged at t={time:.6} s (step {} of {n}): {name}[{i}] = {v}; state restored to t={start:.6} s",
+                step + 1
+            ))),
+            Err(message) => Some(super::errors::internal("Sim.step", message + &format!("; state restored to t={start:.6} s"))),
         };
-        if let Some((k, (name, i, v))) = failure {
-            let t = time;
-            qpos.copy_from_slice(&start.0);
-            qvel.copy_from_slice(&start.1);
-            self.time = start.2;
+        if let Some(e) = error {
+            data.fault.restore(&mut s);
             data.restore_history(&self.saved);
-            return Err(diverged(format!(
-                "simulation diverged at t={t:.6} s (step {} of {n}): {name}[{i}] = {v}; state restored to t={:.6} s",
-                k + 1,
-                start.2
-            )));
+            return Err(e);
         }
-        self.time = time;
         self.qacc.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&self.data.dynamics.qacc);
         Ok(())
     }
@@ -329,8 +300,10 @@ impl PySim {
         use crate::constraint::RowKind;
         self.check_inputs(py)?;
         let m = &*self.model;
-        let (qpos, qvel, ctrl) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly());
-        let sys = crate::step::constraint_system(m, &self.data, qpos.as_slice()?, qvel.as_slice()?, ctrl.as_slice()?);
+        let (mut qpos, mut qvel, ctrl) = (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readonly());
+        let mut time = self.time;
+        let s = WorldState { time: &mut time, qpos: qpos.as_slice_mut()?, qvel: qvel.as_slice_mut()?, ctrl: ctrl.as_slice()? };
+        let sys = crate::step::constraint_system(m, &self.data, &s);
         let nr = sys.kind.len();
         let d = pyo3::types::PyDict::new(py);
         let kinds: Vec<&str> = sys

@@ -8,6 +8,7 @@ use crate::constraint::{Constraints, History, World};
 use crate::dynamics::DynamicsData;
 use crate::integrate::Rk4Scratch;
 use crate::model::Model;
+use crate::state::WorldState;
 
 /// Derived quantities and scratch of one world.
 #[derive(Clone, Debug, Default)]
@@ -72,6 +73,7 @@ impl Data {
     fn forget_scratch(&mut self) {
         self.constraints.forget_scratch();
         self.coll.forget();
+        self.dynamics.ahead.forget();
     }
 
     /// The world as the constraint stages see it.
@@ -86,8 +88,8 @@ impl Data {
     }
 }
 
-/// A world's state at the start of a batch step call, and the message of a panic (a bug) that
-/// call met: the world is then put back to this state.
+/// A world's state at the start of a guarded step call ([`crate::step::run::guarded`]), put
+/// back if the call panics (a bug), and the message of the last such panic in a batch.
 #[derive(Clone, Debug, Default)]
 pub struct Fault {
     /// qpos at the start of the call.
@@ -98,4 +100,20 @@ pub struct Fault {
     pub time: f64,
     /// The panic's message, if the call met one.
     pub message: Option<String>,
+}
+
+impl Fault {
+    /// Records `s` as the start of the call.
+    pub fn save(&mut self, s: &WorldState<'_>) {
+        self.qpos.copy_from_slice(s.qpos);
+        self.qvel.copy_from_slice(s.qvel);
+        self.time = *s.time;
+    }
+
+    /// Puts `s` back to the start of the call.
+    pub fn restore(&self, s: &mut WorldState<'_>) {
+        s.qpos.copy_from_slice(&self.qpos);
+        s.qvel.copy_from_slice(&self.qvel);
+        *s.time = self.time;
+    }
 }

@@ -6,6 +6,7 @@ use crate::constraint::solve::{apply, solve_rows, Level};
 use crate::constraint::{impact_speed, World};
 use crate::dynamics::{aba, forces, kinematics};
 use crate::model::Model;
+use crate::state::WorldState;
 use crate::timing::{timed, Stage};
 
 /// Stage 6: while a contact or limit row approaches fast and rebounds (restitution e > 0), a
@@ -15,7 +16,7 @@ use crate::timing::{timed, Stage};
 /// step asks for the impact's v⁺ = −d/h at the step's end, with the same K (its q is the
 /// impact's over h, up to the arc term: `lcp_vector`), as it does for slow approaches. Whether
 /// any pass ran.
-pub(super) fn impacts(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &mut [f64], ctrl: &[f64]) -> bool {
+pub(super) fn impacts(m: &Model, data: &mut World<'_>, s: &mut WorldState<'_>) -> bool {
     if m.opt.restitution == 0.0 {
         return false;
     }
@@ -29,8 +30,8 @@ pub(super) fn impacts(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &mut 
         impacted = true;
         data.constraints.solve.impacts += 1;
         solve_rows(m, data, Level::Velocity);
-        apply(m, data, qvel, 1.0);
-        timed!(data, Stage::Impact, new_velocities(m, data, qpos, qvel, ctrl));
+        apply(m, data, s.qvel, 1.0);
+        timed!(data, Stage::Impact, new_velocities(m, data, s));
     }
     impacted
 }
@@ -43,7 +44,8 @@ const MAX_IMPACT_PASSES: usize = 16;
 /// bias forces kept from the step's start, as velocity-level time stepping has them
 /// (re-evaluated at the post-impact velocities they made a free-floating body gain angular
 /// momentum at every impact: benches/free_flight.py), then the rows' velocities and b anew.
-fn new_velocities(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) {
+fn new_velocities(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) {
+    let (qpos, qvel, ctrl) = (&*s.qpos, &*s.qvel, s.ctrl);
     forces::applied(m, qpos, qvel, ctrl, &mut data.dynamics.qfrc_applied);
     aba::backward_bias(m, &data.dynamics.kin, &data.dynamics.qfrc_applied, &mut data.dynamics.aba);
     aba::forward(m, &data.dynamics.kin, &mut data.dynamics.aba, &mut data.dynamics.qacc);

@@ -2,6 +2,7 @@
 //! what it does (`dynamics`, `collision`, `constraint`, `integrate`).
 
 pub mod data;
+pub mod run;
 pub mod state;
 
 use crate::collision;
@@ -15,52 +16,53 @@ use crate::dynamics::{self, kinematics};
 use crate::integrate::{self, rk4::rk4};
 use crate::model::{ConstraintMode, Integrator, Model};
 use data::Data;
+use crate::state::WorldState;
 
 pub use crate::timing::{Stage, STAGES, STAGE_NAMES};
 use crate::timing::timed;
 
-/// Forward dynamics at (qpos, qvel, ctrl) without constraints: fills `data.dynamics.qacc` with
-/// the true accelerations (no implicit damping), as MuJoCo's `mj_forward` with constraints disabled.
-pub fn forward(m: &Model, data: &mut Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) {
-    dynamics::forward(m, &mut data.dynamics, qpos, qvel, ctrl);
+/// Forward dynamics at the state without constraints: fills `data.dynamics.qacc` with the true
+/// accelerations (no implicit damping), as MuJoCo's `mj_forward` with constraints disabled.
+pub fn forward(m: &Model, data: &mut Data, s: &WorldState<'_>) {
+    dynamics::forward(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl);
 }
 
-/// Advances (qpos, qvel, time) by one time step under `ctrl`.
-pub fn step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl: &[f64], time: &mut f64) {
+/// Advances the state (time, qpos, qvel) by one time step under its ctrl.
+pub fn step(m: &Model, data: &mut Data, s: &mut WorldState<'_>) {
     let (h, lever) = (m.opt.timestep, m.opt.lever());
     let h_damp = damping_horizon(m, data);
     // leapfrog: the step's dynamics are the midpoint configuration's
     let leapfrog = m.opt.integrator == Integrator::Leapfrog;
     if leapfrog {
-        data.constraints.post.qpos_start.copy_from_slice(qpos);
-        data.constraints.post.qvel_start.copy_from_slice(qvel);
-        timed!(data, Stage::Integration, integrate::integrate_pos(m, qpos, qvel, 0.5 * h));
+        data.constraints.start.qpos.copy_from_slice(s.qpos);
+        data.constraints.start.qvel.copy_from_slice(s.qvel);
+        timed!(data, Stage::Integration, integrate::integrate_pos(m, s.qpos, s.qvel, 0.5 * h));
     }
     // 1. poses and velocities
-    timed!(data, Stage::Kinematics, stabilize::kinematics_of(m, &mut data.world(), qpos, qvel));
+    timed!(data, Stage::Kinematics, dynamics::kinematics(m, &mut data.dynamics, s.qpos, s.qvel));
     // 2. articulated inertias and the constraint-free accelerations
-    timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, qpos, qvel, ctrl, h_damp));
+    timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, h_damp));
     // 3. contacts of this configuration (reach over the step from velocities and accelerations)
-    timed!(data, Stage::Collision, collision::collide(m, &data.dynamics.kin, &data.dynamics.aba, qpos, qvel, &data.dynamics.qacc, &mut data.coll));
+    timed!(data, Stage::Collision, collision::collide(m, &data.dynamics, s, &mut data.coll));
     // 4. constraint rows: contacts (normal + friction), active limits, motion control
-    timed!(data, Stage::Rows, build_rows(m, &mut data.world(), qpos, qvel, ctrl));
+    timed!(data, Stage::Rows, build_rows(m, &mut data.world(), s));
     data.constraints.history.constrained = !data.constraints.con.is_empty();
     if data.constraints.con.is_empty() {
         // 8. nothing to constrain: the plain step
-        free_step(m, data, qpos, qvel, ctrl, h_damp);
+        free_step(m, data, s, h_damp);
     } else {
         // 5–7. b, K, impacts and the constraint solve, into q̈ (and q̇ for impacts)
-        constrain(m, data, qpos, qvel, ctrl, h_damp);
+        constrain(m, data, s, h_damp);
         // 8. integrate: semi-implicit Euler (the seed's scheme; RK4's constrained steps too), or
         // leapfrog's closing kick and drift
-        timed!(data, Stage::Integration, integrate::kick_drift(m, qpos, qvel, &data.dynamics.qacc, h, lever));
+        timed!(data, Stage::Integration, integrate::kick_drift(m, s.qpos, s.qvel, &data.dynamics.qacc, h, lever));
         // 9. limits leapfrog's drift crossed, penetration and limits the linearised rows missed
         if leapfrog {
-            timed!(data, Stage::Projection, stabilize::hold_limits(m, &data.constraints.post, qpos));
+            timed!(data, Stage::Projection, stabilize::hold_limits(m, &data.constraints.start, s.qpos));
         }
-        timed!(data, Stage::Projection, stabilize::project(m, &mut data.world(), qpos, qvel));
+        timed!(data, Stage::Projection, stabilize::project(m, &mut data.world(), s));
     }
-    *time += h;
+    *s.time += h;
 }
 
 /// The horizon over which a step treats joint damping implicitly. Euler and leapfrog treat it
@@ -77,16 +79,16 @@ fn damping_horizon(m: &Model, data: &Data) -> f64 {
 
 /// Stage 8 of a step without constraint rows, from the dynamics evaluated with damping over
 /// `h_damp`.
-fn free_step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctrl: &[f64], h_damp: f64) {
+fn free_step(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) {
     let (h, lever) = (m.opt.timestep, m.opt.lever());
     data.constraints.solve.force.clear();
     match m.opt.integrator {
-        Integrator::Euler | Integrator::Leapfrog => timed!(data, Stage::Integration, integrate::kick_drift(m, qpos, qvel, &data.dynamics.qacc, h, lever)),
+        Integrator::Euler | Integrator::Leapfrog => timed!(data, Stage::Integration, integrate::kick_drift(m, s.qpos, s.qvel, &data.dynamics.qacc, h, lever)),
         Integrator::Rk4 => {
             if h_damp != 0.0 {
-                timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, qpos, qvel, ctrl, 0.0));
+                timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, 0.0));
             }
-            timed!(data, Stage::Integration, rk4(m, &mut data.dynamics, &mut data.rk4, qpos, qvel, ctrl, h))
+            timed!(data, Stage::Integration, rk4(m, &mut data.dynamics, &mut data.rk4, s, h))
         }
     }
 }
@@ -95,11 +97,11 @@ fn free_step(m: &Model, data: &mut Data, qpos: &mut [f64], qvel: &mut [f64], ctr
 /// q̇). A limit or contact without a row that the constrained motion would reach (pushed there
 /// by contact forces, say) gets its row and the solve runs once more from the constraint-free
 /// accelerations.
-fn constrain(m: &Model, data: &mut Data, qpos: &[f64], qvel: &mut [f64], ctrl: &[f64], h_damp: f64) {
+fn constrain(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) {
     let h = m.opt.timestep;
     // with constraints the step is semi-implicit Euler: damping implicit over the step
     if h_damp != h {
-        timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, qpos, qvel, ctrl, h));
+        timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, h));
     }
     let mut redo = false;
     data.constraints.solve.impact_warm.clear();
@@ -108,7 +110,7 @@ fn constrain(m: &Model, data: &mut Data, qpos: &[f64], qvel: &mut [f64], ctrl: &
         // already satisfies need no K)
         timed!(data, Stage::Rows, test_forces::bias(m, &data.dynamics.kin, &data.dynamics.aba, &data.dynamics.qacc, &mut data.constraints.con));
         // 6. impacts (e > 0)
-        let impacted = impacts(m, &mut data.world(), qpos, qvel, ctrl);
+        let impacted = impacts(m, &mut data.world(), s);
         if m.opt.constraint_mode == ConstraintMode::Velocity {
             // 7'. one impulse solve: q̈ = q̈₀ + Σ p_k Δq̈⁽ᵏ⁾ / h
             solve_rows(m, &mut data.world(), Level::TimeStep);
@@ -121,7 +123,7 @@ fn constrain(m: &Model, data: &mut Data, qpos: &[f64], qvel: &mut [f64], ctrl: &
         // with no force, no impulse and the accelerations the rows were chosen with, the motion
         // is the constraint-free one they were chosen for: nothing can have been missed
         let pushed = impacted || h_damp != h || data.constraints.solve.force.iter().any(|&f| f != 0.0);
-        let missed = pushed && (missed_limits(m, &mut data.world(), qpos, qvel) | timed!(data, Stage::Collision, missed_contacts(m, &mut data.world(), qvel)));
+        let missed = pushed && (missed_limits(m, &mut data.world(), s) | timed!(data, Stage::Collision, missed_contacts(m, &mut data.world(), s)));
         if redo || !missed {
             break;
         }
@@ -131,8 +133,8 @@ fn constrain(m: &Model, data: &mut Data, qpos: &[f64], qvel: &mut [f64], ctrl: &
             let side = (data.constraints.con.dof[r].1 < 0.0) as usize;
             data.constraints.rows.limit_forced[2 * data.constraints.con.source[r] + side] = true;
         }
-        timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, qpos, qvel, ctrl, h));
-        timed!(data, Stage::Rows, build_rows(m, &mut data.world(), qpos, qvel, ctrl));
+        timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, h));
+        timed!(data, Stage::Rows, build_rows(m, &mut data.world(), s));
         data.constraints.solve.impact_warm.clear();
     }
     if redo {
@@ -161,14 +163,14 @@ pub struct ConstraintSystem {
 
 /// Stages 1–5 of [`step`] on a copy of `data` (the world and its history are untouched): the
 /// rows of the state and their J, K and b.
-pub fn constraint_system(m: &Model, data: &Data, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) -> ConstraintSystem {
+pub fn constraint_system(m: &Model, data: &Data, s: &WorldState<'_>) -> ConstraintSystem {
     let mut d = data.clone();
     let h = m.opt.timestep;
-    kinematics::forward(m, qpos, qvel, &mut d.dynamics.kin);
+    kinematics::forward(m, s.qpos, s.qvel, &mut d.dynamics.kin);
     // the constrained step's dynamics: damping implicit over the step, whatever the integrator
-    dynamics::accelerations(m, &mut d.dynamics, qpos, qvel, ctrl, h);
-    collision::collide(m, &d.dynamics.kin, &d.dynamics.aba, qpos, qvel, &d.dynamics.qacc, &mut d.coll);
-    build_rows(m, &mut d.world(), qpos, qvel, ctrl);
+    dynamics::accelerations(m, &mut d.dynamics, s.qpos, s.qvel, s.ctrl, h);
+    collision::collide(m, &d.dynamics, s, &mut d.coll);
+    build_rows(m, &mut d.world(), s);
     test_forces::assemble(m, &d.dynamics.kin, &d.dynamics.aba, &d.dynamics.qacc, &mut d.constraints.con);
     let mut inertia = crate::dynamics::crba::crba(m, &d.dynamics.kin);
     for (k, damping) in m.dof_damping.iter().enumerate() {

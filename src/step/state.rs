@@ -3,6 +3,7 @@
 
 use crate::step::data::Data;
 use crate::model::Model;
+use crate::state::WorldState;
 
 /// qpos, qvel, ctrl and time of one world, with its scratch.
 #[derive(Clone, Debug)]
@@ -25,14 +26,21 @@ impl State {
         State { qpos: m.qpos0.clone(), qvel: vec![0.0; m.nv], ctrl: vec![0.0; m.nu], time: 0.0, data: Data::new(m) }
     }
 
+    /// The state borrowed as one value, beside the world's scratch.
+    pub fn split(&mut self) -> (WorldState<'_>, &mut Data) {
+        (WorldState { time: &mut self.time, qpos: &mut self.qpos, qvel: &mut self.qvel, ctrl: &self.ctrl }, &mut self.data)
+    }
+
     /// One step.
     pub fn step(&mut self, m: &Model) {
-        crate::step::step(m, &mut self.data, &mut self.qpos, &mut self.qvel, &self.ctrl, &mut self.time);
+        let (mut s, data) = self.split();
+        crate::step::step(m, data, &mut s);
     }
 
     /// Accelerations at the current state without advancing (writes `data`).
     pub fn forward(&mut self, m: &Model) -> &[f64] {
-        crate::step::forward(m, &mut self.data, &self.qpos, &self.qvel, &self.ctrl);
+        let (s, data) = self.split();
+        crate::step::forward(m, data, &s);
         &self.data.dynamics.qacc
     }
 }
