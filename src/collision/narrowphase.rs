@@ -1,7 +1,12 @@
 //! The narrowphase: each geom as a shape in world, one arm per unordered pair of shapes, and
 //! MuJoCo's rule for a pair's friction and condim.
 
-use super::*;
+use glam::{DMat3, DVec3};
+
+use super::data::{pose_axes, CollisionData, Contact, MAX_CONTACTS};
+use super::shapes::{box_box, closest_on_segment, closest_segments, point_box, segment_box_points, spheres};
+use crate::dynamics::kinematics::KinData;
+use crate::model::{GeomType, Model};
 
 #[derive(Clone, Copy)]
 pub(super) enum Shape {

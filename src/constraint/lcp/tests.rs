@@ -1,6 +1,8 @@
 //! Lemke and the solve cascade on known and random LCPs.
 
-use super::*;
+use super::active_set::{eliminate, eliminate_wide};
+use super::lemke::{pivot, pivot_wide};
+use super::{lemke, residual, solve, LcpStats, LcpWork, Role, ACCEPT_RESIDUAL, REGULARISATION};
 
 #[test]
 fn solves_a_small_symmetric_problem() {

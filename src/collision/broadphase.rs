@@ -1,0 +1,143 @@
+//! The broadphase: plane groups, the sort-and-sweep of bounding boxes, bounding-sphere tests and
+//! each geom's bound on how far it moves within the step.
+
+use super::data::{has_own_reach, CollisionData, SWEEP_PAIRS};
+use crate::dynamics::aba::AbaData;
+use crate::dynamics::kinematics::KinData;
+use crate::model::{GeomPair, Model, PairTest, WORLD};
+
+/// Decides each plane group: apart when its subtree's sphere stays farther above the plane than
+/// its radius and `reach` (a bound on how far any of its points moves).
+pub(super) fn judge_groups(m: &Model, kin: &KinData, out: &mut CollisionData, reach: f64) {
+    for (apart, g) in out.group_apart.iter_mut().zip(&m.plane_groups) {
+        let height = (kin.xpos[g.body] - out.geom_xpos[g.plane]).dot(out.geom_xmat[g.plane].col(2));
+        *apart = height > g.radius + reach;
+    }
+}
+
+/// The pairs a detection with every geom posed tests on their bounds, in order, taken from
+/// `out.near` (the caller puts it back): every pair of a model with fewer than [`SWEEP_PAIRS`],
+/// else [`Model::pairs_unswept`] and the sphere pairs of two trees whose boxes overlap.
+/// Each geom's box holds its bounding sphere grown by its margin and `reach(out, g)`; a sphere
+/// pair that is not apart has overlapping boxes, so the tests that follow find the contacts the
+/// test of every pair finds. The boxes are swept along x (sort and sweep, Baraff 1992, §6.2),
+/// from the last sweep's order: an insertion sort then costs little. Geoms of non-finite boxes
+/// (a diverging world) send every pair to its test.
+pub(super) fn near_pairs(m: &Model, out: &mut CollisionData, reach: impl Fn(&CollisionData, usize) -> f64) -> Vec<usize> {
+    let mut near = std::mem::take(&mut out.near);
+    if m.collision_pairs.len() < SWEEP_PAIRS {
+        return near;
+    }
+    near.clear();
+    let mut finite = true;
+    let mut sweep = std::mem::take(&mut out.sweep);
+    for b in sweep.iter_mut() {
+        let g = b.geom;
+        let e = m.geom_rbound[g] + m.geom_margin[g] + reach(out, g);
+        let c = out.geom_xpos[g];
+        (b.lo, b.hi) = (c - e, c + e);
+        finite &= c.is_finite() && e.is_finite();
+    }
+    if !finite {
+        out.sweep = sweep;
+        near.extend(0..m.collision_pairs.len());
+        return near;
+    }
+    for i in 1..sweep.len() {
+        let mut j = i;
+        while j > 0 && sweep[j - 1].lo.x > sweep[j].lo.x {
+            sweep.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+    // each box against the boxes that start within its x interval
+    let swept = &mut out.swept;
+    swept.clear();
+    for (i, b) in sweep.iter().enumerate() {
+        for a in &sweep[i + 1..] {
+            if a.lo.x > b.hi.x {
+                break;
+            }
+            // one branch on the four comparisons (each alone is unpredictable)
+            let overlap = (a.hi.y >= b.lo.y) & (b.hi.y >= a.lo.y) & (a.hi.z >= b.lo.z) & (b.hi.z >= a.lo.z);
+            if overlap && (a.tree != b.tree || a.tree == WORLD) && let Some(k) = pair_of(m, a.geom.min(b.geom), a.geom.max(b.geom)) {
+                swept.push(k);
+            }
+        }
+    }
+    out.sweep = sweep;
+    // in the model's order: the swept pairs sorted, merged with the unswept ones (sorted already)
+    swept.sort_unstable();
+    let unswept = &m.pairs_unswept;
+    let (mut i, mut j) = (0, 0);
+    while i < swept.len() || j < unswept.len() {
+        if j == unswept.len() || (i < swept.len() && swept[i] < unswept[j]) {
+            near.push(swept[i]);
+            i += 1;
+        } else {
+            near.push(unswept[j]);
+            j += 1;
+        }
+    }
+    near
+}
+
+/// The index in `m.collision_pairs` of the pair of geoms i < j, if they make one.
+pub(super) fn pair_of(m: &Model, i: usize, j: usize) -> Option<usize> {
+    let bit = i * m.ngeom + j;
+    if !m.pair_bits.is_empty() && m.pair_bits[bit / 64] & (1 << (bit % 64)) == 0 {
+        return None;
+    }
+    let first = m.geom_first_pair[i];
+    let partners = &m.pair_partner[first..m.geom_first_pair[i + 1]];
+    partners.binary_search(&(j as u32)).ok().map(|k| first + k)
+}
+
+/// Broadphase: the pair's plane group apart, or bounding spheres farther apart than `margin`, or a
+/// bounding sphere that far above a plane.
+#[inline(always)]
+pub(super) fn apart(cd: &CollisionData, p: &GeomPair, margin: f64) -> bool {
+    let reach = p.radii + margin;
+    match p.test {
+        PairTest::Spheres => cd.geom_xpos[p.g1].distance_squared(cd.geom_xpos[p.g2]) > reach * reach,
+        PairTest::Plane { plane, other, group } => {
+            group.is_some_and(|g| cd.group_apart[g]) || (cd.geom_xpos[other] - cd.geom_xpos[plane]).dot(cd.geom_xmat[plane].col(2)) > reach
+        }
+        PairTest::Always => false,
+    }
+}
+
+/// Computes geom g's own bound (with the shared one) unless it already is.
+#[inline(always)]
+pub(super) fn own_reach_of(m: &Model, kin: &KinData, aba: &AbaData, cd: &mut CollisionData, g: usize) {
+    if !has_own_reach(cd, g) {
+        cd.geom_reach[g] = cd.shared_reach.min(own_reach(m, kin, aba, cd, g));
+        cd.reach_at[g] = cd.stamp;
+    }
+}
+
+/// Geom g's own bound on how far its points move within the step.
+#[inline(always)]
+pub(super) fn own_reach(m: &Model, kin: &KinData, aba: &AbaData, out: &CollisionData, g: usize) -> f64 {
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
+    // bounds over the geom's points: centre value + angular part × bounding radius,
+    // |v_c| + h|a_c| + r (|ω| + h(|α| + |ω|²)); ABA's accelerations carry the base's fictitious
+    // −g, added back. Two square roots instead of four, by x + y ≤ √(2(x² + y²)) over each pair
+    // (within √2, and tight when the h-term is small, as it usually is)
+    let n = m.body_node[m.geom_body[g]];
+    let (v, a, centre, rb) = (kin.v[n], aba.a[n], out.geom_xpos[g] - kin.origin, m.geom_rbound[g]);
+    let vc = v.point_velocity(centre);
+    let ac = a.point_velocity(centre) + v.ang.cross(vc) + m.opt.gravity;
+    let w2 = v.ang.length_squared();
+    let linear = (2.0 * (vc.length_squared() + h * h * ac.length_squared())).sqrt();
+    let angular = (2.0 * (w2 + h * h * a.ang.length_squared())).sqrt() + h * w2;
+    lever * (linear + angular * rb)
+}
+
+/// Bound on the speed of any point of any moving geom whose joint speeds are at most `speeds`
+/// (nv), from [`Model::dof_arm`]: O(nv), no kinematics; ∞ when an arm is unbounded (0 · ∞ gives
+/// NaN, taken as ∞ too).
+pub(super) fn arm_speed(m: &Model, speeds: impl Iterator<Item = f64>) -> f64 {
+    let s: f64 = m.dof_arm.iter().zip(speeds).map(|(c, v)| c * v).sum();
+    if s.is_nan() { f64::INFINITY } else { s }
+}
