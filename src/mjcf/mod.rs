@@ -14,7 +14,7 @@ mod visual;
 use glam::{DQuat, DVec3};
 
 pub use parse::parse;
-pub use visual::*;
+pub use visual::{Builtin, CameraSpec, LightSpec, MaterialSpec, TextureKind, TextureSpec, TrackMode, VisualSpec, DEFAULT_GEOM_RGBA};
 
 /// Integration scheme for the constraint-free dynamics.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -11,7 +11,7 @@ mod raycast;
 mod shade;
 
 use glam::{DMat3, DVec3};
-use rayon::prelude::*;
+use rayon::iter::{IndexedParallelIterator, IntoParallelRefMutIterator, ParallelIterator};
 
 pub use camera::{CameraChoice, FreeCamera, View};
 use crate::model::{GeomType, Model};

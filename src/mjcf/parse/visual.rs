@@ -5,7 +5,7 @@ use roxmltree::Node;
 
 use super::{line, El, Parser};
 use crate::error::Result;
-use crate::mjcf::*;
+use crate::mjcf::{Builtin, CameraSpec, LightSpec, MaterialSpec, TextureKind, TextureSpec, TrackMode};
 
 impl El<'_, '_> {
     /// `n` numbers, each in [0, 1] (colours and their alpha).

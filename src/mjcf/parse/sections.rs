@@ -1,11 +1,15 @@
-//! The elements outside the body tree: `<actuator>` motors, `<custom>` numerics, `<tendon>` and
+//! The sections outside the body tree: `<actuator>` motors, `<custom>` numerics, `<tendon>` and
 //! `<contact>` exclusions.
 
 use roxmltree::Node;
 
-use super::{line, El, Parser, MOTOR_ATTRS};
+use super::element::{line, El};
+use super::Parser;
 use crate::error::Result;
-use crate::mjcf::*;
+use crate::mjcf::ActuatorSpec;
+
+pub(super) const MOTOR_ATTRS: &[&str] =
+    &["name", "class", "joint", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited"];
 
 impl Parser<'_> {
     pub(super) fn actuators(&mut self, n: Node) -> Result<()> {

@@ -1,0 +1,285 @@
+//! The body tree: `<worldbody>` and each `<body>` with its joints, geoms, sites, cameras, lights
+//! and inertial.
+
+use glam::DVec3;
+use roxmltree::Node;
+
+use super::element::{line, El};
+use super::Parser;
+use crate::error::Result;
+use super::orientation::quat_z_to;
+use crate::mjcf::{BodySpec, GeomSpec, GeomType, InertialSpec, JointSpec, JointType, SiteSpec, DEFAULT_GEOM_RGBA};
+
+pub(super) const JOINT_ATTRS: &[&str] = &[
+    "name", "class", "type", "pos", "axis", "ref", "range", "limited", "margin", "armature", "damping", "stiffness",
+    "springref",
+];
+pub(super) const GEOM_ATTRS: &[&str] = &[
+    "name", "class", "type", "size", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "fromto", "density",
+    "mass", "friction", "contype", "conaffinity", "condim", "priority", "margin", "rgba", "material",
+];
+pub(super) const SITE_ATTRS: &[&str] =
+    &["name", "class", "type", "size", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "fromto"];
+pub(super) const BODY_ATTRS: &[&str] = &["name", "childclass", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis"];
+pub(super) const INERTIAL_ATTRS: &[&str] =
+    &["pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "mass", "diaginertia", "fullinertia"];
+
+impl Parser<'_> {
+    pub(super) fn body_children(&mut self, n: Node, body: usize, childclass: Option<&str>) -> Result<()> {
+        for c in n.children().filter(Node::is_element) {
+            match c.tag_name().name() {
+                "body" => self.body(c, body, childclass)?,
+                "geom" => {
+                    let g = self.geom(c, childclass, body)?;
+                    self.spec.bodies[body].geoms.push(g);
+                }
+                "site" => {
+                    let s = self.site(c, childclass)?;
+                    self.spec.bodies[body].sites.push(s);
+                }
+                "joint" | "freejoint" if body == 0 => return Err(self.err(c, None, "the world body cannot have joints")),
+                "joint" | "freejoint" => {
+                    let j = self.joint(c, childclass)?;
+                    self.spec.bodies[body].joints.push(j);
+                }
+                "inertial" if body != 0 => {
+                    let i = self.inertial(c)?;
+                    self.spec.bodies[body].inertial = Some(i);
+                }
+                "camera" => {
+                    let cam = self.camera(c, childclass)?;
+                    self.spec.bodies[body].cameras.push(cam);
+                }
+                "light" => {
+                    let l = self.light(c, childclass)?;
+                    self.spec.bodies[body].lights.push(l);
+                }
+                other => return Err(self.err(c, None, format!("unsupported element <{other}> in a body"))),
+            }
+        }
+        Ok(())
+    }
+
+    pub(super) fn body(&mut self, n: Node, parent: usize, childclass: Option<&str>) -> Result<()> {
+        self.enter(n)?;
+        let out = self.body_at(n, parent, childclass);
+        self.depth -= 1;
+        out
+    }
+
+    pub(super) fn body_at(&mut self, n: Node, parent: usize, childclass: Option<&str>) -> Result<()> {
+        let e = El { node: n, line: line(self.doc, n), defaults: vec![] };
+        e.check(BODY_ATTRS, &self.warnings)?;
+        if n.attribute("mocap") == Some("true") {
+            return Err(e.err("mocap", "mocap bodies are not supported"));
+        }
+        let cc = n.attribute("childclass").or(childclass).map(str::to_string);
+        if let Some(c) = &cc
+            && !self.classes.contains_key(c)
+        {
+            return Err(e.err("childclass", format!("unknown default class '{c}'")));
+        }
+        let id = self.spec.bodies.len();
+        let name = n.attribute("name").map_or_else(|| format!("body{id}"), str::to_string);
+        if self.spec.bodies.iter().any(|b| b.name == name) {
+            return Err(e.err("name", format!("duplicate body name '{name}'")));
+        }
+        self.spec.bodies.push(BodySpec {
+            name,
+            parent,
+            pos: e.vec3("pos", DVec3::ZERO)?,
+            quat: self.orientation(&e)?,
+            joints: vec![],
+            geoms: vec![],
+            sites: vec![],
+            inertial: None,
+            cameras: vec![],
+            lights: vec![],
+            line: e.line,
+        });
+        self.body_children(n, id, cc.as_deref())
+    }
+
+    pub(super) fn joint(&mut self, n: Node, childclass: Option<&str>) -> Result<JointSpec> {
+        let e = self.el(n, childclass)?;
+        if n.has_tag_name("freejoint") {
+            e.check(&["name", "group", "align"], &self.warnings)?;
+            return Ok(JointSpec {
+                name: e.str("name").to_string(),
+                kind: JointType::Free,
+                pos: DVec3::ZERO,
+                axis: DVec3::Z,
+                reference: 0.0,
+                range: [0.0, 0.0],
+                limited: false,
+                margin: 0.0,
+                armature: 0.0,
+                damping: 0.0,
+                stiffness: 0.0,
+                springref: 0.0,
+                line: e.line,
+            });
+        }
+        e.check(JOINT_ATTRS, &self.warnings)?;
+        let kind = match e.get("type").unwrap_or("hinge") {
+            "hinge" => JointType::Hinge,
+            "slide" => JointType::Slide,
+            "ball" => JointType::Ball,
+            "free" => JointType::Free,
+            v => return Err(e.err("type", format!("unknown joint type '{v}'"))),
+        };
+        let axis = e.vec3("axis", DVec3::Z)?;
+        if axis.length() < 1e-12 {
+            return Err(e.err("axis", "zero axis"));
+        }
+        let angular = matches!(kind, JointType::Hinge | JointType::Ball);
+        let conv = |x: f64| if angular { self.angle(x) } else { x };
+        let range = e.arr::<2>("range")?.unwrap_or([0.0, 0.0]);
+        let limited = match e.tristate("limited")? {
+            Some(l) => l,
+            None => self.autolimits && e.has("range"),
+        };
+        if limited && range[0] >= range[1] && kind != JointType::Ball {
+            return Err(e.err("range", format!("limited joint needs range[0] < range[1], got {range:?}")));
+        }
+        if kind == JointType::Free && limited {
+            return Err(e.err("limited", "free joints cannot be limited"));
+        }
+        Ok(JointSpec {
+            name: e.str("name").to_string(),
+            kind,
+            pos: e.vec3("pos", DVec3::ZERO)?,
+            axis: axis.normalize(),
+            reference: conv(e.f64("ref", 0.0)?),
+            range: [conv(range[0]), conv(range[1])],
+            limited,
+            margin: e.nonneg("margin", 0.0)?,
+            armature: e.nonneg("armature", 0.0)?,
+            damping: e.nonneg("damping", 0.0)?,
+            stiffness: e.nonneg("stiffness", 0.0)?,
+            springref: conv(e.f64("springref", 0.0)?),
+            line: e.line,
+        })
+    }
+
+    pub(super) fn geom(&mut self, n: Node, childclass: Option<&str>, body: usize) -> Result<GeomSpec> {
+        let e = self.el(n, childclass)?;
+        e.check(GEOM_ATTRS, &self.warnings)?;
+        let kind = match e.get("type").unwrap_or("sphere") {
+            "plane" => GeomType::Plane,
+            "sphere" => GeomType::Sphere,
+            "capsule" => GeomType::Capsule,
+            "cylinder" => GeomType::Cylinder,
+            "box" => GeomType::Box,
+            "ellipsoid" => GeomType::Ellipsoid,
+            v => return Err(e.err("type", format!("unsupported geom type '{v}'"))),
+        };
+        if kind == GeomType::Plane && body != 0 {
+            return Err(e.err("type", "planes must belong to the world body"));
+        }
+        let given = e.nums("size")?.unwrap_or_default();
+        let needed = match kind {
+            GeomType::Sphere => 1,
+            GeomType::Capsule | GeomType::Cylinder => if e.has("fromto") { 1 } else { 2 },
+            GeomType::Box | GeomType::Ellipsoid => if e.has("fromto") { 2 } else { 3 },
+            GeomType::Plane => 0,
+        };
+        if given.len() < needed {
+            return Err(e.err("size", format!("{kind:?} needs {needed} size values, got {}", given.len())));
+        }
+        let mut size = [0.0; 3];
+        for (s, g) in size.iter_mut().zip(&given) {
+            *s = *g;
+        }
+        if size[..needed].iter().any(|&s| s <= 0.0) {
+            return Err(e.err("size", format!("sizes must be positive, got {given:?}")));
+        }
+        let (mut pos, mut quat) = (e.vec3("pos", DVec3::ZERO)?, self.orientation(&e)?);
+        if let Some(ft) = e.arr::<6>("fromto")? {
+            if matches!(kind, GeomType::Plane | GeomType::Sphere) {
+                return Err(e.err("fromto", "fromto needs a capsule, cylinder, box or ellipsoid"));
+            }
+            let (a, b) = (DVec3::new(ft[0], ft[1], ft[2]), DVec3::new(ft[3], ft[4], ft[5]));
+            let d = b - a;
+            if d.length() < 1e-12 {
+                return Err(e.err("fromto", "zero length"));
+            }
+            pos = (a + b) * 0.5;
+            quat = quat_z_to(d.normalize());
+            let half = d.length() * 0.5;
+            match kind {
+                GeomType::Capsule | GeomType::Cylinder => size[1] = half,
+                _ => size[2] = half,
+            }
+        }
+        let mass = e.arr::<1>("mass")?.map(|m| m[0]);
+        if mass.is_some_and(|m| m < 0.0) {
+            return Err(e.err("mass", "must be non-negative"));
+        }
+        let friction = e.nums("friction")?.unwrap_or_else(|| vec![1.0, 0.005, 0.0001]);
+        if friction.is_empty() || friction.len() > 3 || friction.iter().any(|&f| f < 0.0) {
+            return Err(e.err("friction", "expected 1 to 3 non-negative numbers"));
+        }
+        let mut fr = [1.0, 0.005, 0.0001];
+        fr[..friction.len()].copy_from_slice(&friction);
+        let condim = e.uint("condim", 3)?;
+        if ![1, 3, 4, 6].contains(&condim) {
+            return Err(e.err("condim", format!("must be 1, 3, 4 or 6, got {condim}")));
+        }
+        if condim > 3 {
+            self.warnings.borrow_mut().push(format!(
+                "<geom> '{}' at line {}: condim={condim} asks for torsional or rolling friction, which sinew does not model (sliding friction only, as condim=3)",
+                e.str("name"),
+                e.line
+            ));
+        }
+        Ok(GeomSpec {
+            name: e.str("name").to_string(),
+            kind,
+            size,
+            pos,
+            quat,
+            density: e.nonneg("density", 1000.0)?,
+            mass,
+            friction: fr,
+            contype: e.uint("contype", 1)?,
+            conaffinity: e.uint("conaffinity", 1)?,
+            condim,
+            priority: e.int("priority", 0)?,
+            margin: e.nonneg("margin", 0.0)?,
+            rgba: e.rgba("rgba", DEFAULT_GEOM_RGBA)?,
+            material: e.get("material").map(str::to_string),
+            line: e.line,
+        })
+    }
+
+    pub(super) fn site(&mut self, n: Node, childclass: Option<&str>) -> Result<SiteSpec> {
+        let e = self.el(n, childclass)?;
+        e.check(SITE_ATTRS, &self.warnings)?;
+        let (mut pos, mut quat) = (e.vec3("pos", DVec3::ZERO)?, self.orientation(&e)?);
+        if let Some(ft) = e.arr::<6>("fromto")? {
+            let (a, b) = (DVec3::new(ft[0], ft[1], ft[2]), DVec3::new(ft[3], ft[4], ft[5]));
+            pos = (a + b) * 0.5;
+            if (b - a).length() > 1e-12 {
+                quat = quat_z_to((b - a).normalize());
+            }
+        }
+        Ok(SiteSpec { name: e.str("name").to_string(), pos, quat })
+    }
+
+    pub(super) fn inertial(&mut self, n: Node) -> Result<InertialSpec> {
+        let e = El { node: n, line: line(self.doc, n), defaults: vec![] };
+        e.check(INERTIAL_ATTRS, &self.warnings)?;
+        let mass = e.arr::<1>("mass")?.ok_or_else(|| e.err("mass", "required"))?[0];
+        if mass < 0.0 {
+            return Err(e.err("mass", "must be non-negative"));
+        }
+        let inertia = match (e.arr::<3>("diaginertia")?, e.arr::<6>("fullinertia")?) {
+            (Some(d), None) => [d[0], d[1], d[2], 0.0, 0.0, 0.0],
+            (None, Some(f)) => [f[0], f[1], f[2], f[3], f[4], f[5]],
+            (None, None) => return Err(e.err("diaginertia", "diaginertia or fullinertia is required")),
+            (Some(_), Some(_)) => return Err(e.err("fullinertia", "conflicts with diaginertia")),
+        };
+        Ok(InertialSpec { mass, pos: e.vec3("pos", DVec3::ZERO)?, quat: self.orientation(&e)?, inertia })
+    }
+}
