@@ -5,9 +5,10 @@
 
 use glam::DVec3;
 
-use crate::constraint::solve::SolveData;
+use crate::collision::Contact;
 use crate::constraint::Constraints;
 use crate::step::data::{Data, SensorScratch};
+use crate::dynamics::kinematics::KinData;
 use crate::math::{Force, SpatialInertia};
 use crate::model::{ConstraintMode, Model, WORLD};
 use crate::tasks::World;
@@ -92,11 +93,47 @@ pub fn body_root(m: &Model) -> Vec<usize> {
 }
 
 /// Fills `out` for the state (qpos, qvel) and the constraint forces of the last step in `d`.
-pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64], out: Sensors<'_>) {
-    let Data { dynamics, constraints: Constraints { con, solve: SolveData { force, .. }, .. }, coll, sensors: SensorScratch { node_force: node_f, root_com }, .. } = d;
+pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64], mut out: Sensors<'_>) {
+    let Data { dynamics, constraints, coll, sensors: SensorScratch { node_force, root_com }, .. } = d;
     // the end state's kinematics, shared with the next step
     let kin = dynamics.ahead.at(m, qpos, qvel);
-    // poses and velocities
+    poses(m, kin, &mut out);
+    // centres of mass of the roots' subtrees (MuJoCo's subtree_com[rootid]), indexed by root
+    root_com.fill((DVec3::ZERO, 0.0));
+    out.xipos[..3].copy_from_slice(&kin.xpos[0].to_array());
+    for b in 1..m.nbody {
+        let xipos = kin.xpos[b] + kin.xmat[b] * m.body_ipos[b];
+        out.xipos[3 * b..3 * b + 3].copy_from_slice(&xipos.to_array());
+        let (mc, mass) = &mut root_com[root[b]];
+        *mc += xipos * m.body_mass[b];
+        *mass += m.body_mass[b];
+    }
+    for (r, (mc, mass)) in root_com.iter_mut().enumerate() {
+        *mc = if *mass > 0.0 { *mc / *mass } else { kin.xpos[r] };
+    }
+    let world = Frame { m, kin, root, root_com };
+    com_based(&world, &mut out);
+    constraint_forces(&world, constraints, &coll.contacts, node_force, &mut out);
+}
+
+/// What every output of a world reads: the model, the kinematics of its state, each body's root
+/// and each root subtree's centre of mass and mass.
+struct Frame<'a> {
+    m: &'a Model,
+    kin: &'a KinData,
+    root: &'a [usize],
+    root_com: &'a [(DVec3, f64)],
+}
+
+impl Frame<'_> {
+    /// The centre of mass of the subtree of body b's root.
+    fn com_of_root(&self, b: usize) -> DVec3 {
+        self.root_com[self.root[b]].0
+    }
+}
+
+/// xpos, xmat and xvel (angular, then linear at the body origin).
+fn poses(m: &Model, kin: &KinData, out: &mut Sensors<'_>) {
     for b in 0..m.nbody {
         out.xpos[3 * b..3 * b + 3].copy_from_slice(&kin.xpos[b].to_array());
         let r = kin.xmat[b];
@@ -115,26 +152,16 @@ pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64]
         out.xvel[6 * b..6 * b + 3].copy_from_slice(&w.to_array());
         out.xvel[6 * b + 3..6 * b + 6].copy_from_slice(&v.to_array());
     }
-    // centres of mass of the roots' subtrees (MuJoCo's subtree_com[rootid]), indexed by root
-    root_com.fill((DVec3::ZERO, 0.0));
-    out.xipos[..3].copy_from_slice(&kin.xpos[0].to_array());
-    for b in 1..m.nbody {
-        let xipos = kin.xpos[b] + kin.xmat[b] * m.body_ipos[b];
-        out.xipos[3 * b..3 * b + 3].copy_from_slice(&xipos.to_array());
-        let (mc, mass) = &mut root_com[root[b]];
-        *mc += xipos * m.body_mass[b];
-        *mass += m.body_mass[b];
-    }
-    for (r, (mc, mass)) in root_com.iter_mut().enumerate() {
-        *mc = if *mass > 0.0 { *mc / *mass } else { kin.xpos[r] };
-    }
-    let com_of_root = |r: usize| root_com[r].0;
-    // cinert and cvel: about and at the root subtree's centre of mass, world axes
+}
+
+/// cinert and cvel: about and at the root subtree's centre of mass, world axes.
+fn com_based(f: &Frame<'_>, out: &mut Sensors<'_>) {
+    let (m, kin) = (f.m, f.kin);
     for b in 0..m.nbody {
         let mass = m.body_mass[b];
         // the body's inertia in world axes, its centre of mass at d from the root subtree's
         let SpatialInertia { com: d, ic: i, .. } =
-            SpatialInertia::new(mass, m.body_ipos[b], m.body_inertia[b]).to_parent(kin.xmat[b], kin.xpos[b] - com_of_root(root[b]));
+            SpatialInertia::new(mass, m.body_ipos[b], m.body_inertia[b]).to_parent(kin.xmat[b], kin.xpos[b] - f.com_of_root(b));
         let ci = &mut out.cinert[10 * b..10 * b + 10];
         ci[0] = i.x_axis.x + mass * (d.y * d.y + d.z * d.z);
         ci[1] = i.y_axis.y + mass * (d.x * d.x + d.z * d.z);
@@ -145,10 +172,16 @@ pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64]
         ci[6..9].copy_from_slice(&(d * mass).to_array());
         ci[9] = mass;
         let w = DVec3::from_slice(&out.xvel[6 * b..6 * b + 3]);
-        let v = DVec3::from_slice(&out.xvel[6 * b + 3..6 * b + 6]) + w.cross(com_of_root(root[b]) - kin.xpos[b]);
+        let v = DVec3::from_slice(&out.xvel[6 * b + 3..6 * b + 6]) + w.cross(f.com_of_root(b) - kin.xpos[b]);
         out.cvel[6 * b..6 * b + 3].copy_from_slice(&w.to_array());
         out.cvel[6 * b + 3..6 * b + 6].copy_from_slice(&v.to_array());
     }
+}
+
+/// cfrc_ext (each contact's force on its two bodies, about their root subtree's centre of mass)
+/// and qfrc_constraint (Jᵀ f) from the last step's constraint forces.
+fn constraint_forces(f: &Frame<'_>, c: &Constraints, contacts: &[Contact], node_f: &mut [Force], out: &mut Sensors<'_>) {
+    let (m, kin, con, force) = (f.m, f.kin, &c.con, &c.solve.force);
     out.cfrc_ext.fill(0.0);
     out.qfrc_constraint.fill(0.0);
     if con.is_empty() || force.len() < con.len() {
@@ -158,21 +191,20 @@ pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64]
     let per_force = if m.opt.constraint_mode == ConstraintMode::Velocity { 1.0 / m.opt.timestep } else { 1.0 };
     // spatial constraint forces per node (world coordinates about the kinematics' origin), for Jᵀ f
     node_f.fill(Force::ZERO);
-    for (ci, c) in coll.contacts.iter().enumerate() {
-        let mut f = DVec3::ZERO;
+    for (ci, c) in contacts.iter().enumerate() {
+        let mut f_c = DVec3::ZERO;
         for j in 0..con.len() {
             if con.source[j] == ci && con.kind[j].is_contact() {
-                f += con.dir[j] * force[j] * per_force;
+                f_c += con.dir[j] * force[j] * per_force;
             }
         }
-        if f == DVec3::ZERO {
+        if f_c == DVec3::ZERO {
             continue;
         }
         for (g, sign) in [(c.geom1, 1.0), (c.geom2, -1.0)] {
             let b = m.geom_body[g];
-            let fs = f * sign;
-            let com = com_of_root(root[b]);
-            let torque = (c.pos - com).cross(fs);
+            let fs = f_c * sign;
+            let torque = (c.pos - f.com_of_root(b)).cross(fs);
             for k in 0..3 {
                 out.cfrc_ext[6 * b + k] += torque[k];
                 out.cfrc_ext[6 * b + 3 + k] += fs[k];

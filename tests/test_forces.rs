@@ -98,7 +98,9 @@ fn check(xml: &str, seed: u64) {
     let ctrl = vec![0.0; m2.nu];
     let ff = vec![0.0; 2 * m2.nu];
     let forced = vec![false; 2 * m2.njnt];
-    constraint::rows::push_rows(&m2, &data.dynamics.kin, &data.dynamics.aba, &q, &v, &qacc, &forced, &ctrl, &ff, &contacts, |_, n, _, _| n.any_orthonormal_vector(), &mut con);
+    constraint::rows::push_contact_rows(&m2, &data.dynamics.kin, &data.dynamics.aba, &contacts, |_, n, _, _| n.any_orthonormal_vector(), &mut con);
+    constraint::rows::push_limit_rows(&m2, &q, &v, &qacc, &forced, &mut con);
+    constraint::rows::push_motion_rows(&m2, &q, &v, &ctrl, &ff, &mut con);
     constraint::test_forces::assemble(&m2, &data.dynamics.kin, &data.dynamics.aba, &qacc, &mut con);
     let nr = con.len();
     assert!(nr >= 6, "rows {nr}");
@@ -190,7 +192,7 @@ fn limit_rows_match_the_inverse_mass_matrix() {
     let mut qacc = vec![0.0; 2];
     aba::forward(&m, &data.dynamics.kin, &mut data.dynamics.aba, &mut qacc);
     let mut con = ConstraintData::new(&m);
-    constraint::rows::push_rows(&m, &data.dynamics.kin, &data.dynamics.aba, &q, &v, &qacc, &[false; 4], &[], &[], &[], |_, n, _, _| n, &mut con);
+    constraint::rows::push_limit_rows(&m, &q, &v, &qacc, &[false; 4], &mut con);
     assert_eq!(con.len(), 2, "both joints sit at a limit");
     constraint::test_forces::assemble(&m, &data.dynamics.kin, &data.dynamics.aba, &qacc, &mut con);
     let mass = crba(&m, &data.dynamics.kin);

@@ -49,22 +49,7 @@ pub(super) fn box_box(c1: DVec3, r1: DMat3, h1: DVec3, c2: DVec3, r2: DMat3, h2:
             return (out, 0);
         }
         let (_, i, j, axis) = edge;
-        let n = if axis.dot(d) >= 0.0 { axis } else { -axis };
-        // the edge of each box nearest the other
-        let sgn = |x: f64| if x >= 0.0 { 1.0 } else { -1.0 };
-        let mut p1 = c1;
-        let mut p2 = c2;
-        for k in 0..3 {
-            if k != i {
-                p1 -= r1.col(k) * (h1[k] * sgn(n.dot(r1.col(k))));
-            }
-            if k != j {
-                p2 += r2.col(k) * (h2[k] * sgn(n.dot(r2.col(k))));
-            }
-        }
-        let (e1, e2) = (r1.col(i) * h1[i], r2.col(j) * h2[j]);
-        let (q1, q2) = closest_segments(p1 - e1, p1 + e1, p2 - e2, p2 + e2);
-        out[0] = (32 + 3 * i + j, (q1 + q2) * 0.5, n, n.dot(q1 - q2));
+        out[0] = edge_contact((c1, r1, h1), (c2, r2, h2), i, j, axis);
         return (out, 1);
     }
     if face.0 > margin {
@@ -83,6 +68,58 @@ pub(super) fn box_box(c1: DVec3, r1: DMat3, h1: DVec3, c2: DVec3, r2: DMat3, h2:
     let (u, v) = (ro.col(k1) * ho[k1], ro.col(k2) * ho[k2]);
     let centre = co + ni * ho[k];
     let corners = [centre + u + v, centre - u + v, centre - u - v, centre + u - v];
+    let (poly, len) = clip_to_face(&corners, (cr, rr, hr), a, scale);
+    if len == 0 {
+        return (out, 0);
+    }
+    // normal from box 2 to box 1: nf points from R to O
+    let n = if ref1 { -nf } else { nf };
+    let mut count = 0;
+    // clipping through a vertex within round-off yields it twice, and a point this close to an
+    // incident corner is that corner
+    let tol = 1e-9 * scale;
+    for &(p, id, _) in &poly[..len] {
+        let depth = nf.dot(p - face_centre);
+        let id = corners.iter().position(|c| c.distance(p) <= tol).unwrap_or(id);
+        let at = p - nf * (0.5 * depth);
+        let repeat = out[..count].iter().any(|o| o.1.distance(at) <= tol);
+        if depth <= margin && !repeat {
+            out[count] = (FACE_FEATURES + 64 * ref1 as usize + id, at, n, depth);
+            count += 1;
+        }
+    }
+    (out, count)
+}
+
+/// A box in world: centre, axes (columns), half-sizes.
+type Cuboid = (DVec3, DMat3, DVec3);
+
+/// [`box_box`]'s edge–edge contact on the axis r1ᵢ × r2ⱼ (unit `axis`): the closest points of the
+/// two boxes' edges along it nearest each other, as (feature, point, normal from box 2 to box 1,
+/// signed distance).
+fn edge_contact((c1, r1, h1): Cuboid, (c2, r2, h2): Cuboid, i: usize, j: usize, axis: DVec3) -> (usize, DVec3, DVec3, f64) {
+    let n = if axis.dot(c1 - c2) >= 0.0 { axis } else { -axis };
+    // the edge of each box nearest the other
+    let sgn = |x: f64| if x >= 0.0 { 1.0 } else { -1.0 };
+    let mut p1 = c1;
+    let mut p2 = c2;
+    for k in 0..3 {
+        if k != i {
+            p1 -= r1.col(k) * (h1[k] * sgn(n.dot(r1.col(k))));
+        }
+        if k != j {
+            p2 += r2.col(k) * (h2[k] * sgn(n.dot(r2.col(k))));
+        }
+    }
+    let (e1, e2) = (r1.col(i) * h1[i], r2.col(j) * h2[j]);
+    let (q1, q2) = closest_segments(p1 - e1, p1 + e1, p2 - e2, p2 + e2);
+    (32 + 3 * i + j, (q1 + q2) * 0.5, n, n.dot(q1 - q2))
+}
+
+/// [`box_box`]'s incident face (`corners`, in cyclic order) clipped by the four side planes of
+/// the reference box's face on axis `a` (Sutherland–Hodgman): the polygon's vertices with their
+/// identities and the labels of the edges leaving them, and how many.
+fn clip_to_face(corners: &[DVec3; 4], (cr, rr, hr): Cuboid, a: usize, scale: f64) -> ([(DVec3, usize, usize); 8], usize) {
     // each vertex with its identity and the label of the edge leaving it: an incident corner is
     // 0–3 and its edge to the next corner 0–3; a clip on reference plane pl makes the vertex
     // 8 + 8 pl + (the label of the edge it cut) and the edge along the plane 4 + pl. Identities
@@ -120,26 +157,10 @@ pub(super) fn box_box(c1: DVec3, r1: DMat3, h1: DVec3, c2: DVec3, r2: DMat3, h2:
         poly = next;
         len = n_next;
         if len == 0 {
-            return (out, 0);
+            break;
         }
     }
-    // normal from box 2 to box 1: nf points from R to O
-    let n = if ref1 { -nf } else { nf };
-    let mut count = 0;
-    // clipping through a vertex within round-off yields it twice, and a point this close to an
-    // incident corner is that corner
-    let tol = 1e-9 * scale;
-    for &(p, id, _) in &poly[..len] {
-        let depth = nf.dot(p - face_centre);
-        let id = corners.iter().position(|c| c.distance(p) <= tol).unwrap_or(id);
-        let at = p - nf * (0.5 * depth);
-        let repeat = out[..count].iter().any(|o| o.1.distance(at) <= tol);
-        if depth <= margin && !repeat {
-            out[count] = (FACE_FEATURES + 64 * ref1 as usize + id, at, n, depth);
-            count += 1;
-        }
-    }
-    (out, count)
+    (poly, len)
 }
 
 /// Signed distance of point `p` from a box and the unit normal pointing from the box toward `p`.

@@ -11,7 +11,7 @@ use inertia::geom_inertia;
 use crate::model::{GapPair, GeomType, Model, Options, PairTest, PlaneGroup, WORLD};
 use crate::error::{Error, Result};
 use crate::math::{SpatialInertia, Xform};
-use crate::mjcf::{InertiaFromGeom, JointType, ModelSpec};
+use crate::mjcf::{BodySpec, InertiaFromGeom, JointSpec, JointType, ModelSpec};
 use crate::dynamics::DynamicsData;
 
 impl Model {
@@ -28,9 +28,66 @@ impl Model {
 
 /// `ModelSpec` → `Model`.
 fn compile(spec: ModelSpec) -> Result<Model> {
-    let nbody = spec.bodies.len();
+    let inertia = body_inertias(&spec);
+    let mut m = Model {
+        name: spec.name.clone(),
+        opt: Options {
+            timestep: spec.option.timestep,
+            gravity: spec.option.gravity,
+            integrator: spec.option.integrator,
+            contact: spec.option.contact,
+            limit: spec.option.limit,
+            restitution: spec.restitution.unwrap_or(0.0),
+            ..Options::default()
+        },
+        nu: spec.actuators.len(),
+        nbody: spec.bodies.len(),
+        body_name: spec.bodies.iter().map(|b| b.name.clone()).collect(),
+        body_parent: spec.bodies.iter().map(|b| b.parent).collect(),
+        body_pos: spec.bodies.iter().map(|b| b.pos).collect(),
+        body_quat: spec.bodies.iter().map(|b| b.quat).collect(),
+        body_mass: inertia.iter().map(|i| i.mass).collect(),
+        body_ipos: inertia.iter().map(|i| i.com).collect(),
+        body_inertia: inertia.iter().map(|i| i.ic).collect(),
+        body_node: vec![WORLD; spec.bodies.len()],
+        body_offset: vec![Xform::IDENTITY; spec.bodies.len()],
+        warnings: spec.warnings.clone(),
+        ..Model::default()
+    };
+    joints_and_nodes(&mut m, &spec)?;
+    node_inertias(&mut m, &inertia);
+    geoms_and_sites(&mut m, &spec);
+    actuators(&mut m, &spec)?;
+    for (b1, b2) in &spec.contact_excludes {
+        let find = |n: &str| {
+            m.body_id(n).ok_or_else(|| Error::Compile(format!("<exclude> names unknown body '{n}'")))
+        };
+        let (i, j) = (find(b1)?, find(b2)?);
+        m.exclude_pairs.push((i.min(j), i.max(j)));
+    }
+    for i in 0..m.ngeom {
+        for j in i + 1..m.ngeom {
+            if pairs::can_collide(&m, i, j) {
+                m.collision_pairs.push(pairs::geom_pair(&m, i, j));
+            }
+        }
+    }
+    sweep_lists(&mut m);
+    m.body_reach = body_reaches(&m);
+    m.dof_arm = dof_arms(&m);
+    m.plane_groups = plane_groups(&mut m);
+    // the forward dynamics at qpos0, as MuJoCo's mj_setConst runs it
+    let mut dy = DynamicsData::new(&m);
+    crate::dynamics::forward(&m, &mut dy, &m.qpos0, &vec![0.0; m.nv], &vec![0.0; m.nu]);
+    check_solvable(&m, &dy)?;
+    m.motion_plane = motion_plane(&m, &dy.kin);
+    m.vis = visual::compile(&spec, |n| m.body_id(n))?;
+    Ok(m)
+}
 
-    // body mass properties, in body frames
+/// Each body's mass properties in its own frame: from its geoms or its `<inertial>` as the
+/// compiler's `inertiafromgeom` says, scaled to `settotalmass`.
+fn body_inertias(spec: &ModelSpec) -> Vec<SpatialInertia> {
     let mut inertia: Vec<SpatialInertia> = spec
         .bodies
         .iter()
@@ -65,104 +122,12 @@ fn compile(spec: ModelSpec) -> Result<Model> {
             }
         }
     }
+    inertia
+}
 
-    // joints, dofs and nodes in MuJoCo order
-    let mut m = Model {
-        name: spec.name.clone(),
-        opt: Options {
-            timestep: spec.option.timestep,
-            gravity: spec.option.gravity,
-            integrator: spec.option.integrator,
-            contact: spec.option.contact,
-            limit: spec.option.limit,
-            restitution: spec.restitution.unwrap_or(0.0),
-            friction: crate::model::FrictionModel::Pyramid,
-            actuation: crate::model::Actuation::Motor,
-            constraint_mode: crate::model::ConstraintMode::Acceleration,
-        },
-        nq: 0,
-        nv: 0,
-        nu: spec.actuators.len(),
-        nbody,
-        njnt: 0,
-        nnode: 0,
-        ngeom: 0,
-        qpos0: vec![],
-        qpos_spring: vec![],
-        body_name: spec.bodies.iter().map(|b| b.name.clone()).collect(),
-        body_parent: spec.bodies.iter().map(|b| b.parent).collect(),
-        body_pos: spec.bodies.iter().map(|b| b.pos).collect(),
-        body_quat: spec.bodies.iter().map(|b| b.quat).collect(),
-        body_mass: inertia.iter().map(|i| i.mass).collect(),
-        body_ipos: inertia.iter().map(|i| i.com).collect(),
-        body_inertia: inertia.iter().map(|i| i.ic).collect(),
-        body_node: vec![WORLD; nbody],
-        body_offset: vec![Xform::IDENTITY; nbody],
-        jnt_name: vec![],
-        jnt_type: vec![],
-        jnt_body: vec![],
-        jnt_qposadr: vec![],
-        jnt_dofadr: vec![],
-        jnt_pos: vec![],
-        jnt_axis: vec![],
-        jnt_range: vec![],
-        jnt_limited: vec![],
-        jnt_margin: vec![],
-        jnt_stiffness: vec![],
-        dof_damping: vec![],
-        dof_armature: vec![],
-        dof_jnt: vec![],
-        dof_arm: vec![],
-        node_parent: vec![],
-        node_jntadr: vec![],
-        node_jntnum: vec![],
-        jnt_node: vec![],
-        node_dofadr: vec![],
-        node_nv: vec![],
-        node_xtree: vec![],
-        node_inertia: vec![],
-        node_tree: vec![],
-        node_end: vec![],
-        geom_name: vec![],
-        geom_type: vec![],
-        geom_body: vec![],
-        geom_size: vec![],
-        geom_pos: vec![],
-        geom_quat: vec![],
-        geom_mat: vec![],
-        geom_rbound: vec![],
-        geom_friction: vec![],
-        geom_contype: vec![],
-        geom_conaffinity: vec![],
-        geom_condim: vec![],
-        geom_priority: vec![],
-        geom_margin: vec![],
-        site_name: vec![],
-        site_body: vec![],
-        site_pos: vec![],
-        actuator_name: vec![],
-        actuator_jnt: vec![],
-        actuator_gear: vec![],
-        actuator_ctrlrange: vec![],
-        actuator_ctrllimited: vec![],
-        actuator_forcerange: vec![],
-        actuator_forcelimited: vec![],
-        collision_pairs: vec![],
-        motion_plane: None,
-        exclude_pairs: vec![],
-        body_reach: vec![],
-        plane_groups: vec![],
-        gap_pairs: vec![],
-        geom_first_pair: vec![],
-        pair_partner: vec![],
-        pair_bits: vec![],
-        sweep_geoms: vec![],
-        pairs_unswept: vec![],
-        pairs_without_gap: vec![],
-        vis: Default::default(),
-        warnings: spec.warnings.clone(),
-    };
-
+/// Joints, dofs and nodes in MuJoCo's order: each body's joints share a node while their dofs
+/// fit in six; a body without joints rides on its parent's node.
+fn joints_and_nodes(m: &mut Model, spec: &ModelSpec) -> Result<()> {
     for (b, body) in spec.bodies.iter().enumerate().skip(1) {
         let parent = body.parent;
         // this body's frame relative to the parent body's node frame
@@ -179,37 +144,7 @@ fn compile(spec: ModelSpec) -> Result<Model> {
                 return Err(Error::model("joint", None, j.line, "a free joint must be the only joint of a child of the world"));
             }
             let id = m.jnt_type.len();
-            m.jnt_name.push(j.name.clone());
-            m.jnt_type.push(j.kind);
-            m.jnt_body.push(b);
-            m.jnt_qposadr.push(m.nq);
-            m.jnt_dofadr.push(m.nv);
-            m.jnt_pos.push(j.pos);
-            m.jnt_axis.push(j.axis);
-            m.jnt_range.push(j.range);
-            m.jnt_limited.push(j.limited);
-            m.jnt_margin.push(j.margin);
-            m.jnt_stiffness.push(j.stiffness);
-            match j.kind {
-                JointType::Free => {
-                    let p = body.pos;
-                    let q = body.quat;
-                    m.qpos0.extend([p.x, p.y, p.z, q.w, q.x, q.y, q.z]);
-                }
-                JointType::Ball => m.qpos0.extend([1.0, 0.0, 0.0, 0.0]),
-                _ => m.qpos0.push(j.reference),
-            }
-            match j.kind {
-                JointType::Hinge | JointType::Slide => m.qpos_spring.push(j.springref),
-                // ball and free springs rest at the reference configuration, as in MuJoCo
-                _ => m.qpos_spring.extend_from_slice(&m.qpos0[m.nq..]),
-            }
-            m.nq += j.kind.nq();
-            for _ in 0..j.kind.nv() {
-                m.dof_damping.push(j.damping);
-                m.dof_armature.push(j.armature);
-                m.dof_jnt.push(id);
-            }
+            add_joint(m, j, b, body);
             // a body's joints share a node while their dofs fit in six (a free joint is alone)
             let n = m.node_parent.len();
             let joins = n > first_node && m.node_nv[n - 1] + j.kind.nv() <= 6;
@@ -233,9 +168,48 @@ fn compile(spec: ModelSpec) -> Result<Model> {
     m.njnt = m.jnt_type.len();
     m.nnode = m.node_parent.len();
     (m.node_tree, m.node_end) = node_trees(&m.node_parent);
+    Ok(())
+}
 
-    // node inertias: each body's inertia moved into its node frame
-    for b in 1..nbody {
+/// Joint `j` of body `b`: its fields, its qpos0 and spring reference, and its dofs' damping and
+/// armature (qpos addresses grow here; dof addresses with the node in [`joints_and_nodes`]).
+fn add_joint(m: &mut Model, j: &JointSpec, b: usize, body: &BodySpec) {
+    let id = m.jnt_type.len();
+    m.jnt_name.push(j.name.clone());
+    m.jnt_type.push(j.kind);
+    m.jnt_body.push(b);
+    m.jnt_qposadr.push(m.nq);
+    m.jnt_dofadr.push(m.nv);
+    m.jnt_pos.push(j.pos);
+    m.jnt_axis.push(j.axis);
+    m.jnt_range.push(j.range);
+    m.jnt_limited.push(j.limited);
+    m.jnt_margin.push(j.margin);
+    m.jnt_stiffness.push(j.stiffness);
+    match j.kind {
+        JointType::Free => {
+            let (p, q) = (body.pos, body.quat);
+            m.qpos0.extend([p.x, p.y, p.z, q.w, q.x, q.y, q.z]);
+        }
+        JointType::Ball => m.qpos0.extend([1.0, 0.0, 0.0, 0.0]),
+        _ => m.qpos0.push(j.reference),
+    }
+    match j.kind {
+        JointType::Hinge | JointType::Slide => m.qpos_spring.push(j.springref),
+        // ball and free springs rest at the reference configuration, as in MuJoCo
+        _ => m.qpos_spring.extend_from_slice(&m.qpos0[m.nq..]),
+    }
+    m.nq += j.kind.nq();
+    for _ in 0..j.kind.nv() {
+        m.dof_damping.push(j.damping);
+        m.dof_armature.push(j.armature);
+        m.dof_jnt.push(id);
+    }
+}
+
+/// Each node's rigid inertia: its bodies' inertias moved into its frame.
+fn node_inertias(m: &mut Model, inertia: &[SpatialInertia]) {
+    for b in 1..m.nbody {
         let n = m.body_node[b];
         if n == WORLD {
             continue;
@@ -244,8 +218,10 @@ fn compile(spec: ModelSpec) -> Result<Model> {
         let moved = inertia[b].to_parent(rot, pos);
         m.node_inertia[n] = m.node_inertia[n].combine(&moved);
     }
+}
 
-    // geoms and sites
+/// Geoms and sites in body order.
+fn geoms_and_sites(m: &mut Model, spec: &ModelSpec) {
     for (b, body) in spec.bodies.iter().enumerate() {
         for g in &body.geoms {
             m.geom_name.push(g.name.clone());
@@ -270,8 +246,10 @@ fn compile(spec: ModelSpec) -> Result<Model> {
         }
     }
     m.ngeom = m.geom_type.len();
+}
 
-    // actuators
+/// The motors, each on a hinge or slide joint.
+fn actuators(m: &mut Model, spec: &ModelSpec) -> Result<()> {
     for a in &spec.actuators {
         let Some(j) = m.jnt_name.iter().position(|n| *n == a.joint) else {
             return Err(Error::model("motor", Some("joint"), a.line, format!("unknown joint '{}'", a.joint)));
@@ -287,33 +265,7 @@ fn compile(spec: ModelSpec) -> Result<Model> {
         m.actuator_forcerange.push(a.forcerange);
         m.actuator_forcelimited.push(a.forcelimited);
     }
-
-    for (b1, b2) in &spec.contact_excludes {
-        let find = |n: &str| {
-            m.body_id(n).ok_or_else(|| Error::Compile(format!("<exclude> names unknown body '{n}'")))
-        };
-        let (i, j) = (find(b1)?, find(b2)?);
-        m.exclude_pairs.push((i.min(j), i.max(j)));
-    }
-
-    for i in 0..m.ngeom {
-        for j in i + 1..m.ngeom {
-            if pairs::can_collide(&m, i, j) {
-                m.collision_pairs.push(pairs::geom_pair(&m, i, j));
-            }
-        }
-    }
-    sweep_lists(&mut m);
-    m.body_reach = body_reaches(&m);
-    m.dof_arm = dof_arms(&m);
-    m.plane_groups = plane_groups(&mut m);
-    // the forward dynamics at qpos0, as MuJoCo's mj_setConst runs it
-    let mut dy = DynamicsData::new(&m);
-    crate::dynamics::forward(&m, &mut dy, &m.qpos0, &vec![0.0; m.nv], &vec![0.0; m.nu]);
-    check_solvable(&m, &dy)?;
-    m.motion_plane = motion_plane(&m, &dy.kin);
-    m.vis = visual::compile(&spec, |n| m.body_id(n))?;
-    Ok(m)
+    Ok(())
 }
 
 /// [`Model::geom_first_pair`], [`Model::sweep_geoms`] and [`Model::pairs_unswept`] from the pairs

@@ -6,6 +6,31 @@ use crate::error::{Error, Result};
 use crate::mjcf::{ModelSpec, TextureKind, DEFAULT_GEOM_RGBA};
 use crate::model::visual::{Camera, Light, Material, Texture, Visual};
 
+/// The materials, each texture name resolved.
+fn materials(spec: &ModelSpec) -> Result<Vec<Material>> {
+    let v = &spec.visual;
+    let find_tex = |name: &str, line: u32| {
+        v.textures
+            .iter()
+            .position(|t| t.name == name)
+            .ok_or_else(|| Error::model("material", Some("texture"), line, format!("unknown texture '{name}'")))
+    };
+    v.materials
+        .iter()
+        .map(|m| {
+            Ok(Material {
+                texture: m.texture.as_deref().map(|t| find_tex(t, m.line)).transpose()?,
+                texrepeat: m.texrepeat,
+                texuniform: m.texuniform,
+                emission: m.emission,
+                specular: m.specular,
+                shininess: m.shininess,
+                reflectance: m.reflectance,
+            })
+        })
+        .collect()
+}
+
 /// Resolves the names of `spec`'s visual elements against the compiled bodies (`body_id`).
 pub(super) fn compile(spec: &ModelSpec, body_id: impl Fn(&str) -> Option<usize>) -> Result<Visual> {
     let v = &spec.visual;
@@ -14,24 +39,7 @@ pub(super) fn compile(spec: &ModelSpec, body_id: impl Fn(&str) -> Option<usize>)
         .iter()
         .map(|t| Texture { kind: t.kind, builtin: t.builtin, rgb1: DVec3::from_array(t.rgb1), rgb2: DVec3::from_array(t.rgb2) })
         .collect();
-    let find_tex = |name: &str, line: u32| {
-        v.textures
-            .iter()
-            .position(|t| t.name == name)
-            .ok_or_else(|| Error::model("material", Some("texture"), line, format!("unknown texture '{name}'")))
-    };
-    let mut materials = Vec::with_capacity(v.materials.len());
-    for m in &v.materials {
-        materials.push(Material {
-            texture: m.texture.as_deref().map(|t| find_tex(t, m.line)).transpose()?,
-            texrepeat: m.texrepeat,
-            texuniform: m.texuniform,
-            emission: m.emission,
-            specular: m.specular,
-            shininess: m.shininess,
-            reflectance: m.reflectance,
-        });
-    }
+    let materials = materials(spec)?;
     let target = |name: &Option<String>, tag: &str, line: u32| -> Result<Option<usize>> {
         name.as_deref()
             .map(|n| body_id(n).ok_or_else(|| Error::model(tag, Some("target"), line, format!("unknown body '{n}'"))))

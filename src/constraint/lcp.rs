@@ -24,6 +24,19 @@
 //! pivots, `active_set` solves on a guessed active set (warm start, polish), `pgs` is the
 //! fallback.
 
+/// One LCP w = M z + q over `n` variables (M n × n, row-major), with each variable's role.
+#[derive(Clone, Copy, Debug)]
+pub struct Problem<'a> {
+    /// Number of variables.
+    pub n: usize,
+    /// M (n × n, row-major).
+    pub m: &'a [f64],
+    /// q (n).
+    pub q: &'a [f64],
+    /// What each variable is (n).
+    pub role: &'a [Role],
+}
+
 /// Counters Python can read.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct LcpStats {
@@ -156,8 +169,8 @@ pub fn residual(n: usize, m: &[f64], q: &[f64], z: &[f64], (w, nz): (&mut Vec<f6
 /// are needed, and the caller solves again, which starts from this answer's active set plus the
 /// rows brought back (of this attempt, the statistics keep its pivots and count it in
 /// `regrown`).
-#[allow(clippy::too_many_arguments)]
-pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], split: bool, warm: Option<&[bool]>, out: &mut Vec<bool>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) -> bool {
+pub fn solve(p: Problem<'_>, split: bool, warm: Option<&[bool]>, out: &mut Vec<bool>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) -> bool {
+    let Problem { n, m, q, role } = p;
     let start = *stats;
     stats.solves += 1;
     let mut sub = std::mem::take(&mut work.sub);
@@ -172,7 +185,7 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], split: bool, warm: O
         }
     }
     if !out.contains(&true) {
-        islands(n, m, q, role, split, warm, z, work, stats);
+        islands(p, split, warm, z, work, stats);
         retry.clear();
         sub.retry = retry;
         work.sub = sub;
@@ -184,7 +197,7 @@ pub fn solve(n: usize, m: &[f64], q: &[f64], role: &[Role], split: bool, warm: O
     sub.gather(n, m, q, role, warm);
     let Subproblem { m: sm, q: sq, role: sr, warm: sw, z: sz, .. } = &mut sub;
     if k > 0 {
-        islands(k, sm, sq, sr, split, warm.map(|_| &sw[..]), sz, work, stats);
+        islands(Problem { n: k, m: sm, q: sq, role: sr }, split, warm.map(|_| &sw[..]), sz, work, stats);
     } else {
         stats.residual = 0.0;
     }
@@ -307,10 +320,10 @@ fn left_out_w(n: usize, m: &[f64], q: &[f64], z: &[f64], pressing: &[usize], i: 
 /// between separate trees), so a pile of separate bodies splits into independent LCPs, each
 /// solved by [`cascade`] at its own size's cost instead of the whole's. The islands are found
 /// from M's entries by union–find, unless not `split`. One island is solved as it is.
-#[allow(clippy::too_many_arguments)]
-fn islands(n: usize, m: &[f64], q: &[f64], role: &[Role], split: bool, warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
+fn islands(p: Problem<'_>, split: bool, warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
+    let Problem { n, m, q, role } = p;
     if !split || couplings(n, m, &mut work.parent) {
-        cascade(n, m, q, role, warm, z, work, stats);
+        cascade(p, warm, z, work, stats);
         return;
     }
     // the variables island by island (by root), each island's in their order
@@ -329,7 +342,7 @@ fn islands(n: usize, m: &[f64], q: &[f64], role: &[Role], split: bool, warm: Opt
         island.gather(n, m, q, role, warm);
         let k = island.keep.len();
         let Subproblem { m: im, q: iq, role: ir, warm: iw, z: iz, .. } = &mut island;
-        cascade(k, im, iq, ir, warm.map(|_| &iw[..]), iz, work, stats);
+        cascade(Problem { n: k, m: im, q: iq, role: ir }, warm.map(|_| &iw[..]), iz, work, stats);
         worst = worst.max(stats.residual);
         for (k, &i) in island.keep.iter().enumerate() {
             z[i] = island.z[k];
@@ -384,8 +397,8 @@ const LEFT_OUT_TOLERANCE: f64 = 1e-12;
 /// has the smaller residual) → zero; counts the path in `stats`. `warm`, when given, is the
 /// previous step's active set for the same rows: if solving on it directly passes the independent
 /// check, no pivoting is needed (resting contacts).
-#[allow(clippy::too_many_arguments)]
-fn cascade(n: usize, m: &[f64], q: &[f64], role: &[Role], warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
+fn cascade(p: Problem<'_>, warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpWork, stats: &mut LcpStats) {
+    let Problem { n, m, q, role } = p;
     if let Some(prev) = warm.filter(|w| w.len() == n)
         && let Some(res) = settle(n, m, q, role, prev.iter().copied(), WARM_PASSES, work)
     {

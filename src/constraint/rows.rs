@@ -10,6 +10,7 @@ use super::test_forces::{measure, PointAccel};
 use super::{Constraints, History, World};
 use crate::collision::{self, Contact};
 use crate::dynamics::aba::AbaData;
+use crate::dynamics::DynamicsData;
 use crate::dynamics::kinematics::{self, KinData};
 use crate::math::Motion;
 use crate::state::WorldState;
@@ -87,16 +88,11 @@ pub fn build_rows(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) {
     let History { tangents, rng, .. } = history;
     tangents_next.clear();
     let h = m.opt.timestep;
-    push_rows(
+    con.clear();
+    push_contact_rows(
         m,
         kin,
         aba,
-        qpos,
-        qvel,
-        qacc,
-        limit_forced,
-        ctrl,
-        feedforward,
         &coll.contacts,
         |ci, n, vt, at| {
             let c = &coll.contacts[ci];
@@ -122,6 +118,8 @@ pub fn build_rows(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) {
         },
         con,
     );
+    push_limit_rows(m, qpos, qvel, qacc, limit_forced, con);
+    push_motion_rows(m, qpos, qvel, ctrl, feedforward, con);
     std::mem::swap(tangents, tangents_next);
     // leapfrog's rows are built at the midpoint: each gap before the opening drift, from the
     // velocities the drift moved with (an impact since has changed q̇, not the drift)
@@ -151,22 +149,7 @@ pub fn random_tangent(state: &mut u64, n: DVec3) -> DVec3 {
 /// velocity and acceleration `feedforward` (2 × nu). `tangent_for(i, n, v_t, a_t)` picks the
 /// friction direction of contact i from its tangential velocity and constraint-free tangential
 /// acceleration (the caller handles sliding, persistence and the seeded random choice).
-#[allow(clippy::too_many_arguments)]
-pub fn push_rows(
-    m: &Model,
-    kin: &KinData,
-    aba: &AbaData,
-    qpos: &[f64],
-    qvel: &[f64],
-    qacc0: &[f64],
-    forced: &[bool],
-    ctrl: &[f64],
-    feedforward: &[f64],
-    contacts: &[Contact],
-    mut tangent_for: impl FnMut(usize, DVec3, DVec3, DVec3) -> DVec3,
-    out: &mut ConstraintData,
-) {
-    out.clear();
+pub fn push_contact_rows(m: &Model, kin: &KinData, aba: &AbaData, contacts: &[Contact], mut tangent_for: impl FnMut(usize, DVec3, DVec3, DVec3) -> DVec3, out: &mut ConstraintData) {
     let (h, lever) = (m.opt.timestep, m.opt.lever());
     if !contacts.is_empty() {
         velocity_products(m, kin, &mut out.a_vp);
@@ -230,6 +213,12 @@ pub fn push_rows(
             }
         }
     }
+}
+
+/// The limit rows of (qpos, qvel): each limit the joint is at or can reach within the step
+/// (with the constraint-free `qacc0`), and each `forced` one (2 per joint: lower, upper).
+pub fn push_limit_rows(m: &Model, qpos: &[f64], qvel: &[f64], qacc0: &[f64], forced: &[bool], out: &mut ConstraintData) {
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
     if m.opt.limit {
         for j in m.limited_joints() {
             let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
@@ -249,10 +238,15 @@ pub fn push_rows(
             }
         }
     }
+}
+
+/// Motion control's rows: each actuated joint driven toward its position target `ctrl` with
+/// feed-forward velocity and acceleration `feedforward` (2 × nu), under trajectory actuation.
+pub fn push_motion_rows(m: &Model, qpos: &[f64], qvel: &[f64], ctrl: &[f64], feedforward: &[f64], out: &mut ConstraintData) {
     if let Actuation::Trajectory { kp, kd } = m.opt.actuation {
         for a in 0..m.nu {
             let da = m.jnt_dofadr[m.actuator_jnt[a]];
-            let ad = motion_target(m, a, kp, kd, qpos, qvel, ctrl, feedforward);
+            let ad = motion_target(m, a, (kp, kd), qpos, qvel, ctrl, feedforward);
             let limit = m.actuator_ctrllimited[a].then(|| m.actuator_gear[a].abs() * m.actuator_ctrlrange[a][0].abs().max(m.actuator_ctrlrange[a][1].abs()));
             for sign in [1.0, -1.0] {
                 let r = out.len();
@@ -294,8 +288,7 @@ pub fn dense_jacobian(m: &Model, kin: &KinData, out: &ConstraintData) -> Vec<f64
 }
 
 /// Desired acceleration of actuator a's joint: q̈^d = q̈_ref + kd (q̇_ref − q̇) + kp (q_ref − q).
-#[allow(clippy::too_many_arguments)]
-fn motion_target(m: &Model, a: usize, kp: f64, kd: f64, qpos: &[f64], qvel: &[f64], ctrl: &[f64], feedforward: &[f64]) -> f64 {
+fn motion_target(m: &Model, a: usize, (kp, kd): (f64, f64), qpos: &[f64], qvel: &[f64], ctrl: &[f64], feedforward: &[f64]) -> f64 {
     let j = m.actuator_jnt[a];
     let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
     feedforward[m.nu + a] + kd * (feedforward[a] - qvel[da]) + kp * (ctrl[a] - qpos[qa])
@@ -315,8 +308,8 @@ pub fn row_velocity(out: &ConstraintData, j: usize, v: &[Motion], qvel: &[f64]) 
 /// After an impulse has changed the velocities but not the configuration: the rows' velocities,
 /// motion-control targets and b at the new velocities, with the ABA of the new state. K and Δq̈
 /// depend on the configuration only and are kept.
-#[allow(clippy::too_many_arguments)]
-pub fn refresh(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f64], ctrl: &[f64], feedforward: &[f64], qacc0: &[f64], out: &mut ConstraintData) {
+pub fn refresh(m: &Model, dy: &DynamicsData, s: &WorldState<'_>, feedforward: &[f64], out: &mut ConstraintData) {
+    let (kin, aba, qacc0, qpos, qvel, ctrl) = (&dy.kin, &dy.aba, &dy.qacc, &*s.qpos, &*s.qvel, s.ctrl);
     if out.kind.contains(&RowKind::Normal) {
         velocity_products(m, kin, &mut out.a_vp);
     }
@@ -327,7 +320,7 @@ pub fn refresh(m: &Model, kin: &KinData, aba: &AbaData, qpos: &[f64], qvel: &[f6
         }
         out.vel[j] = row_velocity(out, j, &kin.v, qvel);
         if let (RowKind::Motion { .. }, Actuation::Trajectory { kp, kd }) = (out.kind[j], m.opt.actuation) {
-            out.desired[j] = out.dof[j].1 * motion_target(m, out.source[j], kp, kd, qpos, qvel, ctrl, feedforward);
+            out.desired[j] = out.dof[j].1 * motion_target(m, out.source[j], (kp, kd), qpos, qvel, ctrl, feedforward);
         }
         out.b[j] = measure(m, kin, aba, qacc0, out, j, &mut point);
     }

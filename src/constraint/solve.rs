@@ -340,20 +340,7 @@ pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, islan
     // gathered, each variable numbered in the island's LCP by `local`
     let whole = k == all_q.len();
     if !whole {
-        local.resize(all_q.len(), usize::MAX);
-        for (a, &v) in vars.iter().enumerate() {
-            local[v] = a;
-        }
-        island_q.clear();
-        island_q.extend(vars.iter().map(|&v| all_q[v]));
-        island_out.clear();
-        island_out.extend(vars.iter().map(|&v| all_out[v]));
-        island_warm.clear();
-        if warm {
-            island_warm.extend(vars.iter().map(|&v| all_warm[v]));
-        }
-        island_z.clear();
-        island_z.resize(k, 0.0);
+        gather_island(vars, (all_q, all_out, all_warm), warm, local, (island_q, island_out, island_warm, island_z));
     }
     let (q, out, z, guess) = if whole {
         (&mut *all_q, &mut *all_out, &mut *force, &*all_warm)
@@ -429,24 +416,51 @@ pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, islan
             _ => role[a] = lcp::Role::Normal,
         }
     }
-    // the rows not computed (but for unit rows), at the columns computed: K_jj' = K_j'j, nonzero
-    // only between rows that share a tree (within the span of those of row j')
-    if !unpushed.is_empty() {
-        for (b, &jj) in vars[..rows].iter().enumerate().filter(|&(_, &jj)| done[jj]) {
-            let (lo, hi) = con.sharing_span(jj);
-            let from = unpushed.partition_point(|&(j, _)| j < lo);
-            for &(j, a) in unpushed[from..].iter().take_while(|&&(j, _)| j <= hi) {
-                mm[a * k + b] = con.k[jj * nr + j];
-            }
-        }
-    }
-    let solved = lcp::solve(k, mm, q, role, false, warm.then_some(&guess[..]), out, z, work, stats);
+    scatter_unpushed(con, &vars[..rows], unpushed, mm, k);
+    let solved = lcp::solve(lcp::Problem { n: k, m: mm, q, role }, false, warm.then_some(&guess[..]), out, z, work, stats);
     if !whole {
         for (a, &v) in vars.iter().enumerate() {
             (force[v], all_out[v], local[v]) = (island_z[a], island_out[a], usize::MAX);
         }
     }
     solved
+}
+
+/// Gathers an island's variables `vars` from the whole problem's (q, left out, warm set) into
+/// the island's arrays (q, left out, warm set, z), numbering each in the island by `local`.
+fn gather_island(vars: &[usize], (q, out, warm_set): (&[f64], &[bool], &[bool]), warm: bool, local: &mut Vec<usize>, island: (&mut Vec<f64>, &mut Vec<bool>, &mut Vec<bool>, &mut Vec<f64>)) {
+    let (island_q, island_out, island_warm, island_z) = island;
+    local.resize(q.len(), usize::MAX);
+    for (a, &v) in vars.iter().enumerate() {
+        local[v] = a;
+    }
+    island_q.clear();
+    island_q.extend(vars.iter().map(|&v| q[v]));
+    island_out.clear();
+    island_out.extend(vars.iter().map(|&v| out[v]));
+    island_warm.clear();
+    if warm {
+        island_warm.extend(vars.iter().map(|&v| warm_set[v]));
+    }
+    island_z.clear();
+    island_z.resize(vars.len(), 0.0);
+}
+
+/// The island's rows whose K column was not computed (`unpushed`: row, island index), written at
+/// the columns computed: K_jj' = K_j'j, nonzero only between rows that share a tree (within the
+/// span of those of row j'). `rows` are the island's rows, `mm` its k × k matrix.
+fn scatter_unpushed(con: &ConstraintData, rows: &[usize], unpushed: &[(usize, usize)], mm: &mut [f64], k: usize) {
+    if unpushed.is_empty() {
+        return;
+    }
+    let (nr, done) = (con.len(), &con.column_done);
+    for (b, &jj) in rows.iter().enumerate().filter(|&(_, &jj)| done[jj]) {
+        let (lo, hi) = con.sharing_span(jj);
+        let from = unpushed.partition_point(|&(j, _)| j < lo);
+        for &(j, a) in unpushed[from..].iter().take_while(|&&(j, _)| j <= hi) {
+            mm[a * k + b] = con.k[jj * nr + j];
+        }
+    }
 }
 
 /// Labels each of the n LCP variables with its island into `data.constraints.solve.group`: the trees its row

@@ -20,11 +20,11 @@ use super::solve::SolveData;
 use super::system::{self as constraint, RowKind};
 use super::test_forces::{add_response, delta_pass, responses, tree_dofs};
 use super::{Constraints, StepStart, World};
-use crate::collision::{self, CollisionData};
-use crate::dynamics::aba::AbaData;
+use crate::collision::{self, CollisionData, Contact};
+use crate::dynamics::aba::{AbaData, DeltaScratch};
 use crate::dynamics::kinematics::{self, KinData};
 use crate::integrate::integrate_pos;
-use crate::math::{Force, Motion};
+use crate::math::Force;
 use crate::model::{Model, WORLD};
 use crate::state::WorldState;
 
@@ -54,9 +54,7 @@ pub struct StabilizeData {
     role: Vec<Role>,
     p: Vec<f64>,
     dq: Vec<f64>,
-    dpa: Vec<Force>,
-    du: Vec<[f64; 6]>,
-    da: Vec<Motion>,
+    delta: DeltaScratch,
     work: LcpWork,
     /// Variables the solve leaves out.
     left_out: Vec<bool>,
@@ -70,9 +68,7 @@ impl StabilizeData {
         StabilizeData {
             coll: CollisionData::new(m),
             dq: vec![0.0; m.nv],
-            dpa: vec![Force::ZERO; m.nnode],
-            du: vec![[0.0; 6]; m.nnode],
-            da: vec![Motion::ZERO; m.nnode],
+            delta: DeltaScratch::new(m),
             ..Default::default()
         }
     }
@@ -178,43 +174,17 @@ fn gather(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]) -> bool {
         post.tree.push(con.tree[j]);
     }
     // contacts penetrating now that had no row: a test force each
-    for c in post.coll.contacts.iter().filter(|c| c.dist < -SLOP) {
+    for i in 0..post.coll.contacts.len() {
+        let c = post.coll.contacts[i];
         let known = (0..con.len()).any(|j| {
             con.kind[j] == RowKind::Normal && {
                 let o = &coll.contacts[con.source[j]];
                 (o.geom1, o.geom2, o.feature) == (c.geom1, c.geom2, c.feature)
             }
         });
-        if known {
-            continue;
+        if c.dist < -SLOP && !known {
+            push_contact_row(m, kin, aba, new, post, &c);
         }
-        // the contact's point and normal carried back with each side's node to the step's start,
-        // whose kinematics and ABA quantities the projection uses
-        let nodes = [m.body_node[m.geom_body[c.geom1]], m.body_node[m.geom_body[c.geom2]]];
-        let back = |side: usize| {
-            let n = nodes[side];
-            if n == WORLD {
-                return (c.pos - kin.origin, c.normal);
-            }
-            let turn = kin.node_rot[n] * new.node_rot[n].transpose();
-            (kin.rel(n, new.node_rot[n].transpose() * (c.pos - new.node_pos[n])), turn * c.normal)
-        };
-        let ((r1, n1), (r2, n2)) = (back(0), back(1));
-        let jac = constraint::jacobian(nodes, [r1, r2], [n1, n2]);
-        post.gap.push(c.dist);
-        push_jacobian(m, kin, nodes, jac, &mut post.jac);
-        post.dpa.fill(Force::ZERO);
-        for side in 0..2 {
-            if nodes[side] != WORLD {
-                post.dpa[nodes[side]] -= jac[side];
-            }
-        }
-        let start = post.dqdd.len();
-        post.dqdd.resize(start + nv, 0.0);
-        let trees = nodes.map(|n| if n == WORLD { WORLD } else { m.node_tree[n] });
-        delta_pass(m, kin, aba, trees, None, &mut post.dpa, &mut post.du, &mut post.da, &mut post.dqdd[start..]);
-        post.limit.push(None);
-        post.tree.push(trees);
     }
     // the step's limit rows take part so the projection cannot push a joint past its limit, and
     // brings back one the step carried past it
@@ -240,6 +210,39 @@ fn gather(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]) -> bool {
     true
 }
 
+/// Appends the projection row of contact `c`, found penetrating after the step without a row of
+/// the step (`new`: the kinematics there), its Δq̈ by a test force through the step's start.
+fn push_contact_row(m: &Model, kin: &KinData, aba: &AbaData, new: &KinData, post: &mut StabilizeData, c: &Contact) {
+    let nv = m.nv;
+    // the contact's point and normal carried back with each side's node to the step's start,
+    // whose kinematics and ABA quantities the projection uses
+    let nodes = [m.body_node[m.geom_body[c.geom1]], m.body_node[m.geom_body[c.geom2]]];
+    let back = |side: usize| {
+        let n = nodes[side];
+        if n == WORLD {
+            return (c.pos - kin.origin, c.normal);
+        }
+        let turn = kin.node_rot[n] * new.node_rot[n].transpose();
+        (kin.rel(n, new.node_rot[n].transpose() * (c.pos - new.node_pos[n])), turn * c.normal)
+    };
+    let ((r1, n1), (r2, n2)) = (back(0), back(1));
+    let jac = constraint::jacobian(nodes, [r1, r2], [n1, n2]);
+    post.gap.push(c.dist);
+    push_jacobian(m, kin, nodes, jac, &mut post.jac);
+    post.delta.pa.fill(Force::ZERO);
+    for side in 0..2 {
+        if nodes[side] != WORLD {
+            post.delta.pa[nodes[side]] -= jac[side];
+        }
+    }
+    let start = post.dqdd.len();
+    post.dqdd.resize(start + nv, 0.0);
+    let trees = nodes.map(|n| if n == WORLD { WORLD } else { m.node_tree[n] });
+    delta_pass(m, kin, aba, trees, None, &mut post.delta, &mut post.dqdd[start..]);
+    post.limit.push(None);
+    post.tree.push(trees);
+}
+
 /// Appends the projection row of joint `joint`'s limit (row sign `sign`, gap `gap`), its Δq̈ by a
 /// unit test torque through the step's ABA quantities.
 fn push_limit_row(m: &Model, kin: &KinData, aba: &AbaData, post: &mut StabilizeData, joint: usize, sign: f64, gap: f64) {
@@ -248,10 +251,10 @@ fn push_limit_row(m: &Model, kin: &KinData, aba: &AbaData, post: &mut StabilizeD
     let start = post.jac.len();
     post.jac.resize(start + nv, 0.0);
     post.jac[start + dof] = sign;
-    post.dpa.fill(Force::ZERO);
+    post.delta.pa.fill(Force::ZERO);
     post.dqdd.resize(start + nv, 0.0);
     let tree = m.node_tree[m.jnt_node[joint]];
-    delta_pass(m, kin, aba, [tree, WORLD], Some((dof, sign)), &mut post.dpa, &mut post.du, &mut post.da, &mut post.dqdd[start..]);
+    delta_pass(m, kin, aba, [tree, WORLD], Some((dof, sign)), &mut post.delta, &mut post.dqdd[start..]);
     post.limit.push(Some((joint, sign)));
     post.tree.push([tree, WORLD]);
 }
@@ -313,7 +316,7 @@ fn solve(m: &Model, data: &mut World<'_>, qpos: &mut [f64]) {
         // nothing is left out, so one solve; were rows brought back, M is complete and the solve
         // is simply repeated
         post.left_out.clear();
-        while !lcp::solve(k, &post.m, &post.gap, &post.role, true, None, &mut post.left_out, &mut post.p, &mut post.work, stats) {}
+        while !lcp::solve(lcp::Problem { n: k, m: &post.m, q: &post.gap, role: &post.role }, true, None, &mut post.left_out, &mut post.p, &mut post.work, stats) {}
         post.dq.fill(0.0);
         for a in 0..k {
             let p = post.p[a];

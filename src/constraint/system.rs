@@ -3,6 +3,7 @@
 
 use glam::DVec3;
 
+use crate::dynamics::aba::DeltaScratch;
 use crate::dynamics::kinematics::KinData;
 use crate::math::{Force, Motion};
 use crate::model::{Model, WORLD};
@@ -137,9 +138,8 @@ pub struct ConstraintData {
     /// Whether column k of K and Δq̈ of row k hold row k's test-force response (computed only
     /// for the rows a solve needs: [`responses`]).
     pub column_done: Vec<bool>,
-    pub(super) dpa: Vec<Force>,
-    pub(super) du: Vec<[f64; 6]>,
-    pub(super) da: Vec<Motion>,
+    /// A test force's delta pass.
+    pub(super) delta: DeltaScratch,
     /// Per node: spatial acceleration with q̈ = 0 and no gravity (velocity products alone).
     pub(super) a_vp: Vec<Motion>,
     /// The rows of each tree (by its root node; a row touching two trees is in both lists):
@@ -155,9 +155,7 @@ impl ConstraintData {
     /// Empty rows, scratch sized for `m`.
     pub fn new(m: &Model) -> Self {
         ConstraintData {
-            dpa: vec![Force::ZERO; m.nnode],
-            du: vec![[0.0; 6]; m.nnode],
-            da: vec![Motion::ZERO; m.nnode],
+            delta: DeltaScratch::new(m),
             a_vp: vec![Motion::ZERO; m.nnode],
             ..Default::default()
         }

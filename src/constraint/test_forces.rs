@@ -6,7 +6,7 @@ use glam::DVec3;
 
 use super::system::{point_accel, tree_lists, ConstraintData, RowKind};
 use crate::dynamics::aba;
-use crate::dynamics::aba::AbaData;
+use crate::dynamics::aba::{AbaData, DeltaScratch};
 use crate::dynamics::kinematics::KinData;
 use crate::math::{Force, Motion};
 use crate::model::{Model, WORLD};
@@ -56,7 +56,7 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     // the force moves only the nodes of the row's trees
     let trees = out.tree[k];
     for range in tree_ranges(m, trees) {
-        out.dpa[range].fill(Force::ZERO);
+        out.delta.pa[range].fill(Force::ZERO);
     }
     let mut dtau = None;
     match out.kind[k] {
@@ -65,12 +65,12 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
             for side in 0..2 {
                 let n = out.node[k][side];
                 if n != WORLD {
-                    out.dpa[n] -= out.jac[k][side];
+                    out.delta.pa[n] -= out.jac[k][side];
                 }
             }
         }
     }
-    delta_pass(m, kin, aba, trees, dtau, &mut out.dpa, &mut out.du, &mut out.da, &mut out.dqdd[k * nv..(k + 1) * nv]);
+    delta_pass(m, kin, aba, trees, dtau, &mut out.delta, &mut out.dqdd[k * nv..(k + 1) * nv]);
     // K is symmetric (J M⁻¹ Jᵀ): this force's measures at the rows of its trees are row k (and
     // its mirror's, negated), written whole (contiguous); a row pushed before holds its own
     // measure of this force; rows of other trees are not written (zero, once their block is
@@ -240,10 +240,10 @@ fn delta_accel(cd: &ConstraintData, trees: [usize; 2], dqdd: &[f64], j: usize, p
         let ([n0, n1], [t0, t1], r) = (cd.node[j], cd.tree[j], cd.arm[j]);
         let mut accel = DVec3::ZERO;
         if moves(trees, t0) {
-            accel += cd.da[n0].point_velocity(r);
+            accel += cd.delta.a[n0].point_velocity(r);
         }
         if moves(trees, t1) {
-            accel -= cd.da[n1].point_velocity(r);
+            accel -= cd.delta.a[n1].point_velocity(r);
         }
         accel
     })
@@ -288,18 +288,8 @@ pub fn tree_dofs(m: &Model, trees: [usize; 2]) -> impl Iterator<Item = std::ops:
 /// joint torque `dtau` = (dof, value) on the nodes of the trees `trees` (the others do not move):
 /// a delta ABA with the inertias of the main pass (velocity terms cancel). Writes Δq̈ of those
 /// trees' dofs into `dqdd` and spatial Δa of their nodes into `da`; leaves `dpa` modified.
-#[allow(clippy::too_many_arguments)]
-pub fn delta_pass(
-    m: &Model,
-    kin: &KinData,
-    aba: &AbaData,
-    trees: [usize; 2],
-    dtau: Option<(usize, f64)>,
-    dpa: &mut [Force],
-    du: &mut [[f64; 6]],
-    da: &mut [Motion],
-    dqdd: &mut [f64],
-) {
+pub fn delta_pass(m: &Model, kin: &KinData, aba: &AbaData, trees: [usize; 2], dtau: Option<(usize, f64)>, delta: &mut DeltaScratch, dqdd: &mut [f64]) {
+    let DeltaScratch { pa: dpa, u: du, a: da } = delta;
     // inward: δu_i = δτ_i − S_iᵀ δp^A_i;  δp^A_λ += δp^A_i + U_i D_i⁻¹ δu_i; nodes off the
     // test force's path to the root have δp^A = 0 and δu = 0
     let ranges = tree_ranges(m, trees);

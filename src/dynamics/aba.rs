@@ -35,6 +35,25 @@ macro_rules! sized {
     };
 }
 
+/// A delta pass's scratch (Kokkevis 2004, §5: the response to a test force through the ABA's
+/// quantities): per node δp^A (the test forces, then their articulated sums), δu and δa.
+#[derive(Clone, Debug, Default)]
+pub struct DeltaScratch {
+    /// δp^A per node (nnode): the test forces in world coordinates going in.
+    pub pa: Vec<Force>,
+    /// δu per node (nnode).
+    pub u: Vec<[f64; 6]>,
+    /// Spatial δa per node (nnode).
+    pub a: Vec<Motion>,
+}
+
+impl DeltaScratch {
+    /// Buffers sized for `m`.
+    pub fn new(m: &Model) -> Self {
+        DeltaScratch { pa: vec![Force::ZERO; m.nnode], u: vec![[0.0; 6]; m.nnode], a: vec![Motion::ZERO; m.nnode] }
+    }
+}
+
 /// Quantities of the inward pass, kept for the outward pass and for test forces.
 #[derive(Clone, Debug, Default)]
 pub struct AbaData {

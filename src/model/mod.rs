@@ -90,6 +90,24 @@ pub struct Options {
     pub constraint_mode: ConstraintMode,
 }
 
+impl Default for Options {
+    /// MuJoCo's defaults (`mj_defaultOption`) and sinew's: pyramid friction, motors,
+    /// acceleration-level constraints, no restitution.
+    fn default() -> Self {
+        Options {
+            timestep: 0.002,
+            gravity: DVec3::new(0.0, 0.0, -9.81),
+            integrator: Integrator::Euler,
+            contact: true,
+            limit: true,
+            restitution: 0.0,
+            friction: FrictionModel::Pyramid,
+            actuation: Actuation::Motor,
+            constraint_mode: ConstraintMode::Acceleration,
+        }
+    }
+}
+
 impl Options {
     /// How far the step's final velocity carries a position from the configuration the step's
     /// dynamics and constraints are evaluated at: h (semi-implicit Euler; RK4 when constrained),
@@ -180,7 +198,7 @@ pub fn same_tree(m: &Model, i: usize, j: usize) -> bool {
 pub const PAIR_BITS_GEOMS: usize = 4096;
 
 /// A compiled model. Build it with [`Model::from_mjcf`].
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct Model {
     /// Model name.
     pub name: String,

@@ -433,6 +433,7 @@ impl PyBatch {
     /// (rendering every 100th world costs a hundredth). `camera` as in `Sim.render`, or a list
     /// of one per rendered world.
     #[pyo3(signature = (width=480, height=480, camera=None, worlds=None, *, rgb=true, depth=false))]
+    // Python's keywords, one argument each (what the method's signature and stub show)
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self, py: Python<'py>, width: i64, height: i64, camera: Option<Bound<'py, PyAny>>, worlds: Option<Bound<'py, PyAny>>, rgb: bool, depth: bool,
@@ -448,7 +449,7 @@ impl PyBatch {
         if let Some((k, v)) = rows.iter().enumerate().find_map(|(k, q)| q.iter().find(|x| crate::math::out_of_range(**x)).map(|v| (k, *v))) {
             return Err(PyValueError::new_err(format!("cannot render world {}: its qpos holds {v}", which[k])));
         }
-        super::render::draw(py, &m, &r, &rows, &cams, w, h, rgb, depth, false)
+        super::render::draw(py, &m, &r, &rows, &cams, super::render::Frames { width: w, height: h, rgb, depth, single: false })
     }
 
     fn __repr__(&self) -> String {

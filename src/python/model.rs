@@ -84,6 +84,7 @@ impl PyModel {
     /// A copy with some options replaced (the model itself never changes); `integrator` is
     /// "Euler", "RK4" or "leapfrog".
     #[pyo3(signature = (*, timestep=None, integrator=None, gravity=None, restitution=None, contact=None, limit=None, friction=None, pd_gains=None, constraint_mode=None, trajectory_gains=None))]
+    // Python's keywords, one argument each (what the method's signature and stub show)
     #[allow(clippy::too_many_arguments)]
     fn with_options(
         &self,

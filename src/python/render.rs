@@ -136,14 +136,22 @@ pub fn cameras(m: &Model, r: &Renderer, cam: Option<&Bound<'_, PyAny>>, n: usize
     Ok(vec![camera(m, r, cam)?; n])
 }
 
+/// What a render call returns: frames of `width` × `height`, rgb and/or depth, with a leading
+/// world axis unless `single`.
+#[derive(Clone, Copy)]
+pub struct Frames {
+    pub width: usize,
+    pub height: usize,
+    pub rgb: bool,
+    pub depth: bool,
+    pub single: bool,
+}
+
 /// Draws the worlds at `qpos` rows (each nq long), world k through `cams[k]`, the GIL released,
 /// and returns rgb (n, H, W, 3) uint8 and/or depth (n, H, W) float32, a tuple when both (`single`:
 /// one world, without the leading axis).
-#[allow(clippy::too_many_arguments)]
-pub fn draw<'py>(
-    py: Python<'py>, m: &Arc<Model>, r: &Renderer, qpos: &[&[f64]], cams: &[CameraChoice], width: usize, height: usize, rgb: bool, depth: bool,
-    single: bool,
-) -> PyResult<Bound<'py, PyAny>> {
+pub fn draw<'py>(py: Python<'py>, m: &Arc<Model>, r: &Renderer, qpos: &[&[f64]], cams: &[CameraChoice], frames: Frames) -> PyResult<Bound<'py, PyAny>> {
+    let Frames { width, height, rgb, depth, single } = frames;
     if !rgb && !depth {
         return Err(PyValueError::new_err("nothing to render: rgb and depth are both False"));
     }

@@ -66,12 +66,20 @@ pub struct Anchors {
     pub mat0: Vec<DMat3>,
 }
 
-/// Pose of something attached to `body` at `pos`, `mat` in the body frame, moved as `mode` says:
-/// MuJoCo's `mj_camlight`. Target modes aim −z at the target, keeping x horizontal.
-#[allow(clippy::too_many_arguments)]
-fn attached(
-    mode: TrackMode, body: usize, target: Option<usize>, pos: DVec3, mat: DMat3, anchors: &Anchors, i: usize, poses: &Poses,
-) -> (DVec3, DMat3) {
+/// How a camera or light hangs on the bodies: attached to `body` at `pos`, `mat` in its frame,
+/// moved as `mode` says (toward `target` for the target modes).
+struct Mount {
+    mode: TrackMode,
+    body: usize,
+    target: Option<usize>,
+    pos: DVec3,
+    mat: DMat3,
+}
+
+/// World pose of the `i`th camera or light, mounted as `mount` says: MuJoCo's `mj_camlight`.
+/// Target modes aim −z at the target, keeping x horizontal.
+fn attached(mount: &Mount, anchors: &Anchors, i: usize, poses: &Poses) -> (DVec3, DMat3) {
+    let Mount { mode, body, target, pos, mat } = *mount;
     let (bpos, bmat) = (poses.xpos(body), poses.xmat(body));
     match mode {
         TrackMode::Fixed => (bpos + bmat * pos, bmat * mat),
@@ -97,7 +105,7 @@ fn aim_at(from: DVec3, to: DVec3) -> Option<DMat3> {
 /// World pose of model camera `i`.
 pub fn model_view(m: &Model, anchors: &Anchors, poses: &Poses, i: usize) -> View {
     let c = &m.vis.cameras[i];
-    let (pos, mat) = attached(c.mode, c.body, c.target, c.pos, c.mat, anchors, i, poses);
+    let (pos, mat) = attached(&Mount { mode: c.mode, body: c.body, target: c.target, pos: c.pos, mat: c.mat }, anchors, i, poses);
     View::from_axes(pos, mat, c.fovy)
 }
 
@@ -105,7 +113,7 @@ pub fn model_view(m: &Model, anchors: &Anchors, poses: &Poses, i: usize) -> View
 pub fn light_pose(m: &Model, anchors: &Anchors, poses: &Poses, i: usize) -> (DVec3, DVec3) {
     let l = &m.vis.lights[i];
     let local = light_axes(l.dir);
-    let (pos, mat) = attached(l.mode, l.body, l.target, l.pos, local, anchors, i, poses);
+    let (pos, mat) = attached(&Mount { mode: l.mode, body: l.body, target: l.target, pos: l.pos, mat: local }, anchors, i, poses);
     (pos, -mat.z_axis)
 }
 

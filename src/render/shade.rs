@@ -141,77 +141,92 @@ pub(super) struct Scene {
     eps: f32,
 }
 
+impl Geom {
+    /// Geom g of a world at `poses`, relative to the eye of `view`, in single precision.
+    fn new(m: &Model, poses: &Poses, view: &View, g: usize) -> Geom {
+        let v = &m.vis;
+        let f = |x: DVec3| x.as_vec3a();
+        let rot = poses.xmat(m.geom_body[g]) * m.geom_mat[g];
+        let rgba = v.geom_rgba[g];
+        let mat = v.geom_material[g].map(|i| &v.materials[i]);
+        let exponent = 128.0 * mat.map_or(0.5, |mt| mt.shininess) as f32;
+        let texture = mat.and_then(|mt| {
+            let t = &v.textures[mt.texture?];
+            // MuJoCo: a 2D texture spans a plane's extent texrepeat times (per metre when
+            // texuniform); a cube texture wraps the geom once (per metre when texuniform)
+            let size = m.geom_size[g];
+            let span = |k: usize| if mt.texuniform || size[k] <= 0.0 { 1.0 } else { 2.0 * size[k] };
+            let scale = match t.kind {
+                TextureKind::TwoD => [mt.texrepeat[0] / span(0), mt.texrepeat[1] / span(1)],
+                _ => [mt.texrepeat[0], mt.texrepeat[1]],
+            };
+            let axes = [f(rot.x_axis * scale[0]), f(rot.y_axis * scale[1])];
+            Some(Tex { kind: t.kind, builtin: t.builtin, rgb1: f(t.rgb1), rgb2: f(t.rgb2), scale: scale.map(|x| x as f32), axes })
+        });
+        Geom {
+            kind: m.geom_type[g],
+            size: m.geom_size[g].map(|x| x as f32),
+            pos: f(poses.geom_xpos(m, g) - view.pos),
+            rot_t: rot.transpose().as_mat3().into(),
+            rot: rot.as_mat3().into(),
+            rbound: m.geom_rbound[g] as f32,
+            rgb: Vec3A::new(rgba[0] as f32, rgba[1] as f32, rgba[2] as f32),
+            emission: mat.map_or(0.0, |mt| mt.emission) as f32,
+            specular: mat.map_or(0.5, |mt| mt.specular) as f32,
+            exponent,
+            exponent_int: (exponent == exponent.trunc() && (0.0..=1024.0).contains(&exponent)).then_some(exponent as u32),
+            spec_cut: if exponent > 0.0 { (1.0_f32 / 512.0).powf(1.0 / exponent) } else { 0.0 },
+            reflectance: mat.map_or(0.0, |mt| mt.reflectance) as f32,
+            mirror: None,
+            texture,
+        }
+    }
+}
+
+/// The lights of a frame: the directional lights' summed ambient colour, the directional
+/// lights (the headlight first, when on) and the point and spot lights, relative to the eye.
+fn light_sources(m: &Model, view: &View, lights: &[(usize, DVec3, DVec3)], geoms: &[Geom], solids: &[u32], forward: Vec3A) -> (Vec3A, Vec<DirLight>, Vec<SpotLight>) {
+    let v = &m.vis;
+    let f = |x: DVec3| x.as_vec3a();
+    let (mut ambient, mut directional, mut spots) = (Vec3A::ZERO, vec![], vec![]);
+    if v.head_active {
+        ambient += f(v.head_ambient);
+        directional.push(DirLight { to_light: -forward, diffuse: f(v.head_diffuse), specular: f(v.head_specular), shadows: None });
+    }
+    for &(i, pos, dir) in lights {
+        let l = &v.lights[i];
+        let dir = f(dir);
+        if l.directional {
+            ambient += f(l.ambient);
+            let shadows = if l.castshadow { ShadowGrid::new(dir, geoms, solids) } else { None };
+            directional.push(DirLight { to_light: -dir, diffuse: f(l.diffuse), specular: f(l.specular), shadows });
+        } else {
+            spots.push(SpotLight {
+                pos: f(pos - view.pos),
+                dir,
+                ambient: f(l.ambient),
+                diffuse: f(l.diffuse),
+                specular: f(l.specular),
+                attenuation: l.attenuation.map(|x| x as f32),
+                cos_cutoff: l.cos_cutoff as f32,
+                exponent: l.exponent as f32,
+                castshadow: l.castshadow,
+            });
+        }
+    }
+    (ambient, directional, spots)
+}
+
 impl Scene {
     /// The frame of `view` of a world at `poses`, with `lights` (index, position, direction) on.
     /// Everything is stored relative to the eye, in single precision.
     pub(super) fn new(m: &Model, poses: &Poses, view: &View, lights: &[(usize, DVec3, DVec3)], extent: f64, width: usize, height: usize) -> Scene {
         let v = &m.vis;
         let f = |x: DVec3| x.as_vec3a();
-        let mut geoms = Vec::with_capacity(m.ngeom);
-        for g in 0..m.ngeom {
-            let rot = poses.xmat(m.geom_body[g]) * m.geom_mat[g];
-            let rgba = v.geom_rgba[g];
-            let mat = v.geom_material[g].map(|i| &v.materials[i]);
-            let exponent = 128.0 * mat.map_or(0.5, |mt| mt.shininess) as f32;
-            let texture = mat.and_then(|mt| {
-                let t = &v.textures[mt.texture?];
-                // MuJoCo: a 2D texture spans a plane's extent texrepeat times (per metre when
-                // texuniform); a cube texture wraps the geom once (per metre when texuniform)
-                let size = m.geom_size[g];
-                let span = |k: usize| if mt.texuniform || size[k] <= 0.0 { 1.0 } else { 2.0 * size[k] };
-                let scale = match t.kind {
-                    TextureKind::TwoD => [mt.texrepeat[0] / span(0), mt.texrepeat[1] / span(1)],
-                    _ => [mt.texrepeat[0], mt.texrepeat[1]],
-                };
-                let axes = [f(rot.x_axis * scale[0]), f(rot.y_axis * scale[1])];
-                Some(Tex { kind: t.kind, builtin: t.builtin, rgb1: f(t.rgb1), rgb2: f(t.rgb2), scale: scale.map(|x| x as f32), axes })
-            });
-            geoms.push(Geom {
-                kind: m.geom_type[g],
-                size: m.geom_size[g].map(|x| x as f32),
-                pos: f(poses.geom_xpos(m, g) - view.pos),
-                rot_t: rot.transpose().as_mat3().into(),
-                rot: rot.as_mat3().into(),
-                rbound: m.geom_rbound[g] as f32,
-                rgb: Vec3A::new(rgba[0] as f32, rgba[1] as f32, rgba[2] as f32),
-                emission: mat.map_or(0.0, |mt| mt.emission) as f32,
-                specular: mat.map_or(0.5, |mt| mt.specular) as f32,
-                exponent,
-                exponent_int: (exponent == exponent.trunc() && (0.0..=1024.0).contains(&exponent)).then_some(exponent as u32),
-                spec_cut: if exponent > 0.0 { (1.0_f32 / 512.0).powf(1.0 / exponent) } else { 0.0 },
-                reflectance: mat.map_or(0.0, |mt| mt.reflectance) as f32,
-                mirror: None,
-                texture,
-            });
-        }
+        let geoms: Vec<Geom> = (0..m.ngeom).map(|g| Geom::new(m, poses, view, g)).collect();
         let axes = Axes { forward: f(view.forward), up: f(view.up), right: f(view.right) };
         let solids: Vec<u32> = (0..m.ngeom as u32).filter(|&g| geoms[g as usize].rbound.is_finite()).collect();
-        let (mut ambient, mut directional, mut spots) = (Vec3A::ZERO, vec![], vec![]);
-        if v.head_active {
-            ambient += f(v.head_ambient);
-            directional.push(DirLight { to_light: -axes.forward, diffuse: f(v.head_diffuse), specular: f(v.head_specular), shadows: None });
-        }
-        for &(i, pos, dir) in lights {
-            let l = &v.lights[i];
-            let dir = f(dir);
-            if l.directional {
-                ambient += f(l.ambient);
-                let shadows = if l.castshadow { ShadowGrid::new(dir, &geoms, &solids) } else { None };
-                directional.push(DirLight { to_light: -dir, diffuse: f(l.diffuse), specular: f(l.specular), shadows });
-            } else {
-                spots.push(SpotLight {
-                    pos: f(pos - view.pos),
-                    dir,
-                    ambient: f(l.ambient),
-                    diffuse: f(l.diffuse),
-                    specular: f(l.specular),
-                    attenuation: l.attenuation.map(|x| x as f32),
-                    cos_cutoff: l.cos_cutoff as f32,
-                    exponent: l.exponent as f32,
-                    castshadow: l.castshadow,
-                });
-            }
-        }
+        let (ambient, directional, spots) = light_sources(m, view, lights, &geoms, &solids, axes.forward);
         let sky = v.skybox.map(|i| {
             let t = &v.textures[i];
             (t.builtin, f(t.rgb1), f(t.rgb2))
@@ -240,6 +255,13 @@ impl Scene {
         if let [g] = s.primary.everywhere[..] {
             s.floor = Floor::new(&s.geoms, g as usize);
         }
+        s.add_mirrors();
+        s
+    }
+
+    /// Each reflecting plane's mirror image of the scene (`Geom::mirror`).
+    fn add_mirrors(&mut self) {
+        let s = self;
         for p in 0..s.geoms.len() {
             if s.geoms[p].kind != GeomType::Plane || s.geoms[p].reflectance <= 0.0 {
                 continue;
@@ -255,7 +277,6 @@ impl Scene {
             s.geoms[p].mirror = Some(s.mirrors.len());
             s.mirrors.push(Mirror { bins, eyes, normal, eye });
         }
-        s
     }
 
     /// The geoms whose bounding spheres (`g`, centre, radius) may show: the ones that may cover

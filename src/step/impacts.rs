@@ -50,6 +50,6 @@ fn new_velocities(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) {
     aba::backward_bias(m, &data.dynamics.kin, &data.dynamics.qfrc_applied, &mut data.dynamics.aba);
     aba::forward(m, &data.dynamics.kin, &mut data.dynamics.aba, &mut data.dynamics.qacc);
     kinematics::forward_velocity(m, qvel, &mut data.dynamics.kin);
-    refresh(m, &data.dynamics.kin, &data.dynamics.aba, qpos, qvel, ctrl, &data.constraints.feedforward, &data.dynamics.qacc, &mut data.constraints.con);
+    refresh(m, data.dynamics, s, &data.constraints.feedforward, &mut data.constraints.con);
 }
 

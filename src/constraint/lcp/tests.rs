@@ -2,7 +2,7 @@
 
 use super::active_set::{eliminate, eliminate_wide};
 use super::lemke::{pivot, pivot_wide};
-use super::{lemke, residual, solve, LcpStats, LcpWork, Role, ACCEPT_RESIDUAL, REGULARISATION};
+use super::{lemke, residual, solve, LcpStats, LcpWork, Problem, Role, ACCEPT_RESIDUAL, REGULARISATION};
 
 #[test]
 fn solves_a_small_symmetric_problem() {
@@ -24,18 +24,18 @@ fn warm_start_recovers_the_lambda_of_a_contact_without_normal_force() {
     let q = [2.0, -3.0, 0.0];
     let role = [Role::Normal, Role::Friction { normal: 0, lambda: 2, mu }, Role::Lambda];
     let (mut z, mut work, mut stats) = ([0.0; 3], LcpWork::default(), LcpStats::default());
-    assert!(solve(3, &m, &q, &role, true, Some(&[false, false, true]), &mut vec![], &mut z, &mut work, &mut stats));
+    assert!(solve(Problem { n: 3, m: &m, q: &q, role: &role }, true, Some(&[false, false, true]), &mut vec![], &mut z, &mut work, &mut stats));
     assert_eq!(stats.warm_starts, 1, "{stats:?}");
     assert_eq!(z, [0.0, 0.0, 3.0]);
     assert!(residual(3, &m, &q, &z, (&mut work.w, &mut work.nz)) < 1e-15);
 }
 
 /// An LCP: size, M (row-major), q and the variables' roles.
-type Problem = (usize, Vec<f64>, Vec<f64>, Vec<Role>);
+type Owned = (usize, Vec<f64>, Vec<f64>, Vec<Role>);
 
 /// Random pyramid-friction problems: k contacts (normal, ±t1, ±t2, λ) with K = J Jᵀ + εI from a
 /// random J, random demands; (n, M, q, roles) for each of `count` trials.
-fn random_pyramid_problems(count: usize) -> Vec<Problem> {
+fn random_pyramid_problems(count: usize) -> Vec<Owned> {
     let mut x: u64 = 11;
     let mut rnd = || {
         x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
@@ -85,7 +85,7 @@ fn solves_random_pyramid_friction_problems_without_fallback() {
     let (mut work, mut stats) = (LcpWork::default(), LcpStats::default());
     for (trial, (n, m, q, role)) in random_pyramid_problems(400).into_iter().enumerate() {
         let mut z = vec![0.0; n];
-        assert!(solve(n, &m, &q, &role, true, None, &mut vec![], &mut z, &mut work, &mut stats));
+        assert!(solve(Problem { n, m: &m, q: &q, role: &role }, true, None, &mut vec![], &mut z, &mut work, &mut stats));
         assert!(residual(n, &m, &q, &z, (&mut work.w, &mut work.nz)) <= ACCEPT_RESIDUAL, "trial {trial}: {stats:?}");
     }
     assert_eq!((stats.fallback_pgs, stats.inexact, stats.fallback_zero), (0, 0, 0), "{stats:?}");
@@ -101,14 +101,14 @@ fn a_warm_guess_one_contact_off_is_corrected_without_lemke() {
     let (mut tried, mut settled) = (0, 0);
     for (n, m, q, role) in random_pyramid_problems(400) {
         let mut z = vec![0.0; n];
-        assert!(solve(n, &m, &q, &role, true, None, &mut vec![], &mut z, &mut work, &mut stats));
+        assert!(solve(Problem { n, m: &m, q: &q, role: &role }, true, None, &mut vec![], &mut z, &mut work, &mut stats));
         let mut guess: Vec<bool> = z.iter().map(|&x| x > 0.0).collect();
         if !guess[0] {
             continue;
         }
         guess[0] = false;
         let before = stats.warm_starts;
-        assert!(solve(n, &m, &q, &role, true, Some(&guess), &mut vec![], &mut z, &mut work, &mut stats));
+        assert!(solve(Problem { n, m: &m, q: &q, role: &role }, true, Some(&guess), &mut vec![], &mut z, &mut work, &mut stats));
         assert!(residual(n, &m, &q, &z, (&mut work.w, &mut work.nz)) <= ACCEPT_RESIDUAL, "{stats:?}");
         tried += 1;
         settled += (stats.warm_starts - before) as usize;
@@ -128,7 +128,7 @@ fn leaving_out_separating_contacts_still_solves_the_whole_problem() {
         let mut out: Vec<bool> = (0..n).map(|i| role[i] == Role::Normal && q[i] >= 0.0).collect();
         let mut z = vec![0.0; n];
         let mut attempts = 0;
-        while !solve(n, &m, &q, &role, true, None, &mut out, &mut z, &mut work, &mut stats) {
+        while !solve(Problem { n, m: &m, q: &q, role: &role }, true, None, &mut out, &mut z, &mut work, &mut stats) {
             attempts += 1;
             // a second bringing back brings back every row
             assert!(attempts <= 2, "trial {trial}: a third solve was needed");
@@ -158,7 +158,7 @@ fn a_second_bringing_back_brings_back_every_row() {
     let mut out = vec![false, true, true, true];
     let (mut z, mut work, mut stats) = ([0.0; 4], LcpWork::default(), LcpStats::default());
     let mut attempts = 1;
-    while !solve(n, &m, &q, &role, true, None, &mut out, &mut z, &mut work, &mut stats) {
+    while !solve(Problem { n, m: &m, q: &q, role: &role }, true, None, &mut out, &mut z, &mut work, &mut stats) {
         attempts += 1;
     }
     assert_eq!((attempts, stats.regrown), (3, 2), "{stats:?}");
@@ -184,7 +184,7 @@ fn solves_the_seed_friction_block() {
 fn a_problem_of_separate_groups_is_solved_group_by_group() {
     // three problems interleaved into one: M has no entry between the groups (bodies that do
     // not touch), and each group is solved exactly as it would be alone
-    let groups: Vec<Problem> = random_pyramid_problems(12).into_iter().skip(5).take(3).collect();
+    let groups: Vec<Owned> = random_pyramid_problems(12).into_iter().skip(5).take(3).collect();
     let n: usize = groups.iter().map(|p| p.0).sum();
     let mut global: Vec<Vec<usize>> = groups.iter().map(|p| vec![0; p.0]).collect();
     let (mut next, mut i) = (vec![0; 3], 0);
@@ -213,12 +213,12 @@ fn a_problem_of_separate_groups_is_solved_group_by_group() {
     {
         let (mut work, mut stats) = (LcpWork::default(), LcpStats::default());
         let mut z = vec![0.0; n];
-        assert!(solve(n, &m, &q, &role, true, None, &mut vec![], &mut z, &mut work, &mut stats));
+        assert!(solve(Problem { n, m: &m, q: &q, role: &role }, true, None, &mut vec![], &mut z, &mut work, &mut stats));
         assert!(residual(n, &m, &q, &z, (&mut work.w, &mut work.nz)) <= ACCEPT_RESIDUAL, "{stats:?}");
         let mut pivots = 0;
         for ((ng, mg, qg, rg), map) in groups.iter().zip(&global) {
             let (mut zg, mut alone) = (vec![0.0; *ng], LcpStats::default());
-            assert!(solve(*ng, mg, qg, rg, true, None, &mut vec![], &mut zg, &mut work, &mut alone));
+            assert!(solve(Problem { n: *ng, m: mg, q: qg, role: rg }, true, None, &mut vec![], &mut zg, &mut work, &mut alone));
             pivots += alone.pivots;
             for a in 0..*ng {
                 assert_eq!(z[map[a]], zg[a], "group variable {a}");
