@@ -12,6 +12,8 @@ MAX_STATE: float
 #: Largest frame width or height accepted by `render`, in pixels.
 MAX_RENDER_SIDE: int
 
+def task_specs() -> list[dict[str, Any]]: ...
+
 class ModelError(ValueError):
     """Malformed or unsupported model; carries ``element``, ``attribute`` and ``line`` when known."""
 
@@ -247,3 +249,5 @@ class Batch:
     def info_names(self) -> list[str]: ...
     @property
     def reward_terms(self) -> int: ...
+    @property
+    def reset_info(self) -> dict[str, NDArray[np.float64]]: ...

@@ -115,7 +115,6 @@ class BatchTask:
             if isinstance(frame_skip, bool) or not isinstance(frame_skip, (int, np.integer)) or frame_skip < 1:
                 raise ValueError(f"frame_skip must be a positive integer, got {frame_skip!r}")
             self.task.frame_skip = int(frame_skip)
-            self.task.dt = self.model.timestep * self.task.frame_skip
         self.num_envs = num_envs
         self.batch = Batch(self.model, num_envs, seed=0, num_threads=num_threads)
         # the generator that last seeded each world's physics stream
@@ -177,7 +176,7 @@ class BatchTask:
         return self.batch.obs.copy()
 
     def reset_info(self) -> dict:
-        return self.task.reset_info(self.batch.qpos)
+        return self.batch.reset_info
 
     def step(self, actions: np.ndarray, active: np.ndarray | None = None, blank: np.ndarray | None = None):
         """One env step of the worlds `active` (all when None); the others' results are to be
@@ -219,8 +218,6 @@ class SinewEnv(gymnasium.Env, EzPickle):
         # the twin's attribute names for its parameters (reward weights, ranges, noise)
         for k, v in self._core.task.kwargs.items():
             setattr(self, "_" + k, v)
-        if hasattr(self._core.task, "noise"):
-            self._reset_noise_scale = self._core.task.noise
         self.action_space = self._core.action_space
         self.observation_space = self._core.observation_space
         self.model = self._core.model

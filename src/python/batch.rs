@@ -40,6 +40,7 @@ pub struct PyBatch {
 
 /// A task set on a batch and its output arrays.
 struct TaskArrays {
+    spec: &'static crate::tasks::Spec,
     task: Box<dyn Task>,
     obs: Py<PyArray2<f64>>,
     reward: Py<PyArray1<f64>>,
@@ -243,7 +244,7 @@ impl PyBatch {
     fn set_task(&mut self, py: Python<'_>, kind: &str, params: Option<Bound<'_, PyDict>>) -> PyResult<()> {
         let m = self.inner.model.clone();
         let params = params.unwrap_or_else(|| PyDict::new(py));
-        let task = super::task::parse(&m, kind, params.clone())?;
+        let (spec, task) = super::task::parse(&m, kind, params.clone())?;
         self.task_args = Some((kind.to_string(), params.copy()?.unbind()));
         let n = self.inner.len();
         self.task = Some(TaskArrays {
@@ -251,6 +252,7 @@ impl PyBatch {
             reward: PyArray1::zeros(py, n, false).unbind(),
             terminated: PyArray1::from_vec(py, vec![false; n]).unbind(),
             info: PyArray2::zeros(py, [n, task.info_names().len()], false).unbind(),
+            spec,
             task,
         });
         self.refresh_poses(py)
@@ -282,6 +284,43 @@ impl PyBatch {
     #[getter]
     fn info_names(&self) -> Vec<&'static str> {
         self.task.as_ref().map_or(vec![], |t| t.task.info_names().to_vec())
+    }
+    /// The task's reset info (gymnasium's `reset` info of the same env) for each world at its
+    /// current state: {name: (N,) array}, each the info column of that name at zero progress.
+    /// Empty without a task.
+    #[getter]
+    fn reset_info<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let out = PyDict::new(py);
+        let Some(t) = &self.task else { return Ok(out) };
+        let m = self.inner.model.clone();
+        let (n, names) = (self.inner.len(), t.task.info_names());
+        let mut cols = Vec::with_capacity(t.spec.reset_info.len());
+        for k in t.spec.reset_info {
+            let col = names.iter().position(|x| x == k);
+            cols.push(col.ok_or_else(|| super::errors::internal("Batch.reset_info", format!("task {}: reset info '{k}' is no info column", t.spec.name)))?);
+        }
+        let mut values = vec![0.0; n * cols.len()];
+        let (qpos, qvel, ctrl) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly());
+        let (qp, qv, c) = (qpos.as_slice()?, qvel.as_slice()?, ctrl.as_slice()?);
+        let obs = t.obs.bind(py).readonly();
+        let obs = obs.as_slice()?;
+        let dim = obs.len() / n;
+        let mut arrays = self.sensor_arrays(py);
+        let mut sensors = arrays.slices()?;
+        let mut info = vec![0.0; names.len()];
+        for i in 0..n {
+            let (q, v, u) = (&qp[i * m.nq..(i + 1) * m.nq], &qv[i * m.nv..(i + 1) * m.nv], &c[i * m.nu..(i + 1) * m.nu]);
+            let world = sensors.world(i, m.nbody, m.nv);
+            let view = world.world_view(q, v, u);
+            t.task.evaluate(&m, &view, &obs[i * dim..(i + 1) * dim], t.task.position(&m, &view), 1.0, &mut info);
+            for (k, &col) in cols.iter().enumerate() {
+                values[k * n + i] = info[col];
+            }
+        }
+        for (k, name) in t.spec.reset_info.iter().enumerate() {
+            out.set_item(name, PyArray1::from_slice(py, &values[k * n..(k + 1) * n]))?;
+        }
+        Ok(out)
     }
     /// How many leading `info` columns are reward terms.
     #[getter]

@@ -1,7 +1,32 @@
 //! Ant-v5: a quadruped rewarded for running forward, charged for control and contact forces.
 
-use super::{Locomotion, PLANE_INFO, Params, Task, World, Writer, progress};
+use super::{Locomotion, Params, PlaneInfo, Reset, Spec, Task, Value, World, Writer, progress};
 use crate::model::Model;
+
+/// Ant-v5's declaration.
+pub const SPEC: Spec = Spec {
+    name: "Ant",
+    xml: "ant.xml",
+    frame_skip: 5,
+    max_episode_steps: 1000,
+    camera: &[("distance", Value::Number(4.0))],
+    params: &[
+        ("forward_reward_weight", Value::Number(1.0)),
+        ("ctrl_cost_weight", Value::Number(0.5)),
+        ("contact_cost_weight", Value::Number(5e-4)),
+        ("healthy_reward", Value::Number(1.0)),
+        ("main_body", Value::Body(1)),
+        ("terminate_when_unhealthy", Value::Flag(true)),
+        ("healthy_z_range", Value::Range(0.2, 1.0)),
+        ("contact_force_range", Value::Range(-1.0, 1.0)),
+        ("reset_noise_scale", Value::Number(0.1)),
+        ("exclude_current_positions_from_observation", Value::Flag(true)),
+        ("include_cfrc_ext_in_observation", Value::Flag(true)),
+    ],
+    reset: Reset::UniformNormal,
+    reset_info: &["x_position", "y_position", "distance_from_origin"],
+    make: |m, p| Ok(Box::new(Ant::new(m, p)?)),
+};
 
 /// Forward progress of the main body, contact cost.
 #[derive(Clone, Debug, PartialEq)]
@@ -35,11 +60,11 @@ impl Task for Ant {
     }
 
     fn info_names(&self) -> &'static [&'static str] {
-        PLANE_INFO
+        PlaneInfo::NAMES
     }
 
     fn reward_terms(&self) -> usize {
-        4
+        PlaneInfo::REWARD_TERMS
     }
 
     fn position(&self, _m: &Model, w: &World<'_>) -> [f64; 2] {

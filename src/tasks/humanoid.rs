@@ -1,8 +1,35 @@
 //! Humanoid-v5: a humanoid rewarded for moving its centre of mass forward, charged for control
 //! and contact forces.
 
-use super::{Locomotion, PLANE_INFO, Params, Task, World, Writer, progress, sum_sq};
+use super::{Locomotion, Params, PlaneInfo, Reset, Spec, Task, Value, World, Writer, progress, sum_sq};
 use crate::model::Model;
+
+/// Humanoid-v5's declaration.
+pub const SPEC: Spec = Spec {
+    name: "Humanoid",
+    xml: "humanoid.xml",
+    frame_skip: 5,
+    max_episode_steps: 1000,
+    camera: &[("trackbodyid", Value::Body(1)), ("distance", Value::Number(4.0)), ("lookat", Value::Point([0.0, 0.0, 2.0])), ("elevation", Value::Number(-20.0))],
+    params: &[
+        ("forward_reward_weight", Value::Number(1.25)),
+        ("ctrl_cost_weight", Value::Number(0.1)),
+        ("contact_cost_weight", Value::Number(5e-7)),
+        ("contact_cost_range", Value::Range(f64::NEG_INFINITY, 10.0)),
+        ("healthy_reward", Value::Number(5.0)),
+        ("terminate_when_unhealthy", Value::Flag(true)),
+        ("healthy_z_range", Value::Range(1.0, 2.0)),
+        ("reset_noise_scale", Value::Number(1e-2)),
+        ("exclude_current_positions_from_observation", Value::Flag(true)),
+        ("include_cinert_in_observation", Value::Flag(true)),
+        ("include_cvel_in_observation", Value::Flag(true)),
+        ("include_qfrc_actuator_in_observation", Value::Flag(true)),
+        ("include_cfrc_ext_in_observation", Value::Flag(true)),
+    ],
+    reset: Reset::Uniform,
+    reset_info: &["x_position", "y_position", "distance_from_origin"],
+    make: |m, p| Ok(Box::new(Humanoid::new(m, p)?)),
+};
 
 /// Forward progress of the centre of mass.
 #[derive(Clone, Debug, PartialEq)]
@@ -37,11 +64,11 @@ impl Task for Humanoid {
     }
 
     fn info_names(&self) -> &'static [&'static str] {
-        PLANE_INFO
+        PlaneInfo::NAMES
     }
 
     fn reward_terms(&self) -> usize {
-        4
+        PlaneInfo::REWARD_TERMS
     }
 
     /// The mass-weighted xipos over all bodies (gymnasium's `mass_center`).

@@ -2,8 +2,27 @@
 
 use glam::DVec3;
 
-use super::{Params, Task, World, Writer};
+use super::{info_columns, Params, Reset, Spec, Task, Value, World, Writer};
 use crate::model::Model;
+
+/// InvertedDoublePendulum-v5's declaration (the twin defines a camera but passes none: the
+/// viewer's defaults apply).
+pub const SPEC: Spec = Spec {
+    name: "InvertedDoublePendulum",
+    xml: "inverted_double_pendulum.xml",
+    frame_skip: 5,
+    max_episode_steps: 1000,
+    camera: &[],
+    params: &[("healthy_reward", Value::Number(10.0)), ("reset_noise_scale", Value::Number(0.1))],
+    reset: Reset::UniformNormal,
+    reset_info: &[],
+    make: |m, p| Ok(Box::new(InvertedDoublePendulum::new(m, p)?)),
+};
+
+info_columns! {
+    /// InvertedDoublePendulum's info: its three reward terms.
+    Info { rewards: [reward_survive, distance_penalty, velocity_penalty], others: [] }
+}
 
 /// Tip height above 1, near (0, 2), slow.
 #[derive(Clone, Debug, PartialEq)]
@@ -30,11 +49,11 @@ impl Task for InvertedDoublePendulum {
     }
 
     fn info_names(&self) -> &'static [&'static str] {
-        &["reward_survive", "distance_penalty", "velocity_penalty"]
+        Info::NAMES
     }
 
     fn reward_terms(&self) -> usize {
-        3
+        Info::REWARD_TERMS
     }
 
     fn observe(&self, _m: &Model, w: &World<'_>, obs: &mut [f64]) {
@@ -54,9 +73,12 @@ impl Task for InvertedDoublePendulum {
         let y = p[2] + r[6] * pos.x + r[7] * pos.y + r[8] * pos.z;
         let terminated = y <= 1.0;
         let (v1, v2) = (w.qvel[1], w.qvel[2]);
-        info[0] = if terminated { 0.0 } else { self.healthy_reward };
-        info[1] = -(0.01 * x * x + (y - 2.0) * (y - 2.0));
-        info[2] = -(1e-3 * v1 * v1 + 5e-3 * v2 * v2);
+        Info {
+            reward_survive: if terminated { 0.0 } else { self.healthy_reward },
+            distance_penalty: -(0.01 * x * x + (y - 2.0) * (y - 2.0)),
+            velocity_penalty: -(1e-3 * v1 * v1 + 5e-3 * v2 * v2),
+        }
+        .write(info);
         terminated
     }
 }

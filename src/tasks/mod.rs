@@ -1,9 +1,11 @@
-//! Task logic of the gymnasium environments, run per world inside the batch's parallel step:
-//! the observation, reward terms and termination of gymnasium's MuJoCo v5 env of the same name
-//! (`gymnasium/envs/mujoco/*_v5.py`), from sinew's own state and sensor outputs. One file per
-//! task; [`make`] is the registry. Reset noise, which must come from each world's numpy
-//! generator to match the twin, stays in Python (`envs/sinew/tasks.py`, which also holds the
-//! defaults of every parameter).
+//! The gymnasium tasks, each declared once in its own file: its [`Spec`] (model file, frame
+//! skip, episode length, camera, keyword arguments with gymnasium's v5 defaults, how a reset
+//! draws the initial state, which info the reset reports) and its [`Task`] (observation, reward
+//! terms named with their values, termination), as gymnasium's MuJoCo v5 env of the same name
+//! (`gymnasium/envs/mujoco/*_v5.py`) computes them. [`TASKS`] is the registry: adding a task is
+//! one file and one line there. The Python layer builds its envs from the specs
+//! (`envs/sinew/tasks.py`); the reset noise is drawn there, from each world's numpy generator,
+//! as the twin draws it.
 
 mod ant;
 mod humanoid;
@@ -22,6 +24,104 @@ pub use planar::{Healthy, Planar};
 pub use reacher::Reacher;
 
 use crate::model::Model;
+
+/// Every task, in the order the envs are registered.
+pub const TASKS: &[&Spec] = &[
+    &inverted_pendulum::SPEC,
+    &inverted_double_pendulum::SPEC,
+    &reacher::SPEC,
+    &planar::HOPPER,
+    &planar::WALKER2D,
+    &planar::HALF_CHEETAH,
+    &ant::SPEC,
+    &humanoid::SPEC,
+];
+
+/// A task's declaration: what an env of it needs besides the per-step logic.
+#[derive(Debug)]
+pub struct Spec {
+    /// The env's name (`sinew/<name>-v0`, gymnasium's `<name>-v5`).
+    pub name: &'static str,
+    /// The model file, in gymnasium's MuJoCo assets.
+    pub xml: &'static str,
+    /// Physics steps per env step (a keyword may change it).
+    pub frame_skip: usize,
+    /// Env steps before the time limit truncates an episode.
+    pub max_episode_steps: usize,
+    /// The twin's `DEFAULT_CAMERA_CONFIG`.
+    pub camera: &'static [(&'static str, Value)],
+    /// The v5 env's keyword arguments and their defaults.
+    pub params: &'static [(&'static str, Value)],
+    /// How a reset draws the initial state.
+    pub reset: Reset,
+    /// The info columns the twin's `reset` reports (each at the reset state).
+    pub reset_info: &'static [&'static str],
+    /// The task for a model, from its parameters; an error names what is wrong.
+    pub make: MakeTask,
+}
+
+/// Builds a task for a model from its parameters; an error names what is wrong.
+pub type MakeTask = fn(&Model, &mut dyn Params) -> Result<Box<dyn Task>, String>;
+
+/// A parameter's or camera setting's value.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Value {
+    /// A number.
+    Number(f64),
+    /// A range (low, high).
+    Range(f64, f64),
+    /// A flag.
+    Flag(bool),
+    /// A body index (Python takes its name too).
+    Body(usize),
+    /// A point.
+    Point([f64; 3]),
+}
+
+/// How a reset draws each world's initial state from its generator (as the twin does), with
+/// s = the `reset_noise_scale` parameter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reset {
+    /// qpos0 + U(−s, s) and U(−s, s) velocities, one draw of nq + nv numbers.
+    Uniform,
+    /// qpos0 + U(−s, s), then s·N(0, 1) velocities.
+    UniformNormal,
+    /// Reacher's: the arm at qpos0 + U(−0.1, 0.1), the goal drawn in U(−0.2, 0.2)² until it lies
+    /// within 0.2 of the origin, U(−0.005, 0.005) arm velocities.
+    ReacherGoal,
+}
+
+/// Task `kind`: its spec.
+pub fn spec(kind: &str) -> Result<&'static Spec, String> {
+    TASKS.iter().copied().find(|s| s.name == kind).ok_or_else(|| format!("unknown task '{kind}'"))
+}
+
+/// Declares a task's info columns as a struct, each named once and set by name: the reward
+/// terms (which sum to the reward) first, then the other columns.
+macro_rules! info_columns {
+    ($(#[$doc:meta])* $name:ident { rewards: [$($r:ident),* $(,)?], others: [$($o:ident),* $(,)?] $(,)? }) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug, Default)]
+        pub struct $name {
+            $(#[allow(missing_docs)] pub $r: f64,)*
+            $(#[allow(missing_docs)] pub $o: f64,)*
+        }
+
+        impl $name {
+            /// The columns' names, in order.
+            pub const NAMES: &'static [&'static str] = &[$(stringify!($r),)* $(stringify!($o),)*];
+            /// How many leading columns are reward terms.
+            pub const REWARD_TERMS: usize = [$(stringify!($r)),*].len();
+
+            /// Writes the columns into `info`.
+            pub fn write(&self, info: &mut [f64]) {
+                let values = [$(self.$r,)* $(self.$o,)*];
+                info[..values.len()].copy_from_slice(&values);
+            }
+        }
+    };
+}
+pub(crate) use info_columns;
 
 /// One world's state and sensor outputs, read by a task.
 pub struct World<'a> {
@@ -87,16 +187,7 @@ pub trait Params {
 
 /// Task `kind` for model `m` from `p`; an error names what is wrong.
 pub fn make(kind: &str, m: &Model, p: &mut dyn Params) -> Result<Box<dyn Task>, String> {
-    let task: Result<Box<dyn Task>, String> = match kind {
-        "InvertedPendulum" => InvertedPendulum::new(m).map(|t| Box::new(t) as _),
-        "InvertedDoublePendulum" => InvertedDoublePendulum::new(m, p).map(|t| Box::new(t) as _),
-        "Reacher" => Reacher::new(m, p).map(|t| Box::new(t) as _),
-        "Hopper" | "Walker2d" | "HalfCheetah" => Planar::new(kind, m, p).map(|t| Box::new(t) as _),
-        "Ant" => Ant::new(m, p).map(|t| Box::new(t) as _),
-        "Humanoid" => Humanoid::new(m, p).map(|t| Box::new(t) as _),
-        _ => return Err(format!("unknown task '{kind}'")),
-    };
-    task.map_err(|e| format!("task {kind}: {e}"))
+    (spec(kind)?.make)(m, p).map_err(|e| format!("task {kind}: {e}"))
 }
 
 /// How many leading qpos entries the observation leaves out: `most` (at most nq) when
@@ -156,28 +247,32 @@ impl Locomotion {
         })
     }
 
-    /// The info ([`PLANE_INFO`]) of a step with progress velocity `v`, contact cost `contact`
+    /// The info ([`PlaneInfo`]) of a step with progress velocity `v`, contact cost `contact`
     /// (weighted) and health `ok`; whether it ends the episode.
     fn evaluate(&self, w: &World<'_>, v: [f64; 2], contact: f64, ok: bool, info: &mut [f64]) -> bool {
-        let survive = if ok { self.healthy_reward } else { 0.0 };
-        plane_info(w, v, [self.forward_weight * v[0], -self.ctrl_weight * sum_sq(w.ctrl), -contact, survive], info);
+        PlaneInfo {
+            reward_forward: self.forward_weight * v[0],
+            reward_ctrl: -self.ctrl_weight * sum_sq(w.ctrl),
+            reward_contact: -contact,
+            reward_survive: if ok { self.healthy_reward } else { 0.0 },
+            x_position: w.qpos[0],
+            y_position: w.qpos[1],
+            distance_from_origin: w.qpos[0].hypot(w.qpos[1]),
+            x_velocity: v[0],
+            y_velocity: v[1],
+        }
+        .write(info);
         !ok && self.terminate
     }
 }
 
-/// Ant's and Humanoid's info: the four reward terms, then where the root is in the plane and
-/// the progress velocity.
-const PLANE_INFO: &[&str] =
-    &["reward_forward", "reward_ctrl", "reward_contact", "reward_survive", "x_position", "y_position", "distance_from_origin", "x_velocity", "y_velocity"];
-
-/// Writes [`PLANE_INFO`].
-fn plane_info(w: &World<'_>, v: [f64; 2], terms: [f64; 4], info: &mut [f64]) {
-    info[..4].copy_from_slice(&terms);
-    info[4] = w.qpos[0];
-    info[5] = w.qpos[1];
-    info[6] = w.qpos[0].hypot(w.qpos[1]);
-    info[7] = v[0];
-    info[8] = v[1];
+info_columns! {
+    /// Ant's and Humanoid's info: the four reward terms, then where the root is in the plane and
+    /// the progress velocity.
+    PlaneInfo {
+        rewards: [reward_forward, reward_ctrl, reward_contact, reward_survive],
+        others: [x_position, y_position, distance_from_origin, x_velocity, y_velocity],
+    }
 }
 
 /// Appends slices to an observation.

@@ -2,8 +2,26 @@
 
 use glam::DVec3;
 
-use super::{Params, Task, World, Writer, body, sum_sq};
+use super::{body, info_columns, sum_sq, Params, Reset, Spec, Task, Value, World, Writer};
 use crate::model::Model;
+
+/// Reacher-v5's declaration.
+pub const SPEC: Spec = Spec {
+    name: "Reacher",
+    xml: "reacher.xml",
+    frame_skip: 2,
+    max_episode_steps: 50,
+    camera: &[("trackbodyid", Value::Body(0))],
+    params: &[("reward_dist_weight", Value::Number(1.0)), ("reward_control_weight", Value::Number(1.0))],
+    reset: Reset::ReacherGoal,
+    reset_info: &[],
+    make: |m, p| Ok(Box::new(Reacher::new(m, p)?)),
+};
+
+info_columns! {
+    /// Reacher's info: its two reward terms.
+    Info { rewards: [reward_dist, reward_ctrl], others: [] }
+}
 
 /// Reward −‖fingertip − target‖ and −‖action‖², weighted.
 #[derive(Clone, Debug, PartialEq)]
@@ -33,11 +51,11 @@ impl Task for Reacher {
     }
 
     fn info_names(&self) -> &'static [&'static str] {
-        &["reward_dist", "reward_ctrl"]
+        Info::NAMES
     }
 
     fn reward_terms(&self) -> usize {
-        2
+        Info::REWARD_TERMS
     }
 
     fn observe(&self, _m: &Model, w: &World<'_>, obs: &mut [f64]) {
@@ -54,8 +72,7 @@ impl Task for Reacher {
     fn evaluate(&self, _m: &Model, w: &World<'_>, _obs: &[f64], _before: [f64; 2], _dt: f64, info: &mut [f64]) -> bool {
         let (tip, target) = self.bodies;
         let d = DVec3::from_slice(&w.xipos[3 * tip..]) - DVec3::from_slice(&w.xipos[3 * target..]);
-        info[0] = -d.length() * self.dist_weight;
-        info[1] = -sum_sq(w.ctrl) * self.ctrl_weight;
+        Info { reward_dist: -d.length() * self.dist_weight, reward_ctrl: -sum_sq(w.ctrl) * self.ctrl_weight }.write(info);
         false
     }
 }
