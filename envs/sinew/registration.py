@@ -4,6 +4,10 @@ import gymnasium
 
 from sinew.tasks import TASKS
 
+#: The task of each env entry point (``sinew.env:HopperEnv`` → ``Hopper``), whatever id it is
+#: registered under.
+ENTRY_TASKS: dict[str, str] = {f"sinew.env:{name}Env": name for name in TASKS}
+
 
 def register_envs() -> None:
     for name, cls in TASKS.items():

@@ -17,7 +17,7 @@ from stable_baselines3.common.vec_env.base_vec_env import VecEnv
 
 from sinew.env import BatchTask
 from sinew.rendering import Viewer
-from sinew.tasks import TASKS
+from sinew.registration import ENTRY_TASKS
 
 
 class SinewVecEnv(VecEnv):
@@ -106,9 +106,8 @@ def make_vec_env(env_id: str, n_envs: int = 1, seed: int | None = None, **env_kw
     ``max_episode_steps`` is given.
     """
     spec = gymnasium.spec(env_id)
-    entry = spec.entry_point if isinstance(spec.entry_point, str) else ""
-    task = entry.removeprefix("sinew.env:").removesuffix("Env")
-    if not entry.startswith("sinew.env:") or task not in TASKS:
+    task = ENTRY_TASKS.get(spec.entry_point) if isinstance(spec.entry_point, str) else None
+    if task is None:
         raise ValueError(f"{env_id} is not a sinew environment")
     kwargs = dict(spec.kwargs)
     kwargs.update(env_kwargs)

@@ -261,7 +261,8 @@ pub(super) fn closest_segments(a1: DVec3, b1: DVec3, a2: DVec3, b2: DVec3) -> (D
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use super::box_box;
+    use glam::{DMat3, DVec3};
 
     /// Equal boxes stacked face to face touch at the four corners, whatever round-off turns or
     /// shifts them, with the same features every time (the rows' identities across steps).

@@ -459,7 +459,8 @@ fn check_solvable(m: &Model, dy: &DynamicsData) -> Result<()> {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use crate::model::Model;
+    use glam::DVec3;
 
     /// A chain whose second body is turned 90° about x, its hinge about its own z: every hinge
     /// still turns about world y, so the model is planar; turned the other way it is not.

@@ -231,7 +231,7 @@ impl Default for History {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use super::{History, FLAT_HISTORY_MIN};
 
     #[test]
     fn an_empty_history_flattens_to_the_shortest_flat_history_and_back() {

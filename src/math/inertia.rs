@@ -124,7 +124,9 @@ impl ArtInertia {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use super::SpatialInertia;
+    use crate::math::Motion;
+    use glam::{DMat3, DVec3};
     use glam::DQuat;
 
     #[test]

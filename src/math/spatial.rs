@@ -182,7 +182,8 @@ impl Xform {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use super::Xform;
+    use glam::{DMat3, DQuat, DVec3};
 
     #[test]
     fn composition_composes_the_poses() {

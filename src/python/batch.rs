@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 
 use pyo3::types::PyDict;
 
-use super::errors::{as_f64, checked_values};
+use super::arrays::{as_f64, checked_values};
 use super::model::PyModel;
 use crate::batch::{Batch, BatchState, TaskRun};
 use crate::step::state::FlatState;

@@ -1,6 +1,7 @@
 //! pyo3 bindings (feature `python`): conversion, error mapping, and the Python classes over
 //! `step`, `batch` and `render`.
 
+mod arrays;
 mod batch;
 mod errors;
 mod model;

@@ -418,7 +418,7 @@ impl PyModel {
     /// Geom centres in world (ngeom, 3) at configuration `qpos`.
     fn geom_xpos<'py>(&self, py: Python<'py>, qpos: Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let m = &self.inner;
-        let q = super::errors::checked_values(&qpos, "qpos", &[m.nq])?;
+        let q = super::arrays::checked_values(&qpos, "qpos", &[m.nq])?;
         let poses = crate::render::Poses::new(m, &q);
         let flat: Vec<f64> = (0..m.ngeom).flat_map(|g| poses.geom_xpos(m, g).to_array()).collect();
         PyArray1::from_vec(py, flat).reshape([m.ngeom, 3])

@@ -6,7 +6,8 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use super::errors::{as_f64, checked_values, diverged, first_nonfinite, to_py};
+use super::arrays::{as_f64, checked_values, first_nonfinite};
+use super::errors::{diverged, to_py};
 use super::model::PyModel;
 use crate::model::Model;
 use crate::dynamics::kinematics;

@@ -208,7 +208,9 @@ fn cuboid(s: Vec3A, o: Vec3A, d: Vec3A, t0: f32, t1: f32) -> Option<Hit> {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use super::intersect;
+    use crate::model::GeomType;
+    use glam::Vec3A;
 
     /// Every primitive's hit lies on its surface, with a unit normal, for rays from all around.
     #[test]
