@@ -11,18 +11,32 @@ use inertia::geom_inertia;
 use crate::model::{GapPair, GeomType, Model, Options, PairTest, PlaneGroup, WORLD};
 use crate::error::{Error, Result};
 use crate::math::{SpatialInertia, Xform};
-use crate::mjcf::{BodySpec, InertiaFromGeom, JointSpec, JointType, ModelSpec};
+use crate::mjcf::{include, BodySpec, InertiaFromGeom, JointSpec, JointType, ModelSpec};
 use crate::dynamics::DynamicsData;
 
 impl Model {
-    /// Parses and compiles MJCF text.
+    /// Parses and compiles MJCF text (its includes relative to the working directory).
     pub fn from_mjcf(xml: &str) -> Result<Model> {
-        compile(crate::mjcf::parse(xml)?)
+        Model::from_expanded(&include::expand(xml, None)?)
     }
 
     /// Reads, parses and compiles an MJCF file.
     pub fn from_mjcf_file(path: &std::path::Path) -> Result<Model> {
-        Model::from_mjcf(&crate::mjcf::read_file(path)?).map_err(|e| e.in_file(path))
+        Ok(Model::load_file(path)?.0)
+    }
+
+    /// Reads, parses and compiles an MJCF file; also gives its text with every include expanded
+    /// (the model's whole description, which needs no other file).
+    pub fn load_file(path: &std::path::Path) -> Result<(Model, String)> {
+        let text = crate::mjcf::read_file(path)?;
+        let expanded = include::expand(&text, Some(path)).map_err(|e| e.in_file(path))?;
+        let m = Model::from_expanded(&expanded).map_err(|e| e.in_file(path))?;
+        Ok((m, expanded.text))
+    }
+
+    /// Parses and compiles expanded text, an error naming the file and line it comes from.
+    fn from_expanded(x: &include::Expanded) -> Result<Model> {
+        crate::mjcf::parse(&x.text).and_then(compile).map_err(|e| x.locate(e))
     }
 }
 

@@ -8,6 +8,7 @@
 //! and ignored by design: sinew's constraints are exact. Anything else that would change the physics
 //! and is not supported is an error, or a warning in [`ModelSpec::warnings`].
 
+pub mod include;
 mod parse;
 mod visual;
 

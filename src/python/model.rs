@@ -64,8 +64,7 @@ impl PyModel {
     fn from_mjcf(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Self> {
         let loaded = py.detach(|| {
             super::errors::guard_model("Model.from_mjcf", || {
-                let source = crate::mjcf::read_file(&path)?;
-                Model::from_mjcf(&source).map(|m| (m, source)).map_err(|e| e.in_file(&path))
+                Model::load_file(&path)
             })
         })?;
         let (m, source) = loaded.map_err(|e| to_py(py, e))?;
