@@ -4,7 +4,7 @@
 
 use glam::DVec3;
 
-use crate::model::{GeomPair, GeomType, Model, PairTest, WORLD};
+use crate::model::{GeomPair, GeomType, Model, PairTest};
 
 /// Bounding radius of a geom about its centre (planes: infinite).
 pub fn geom_rbound(kind: GeomType, s: [f64; 3]) -> f64 {
@@ -17,25 +17,36 @@ pub fn geom_rbound(kind: GeomType, s: [f64; 3]) -> f64 {
     }
 }
 
-/// Whether geoms i and j may collide at all (independent of configuration).
+/// Whether geoms i and j may collide at all (independent of configuration), by MuJoCo's filters
+/// (`filterBodyPair`, `canCollide`): never within one weld (bodies joined without a joint, the
+/// world and what is welded to it included) nor between a weld and its parent weld (unless that
+/// is the world); contype/conaffinity bits; `<exclude>` pairs.
 pub fn can_collide(m: &Model, i: usize, j: usize) -> bool {
     let (bi, bj) = (m.geom_body[i], m.geom_body[j]);
-    if bi == bj {
+    let (wi, wj) = (weld(m, bi), weld(m, bj));
+    if wi == wj {
         return false;
     }
     if m.geom_contype[i] & m.geom_conaffinity[j] == 0 && m.geom_contype[j] & m.geom_conaffinity[i] == 0 {
         return false;
     }
-    // both static
-    if m.body_node[bi] == WORLD && m.body_node[bj] == WORLD {
-        return false;
-    }
-    // parent–child, unless the parent is the world
-    let (pi, pj) = (m.body_parent[bi], m.body_parent[bj]);
-    if (pi == bj && bj != 0) || (pj == bi && bi != 0) {
+    let parent = |w: usize| weld(m, m.body_parent[w]);
+    if wi != WORLD_BODY && wj != WORLD_BODY && (wi == parent(wj) || wj == parent(wi)) {
         return false;
     }
     !m.exclude_pairs.contains(&(bi.min(bj), bi.max(bj)))
+}
+
+/// The world body.
+const WORLD_BODY: usize = 0;
+
+/// The body that body b is welded to (MuJoCo's `body_weldid`): itself when a joint moves it,
+/// else its parent's weld; the world for the world and what is fixed to it.
+fn weld(m: &Model, mut b: usize) -> usize {
+    while b != WORLD_BODY && m.body_node[b] == m.body_node[m.body_parent[b]] {
+        b = m.body_parent[b];
+    }
+    b
 }
 
 /// The broadphase test of geoms i < j, which [`can_collide`].
