@@ -8,10 +8,10 @@ mod pairs;
 mod visual;
 
 use inertia::geom_inertia;
-use crate::model::{GapPair, GeomType, Model, Options, PairTest, PlaneGroup, WORLD};
+use crate::model::{GapPair, GeomType, Model, Options, PairTest, PlaneGroup, Transmission, Wrap, WORLD};
 use crate::error::{Error, Result};
 use crate::math::{SpatialInertia, Xform};
-use crate::mjcf::{include, BodySpec, InertiaFromGeom, JointSpec, JointType, ModelSpec};
+use crate::mjcf::{include, BodySpec, InertiaFromGeom, JointSpec, JointType, ModelSpec, TransmissionSpec};
 use crate::dynamics::DynamicsData;
 
 impl Model {
@@ -71,6 +71,7 @@ fn compile(spec: ModelSpec) -> Result<Model> {
     joints_and_nodes(&mut m, &spec)?;
     node_inertias(&mut m, &inertia);
     geoms_and_sites(&mut m, &spec);
+    tendons(&mut m, &spec)?;
     actuators(&mut m, &spec)?;
     for (b1, b2) in &spec.contact_excludes {
         let find = |n: &str| {
@@ -262,22 +263,66 @@ fn geoms_and_sites(m: &mut Model, spec: &ModelSpec) {
     m.ngeom = m.geom_type.len();
 }
 
-/// The motors, each on a hinge or slide joint.
-fn actuators(m: &mut Model, spec: &ModelSpec) -> Result<()> {
-    for a in &spec.actuators {
-        let Some(j) = m.jnt_name.iter().position(|n| *n == a.joint) else {
-            return Err(Error::model("motor", Some("joint"), a.line, format!("unknown joint '{}'", a.joint)));
-        };
-        if !matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide) {
-            return Err(Error::model("motor", Some("joint"), a.line, "motors drive hinge or slide joints only"));
+/// The fixed tendons, each a sum of hinge and slide joint positions.
+fn tendons(m: &mut Model, spec: &ModelSpec) -> Result<()> {
+    m.tendon_adr.push(0);
+    for t in &spec.tendons {
+        for (name, coef) in &t.joints {
+            let Some(j) = m.jnt_name.iter().position(|n| n == name) else {
+                return Err(Error::model("fixed", Some("joint"), t.line, format!("unknown joint '{name}'")));
+            };
+            if !matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide) {
+                return Err(Error::model("fixed", Some("joint"), t.line, "fixed tendons sum hinge and slide joints only"));
+            }
+            m.tendon_wrap.push(Wrap { dof: m.jnt_dofadr[j], qpos: m.jnt_qposadr[j], coef: *coef });
         }
+        m.tendon_adr.push(m.tendon_wrap.len());
+        let rest = m.tendon_wrap[m.tendon_adr[m.ntendon]..].iter().map(|w| w.coef * m.qpos_spring[w.qpos]).sum::<f64>();
+        m.tendon_name.push(t.name.clone());
+        m.tendon_stiffness.push(t.stiffness);
+        m.tendon_damping.push(t.damping);
+        m.tendon_springlength.push(t.springlength.unwrap_or([rest, rest]));
+        m.ntendon += 1;
+    }
+    Ok(())
+}
+
+/// The actuators, each on a hinge or slide joint or a fixed tendon, with their moment arms.
+fn actuators(m: &mut Model, spec: &ModelSpec) -> Result<()> {
+    m.actuator_moment_adr.push(0);
+    for a in &spec.actuators {
+        let trn = match &a.target {
+            TransmissionSpec::Joint(name) => {
+                let Some(j) = m.jnt_name.iter().position(|n| n == name) else {
+                    return Err(Error::model(&a.kind, Some("joint"), a.line, format!("unknown joint '{name}'")));
+                };
+                if !matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide) {
+                    return Err(Error::model(&a.kind, Some("joint"), a.line, "actuators drive hinge or slide joints only"));
+                }
+                m.actuator_moment.push(Wrap { dof: m.jnt_dofadr[j], qpos: m.jnt_qposadr[j], coef: a.gear });
+                Transmission::Joint(j)
+            }
+            TransmissionSpec::Tendon(name) => {
+                let Some(t) = m.tendon_name.iter().position(|n| n == name) else {
+                    return Err(Error::model(&a.kind, Some("tendon"), a.line, format!("unknown tendon '{name}'")));
+                };
+                for k in m.tendon_adr[t]..m.tendon_adr[t + 1] {
+                    let w = m.tendon_wrap[k];
+                    m.actuator_moment.push(Wrap { coef: a.gear * w.coef, ..w });
+                }
+                Transmission::Tendon(t)
+            }
+        };
+        m.actuator_moment_adr.push(m.actuator_moment.len());
+        m.actuator_trn.push(trn);
         m.actuator_name.push(a.name.clone());
-        m.actuator_jnt.push(j);
         m.actuator_gear.push(a.gear);
         m.actuator_ctrlrange.push(a.ctrlrange);
         m.actuator_ctrllimited.push(a.ctrllimited);
         m.actuator_forcerange.push(a.forcerange);
         m.actuator_forcelimited.push(a.forcelimited);
+        m.actuator_gain.push(a.gain);
+        m.actuator_bias.push(a.bias);
     }
     Ok(())
 }

@@ -244,8 +244,9 @@ pub fn push_limit_rows(m: &Model, qpos: &[f64], qvel: &[f64], qacc0: &[f64], for
 /// feed-forward velocity and acceleration `feedforward` (2 × nu), under trajectory actuation.
 pub fn push_motion_rows(m: &Model, qpos: &[f64], qvel: &[f64], ctrl: &[f64], feedforward: &[f64], out: &mut ConstraintData) {
     if let Actuation::Trajectory { kp, kd } = m.opt.actuation {
-        for a in 0..m.nu {
-            let da = m.jnt_dofadr[m.actuator_jnt[a]];
+        // motion control drives joints (`Model` refuses it with tendon actuators)
+        for (a, j) in (0..m.nu).filter_map(|a| m.actuator_joint(a).map(|j| (a, j))) {
+            let da = m.jnt_dofadr[j];
             let ad = motion_target(m, a, (kp, kd), qpos, qvel, ctrl, feedforward);
             let limit = m.actuator_ctrllimited[a].then(|| m.actuator_gear[a].abs() * m.actuator_ctrlrange[a][0].abs().max(m.actuator_ctrlrange[a][1].abs()));
             for sign in [1.0, -1.0] {
@@ -289,7 +290,8 @@ pub fn dense_jacobian(m: &Model, kin: &KinData, out: &ConstraintData) -> Vec<f64
 
 /// Desired acceleration of actuator a's joint: q̈^d = q̈_ref + kd (q̇_ref − q̇) + kp (q_ref − q).
 fn motion_target(m: &Model, a: usize, (kp, kd): (f64, f64), qpos: &[f64], qvel: &[f64], ctrl: &[f64], feedforward: &[f64]) -> f64 {
-    let j = m.actuator_jnt[a];
+    // motion rows are built for joint actuators only
+    let Some(j) = m.actuator_joint(a) else { return 0.0 };
     let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
     feedforward[m.nu + a] + kd * (feedforward[a] - qvel[da]) + kp * (ctrl[a] - qpos[qa])
 }

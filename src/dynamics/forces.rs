@@ -1,6 +1,8 @@
-//! Applied joint forces: actuators (gear · ctrl, ctrl clamped to ctrlrange and force to forcerange
-//! when limited, as MuJoCo's `motor`; or a PD servo to ctrl as position target, see
-//! [`Actuation`]) and passive springs and dampers (MuJoCo's `qfrc_passive`).
+//! Applied joint forces: actuators (MuJoCo's general actuator with fixed gain and affine bias:
+//! force = gain · ctrl + b₀ + b₁ · length + b₂ · velocity, ctrl clamped to ctrlrange and the force
+//! to forcerange when limited, through the joint or tendon times gear; or a PD servo to ctrl as
+//! position target, see [`Actuation`]) and passive springs and dampers of joints and fixed
+//! tendons (MuJoCo's `qfrc_passive`).
 
 use crate::math::{quat_sub, quat_wxyz, DVec3};
 use crate::model::{Actuation, JointType, Model};
@@ -36,23 +38,53 @@ pub fn applied(m: &Model, qpos: &[f64], qvel: &[f64], ctrl: &[f64], tau: &mut [f
             }
         }
     }
+    tendon_forces(m, qpos, qvel, tau);
     // actuators
     for a in 0..m.nu {
-        let dof = m.jnt_dofadr[m.actuator_jnt[a]];
-        let mut u = match m.opt.actuation {
-            Actuation::Motor => ctrl[a],
-            Actuation::Pd { kp, kd } => kp * (ctrl[a] - qpos[m.jnt_qposadr[m.actuator_jnt[a]]]) - kd * qvel[dof],
-            // the motion-control rows supply the torque
-            Actuation::Trajectory { .. } => continue,
+        let mut u = match (m.opt.actuation, m.actuator_joint(a)) {
+            (Actuation::Motor, _) => ctrl[a],
+            (Actuation::Pd { kp, kd }, Some(j)) => kp * (ctrl[a] - qpos[m.jnt_qposadr[j]]) - kd * qvel[m.jnt_dofadr[j]],
+            // the motion-control rows supply a joint actuator's torque (the servos need joints:
+            // `Model` refuses them with tendon actuators)
+            (Actuation::Trajectory { .. }, _) | (Actuation::Pd { .. }, None) => continue,
         };
         if m.actuator_ctrllimited[a] {
             let [lo, hi] = m.actuator_ctrlrange[a];
             u = u.clamp(lo, hi);
         }
+        let moment = m.moment(a);
+        let [b0, b1, b2] = m.actuator_bias[a];
+        u *= m.actuator_gain[a];
+        if [b0, b1, b2] != [0.0; 3] {
+            let length: f64 = moment.iter().map(|w| w.coef * qpos[w.qpos]).sum();
+            let velocity: f64 = moment.iter().map(|w| w.coef * qvel[w.dof]).sum();
+            u += b0 + b1 * length + b2 * velocity;
+        }
         if m.actuator_forcelimited[a] {
             let [lo, hi] = m.actuator_forcerange[a];
             u = u.clamp(lo, hi);
         }
-        tau[dof] += m.actuator_gear[a] * u;
+        for w in moment {
+            tau[w.dof] += w.coef * u;
+        }
+    }
+}
+
+/// Fixed tendons' springs (zero force within the rest deadband) and dampers, on their joints.
+fn tendon_forces(m: &Model, qpos: &[f64], qvel: &[f64], tau: &mut [f64]) {
+    for t in 0..m.ntendon {
+        let (k, b) = (m.tendon_stiffness[t], m.tendon_damping[t]);
+        if k == 0.0 && b == 0.0 {
+            continue;
+        }
+        let terms = m.tendon_terms(t);
+        let length: f64 = terms.iter().map(|w| w.coef * qpos[w.qpos]).sum();
+        let velocity: f64 = terms.iter().map(|w| w.coef * qvel[w.dof]).sum();
+        let [lo, hi] = m.tendon_springlength[t];
+        let stretch = if length > hi { length - hi } else if length < lo { length - lo } else { 0.0 };
+        let f = -k * stretch - b * velocity;
+        for w in terms {
+            tau[w.dof] += w.coef * f;
+        }
     }
 }

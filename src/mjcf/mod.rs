@@ -216,13 +216,26 @@ pub struct BodySpec {
     pub line: u32,
 }
 
-/// A `<motor>` actuator on a joint.
+/// What an actuator pulls on.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TransmissionSpec {
+    /// A hinge or slide joint, by name.
+    Joint(String),
+    /// A fixed tendon, by name.
+    Tendon(String),
+}
+
+/// An actuator (`<motor>`, `<position>`, `<velocity>` or `<general>`), as MuJoCo's general one:
+/// force = gain · ctrl + bias₀ + bias₁ · length + bias₂ · velocity of its transmission (times
+/// gear), applied through the transmission times gear.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ActuatorSpec {
+    /// Element (`motor`, `position`, `velocity`, `general`).
+    pub kind: String,
     /// Name (may be empty).
     pub name: String,
-    /// Target joint name.
-    pub joint: String,
+    /// The joint or tendon it drives.
+    pub target: TransmissionSpec,
     /// Gear ratio.
     pub gear: f64,
     /// Control range.
@@ -233,6 +246,27 @@ pub struct ActuatorSpec {
     pub forcerange: [f64; 2],
     /// Whether the force is clamped to `forcerange`.
     pub forcelimited: bool,
+    /// Fixed gain (MuJoCo's `gainprm[0]`).
+    pub gain: f64,
+    /// Affine bias (MuJoCo's `biasprm[0..3]`; zero for none).
+    pub bias: [f64; 3],
+    /// Source line.
+    pub line: u32,
+}
+
+/// A fixed tendon: length Σ coef · q over hinge and slide joints, with a spring and a damper.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TendonSpec {
+    /// Name (may be empty).
+    pub name: String,
+    /// (joint name, coefficient) of each term.
+    pub joints: Vec<(String, f64)>,
+    /// Spring stiffness.
+    pub stiffness: f64,
+    /// Damping.
+    pub damping: f64,
+    /// The spring's rest length, or deadband [low, high]; None: the length at qpos0.
+    pub springlength: Option<[f64; 2]>,
     /// Source line.
     pub line: u32,
 }
@@ -259,6 +293,8 @@ pub struct ModelSpec {
     pub bodies: Vec<BodySpec>,
     /// Actuators in document order.
     pub actuators: Vec<ActuatorSpec>,
+    /// Fixed tendons.
+    pub tendons: Vec<TendonSpec>,
     /// `<compiler inertiafromgeom>`.
     pub inertiafromgeom: InertiaFromGeom,
     /// `<compiler settotalmass>`, when positive.

@@ -16,7 +16,7 @@ mod visual;
 
 use body::{GEOM_ATTRS, JOINT_ATTRS, SITE_ATTRS};
 use element::{line, El};
-use sections::MOTOR_ATTRS;
+use sections::{actuator_attrs, TENDON_ATTRS};
 
 use crate::error::{Error, Result};
 
@@ -84,6 +84,7 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
                 line: line(&doc, root),
             }],
             actuators: vec![],
+            tendons: vec![],
             inertiafromgeom: InertiaFromGeom::Auto,
             settotalmass: None,
             contact_excludes: vec![],
@@ -132,7 +133,12 @@ impl<'d> Parser<'d> {
 
     /// An element reader with the defaults of `class` (or the active childclass, or "main").
     fn el<'a>(&'a self, n: Node<'a, 'd>, childclass: Option<&str>) -> Result<El<'a, 'd>> {
-        let kind = n.tag_name().name();
+        self.el_as(n, childclass, n.tag_name().name())
+    }
+
+    /// [`Parser::el`] with the defaults of element kind `kind` (a `<fixed>` tendon takes the
+    /// `<tendon>` defaults).
+    fn el_as<'a>(&'a self, n: Node<'a, 'd>, childclass: Option<&str>, kind: &str) -> Result<El<'a, 'd>> {
         let mut name = n.attribute("class").or(childclass).unwrap_or("main").to_string();
         let mut defaults = Vec::new();
         loop {
@@ -296,7 +302,8 @@ impl<'d> Parser<'d> {
                 "joint" => JOINT_ATTRS,
                 "geom" => GEOM_ATTRS,
                 "site" => SITE_ATTRS,
-                "motor" => MOTOR_ATTRS,
+                "motor" | "position" | "velocity" | "general" => actuator_attrs(kind),
+                "tendon" => TENDON_ATTRS,
                 _ => &[][..],
             };
             if !allowed.is_empty() {

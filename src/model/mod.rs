@@ -67,6 +67,26 @@ pub enum Actuation {
     },
 }
 
+/// What an actuator drives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Transmission {
+    /// A hinge or slide joint.
+    Joint(usize),
+    /// A fixed tendon.
+    Tendon(usize),
+}
+
+/// One term of a linear length: coef · qpos[qpos] along dof `dof` (a hinge's or slide's).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Wrap {
+    /// The joint's dof.
+    pub dof: usize,
+    /// The joint's qpos address.
+    pub qpos: usize,
+    /// Coefficient.
+    pub coef: f64,
+}
+
 /// Simulation options.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Options {
@@ -88,6 +108,26 @@ pub struct Options {
     pub actuation: Actuation,
     /// Acceleration-level (seed) or velocity-level constraint handling.
     pub constraint_mode: ConstraintMode,
+}
+
+impl Model {
+    /// The joint actuator `a` drives, when it drives one.
+    pub fn actuator_joint(&self, a: usize) -> Option<usize> {
+        match self.actuator_trn[a] {
+            Transmission::Joint(j) => Some(j),
+            Transmission::Tendon(_) => None,
+        }
+    }
+
+    /// Actuator `a`'s moment arms.
+    pub fn moment(&self, a: usize) -> &[Wrap] {
+        &self.actuator_moment[self.actuator_moment_adr[a]..self.actuator_moment_adr[a + 1]]
+    }
+
+    /// Tendon `t`'s terms.
+    pub fn tendon_terms(&self, t: usize) -> &[Wrap] {
+        &self.tendon_wrap[self.tendon_adr[t]..self.tendon_adr[t + 1]]
+    }
 }
 
 impl Default for Options {
@@ -338,10 +378,33 @@ pub struct Model {
     /// Site position in the body frame.
     pub site_pos: Vec<DVec3>,
 
+    /// Number of fixed tendons.
+    pub ntendon: usize,
+    /// Tendon names (ntendon).
+    pub tendon_name: Vec<String>,
+    /// Each tendon's terms, `tendon_wrap[tendon_adr[t]..tendon_adr[t + 1]]`: length Σ coef · qpos.
+    pub tendon_wrap: Vec<Wrap>,
+    /// See `tendon_wrap` (ntendon + 1).
+    pub tendon_adr: Vec<usize>,
+    /// Spring stiffness (ntendon).
+    pub tendon_stiffness: Vec<f64>,
+    /// Damping (ntendon).
+    pub tendon_damping: Vec<f64>,
+    /// The spring's deadband [low, high] of lengths where it exerts no force (ntendon).
+    pub tendon_springlength: Vec<[f64; 2]>,
     /// Actuator names (nu).
     pub actuator_name: Vec<String>,
-    /// Actuated joint (nu).
-    pub actuator_jnt: Vec<usize>,
+    /// What each actuator drives (nu).
+    pub actuator_trn: Vec<Transmission>,
+    /// Each actuator's moment arms, `actuator_moment[actuator_moment_adr[a]..actuator_moment_adr[a + 1]]`:
+    /// its length is Σ coef · qpos and its force f adds coef · f to each dof (coef includes gear).
+    pub actuator_moment: Vec<Wrap>,
+    /// See `actuator_moment` (nu + 1).
+    pub actuator_moment_adr: Vec<usize>,
+    /// Fixed gain: force = gain · ctrl + bias (nu).
+    pub actuator_gain: Vec<f64>,
+    /// Affine bias b₀ + b₁ · length + b₂ · velocity (nu).
+    pub actuator_bias: Vec<[f64; 3]>,
     /// Gear (nu).
     pub actuator_gear: Vec<f64>,
     /// Control range (nu).

@@ -153,6 +153,15 @@ impl PyModel {
             }
             m.opt.actuation = Actuation::Pd { kp, kd };
         }
+        if !matches!(m.opt.actuation, Actuation::Motor) {
+            let servos = if pd_gains.is_some() { "pd_gains" } else { "trajectory_gains" };
+            if let Some(a) = (0..m.nu).find(|&a| m.actuator_joint(a).is_none() || m.actuator_gain[a] != 1.0 || m.actuator_bias[a] != [0.0; 3]) {
+                return Err(PyValueError::new_err(format!(
+                    "{servos} drive motors on joints; actuator {a} ('{}') is not one",
+                    m.actuator_name[a]
+                )));
+            }
+        }
         if let Some(f) = friction {
             m.opt.friction = match f {
                 // "seed" (the paper's model) is the old name, still accepted
@@ -382,10 +391,11 @@ impl PyModel {
     fn actuator_gear<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         PyArray1::from_slice(py, &self.inner.actuator_gear)
     }
-    /// Dof driven by each actuator.
+    /// Dof driven by each actuator, −1 for one on a tendon.
     #[getter]
-    fn actuator_dofadr(&self) -> Vec<usize> {
-        self.inner.actuator_jnt.iter().map(|&j| self.inner.jnt_dofadr[j]).collect()
+    fn actuator_dofadr(&self) -> Vec<i64> {
+        let m = &self.inner;
+        (0..m.nu).map(|a| m.actuator_joint(a).map_or(-1, |j| m.jnt_dofadr[j] as i64)).collect()
     }
     /// Model features accepted but not simulated.
     #[getter]

@@ -94,15 +94,15 @@ impl Task for Humanoid {
             out.put(&w.cvel[6..6 * nb]);
         }
         if self.parts[2] {
-            // qfrc_actuator: gear × ctrl (clamped to ctrlrange where limited) on each motor's dof
+            // qfrc_actuator of the motors: ctrl (clamped to ctrlrange where limited) times each
+            // moment arm (gear) on its dof
             let start = out.at;
             out.obs[start..start + m.nv - 6].fill(0.0);
             for k in 0..m.nu {
-                let dof = m.jnt_dofadr[m.actuator_jnt[k]];
                 let [lo, hi] = m.actuator_ctrlrange[k];
                 let c = if m.actuator_ctrllimited[k] { w.ctrl[k].clamp(lo, hi) } else { w.ctrl[k] };
-                if dof >= 6 {
-                    out.obs[start + dof - 6] += c * m.actuator_gear[k];
+                for arm in m.moment(k).iter().filter(|arm| arm.dof >= 6) {
+                    out.obs[start + arm.dof - 6] += c * arm.coef;
                 }
             }
             out.at += m.nv - 6;

@@ -1,4 +1,4 @@
-//! The sections outside the body tree: `<actuator>` motors, `<custom>` numerics, `<tendon>` and
+//! The sections outside the body tree: `<actuator>`s, `<custom>` numerics, fixed `<tendon>`s and
 //! `<contact>` exclusions.
 
 use roxmltree::Node;
@@ -6,29 +6,54 @@ use roxmltree::Node;
 use super::element::{line, El};
 use super::Parser;
 use crate::error::Result;
-use crate::mjcf::ActuatorSpec;
+use crate::mjcf::{ActuatorSpec, TendonSpec, TransmissionSpec};
 
-pub(super) const MOTOR_ATTRS: &[&str] =
-    &["name", "class", "joint", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited"];
+/// Attributes every actuator takes.
+const ACTUATOR_ATTRS: &[&str] =
+    &["name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited"];
+
+/// Attributes of actuator kind `kind` (`motor`, `position`, `velocity`, `general`).
+pub(super) fn actuator_attrs(kind: &str) -> &'static [&'static str] {
+    match kind {
+        "position" => &["name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "kp", "kv"],
+        "velocity" => &["name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "kv"],
+        "general" => &[
+            "name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "gaintype",
+            "gainprm", "biastype", "biasprm", "dyntype", "dynprm",
+        ],
+        _ => ACTUATOR_ATTRS,
+    }
+}
+
+/// Attributes of a fixed tendon.
+pub(super) const TENDON_ATTRS: &[&str] =
+    &["name", "class", "stiffness", "damping", "springlength", "limited", "range", "frictionloss", "width", "material"];
 
 impl Parser<'_> {
     pub(super) fn actuators(&mut self, n: Node) -> Result<()> {
         for c in n.children().filter(Node::is_element) {
-            if !c.has_tag_name("motor") {
-                return Err(self.err(c, None, format!("unsupported actuator <{}>: only <motor> is", c.tag_name().name())));
+            let kind = c.tag_name().name();
+            if !matches!(kind, "motor" | "position" | "velocity" | "general") {
+                return Err(self.err(c, None, format!("unsupported actuator <{kind}>: <motor>, <position>, <velocity> and <general> are")));
             }
             let e = self.el(c, None)?;
-            for t in ["tendon", "site", "jointinparent", "body"] {
+            for t in ["site", "jointinparent", "body", "refsite", "cranksite", "slidersite"] {
                 if c.attribute(t).is_some() {
-                    return Err(e.err(t, "only joint transmissions are supported"));
+                    return Err(e.err(t, "only joint and tendon transmissions are supported"));
                 }
             }
-            e.check(MOTOR_ATTRS, &self.warnings)?;
-            let joint = e.get("joint").ok_or_else(|| e.err("joint", "required"))?.to_string();
+            e.check(actuator_attrs(kind), &self.warnings)?;
+            let target = match (e.get("joint"), e.get("tendon")) {
+                (Some(j), None) => TransmissionSpec::Joint(j.to_string()),
+                (None, Some(t)) => TransmissionSpec::Tendon(t.to_string()),
+                (None, None) => return Err(e.err("joint", "a joint or tendon transmission is required")),
+                (Some(_), Some(_)) => return Err(e.err("tendon", "an actuator has one transmission: joint or tendon")),
+            };
             let gear = e.nums("gear")?.unwrap_or_else(|| vec![1.0]);
             if gear.is_empty() || gear.len() > 6 || gear[1..].iter().any(|&g| g != 0.0) {
-                return Err(e.err("gear", "only a scalar gear is supported for joint transmissions"));
+                return Err(e.err("gear", "only a scalar gear is supported for joint and tendon transmissions"));
             }
+            let (gain, bias) = self.gain_and_bias(&e, kind)?;
             let ctrlrange = e.arr::<2>("ctrlrange")?.unwrap_or([0.0, 0.0]);
             let forcerange = e.arr::<2>("forcerange")?.unwrap_or([0.0, 0.0]);
             let ctrllimited = e.tristate("ctrllimited")?.unwrap_or(self.autolimits && e.has("ctrlrange"));
@@ -40,17 +65,59 @@ impl Parser<'_> {
                 return Err(e.err("forcerange", format!("needs forcerange[0] < forcerange[1], got {forcerange:?}")));
             }
             self.spec.actuators.push(ActuatorSpec {
+                kind: kind.to_string(),
                 name: e.str("name").to_string(),
-                joint,
+                target,
                 gear: gear[0],
                 ctrlrange,
                 ctrllimited,
                 forcerange,
                 forcelimited,
+                gain,
+                bias,
                 line: e.line,
             });
         }
         Ok(())
+    }
+
+    /// An actuator's fixed gain and affine bias, as MuJoCo sets them for each kind: a motor's
+    /// force is ctrl; a position servo's kp (ctrl − length) − kv velocity; a velocity servo's
+    /// kv (ctrl − velocity); a general actuator's from `gainprm` and `biasprm`.
+    fn gain_and_bias(&self, e: &El, kind: &str) -> Result<(f64, [f64; 3])> {
+        Ok(match kind {
+            "position" => {
+                let (kp, kv) = (e.nonneg("kp", 1.0)?, e.nonneg("kv", 0.0)?);
+                (kp, [0.0, -kp, -kv])
+            }
+            "velocity" => {
+                let kv = e.nonneg("kv", 1.0)?;
+                (kv, [0.0, 0.0, -kv])
+            }
+            "general" => {
+                if let Some(d) = e.get("dyntype").filter(|d| *d != "none") {
+                    return Err(e.err("dyntype", format!("actuator activation dynamics '{d}' are not supported")));
+                }
+                if let Some(g) = e.get("gaintype").filter(|g| *g != "fixed") {
+                    return Err(e.err("gaintype", format!("gain type '{g}' is not supported (fixed is)")));
+                }
+                let prm = |name: &str, default: f64| -> Result<[f64; 3]> {
+                    let v = e.nums(name)?.unwrap_or_else(|| vec![default]);
+                    if v.len() > 3 && v[3..].iter().any(|&x| x != 0.0) {
+                        return Err(e.err(name, "only the first three parameters are supported"));
+                    }
+                    Ok([0, 1, 2].map(|k| v.get(k).copied().unwrap_or(0.0)))
+                };
+                let gain = prm("gainprm", 1.0)?[0];
+                let bias = match e.get("biastype").unwrap_or("none") {
+                    "none" => [0.0; 3],
+                    "affine" => prm("biasprm", 0.0)?,
+                    other => return Err(e.err("biastype", format!("bias type '{other}' is not supported (none and affine are)"))),
+                };
+                (gain, bias)
+            }
+            _ => (1.0, [0.0; 3]),
+        })
     }
 
     pub(super) fn custom(&mut self, n: Node) -> Result<()> {
@@ -67,24 +134,43 @@ impl Parser<'_> {
         Ok(())
     }
 
-    /// Fixed tendons without stiffness, damping, friction or limits have no physical effect and are
-    /// accepted (gymnasium's humanoid has two); any other tendon is an error.
+    /// Fixed tendons (spatial tendons and tendon limits are errors, `frictionloss` a warning).
     pub(super) fn tendon(&mut self, n: Node) -> Result<()> {
         for c in n.children().filter(Node::is_element) {
             if !c.has_tag_name("fixed") {
-                return Err(self.err(c, None, "only passive fixed tendons are supported"));
+                return Err(self.err(c, None, "spatial tendons are not supported (fixed tendons are)"));
             }
-            for a in c.attributes() {
-                let inert = match a.name() {
-                    "name" | "class" | "rgba" | "group" | "solreflimit" | "solimplimit" | "width" | "material" => true,
-                    "limited" => a.value() == "false",
-                    "stiffness" | "damping" | "frictionloss" => a.value().trim().parse::<f64>() == Ok(0.0),
-                    _ => false,
-                };
-                if !inert {
-                    return Err(self.err(c, Some(a.name()), "tendon physics (stiffness, damping, limits) is not supported"));
+            let e = self.el_as(c, None, "tendon")?;
+            e.check(TENDON_ATTRS, &self.warnings)?;
+            let limited = e.tristate("limited")?.unwrap_or(self.autolimits && e.has("range"));
+            if limited {
+                return Err(e.err("limited", "tendon limits are not supported"));
+            }
+            let mut joints = vec![];
+            for j in c.children().filter(Node::is_element) {
+                let je = El { node: j, line: line(self.doc, j), defaults: vec![] };
+                if !j.has_tag_name("joint") {
+                    return Err(self.err(j, None, format!("unsupported element <{}> in a fixed tendon", j.tag_name().name())));
                 }
+                je.check(&["joint", "coef"], &self.warnings)?;
+                let name = je.get("joint").ok_or_else(|| je.err("joint", "required"))?;
+                joints.push((name.to_string(), je.f64("coef", 1.0)?));
             }
+            let springlength = match e.nums("springlength")?.as_deref() {
+                None => None,
+                Some([l]) if *l < 0.0 => None,
+                Some([l]) => Some([*l, *l]),
+                Some([lo, hi]) if lo <= hi => Some([*lo, *hi]),
+                Some(_) => return Err(e.err("springlength", "one length, or a deadband low ≤ high")),
+            };
+            self.spec.tendons.push(TendonSpec {
+                name: e.str("name").to_string(),
+                joints,
+                stiffness: e.nonneg("stiffness", 0.0)?,
+                damping: e.nonneg("damping", 0.0)?,
+                springlength,
+                line: e.line,
+            });
         }
         Ok(())
     }
