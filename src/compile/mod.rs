@@ -218,6 +218,7 @@ fn add_joint(m: &mut Model, j: &JointSpec, b: usize, body: &BodySpec) {
     for _ in 0..j.kind.nv() {
         m.dof_damping.push(j.damping);
         m.dof_armature.push(j.armature);
+        m.dof_frictionloss.push(j.frictionloss);
         m.dof_jnt.push(id);
     }
 }

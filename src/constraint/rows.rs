@@ -119,6 +119,7 @@ pub fn build_rows(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) {
         con,
     );
     push_limit_rows(m, qpos, qvel, qacc, limit_forced, con);
+    push_friction_rows(m, qvel, con);
     push_motion_rows(m, qpos, qvel, ctrl, feedforward, con);
     std::mem::swap(tangents, tangents_next);
     // leapfrog's rows are built at the midpoint: each gap before the opening drift, from the
@@ -240,6 +241,21 @@ pub fn push_limit_rows(m: &Model, qpos: &[f64], qvel: &[f64], qacc0: &[f64], for
     }
 }
 
+/// Dry friction's rows: a ± pair on each dof with friction loss, each force at most that loss.
+pub fn push_friction_rows(m: &Model, qvel: &[f64], out: &mut ConstraintData) {
+    for (dof, &loss) in m.dof_frictionloss.iter().enumerate().filter(|(_, loss)| **loss > 0.0) {
+        for sign in [1.0, -1.0] {
+            let r = out.len();
+            out.push(m, NewRow::joint(RowKind::DryFriction, (dof, sign), dof));
+            out.vel[r] = sign * qvel[dof];
+            out.cap[r] = loss;
+            if sign < 0.0 {
+                out.mirror[r] = r - 1;
+            }
+        }
+    }
+}
+
 /// Motion control's rows: each actuated joint driven toward its position target `ctrl` with
 /// feed-forward velocity and acceleration `feedforward` (2 × nu), under trajectory actuation.
 pub fn push_motion_rows(m: &Model, qpos: &[f64], qvel: &[f64], ctrl: &[f64], feedforward: &[f64], out: &mut ConstraintData) {
@@ -303,7 +319,7 @@ pub fn row_velocity(out: &ConstraintData, j: usize, v: &[Motion], qvel: &[f64]) 
             let side = |s: usize| if out.node[j][s] == WORLD { 0.0 } else { v[out.node[j][s]].dot(&out.jac[j][s]) };
             side(0) + side(1)
         }
-        RowKind::Limit | RowKind::Motion { .. } => out.dof[j].1 * qvel[out.dof[j].0],
+        RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction => out.dof[j].1 * qvel[out.dof[j].0],
     }
 }
 

@@ -196,7 +196,7 @@ pub fn warm_guess(data: &mut World<'_>, level: Level, n: usize) -> bool {
     // last step's λ (σ) variable of each owner row, from its rows' identities
     let old_n = number_lambdas(keys.len(), |i| match keys[i] {
         RowKey::Contact { within, .. } if within > 0 => i.checked_sub(within),
-        RowKey::Motion { bounded: true, .. } => Some(i),
+        RowKey::Motion { bounded: true, .. } | RowKey::DryFriction { .. } => Some(i),
         _ => None,
     }, old_lambda);
     if keys.is_empty() || old_n != warm.len() {
@@ -249,7 +249,7 @@ pub fn lcp_vector(m: &Model, data: &mut World<'_>, level: Level) -> Option<usize
     let kind = &data.constraints.con.kind;
     let n = number_lambdas(nr, |j| match kind[j] {
         RowKind::Tangent { normal } => Some(normal),
-        RowKind::Motion { bounded: true } => Some(j),
+        RowKind::Motion { bounded: true } | RowKind::DryFriction => Some(j),
         _ => None,
     }, &mut data.constraints.solve.lambda);
     data.constraints.solve.q.clear();
@@ -268,6 +268,10 @@ pub fn lcp_vector(m: &Model, data: &mut World<'_>, level: Level) -> Option<usize
             (RowKind::Motion { .. }, Level::Acceleration) => con.desired[j],
             (RowKind::Motion { .. }, Level::Velocity) => 0.0,
             (RowKind::Motion { .. }, Level::TimeStep) => h * (con.desired[j] - con.b[j]),
+            // dry friction: the dof at rest at the step's end (no force in an instant's impact)
+            (RowKind::DryFriction, Level::Acceleration) => -vel / h,
+            (RowKind::DryFriction, Level::Velocity) => 0.0,
+            (RowKind::DryFriction, Level::TimeStep) => -(vel + h * con.b[j]),
             (RowKind::Tangent { .. }, Level::Acceleration) => -vel / h,
             (RowKind::Tangent { .. }, Level::Velocity) => -vel,
             // time stepping: end-of-step velocity v⁺ (tangents: 0; normals: close the gap or remove
@@ -319,7 +323,7 @@ fn apart(m: &Model, con: &ConstraintData, j: usize, impact: f64) -> bool {
     let r = match con.kind[j] {
         RowKind::Tangent { normal } => normal,
         RowKind::Normal | RowKind::Limit => j,
-        RowKind::Motion { .. } => return false,
+        RowKind::Motion { .. } | RowKind::DryFriction => return false,
     };
     let h = m.opt.timestep;
     !approaching(con.vel[r], con.dist[r], con.vel[r] + h * con.b[r], m.opt.lever(), impact)
@@ -399,7 +403,7 @@ pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, islan
                 mm[lam * k + a] = -1.0;
                 role[a] = lcp::Role::Friction { normal, lambda: lam, mu: con.mu[j] };
             }
-            RowKind::Motion { bounded: true } => {
+            RowKind::Motion { bounded: true } | RowKind::DryFriction => {
                 // (a − a^d) + σ ≥ 0 ⟂ f ≥ 0;  f_max − f ≥ 0 ⟂ σ ≥ 0, f_max a force (an impulse per step
                 // when time stepping, none during an impact)
                 let sigma = at(lambda[j]);
@@ -524,6 +528,7 @@ pub fn row_key(con: &ConstraintData, contacts: &[collision::Contact], j: usize) 
     match con.kind[j] {
         RowKind::Limit => RowKey::Limit { joint: con.source[j], lower: con.dof[j].1 > 0.0 },
         RowKind::Motion { bounded } => RowKey::Motion { actuator: con.source[j], bounded, positive: con.dof[j].1 > 0.0 },
+        RowKind::DryFriction => RowKey::DryFriction { dof: con.source[j], positive: con.dof[j].1 > 0.0 },
         kind => {
             let c = &contacts[con.source[j]];
             let within = match kind {

@@ -28,6 +28,10 @@ pub enum RowKind {
         /// Whether |torque| ≤ the actuator's limit.
         bounded: bool,
     },
+    /// Dry friction of a dof (MuJoCo's `frictionloss`): one of a ± pair of rows that together hold
+    /// the dof at rest, each force at most its friction loss, as a contact's friction rows hold a
+    /// contact with μ f_n: below the breakaway force the dof does not move at all.
+    DryFriction,
 }
 
 impl RowKind {
@@ -211,7 +215,7 @@ impl ConstraintData {
         self.node.push(node);
         self.tree.push(match kind {
             RowKind::Normal | RowKind::Tangent { .. } => node.map(tree_of),
-            RowKind::Limit | RowKind::Motion { .. } => [tree_of(m.jnt_node[m.dof_jnt[dof.0]]), WORLD],
+            RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction => [tree_of(m.jnt_node[m.dof_jnt[dof.0]]), WORLD],
         });
         self.point.push(point);
         self.jac.push([Force::ZERO; 2]);

@@ -60,7 +60,7 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     }
     let mut dtau = None;
     match out.kind[k] {
-        RowKind::Limit | RowKind::Motion { .. } => dtau = Some(out.dof[k]),
+        RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction => dtau = Some(out.dof[k]),
         _ => {
             for side in 0..2 {
                 let n = out.node[k][side];
@@ -212,7 +212,7 @@ impl PointAccel {
         let normal = match cd.kind[j] {
             RowKind::Normal => j,
             RowKind::Tangent { normal } => normal,
-            RowKind::Limit | RowKind::Motion { .. } => {
+            RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction => {
                 let (dof, sign) = cd.dof[j];
                 return sign * qacc[dof];
             }

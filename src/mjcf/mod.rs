@@ -120,6 +120,8 @@ pub struct JointSpec {
     pub armature: f64,
     /// Viscous damping per DOF.
     pub damping: f64,
+    /// Dry friction: the torque (force) that holds each dof at rest, exactly.
+    pub frictionloss: f64,
     /// Spring stiffness.
     pub stiffness: f64,
     /// Spring rest position.

@@ -310,6 +310,8 @@ pub struct Model {
     pub dof_damping: Vec<f64>,
     /// Armature inertia (nv).
     pub dof_armature: Vec<f64>,
+    /// Dry friction per dof: the largest force its friction rows exert (nv).
+    pub dof_frictionloss: Vec<f64>,
     /// Joint of each dof (nv).
     pub dof_jnt: Vec<usize>,
     /// Bound, valid at every configuration, on the speed a unit velocity of the dof gives any

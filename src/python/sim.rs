@@ -315,6 +315,7 @@ impl PySim {
                 RowKind::Tangent { .. } => "friction",
                 RowKind::Limit => "limit",
                 RowKind::Motion { .. } => "motion",
+                RowKind::DryFriction => "dry_friction",
             })
             .collect();
         d.set_item("kind", kinds)?;

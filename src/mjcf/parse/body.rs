@@ -12,7 +12,7 @@ use crate::mjcf::{BodySpec, GeomSpec, GeomType, InertialSpec, JointSpec, JointTy
 
 pub(super) const JOINT_ATTRS: &[&str] = &[
     "name", "class", "type", "pos", "axis", "ref", "range", "limited", "margin", "armature", "damping", "stiffness",
-    "springref",
+    "springref", "frictionloss",
 ];
 pub(super) const GEOM_ATTRS: &[&str] = &[
     "name", "class", "type", "size", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "fromto", "density",
@@ -115,6 +115,7 @@ impl Parser<'_> {
                 margin: 0.0,
                 armature: 0.0,
                 damping: 0.0,
+                frictionloss: 0.0,
                 stiffness: 0.0,
                 springref: 0.0,
                 line: e.line,
@@ -156,6 +157,7 @@ impl Parser<'_> {
             margin: e.nonneg("margin", 0.0)?,
             armature: e.nonneg("armature", 0.0)?,
             damping: e.nonneg("damping", 0.0)?,
+            frictionloss: e.nonneg("frictionloss", 0.0)?,
             stiffness: e.nonneg("stiffness", 0.0)?,
             springref: conv(e.f64("springref", 0.0)?),
             line: e.line,

@@ -16,7 +16,7 @@ const IGNORED: &[&str] = &[
 ];
 
 /// Attributes that change MuJoCo's physics but are not modelled; non-default values give a warning.
-const WARN_NONZERO: &[&str] = &["frictionloss", "gravcomp"];
+const WARN_NONZERO: &[&str] = &["gravcomp"];
 
 pub(super) fn line(doc: &Document, n: Node) -> u32 {
     doc.text_pos_at(n.range().start).row

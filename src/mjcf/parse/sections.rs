@@ -142,6 +142,9 @@ impl Parser<'_> {
             }
             let e = self.el_as(c, None, "tendon")?;
             e.check(TENDON_ATTRS, &self.warnings)?;
+            if e.f64("frictionloss", 0.0)? != 0.0 {
+                self.warnings.borrow_mut().push(format!("<fixed> '{}' at line {}: tendon frictionloss is not modelled by sinew and is ignored", e.str("name"), e.line));
+            }
             let limited = e.tristate("limited")?.unwrap_or(self.autolimits && e.has("range"));
             if limited {
                 return Err(e.err("limited", "tendon limits are not supported"));
