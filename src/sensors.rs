@@ -228,8 +228,9 @@ fn constraint_forces(f: &Frame<'_>, c: &Constraints, contacts: &[Contact], node_
     }
     for j in 0..con.len() {
         if !con.kind[j].is_contact() {
-            let (dof, sign) = con.dof[j];
-            out.qfrc_constraint[dof] += sign * force[j] * per_force;
+            for &(dof, c) in con.joint_terms(j) {
+                out.qfrc_constraint[dof] += c * force[j] * per_force;
+            }
         }
     }
 }

@@ -72,6 +72,7 @@ fn compile(spec: ModelSpec) -> Result<Model> {
     node_inertias(&mut m, &inertia);
     geoms_and_sites(&mut m, &spec);
     tendons(&mut m, &spec)?;
+    equalities(&mut m, &spec)?;
     actuators(&mut m, &spec)?;
     for (b1, b2) in &spec.contact_excludes {
         let find = |n: &str| {
@@ -284,6 +285,47 @@ fn tendons(m: &mut Model, spec: &ModelSpec) -> Result<()> {
         m.tendon_damping.push(t.damping);
         m.tendon_springlength.push(t.springlength.unwrap_or([rest, rest]));
         m.ntendon += 1;
+    }
+    Ok(())
+}
+
+/// The joint and tendon equalities, each side as its terms and its value at qpos0.
+fn equalities(m: &mut Model, spec: &ModelSpec) -> Result<()> {
+    m.eq_adr.push(0);
+    for e in &spec.equalities {
+        let (element, attrs) = if e.tendon { ("tendon", ["tendon1", "tendon2"]) } else { ("joint", ["joint1", "joint2"]) };
+        let mut refs = [0.0; 2];
+        for (side, name) in [Some(&e.obj1), e.obj2.as_ref()].into_iter().enumerate() {
+            if let Some(name) = name {
+                let terms: Vec<Wrap> = if e.tendon {
+                    let t = m.tendon_name.iter().position(|n| n == name);
+                    let t = t.ok_or_else(|| Error::model(element, Some(attrs[side]), e.line, format!("unknown tendon '{name}'")))?;
+                    m.tendon_terms(t).to_vec()
+                } else {
+                    let j = m.jnt_name.iter().position(|n| n == name);
+                    let j = j.ok_or_else(|| Error::model(element, Some(attrs[side]), e.line, format!("unknown joint '{name}'")))?;
+                    if !matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide) {
+                        return Err(Error::model(element, Some(attrs[side]), e.line, "joint equalities couple hinge and slide joints only"));
+                    }
+                    vec![Wrap { dof: m.jnt_dofadr[j], qpos: m.jnt_qposadr[j], coef: 1.0 }]
+                };
+                refs[side] = terms.iter().map(|w| w.coef * m.qpos0[w.qpos]).sum();
+                m.eq_wrap.extend(terms);
+            }
+            m.eq_adr.push(m.eq_wrap.len());
+        }
+        // an equality row's K holds the trees of its dofs, two at most
+        let mut trees: Vec<usize> = m.eq_wrap[m.eq_adr[2 * m.neq]..].iter().map(|w| m.node_tree[m.jnt_node[m.dof_jnt[w.dof]]]).collect();
+        trees.sort_unstable();
+        trees.dedup();
+        if trees.len() > 2 {
+            return Err(Error::model(element, None, e.line, "an equality may couple the joints of two kinematic trees at most"));
+        }
+        m.eq_name.push(e.name.clone());
+        m.eq_ref.push(refs);
+        m.eq_polycoef.push(e.polycoef);
+        m.eq_active.push(e.active);
+        m.neq += 1;
     }
     Ok(())
 }

@@ -65,6 +65,13 @@ pub enum RowKey {
         /// Positive direction.
         positive: bool,
     },
+    /// An equality row: the equality, and whether it is the pair's positive row.
+    Equality {
+        /// Equality.
+        equality: usize,
+        /// Positive row.
+        positive: bool,
+    },
     /// A dry-friction row: the dof, and whether it pushes the dof forward.
     DryFriction {
         /// Dof.
@@ -75,7 +82,7 @@ pub enum RowKey {
 }
 
 impl RowKey {
-    /// Five integers (kind 0 limit, 1 contact, 2 motion, 3 dry friction; then the kind's fields, zeros filling),
+    /// Five integers (kind 0 limit, 1 contact, 2 motion, 3 dry friction, 4 equality; then the kind's fields, zeros filling),
     /// as [`History::to_flat`] writes them.
     fn to_flat(self) -> [u64; 5] {
         match self {
@@ -83,6 +90,7 @@ impl RowKey {
             RowKey::Contact { geom1, geom2, feature, within } => [1, geom1 as u64, geom2 as u64, feature as u64, within as u64],
             RowKey::Motion { actuator, bounded, positive } => [2, actuator as u64, 0, bounded as u64, positive as u64],
             RowKey::DryFriction { dof, positive } => [3, dof as u64, 0, 0, positive as u64],
+            RowKey::Equality { equality, positive } => [4, equality as u64, 0, 0, positive as u64],
         }
     }
 
@@ -94,6 +102,7 @@ impl RowKey {
             1 => Some(RowKey::Contact { geom1: a as usize, geom2: b as usize, feature: c as usize, within: d as usize }),
             2 if b == 0 => Some(RowKey::Motion { actuator: a as usize, bounded: flag(c)?, positive: flag(d)? }),
             3 if b == 0 && c == 0 => Some(RowKey::DryFriction { dof: a as usize, positive: flag(d)? }),
+            4 if b == 0 && c == 0 => Some(RowKey::Equality { equality: a as usize, positive: flag(d)? }),
             _ => None,
         }
     }

@@ -119,6 +119,7 @@ pub fn build_rows(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) {
         con,
     );
     push_limit_rows(m, qpos, qvel, qacc, limit_forced, con);
+    push_equality_rows(m, qpos, qvel, con);
     push_friction_rows(m, qvel, con);
     push_motion_rows(m, qpos, qvel, ctrl, feedforward, con);
     std::mem::swap(tangents, tangents_next);
@@ -241,6 +242,39 @@ pub fn push_limit_rows(m: &Model, qpos: &[f64], qvel: &[f64], qacc0: &[f64], for
     }
 }
 
+/// The active equalities' rows: a ± pair each, J = ∂x₁/∂q − poly′(x₂ − x₂⁰) ∂x₂/∂q over the
+/// terms' dofs, `dist` the error x₁ − x₁⁰ − poly(x₂ − x₂⁰) (negated on the − row).
+pub fn push_equality_rows(m: &Model, qpos: &[f64], qvel: &[f64], out: &mut ConstraintData) {
+    for e in (0..m.neq).filter(|&e| m.eq_active[e]) {
+        let value = |side: usize| m.eq_side(e, side).iter().map(|w| w.coef * qpos[w.qpos]).sum::<f64>() - m.eq_ref[e][side];
+        let (x1, x2) = (value(0), value(1));
+        let c = m.eq_polycoef[e];
+        let (poly, slope) = if m.eq_side(e, 1).is_empty() {
+            (c[0], 0.0)
+        } else {
+            (c[0] + x2 * (c[1] + x2 * (c[2] + x2 * (c[3] + x2 * c[4]))), c[1] + x2 * (2.0 * c[2] + x2 * (3.0 * c[3] + x2 * 4.0 * c[4])))
+        };
+        for sign in [1.0, -1.0] {
+            let r = out.len();
+            let first = m.eq_side(e, 0).first().map_or(0, |w| w.dof);
+            out.push(m, NewRow::joint(RowKind::Equality, (first, sign), e));
+            for w in m.eq_side(e, 0) {
+                out.add_term(m, w.dof, sign * w.coef);
+            }
+            for w in m.eq_side(e, 1).iter().filter(|_| slope != 0.0) {
+                out.add_term(m, w.dof, -sign * slope * w.coef);
+            }
+            out.dist[r] = sign * (x1 - poly);
+            out.dist_start[r] = out.dist[r];
+            let vel = row_velocity(out, r, &[], qvel);
+            out.vel[r] = vel;
+            if sign < 0.0 {
+                out.mirror[r] = r - 1;
+            }
+        }
+    }
+}
+
 /// Dry friction's rows: a ± pair on each dof with friction loss, each force at most that loss.
 pub fn push_friction_rows(m: &Model, qvel: &[f64], out: &mut ConstraintData) {
     for (dof, &loss) in m.dof_frictionloss.iter().enumerate().filter(|(_, loss)| **loss > 0.0) {
@@ -288,7 +322,9 @@ pub fn dense_jacobian(m: &Model, kin: &KinData, out: &ConstraintData) -> Vec<f64
     for j in 0..out.len() {
         let row = &mut jm[j * nv..(j + 1) * nv];
         if !out.kind[j].is_contact() {
-            row[out.dof[j].0] = out.dof[j].1;
+            for &(dof, c) in out.joint_terms(j) {
+                row[dof] += c;
+            }
             continue;
         }
         for side in 0..2 {
@@ -320,6 +356,7 @@ pub fn row_velocity(out: &ConstraintData, j: usize, v: &[Motion], qvel: &[f64]) 
             side(0) + side(1)
         }
         RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction => out.dof[j].1 * qvel[out.dof[j].0],
+        RowKind::Equality => out.joint_terms(j).iter().map(|&(dof, c)| c * qvel[dof]).sum(),
     }
 }
 

@@ -238,7 +238,7 @@ fn push_contact_row(m: &Model, kin: &KinData, aba: &AbaData, new: &KinData, post
     let start = post.dqdd.len();
     post.dqdd.resize(start + nv, 0.0);
     let trees = nodes.map(|n| if n == WORLD { WORLD } else { m.node_tree[n] });
-    delta_pass(m, kin, aba, trees, None, &mut post.delta, &mut post.dqdd[start..]);
+    delta_pass(m, kin, aba, trees, &[], &mut post.delta, &mut post.dqdd[start..]);
     post.limit.push(None);
     post.tree.push(trees);
 }
@@ -254,7 +254,7 @@ fn push_limit_row(m: &Model, kin: &KinData, aba: &AbaData, post: &mut StabilizeD
     post.delta.pa.fill(Force::ZERO);
     post.dqdd.resize(start + nv, 0.0);
     let tree = m.node_tree[m.jnt_node[joint]];
-    delta_pass(m, kin, aba, [tree, WORLD], Some((dof, sign)), &mut post.delta, &mut post.dqdd[start..]);
+    delta_pass(m, kin, aba, [tree, WORLD], &[(dof, sign)], &mut post.delta, &mut post.dqdd[start..]);
     post.limit.push(Some((joint, sign)));
     post.tree.push([tree, WORLD]);
 }

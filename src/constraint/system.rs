@@ -32,6 +32,9 @@ pub enum RowKind {
     /// the dof at rest, each force at most its friction loss, as a contact's friction rows hold a
     /// contact with μ f_n: below the breakaway force the dof does not move at all.
     DryFriction,
+    /// A joint or tendon equality: one of a ± pair of rows on its dofs (the row's `terms`) that
+    /// together hold x₁ − x₁⁰ − poly(x₂ − x₂⁰) at zero, the force free in sign.
+    Equality,
 }
 
 impl RowKind {
@@ -102,6 +105,11 @@ pub struct ConstraintData {
     pub arm: Vec<DVec3>,
     /// Dof and sign (limits).
     pub dof: Vec<(usize, f64)>,
+    /// An equality row's Jacobian as (dof, coefficient) terms: `terms[start..start + len]` with
+    /// (start, len) = `term_span[j]` (empty for the other rows).
+    pub terms: Vec<(usize, f64)>,
+    /// See `terms`.
+    pub term_span: Vec<(usize, usize)>,
     /// Friction coefficient (tangent rows).
     pub mu: Vec<f64>,
     /// Relative velocity along the row.
@@ -165,6 +173,29 @@ impl ConstraintData {
         }
     }
 
+    /// Row j's (dof, coefficient) terms: an equality's, or a joint row's one dof and sign.
+    pub fn joint_terms(&self, j: usize) -> &[(usize, f64)] {
+        match self.kind[j] {
+            RowKind::Equality => {
+                let (start, len) = self.term_span[j];
+                &self.terms[start..start + len]
+            }
+            _ => std::slice::from_ref(&self.dof[j]),
+        }
+    }
+
+    /// Appends a term to the last row's Jacobian; a term on a second tree becomes the row's
+    /// second tree.
+    pub(super) fn add_term(&mut self, m: &Model, dof: usize, coef: f64) {
+        let j = self.len() - 1;
+        self.terms.push((dof, coef));
+        self.term_span[j].1 += 1;
+        let tree = m.node_tree[m.jnt_node[m.dof_jnt[dof]]];
+        if self.tree[j][0] != tree && self.tree[j][1] == WORLD {
+            self.tree[j][1] = tree;
+        }
+    }
+
     /// Number of rows.
     pub fn len(&self) -> usize {
         self.kind.len()
@@ -195,6 +226,8 @@ impl ConstraintData {
         self.dir.clear();
         self.arm.clear();
         self.dof.clear();
+        self.terms.clear();
+        self.term_span.clear();
         self.mu.clear();
         self.vel.clear();
         self.desired.clear();
@@ -215,8 +248,9 @@ impl ConstraintData {
         self.node.push(node);
         self.tree.push(match kind {
             RowKind::Normal | RowKind::Tangent { .. } => node.map(tree_of),
-            RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction => [tree_of(m.jnt_node[m.dof_jnt[dof.0]]), WORLD],
+            RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction | RowKind::Equality => [tree_of(m.jnt_node[m.dof_jnt[dof.0]]), WORLD],
         });
+        self.term_span.push((self.terms.len(), 0));
         self.point.push(point);
         self.jac.push([Force::ZERO; 2]);
         self.dir.push(dir);

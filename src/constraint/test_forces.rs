@@ -58,18 +58,23 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     for range in tree_ranges(m, trees) {
         out.delta.pa[range].fill(Force::ZERO);
     }
-    let mut dtau = None;
-    match out.kind[k] {
-        RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction => dtau = Some(out.dof[k]),
-        _ => {
-            for side in 0..2 {
-                let n = out.node[k][side];
-                if n != WORLD {
-                    out.delta.pa[n] -= out.jac[k][side];
-                }
+    if out.kind[k].is_contact() {
+        for side in 0..2 {
+            let n = out.node[k][side];
+            if n != WORLD {
+                out.delta.pa[n] -= out.jac[k][side];
             }
         }
     }
+    // a joint row's test torque: a unit torque on its dof, or an equality's on its terms
+    let dtau: &[(usize, f64)] = match out.kind[k] {
+        RowKind::Normal | RowKind::Tangent { .. } => &[],
+        RowKind::Equality => {
+            let (start, len) = out.term_span[k];
+            &out.terms[start..start + len]
+        }
+        RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction => std::slice::from_ref(&out.dof[k]),
+    };
     delta_pass(m, kin, aba, trees, dtau, &mut out.delta, &mut out.dqdd[k * nv..(k + 1) * nv]);
     // K is symmetric (J M⁻¹ Jᵀ): this force's measures at the rows of its trees are row k (and
     // its mirror's, negated), written whole (contiguous); a row pushed before holds its own
@@ -212,6 +217,7 @@ impl PointAccel {
         let normal = match cd.kind[j] {
             RowKind::Normal => j,
             RowKind::Tangent { normal } => normal,
+            RowKind::Equality => return cd.joint_terms(j).iter().map(|&(dof, c)| c * qacc[dof]).sum(),
             RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction => {
                 let (dof, sign) = cd.dof[j];
                 return sign * qacc[dof];
@@ -284,11 +290,11 @@ pub fn tree_dofs(m: &Model, trees: [usize; 2]) -> impl Iterator<Item = std::ops:
     tree_ranges(m, trees).into_iter().filter(|r| !r.is_empty()).map(|r| m.node_dofadr[r.start]..m.node_dofadr[r.end - 1] + m.node_nv[r.end - 1])
 }
 
-/// Response of the articulated system to the test forces in `dpa` (world coordinates) or the unit
-/// joint torque `dtau` = (dof, value) on the nodes of the trees `trees` (the others do not move):
+/// Response of the articulated system to the test forces in `dpa` (world coordinates) or the
+/// joint torques `dtau` (dof, value) on the nodes of the trees `trees` (the others do not move):
 /// a delta ABA with the inertias of the main pass (velocity terms cancel). Writes Δq̈ of those
 /// trees' dofs into `dqdd` and spatial Δa of their nodes into `da`; leaves `dpa` modified.
-pub fn delta_pass(m: &Model, kin: &KinData, aba: &AbaData, trees: [usize; 2], dtau: Option<(usize, f64)>, delta: &mut DeltaScratch, dqdd: &mut [f64]) {
+pub fn delta_pass(m: &Model, kin: &KinData, aba: &AbaData, trees: [usize; 2], dtau: &[(usize, f64)], delta: &mut DeltaScratch, dqdd: &mut [f64]) {
     let DeltaScratch { pa: dpa, u: du, a: da } = delta;
     // inward: δu_i = δτ_i − S_iᵀ δp^A_i;  δp^A_λ += δp^A_i + U_i D_i⁻¹ δu_i; nodes off the
     // test force's path to the root have δp^A = 0 and δu = 0
@@ -297,16 +303,13 @@ pub fn delta_pass(m: &Model, kin: &KinData, aba: &AbaData, trees: [usize; 2], dt
         for i in ranges[part].clone().rev() {
             let k = m.node_nv[i];
             let d0 = m.node_dofadr[i];
-            let torqued = matches!(dtau, Some((dof, _)) if dof >= d0 && dof < d0 + k);
+            let torqued = dtau.iter().any(|&(dof, _)| dof >= d0 && dof < d0 + k);
             if !torqued && dpa[i] == Force::ZERO {
                 du[i] = [0.0; 6];
                 continue;
             }
             for r in 0..k {
-                let t = match dtau {
-                    Some((dof, v)) if dof == d0 + r => v,
-                    _ => 0.0,
-                };
+                let t: f64 = dtau.iter().filter(|&&(dof, _)| dof == d0 + r).map(|&(_, v)| v).sum();
                 du[i][r] = t - kin.s[i][r].dot(&dpa[i]);
             }
             let p = m.node_parent[i];

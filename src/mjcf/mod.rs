@@ -256,6 +256,27 @@ pub struct ActuatorSpec {
     pub line: u32,
 }
 
+/// A `<joint>` or `<tendon>` equality: x₁ − x₁⁰ = Σₖ polycoef[k] (x₂ − x₂⁰)ᵏ, x a joint's
+/// position or a fixed tendon's length and x⁰ its value at qpos0 (x₁ − x₁⁰ = polycoef[0] without
+/// a second object).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EqualitySpec {
+    /// Name (may be empty).
+    pub name: String,
+    /// Joints (false) or tendons (true).
+    pub tendon: bool,
+    /// The constrained object.
+    pub obj1: String,
+    /// The object it follows, if any.
+    pub obj2: Option<String>,
+    /// Polynomial coefficients (degree 4 at most).
+    pub polycoef: [f64; 5],
+    /// Whether the constraint starts active.
+    pub active: bool,
+    /// Source line.
+    pub line: u32,
+}
+
 /// A fixed tendon: length Σ coef · q over hinge and slide joints, with a spring and a damper.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TendonSpec {
@@ -297,6 +318,8 @@ pub struct ModelSpec {
     pub actuators: Vec<ActuatorSpec>,
     /// Fixed tendons.
     pub tendons: Vec<TendonSpec>,
+    /// Joint and tendon equality constraints.
+    pub equalities: Vec<EqualitySpec>,
     /// `<compiler inertiafromgeom>`.
     pub inertiafromgeom: InertiaFromGeom,
     /// `<compiler settotalmass>`, when positive.

@@ -85,6 +85,7 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
             }],
             actuators: vec![],
             tendons: vec![],
+            equalities: vec![],
             inertiafromgeom: InertiaFromGeom::Auto,
             settotalmass: None,
             contact_excludes: vec![],
@@ -110,11 +111,7 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
             "custom" => p.custom(c)?,
             "tendon" => p.tendon(c)?,
             "contact" => p.contact(c)?,
-            "equality" => {
-                if let Some(e) = c.children().find(Node::is_element) {
-                    return Err(p.err(e, None, "equality constraints are not supported"));
-                }
-            }
+            "equality" => p.equality(c)?,
             "visual" => p.visual(c)?,
             "asset" => p.asset(c)?,
             "statistic" => p.statistic(c)?,
@@ -304,6 +301,7 @@ impl<'d> Parser<'d> {
                 "site" => SITE_ATTRS,
                 "motor" | "position" | "velocity" | "general" => actuator_attrs(kind),
                 "tendon" => TENDON_ATTRS,
+                "equality" => &["active"][..],
                 _ => &[][..],
             };
             if !allowed.is_empty() {

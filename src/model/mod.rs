@@ -124,6 +124,11 @@ impl Model {
         &self.actuator_moment[self.actuator_moment_adr[a]..self.actuator_moment_adr[a + 1]]
     }
 
+    /// The terms of side `side` (0: the constrained object, 1: the one it follows) of equality `e`.
+    pub fn eq_side(&self, e: usize, side: usize) -> &[Wrap] {
+        &self.eq_wrap[self.eq_adr[2 * e + side]..self.eq_adr[2 * e + side + 1]]
+    }
+
     /// Tendon `t`'s terms.
     pub fn tendon_terms(&self, t: usize) -> &[Wrap] {
         &self.tendon_wrap[self.tendon_adr[t]..self.tendon_adr[t + 1]]
@@ -394,6 +399,22 @@ pub struct Model {
     pub tendon_damping: Vec<f64>,
     /// The spring's deadband [low, high] of lengths where it exerts no force (ntendon).
     pub tendon_springlength: Vec<[f64; 2]>,
+    /// Number of joint and tendon equality constraints.
+    pub neq: usize,
+    /// Equality names (neq).
+    pub eq_name: Vec<String>,
+    /// Each equality's two sides as lengths: x₁ − x₁⁰ − poly(x₂ − x₂⁰) = 0, each x a sum of
+    /// coef · qpos terms (a joint: one term; a tendon: its terms), `eq_wrap[eq_adr[2e]..eq_adr[2e + 1]]`
+    /// for x₁ and `eq_wrap[eq_adr[2e + 1]..eq_adr[2e + 2]]` for x₂ (empty without a second object).
+    pub eq_wrap: Vec<Wrap>,
+    /// See `eq_wrap` (2 neq + 1).
+    pub eq_adr: Vec<usize>,
+    /// x₁⁰ and x₂⁰: the sides at qpos0 (neq).
+    pub eq_ref: Vec<[f64; 2]>,
+    /// Polynomial coefficients (neq).
+    pub eq_polycoef: Vec<[f64; 5]>,
+    /// Whether each equality is active (neq).
+    pub eq_active: Vec<bool>,
     /// Actuator names (nu).
     pub actuator_name: Vec<String>,
     /// What each actuator drives (nu).

@@ -316,6 +316,7 @@ impl PySim {
                 RowKind::Limit => "limit",
                 RowKind::Motion { .. } => "motion",
                 RowKind::DryFriction => "dry_friction",
+                RowKind::Equality => "equality",
             })
             .collect();
         d.set_item("kind", kinds)?;

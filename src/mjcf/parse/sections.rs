@@ -6,7 +6,7 @@ use roxmltree::Node;
 use super::element::{line, El};
 use super::Parser;
 use crate::error::Result;
-use crate::mjcf::{ActuatorSpec, TendonSpec, TransmissionSpec};
+use crate::mjcf::{ActuatorSpec, EqualitySpec, TendonSpec, TransmissionSpec};
 
 /// Attributes every actuator takes.
 const ACTUATOR_ATTRS: &[&str] =
@@ -172,6 +172,38 @@ impl Parser<'_> {
                 stiffness: e.nonneg("stiffness", 0.0)?,
                 damping: e.nonneg("damping", 0.0)?,
                 springlength,
+                line: e.line,
+            });
+        }
+        Ok(())
+    }
+
+    /// `<joint>` and `<tendon>` equalities (`connect`, `weld` and `flex` are errors).
+    pub(super) fn equality(&mut self, n: Node) -> Result<()> {
+        for c in n.children().filter(Node::is_element) {
+            let kind = c.tag_name().name();
+            let tendon = match kind {
+                "joint" => false,
+                "tendon" => true,
+                _ => return Err(self.err(c, None, format!("<{kind}> equality constraints are not supported (joint and tendon are)"))),
+            };
+            let e = self.el_as(c, None, "equality")?;
+            let (a1, a2) = if tendon { ("tendon1", "tendon2") } else { ("joint1", "joint2") };
+            e.check(&["name", "class", a1, a2, "polycoef", "active"], &self.warnings)?;
+            let obj1 = e.get(a1).ok_or_else(|| e.err(a1, "required"))?.to_string();
+            let coef = e.nums("polycoef")?.unwrap_or_else(|| vec![0.0, 1.0]);
+            if coef.len() > 5 {
+                return Err(e.err("polycoef", "at most five coefficients (degree 4)"));
+            }
+            let mut polycoef = [0.0; 5];
+            polycoef[..coef.len()].copy_from_slice(&coef);
+            self.spec.equalities.push(EqualitySpec {
+                name: e.str("name").to_string(),
+                tendon,
+                obj1,
+                obj2: e.get(a2).map(str::to_string),
+                polycoef,
+                active: e.tristate("active")?.unwrap_or(true),
                 line: e.line,
             });
         }
