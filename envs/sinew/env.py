@@ -149,12 +149,16 @@ class BatchTask:
             raise ValueError(f"actions are not finite (NaN or inf) or beyond ±{MAX_ACTION:g}{which}")
         return a
 
-    def reset_worlds(self, idx: np.ndarray, rngs: list) -> None:
+    def reset_worlds(self, idx: np.ndarray, rngs: list, keyframe=None) -> None:
         """Resets the worlds `idx` (ascending), drawing their noise from `rngs` (one per world, in
-        the same order) as the twin does. A world's physics stream (its random friction tangents)
-        is seeded from its generator the first time that generator resets it, and continues
-        through the episodes that follow."""
-        qpos, qvel = self.task.reset_state(rngs)
+        the same order) as the twin does, or to the model's `keyframe` (a name or index; no noise).
+        A world's physics stream (its random friction tangents) is seeded from its generator the
+        first time that generator resets it, and continues through the episodes that follow."""
+        if keyframe is None:
+            qpos, qvel = self.task.reset_state(rngs)
+        else:
+            key = self.model.keyframe(keyframe)
+            qpos, qvel = np.tile(key["qpos"], (len(idx), 1)), np.tile(key["qvel"], (len(idx), 1))
         fresh = [k for k, (i, r) in enumerate(zip(idx, rngs)) if self._seeded_by[i] is not r]
         seeds = [int(rngs[k].integers(2**63)) for k in fresh]
         for k in fresh:
@@ -228,7 +232,7 @@ class SinewEnv(gymnasium.Env, EzPickle):
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
         super().reset(seed=seed)
-        self._core.reset_worlds(np.array([0]), [self.np_random])
+        self._core.reset_worlds(np.array([0]), [self.np_random], (options or {}).get("keyframe"))
         self._needs_reset = False
         info = {k: v[0] for k, v in self._core.reset_info().items()}
         return self._core.observe()[0], info
@@ -394,14 +398,16 @@ class SinewVectorEnv(VectorEnv):
 
     def reset(self, *, seed=None, options=None):
         """Resets every world, or with ``options={"reset_mask": mask}`` (a bool array of shape
-        (num_envs,)) those where the mask is true; seeds as ``SyncVectorEnv`` takes them."""
+        (num_envs,)) those where the mask is true; seeds as ``SyncVectorEnv`` takes them. With
+        ``options={"keyframe": name}`` the worlds start at that keyframe of the model, without
+        noise."""
         mask = None if not options or "reset_mask" not in options else _reset_mask(options["reset_mask"], self.num_envs)
         idx = np.arange(self.num_envs) if mask is None else np.flatnonzero(mask)
         seeds = _seeds(seed, self.num_envs)
         for i in idx:
             if seeds[i] is not None or self._rngs[i] is None:
                 self._rngs[i] = seeding.np_random(seeds[i])[0]
-        self._core.reset_worlds(idx, [self._rngs[i] for i in idx])
+        self._core.reset_worlds(idx, [self._rngs[i] for i in idx], (options or {}).get("keyframe"))
         self._steps[idx] = 0
         self._autoreset[idx] = False
         reset_info = self._core.reset_info()

@@ -8,7 +8,7 @@ mod pairs;
 mod visual;
 
 use inertia::geom_inertia;
-use crate::model::{GapPair, GeomType, Model, Options, PairTest, PlaneGroup, Transmission, Wrap, WORLD};
+use crate::model::{GapPair, GeomType, Keyframe, Model, Options, PairTest, PlaneGroup, Transmission, Wrap, WORLD};
 use crate::error::{Error, Result};
 use crate::math::{SpatialInertia, Xform};
 use crate::mjcf::{include, BodySpec, InertiaFromGeom, JointSpec, JointType, ModelSpec, TransmissionSpec};
@@ -71,6 +71,7 @@ fn compile(spec: ModelSpec) -> Result<Model> {
     joints_and_nodes(&mut m, &spec)?;
     node_inertias(&mut m, &inertia);
     geoms_and_sites(&mut m, &spec);
+    m.keys = keyframes(&m, &spec)?;
     tendons(&mut m, &spec)?;
     equalities(&mut m, &spec)?;
     actuators(&mut m, &spec)?;
@@ -263,6 +264,28 @@ fn geoms_and_sites(m: &mut Model, spec: &ModelSpec) {
         }
     }
     m.ngeom = m.geom_type.len();
+}
+
+/// The keyframes, each array checked against the model's sizes and the state's bounds.
+fn keyframes(m: &Model, spec: &ModelSpec) -> Result<Vec<Keyframe>> {
+    let nu = spec.actuators.len();
+    spec.keys
+        .iter()
+        .map(|k| {
+            let array = |given: &Option<Vec<f64>>, attr: &str, n: usize, default: &[f64]| match given {
+                Some(v) if v.len() != n => Err(Error::model("key", Some(attr), k.line, format!("expected {n} numbers, got {}", v.len()))),
+                Some(v) => Ok(v.clone()),
+                None => Ok(default.to_vec()),
+            };
+            Ok(Keyframe {
+                name: k.name.clone(),
+                time: k.time,
+                qpos: array(&k.qpos, "qpos", m.nq, &m.qpos0)?,
+                qvel: array(&k.qvel, "qvel", m.nv, &vec![0.0; m.nv])?,
+                ctrl: array(&k.ctrl, "ctrl", nu, &vec![0.0; nu])?,
+            })
+        })
+        .collect()
 }
 
 /// The fixed tendons, each a sum of hinge and slide joint positions.

@@ -277,6 +277,23 @@ pub struct EqualitySpec {
     pub line: u32,
 }
 
+/// A `<key>` of `<keyframe>`: a named state (absent arrays are qpos0 and zeros).
+#[derive(Clone, Debug, PartialEq)]
+pub struct KeySpec {
+    /// Name (may be empty).
+    pub name: String,
+    /// Time.
+    pub time: f64,
+    /// Positions (nq), if given.
+    pub qpos: Option<Vec<f64>>,
+    /// Velocities (nv), if given.
+    pub qvel: Option<Vec<f64>>,
+    /// Controls (nu), if given.
+    pub ctrl: Option<Vec<f64>>,
+    /// Source line.
+    pub line: u32,
+}
+
 /// A fixed tendon: length Σ coef · q over hinge and slide joints, with a spring and a damper.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TendonSpec {
@@ -320,6 +337,8 @@ pub struct ModelSpec {
     pub tendons: Vec<TendonSpec>,
     /// Joint and tendon equality constraints.
     pub equalities: Vec<EqualitySpec>,
+    /// Keyframes.
+    pub keys: Vec<KeySpec>,
     /// `<compiler inertiafromgeom>`.
     pub inertiafromgeom: InertiaFromGeom,
     /// `<compiler settotalmass>`, when positive.

@@ -86,6 +86,7 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
             actuators: vec![],
             tendons: vec![],
             equalities: vec![],
+            keys: vec![],
             inertiafromgeom: InertiaFromGeom::Auto,
             settotalmass: None,
             contact_excludes: vec![],
@@ -115,7 +116,8 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
             "visual" => p.visual(c)?,
             "asset" => p.asset(c)?,
             "statistic" => p.statistic(c)?,
-            "size" | "sensor" | "keyframe" | "extension" => {}
+            "keyframe" => p.keyframe(c)?,
+            "size" | "sensor" | "extension" => {}
             other => return Err(p.err(c, None, format!("unsupported element <{other}>"))),
         }
     }

@@ -76,6 +76,21 @@ pub enum Transmission {
     Tendon(usize),
 }
 
+/// A named state of the model (MuJoCo's `<key>`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Keyframe {
+    /// Name (may be empty).
+    pub name: String,
+    /// Time.
+    pub time: f64,
+    /// Positions (nq).
+    pub qpos: Vec<f64>,
+    /// Velocities (nv).
+    pub qvel: Vec<f64>,
+    /// Controls (nu).
+    pub ctrl: Vec<f64>,
+}
+
 /// One term of a linear length: coef · qpos[qpos] along dof `dof` (a hinge's or slide's).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Wrap {
@@ -415,6 +430,8 @@ pub struct Model {
     pub eq_polycoef: Vec<[f64; 5]>,
     /// Whether each equality is active (neq).
     pub eq_active: Vec<bool>,
+    /// Keyframes: named states (time, qpos, qvel, ctrl), absent arrays filled with qpos0 and zeros.
+    pub keys: Vec<Keyframe>,
     /// Actuator names (nu).
     pub actuator_name: Vec<String>,
     /// What each actuator drives (nu).

@@ -397,6 +397,21 @@ impl PyModel {
         let m = &self.inner;
         (0..m.nu).map(|a| m.actuator_joint(a).map_or(-1, |j| m.jnt_dofadr[j] as i64)).collect()
     }
+    /// Names of the keyframes (`<keyframe><key>`), in order.
+    #[getter]
+    fn key_names(&self) -> Vec<String> {
+        self.inner.keys.iter().map(|k| k.name.clone()).collect()
+    }
+    /// Keyframe `key` (a name or an index) as a dict of time, qpos, qvel and ctrl.
+    fn keyframe<'py>(&self, py: Python<'py>, key: Bound<'py, PyAny>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        let k = &self.inner.keys[keyframe_index(&self.inner, &key)?];
+        let d = pyo3::types::PyDict::new(py);
+        d.set_item("time", k.time)?;
+        d.set_item("qpos", PyArray1::from_slice(py, &k.qpos))?;
+        d.set_item("qvel", PyArray1::from_slice(py, &k.qvel))?;
+        d.set_item("ctrl", PyArray1::from_slice(py, &k.ctrl))?;
+        Ok(d)
+    }
     /// Model features accepted but not simulated.
     #[getter]
     fn warnings(&self) -> Vec<String> {
@@ -476,4 +491,17 @@ fn rows3<'py>(py: Python<'py>, it: impl Iterator<Item = [f64; 3]>) -> Bound<'py,
     let flat: Vec<f64> = it.flat_map(|a| a.into_iter()).collect();
     let n = flat.len() / 3;
     numpy::PyArray1::from_vec(py, flat).reshape([n, 3]).expect("n*3 elements")
+}
+
+/// The index of keyframe `key` (a name or an index); a `ValueError` names the keys there are.
+pub fn keyframe_index(m: &Model, key: &Bound<'_, PyAny>) -> PyResult<usize> {
+    let names: Vec<&str> = m.keys.iter().map(|k| k.name.as_str()).collect();
+    let found = if let Ok(i) = key.extract::<i64>() {
+        usize::try_from(i).ok().filter(|&i| i < m.keys.len())
+    } else if let Ok(name) = key.extract::<String>() {
+        names.iter().position(|n| *n == name)
+    } else {
+        None
+    };
+    found.ok_or_else(|| PyValueError::new_err(format!("no keyframe {key}: the model's keys are {names:?} (by name or index)")))
 }

@@ -206,15 +206,28 @@ impl PySim {
         Ok(())
     }
 
-    /// Back to qpos0, zero velocity, zero control and feed-forward, time 0, with nothing kept from
-    /// earlier steps (friction tangents, the LCP warm start, the random stream): it then steps
-    /// exactly as a new Sim.
-    fn reset(&mut self, py: Python<'_>) -> PyResult<()> {
-        self.qpos.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&self.model.qpos0);
-        self.qvel.bind(py).readwrite().as_slice_mut()?.fill(0.0);
-        self.ctrl.bind(py).readwrite().as_slice_mut()?.fill(0.0);
+    /// Back to qpos0, zero velocity, zero control and feed-forward, time 0, or to the keyframe
+    /// `key` (a name or an index of `Model.key_names`), with nothing kept from earlier steps
+    /// (friction tangents, the LCP warm start, the random stream): it then steps exactly as a new
+    /// Sim given that state.
+    #[pyo3(signature = (key=None))]
+    fn reset(&mut self, py: Python<'_>, key: Option<Bound<'_, PyAny>>) -> PyResult<()> {
+        let m = self.model.clone();
+        let k = key.map(|k| super::model::keyframe_index(&m, &k)).transpose()?.map(|i| &m.keys[i]);
+        self.qpos.bind(py).readwrite().as_slice_mut()?.copy_from_slice(k.map_or(&m.qpos0, |k| &k.qpos));
+        let (mut qvel, mut ctrl) = (self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readwrite());
+        match k {
+            Some(k) => {
+                qvel.as_slice_mut()?.copy_from_slice(&k.qvel);
+                ctrl.as_slice_mut()?.copy_from_slice(&k.ctrl);
+            }
+            None => {
+                qvel.as_slice_mut()?.fill(0.0);
+                ctrl.as_slice_mut()?.fill(0.0);
+            }
+        }
         self.qacc.bind(py).readwrite().as_slice_mut()?.fill(0.0);
-        self.time = 0.0;
+        self.time = k.map_or(0.0, |k| k.time);
         self.data.constraints.feedforward.fill(0.0);
         self.data.restore_history(&History::new());
         Ok(())

@@ -6,7 +6,7 @@ use roxmltree::Node;
 use super::element::{line, El};
 use super::Parser;
 use crate::error::Result;
-use crate::mjcf::{ActuatorSpec, EqualitySpec, TendonSpec, TransmissionSpec};
+use crate::mjcf::{ActuatorSpec, EqualitySpec, KeySpec, TendonSpec, TransmissionSpec};
 
 /// Attributes every actuator takes.
 const ACTUATOR_ATTRS: &[&str] =
@@ -204,6 +204,32 @@ impl Parser<'_> {
                 obj2: e.get(a2).map(str::to_string),
                 polycoef,
                 active: e.tristate("active")?.unwrap_or(true),
+                line: e.line,
+            });
+        }
+        Ok(())
+    }
+
+    /// `<key>`s: named states (`act`, `mpos` and `mquat` must be empty: sinew has no activations
+    /// or mocap bodies).
+    pub(super) fn keyframe(&mut self, n: Node) -> Result<()> {
+        for c in n.children().filter(Node::is_element) {
+            if !c.has_tag_name("key") {
+                return Err(self.err(c, None, format!("unsupported element <{}> in <keyframe>", c.tag_name().name())));
+            }
+            let e = El { node: c, line: line(self.doc, c), defaults: vec![] };
+            e.check(&["name", "time", "qpos", "qvel", "ctrl", "act", "mpos", "mquat"], &self.warnings)?;
+            for a in ["act", "mpos", "mquat"] {
+                if e.nums(a)?.is_some_and(|v| !v.is_empty()) {
+                    return Err(e.err(a, "sinew's models have no activations or mocap bodies"));
+                }
+            }
+            self.spec.keys.push(KeySpec {
+                name: e.str("name").to_string(),
+                time: e.f64("time", 0.0)?,
+                qpos: e.nums("qpos")?,
+                qvel: e.nums("qvel")?,
+                ctrl: e.nums("ctrl")?,
                 line: e.line,
             });
         }
