@@ -433,7 +433,7 @@ class SinewVectorEnv(VectorEnv):
                                                         blank=done_before if resetting else None)
         self._steps += 1
         if not resetting:
-            truncated = (self._steps >= self.max_episode_steps) & ~terminated
+            truncated = self._steps >= self.max_episode_steps
             self._autoreset = terminated | truncated
             return obs, reward, terminated, truncated, self._info(info, self._all)
         # next-step autoreset: worlds that ended on the previous call start over now
@@ -442,7 +442,7 @@ class SinewVectorEnv(VectorEnv):
         reward[done_before] = 0.0
         terminated[done_before] = False
         self._steps[done_before] = 0
-        truncated = (self._steps >= self.max_episode_steps) & ~terminated
+        truncated = self._steps >= self.max_episode_steps
         # those worlds report their reset info, as SyncVectorEnv does, and no step entries
         stepped = np.ones(self.num_envs, dtype=bool)
         stepped[done_before] = False
@@ -474,7 +474,7 @@ class SinewVectorEnv(VectorEnv):
         and step info are in ``info["final_obs"]`` and ``info["final_info"]``."""
         obs, reward, terminated, info = self._core.step(self._core.check_actions(actions))
         self._steps += 1
-        truncated = (self._steps >= self.max_episode_steps) & ~terminated
+        truncated = self._steps >= self.max_episode_steps
         infos = self._info(info, self._all)
         ended = np.flatnonzero(terminated | truncated)
         if len(ended):

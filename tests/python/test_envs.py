@@ -532,3 +532,24 @@ def test_mujoco_env_parity_attributes_and_keywords():
         gym.make("sinew/Hopper-v0", frameskip=1)
     with pytest.raises(ValueError, match="frame_skip"):
         gym.make("sinew/Hopper-v0", frame_skip=0)
+
+
+@pytest.mark.parametrize("mode", ["NextStep", "SameStep"])
+def test_termination_on_the_time_limits_step_reports_both_as_time_limit_does(mode):
+    from gymnasium.vector import AutoresetMode, SyncVectorEnv
+
+    # the step at which seed 5's pendulum falls with a steady push
+    env = gym.make("sinew/InvertedPendulum-v0")
+    env.reset(seed=5)
+    fall = next(t for t in range(1, 1000) if env.step(np.array([0.5]))[2])
+    ours = gym.make_vec("sinew/InvertedPendulum-v0", num_envs=2, vectorization_mode="vector_entry_point",
+                        autoreset_mode=mode, max_episode_steps=fall)
+    theirs = SyncVectorEnv([lambda: gym.make("sinew/InvertedPendulum-v0", max_episode_steps=fall) for _ in range(2)],
+                           autoreset_mode=AutoresetMode(mode))
+    ours.reset(seed=5)
+    theirs.reset(seed=5)
+    for _ in range(fall):
+        r1, r2 = ours.step(np.full((2, 1), 0.5)), theirs.step(np.full((2, 1), 0.5))
+        for x, y in zip(r1[:4], r2[:4]):
+            assert np.array_equal(x, y)
+    assert r1[2][0] and r1[3][0], "terminated and truncated together, as gymnasium's TimeLimit reports them"
