@@ -6,6 +6,7 @@
 use glam::DVec3;
 
 use crate::collision::Contact;
+use crate::constraint::RowKind;
 use crate::constraint::Constraints;
 use crate::step::data::{Data, SensorScratch};
 use crate::dynamics::kinematics::KinData;
@@ -215,6 +216,17 @@ fn constraint_forces(f: &Frame<'_>, c: &Constraints, contacts: &[Contact], node_
             }
         }
     }
+    // connects pull their two points together
+    for j in (0..con.len()).filter(|&j| con.kind[j] == RowKind::Connect) {
+        let fs = con.dir[j] * (force[j] * per_force);
+        let [n0, n1] = con.node[j];
+        if n0 != WORLD {
+            node_f[n0] += Force::at_point(con.arm[j], fs);
+        }
+        if n1 != WORLD {
+            node_f[n1] -= Force::at_point(con.arm2[j], fs);
+        }
+    }
     // τ = Jᵀ f: leaves to root, as RNEA's second pass (Featherstone 2008, Table 5.1)
     for i in (0..m.nnode).rev() {
         for r in 0..m.node_nv[i] {
@@ -227,7 +239,7 @@ fn constraint_forces(f: &Frame<'_>, c: &Constraints, contacts: &[Contact], node_
         }
     }
     for j in 0..con.len() {
-        if !con.kind[j].is_contact() {
+        if !con.kind[j].is_point() {
             for &(dof, c) in con.joint_terms(j) {
                 out.qfrc_constraint[dof] += c * force[j] * per_force;
             }

@@ -8,7 +8,7 @@ mod pairs;
 mod visual;
 
 use inertia::geom_inertia;
-use crate::model::{GapPair, GeomType, Keyframe, Model, Options, PairTest, PlaneGroup, Transmission, Wrap, WORLD};
+use crate::model::{Connect, GapPair, GeomType, Keyframe, Model, Options, PairTest, PlaneGroup, Transmission, Wrap, WORLD};
 use crate::error::{Error, Result};
 use crate::math::{SpatialInertia, Xform};
 use crate::mjcf::{include, BodySpec, InertiaFromGeom, JointSpec, JointType, ModelSpec, TransmissionSpec};
@@ -97,6 +97,7 @@ fn compile(spec: ModelSpec) -> Result<Model> {
     let mut dy = DynamicsData::new(&m);
     crate::dynamics::forward(&m, &mut dy, &m.qpos0, &vec![0.0; m.nv], &vec![0.0; m.nu]);
     check_solvable(&m, &dy)?;
+    m.connects = connects(&m, &spec, &dy.kin)?;
     m.motion_plane = motion_plane(&m, &dy.kin);
     m.vis = visual::compile(&spec, |n| m.body_id(n))?;
     Ok(m)
@@ -264,6 +265,24 @@ fn geoms_and_sites(m: &mut Model, spec: &ModelSpec) {
         }
     }
     m.ngeom = m.geom_type.len();
+}
+
+/// The connect equalities, body2's point where body1's anchor is at qpos0 (`kin`: there).
+fn connects(m: &Model, spec: &ModelSpec, kin: &crate::dynamics::kinematics::KinData) -> Result<Vec<Connect>> {
+    spec.connects
+        .iter()
+        .map(|c| {
+            let find = |name: &str, attr: &str| m.body_id(name).ok_or_else(|| Error::model("connect", Some(attr), c.line, format!("unknown body '{name}'")));
+            let b1 = find(&c.body1, "body1")?;
+            let b2 = c.body2.as_deref().map_or(Ok(0), |n| find(n, "body2"))?;
+            if b1 == b2 {
+                return Err(Error::model("connect", Some("body2"), c.line, "a connect joins two different bodies"));
+            }
+            let world = kin.xpos[b1] + kin.xmat[b1] * c.anchor;
+            let anchor2 = kin.xmat[b2].transpose() * (world - kin.xpos[b2]);
+            Ok(Connect { name: c.name.clone(), body: [b1, b2], anchor: [c.anchor, anchor2], active: c.active })
+        })
+        .collect()
 }
 
 /// The keyframes, each array checked against the model's sizes and the state's bounds.

@@ -72,6 +72,13 @@ pub enum RowKey {
         /// Positive row.
         positive: bool,
     },
+    /// A connect row: 3 × the connect + the axis, and whether it is the pair's positive row.
+    Connect {
+        /// 3 × connect + axis.
+        axis: usize,
+        /// Positive row.
+        positive: bool,
+    },
     /// A dry-friction row: the dof, and whether it pushes the dof forward.
     DryFriction {
         /// Dof.
@@ -82,7 +89,7 @@ pub enum RowKey {
 }
 
 impl RowKey {
-    /// Five integers (kind 0 limit, 1 contact, 2 motion, 3 dry friction, 4 equality; then the kind's fields, zeros filling),
+    /// Five integers (kind 0 limit, 1 contact, 2 motion, 3 dry friction, 4 equality, 5 connect; then the kind's fields, zeros filling),
     /// as [`History::to_flat`] writes them.
     fn to_flat(self) -> [u64; 5] {
         match self {
@@ -91,6 +98,7 @@ impl RowKey {
             RowKey::Motion { actuator, bounded, positive } => [2, actuator as u64, 0, bounded as u64, positive as u64],
             RowKey::DryFriction { dof, positive } => [3, dof as u64, 0, 0, positive as u64],
             RowKey::Equality { equality, positive } => [4, equality as u64, 0, 0, positive as u64],
+            RowKey::Connect { axis, positive } => [5, axis as u64, 0, 0, positive as u64],
         }
     }
 
@@ -103,6 +111,7 @@ impl RowKey {
             2 if b == 0 => Some(RowKey::Motion { actuator: a as usize, bounded: flag(c)?, positive: flag(d)? }),
             3 if b == 0 && c == 0 => Some(RowKey::DryFriction { dof: a as usize, positive: flag(d)? }),
             4 if b == 0 && c == 0 => Some(RowKey::Equality { equality: a as usize, positive: flag(d)? }),
+            5 if b == 0 && c == 0 => Some(RowKey::Connect { axis: a as usize, positive: flag(d)? }),
             _ => None,
         }
     }

@@ -120,6 +120,7 @@ pub fn build_rows(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) {
     );
     push_limit_rows(m, qpos, qvel, qacc, limit_forced, con);
     push_equality_rows(m, qpos, qvel, con);
+    push_connect_rows(m, kin, con);
     push_friction_rows(m, qvel, con);
     push_motion_rows(m, qpos, qvel, ctrl, feedforward, con);
     std::mem::swap(tangents, tangents_next);
@@ -275,6 +276,37 @@ pub fn push_equality_rows(m: &Model, qpos: &[f64], qvel: &[f64], out: &mut Const
     }
 }
 
+/// The active connects' rows: a ± pair along each world axis d, J q̇ = d · (v₁(p₁) − v₂(p₂)),
+/// `dist` the error d · (p₁ − p₂) (negated on the − row), at the points' positions now.
+pub fn push_connect_rows(m: &Model, kin: &KinData, out: &mut ConstraintData) {
+    for (c, con) in m.connects.iter().enumerate().filter(|(_, c)| c.active) {
+        let nodes = con.body.map(|b| m.body_node[b]);
+        // each side's point in its node's frame (the world's: world coordinates)
+        let pts = [0, 1].map(|s| {
+            let (rot, pos) = m.body_offset[con.body[s]].pose();
+            rot * con.anchor[s] + pos
+        });
+        let (r1, r2) = (kin.rel(nodes[0], pts[0]), kin.rel(nodes[1], pts[1]));
+        let gap = r1 - r2;
+        let vrel = point_vel(kin, nodes[0], r1) - point_vel(kin, nodes[1], r2);
+        for (axis, d) in [DVec3::X, DVec3::Y, DVec3::Z].into_iter().enumerate() {
+            for sign in [1.0, -1.0] {
+                let (r, dir) = (out.len(), d * sign);
+                out.push(m, NewRow::contact(RowKind::Connect, nodes, pts, dir, 0.0, 3 * c + axis));
+                out.jac[r] = jacobian(nodes, [r1, r2], [dir; 2]);
+                out.arm[r] = r1;
+                out.arm2[r] = r2;
+                out.vel[r] = dir.dot(vrel);
+                out.dist[r] = dir.dot(gap);
+                out.dist_start[r] = out.dist[r];
+                if sign < 0.0 {
+                    out.mirror[r] = r - 1;
+                }
+            }
+        }
+    }
+}
+
 /// Dry friction's rows: a ± pair on each dof with friction loss, each force at most that loss.
 pub fn push_friction_rows(m: &Model, qvel: &[f64], out: &mut ConstraintData) {
     for (dof, &loss) in m.dof_frictionloss.iter().enumerate().filter(|(_, loss)| **loss > 0.0) {
@@ -321,7 +353,7 @@ pub fn dense_jacobian(m: &Model, kin: &KinData, out: &ConstraintData) -> Vec<f64
     let mut jm = vec![0.0; out.len() * nv];
     for j in 0..out.len() {
         let row = &mut jm[j * nv..(j + 1) * nv];
-        if !out.kind[j].is_contact() {
+        if !out.kind[j].is_point() {
             for &(dof, c) in out.joint_terms(j) {
                 row[dof] += c;
             }
@@ -351,7 +383,7 @@ fn motion_target(m: &Model, a: usize, (kp, kd): (f64, f64), qpos: &[f64], qvel: 
 /// Row j's velocity J_j q̇, from the nodes' spatial velocities `v` of that `qvel`.
 pub fn row_velocity(out: &ConstraintData, j: usize, v: &[Motion], qvel: &[f64]) -> f64 {
     match out.kind[j] {
-        RowKind::Normal | RowKind::Tangent { .. } => {
+        RowKind::Normal | RowKind::Tangent { .. } | RowKind::Connect => {
             let side = |s: usize| if out.node[j][s] == WORLD { 0.0 } else { v[out.node[j][s]].dot(&out.jac[j][s]) };
             side(0) + side(1)
         }

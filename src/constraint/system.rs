@@ -35,12 +35,22 @@ pub enum RowKind {
     /// A joint or tendon equality: one of a ± pair of rows on its dofs (the row's `terms`) that
     /// together hold x₁ − x₁⁰ − poly(x₂ − x₂⁰) at zero, the force free in sign.
     Equality,
+    /// A connect equality along one world axis: one of a ± pair of rows that together hold the
+    /// two bodies' points together along it, the force free in sign; a point row like a
+    /// contact's, its sides' points `arm` and `arm2`.
+    Connect,
 }
 
 impl RowKind {
     /// Contact rows (normal and friction), as opposed to joint rows (limits, motion control).
     pub fn is_contact(self) -> bool {
         matches!(self, RowKind::Normal | RowKind::Tangent { .. })
+    }
+
+    /// Rows whose Jacobian is a spatial force at each side's node (contacts and connects), as
+    /// opposed to torques on dofs.
+    pub fn is_point(self) -> bool {
+        matches!(self, RowKind::Normal | RowKind::Tangent { .. } | RowKind::Connect)
     }
 }
 
@@ -103,6 +113,8 @@ pub struct ConstraintData {
     /// Contact point relative to `KinData::origin`, world coordinates (contacts): where `jac`
     /// applies `dir` on both sides.
     pub arm: Vec<DVec3>,
+    /// Side 2's point relative to `KinData::origin` where it differs from `arm` (connects).
+    pub arm2: Vec<DVec3>,
     /// Dof and sign (limits).
     pub dof: Vec<(usize, f64)>,
     /// An equality row's Jacobian as (dof, coefficient) terms: `terms[start..start + len]` with
@@ -225,6 +237,7 @@ impl ConstraintData {
         self.jac.clear();
         self.dir.clear();
         self.arm.clear();
+        self.arm2.clear();
         self.dof.clear();
         self.terms.clear();
         self.term_span.clear();
@@ -247,7 +260,7 @@ impl ConstraintData {
         self.kind.push(kind);
         self.node.push(node);
         self.tree.push(match kind {
-            RowKind::Normal | RowKind::Tangent { .. } => node.map(tree_of),
+            RowKind::Normal | RowKind::Tangent { .. } | RowKind::Connect => node.map(tree_of),
             RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction | RowKind::Equality => [tree_of(m.jnt_node[m.dof_jnt[dof.0]]), WORLD],
         });
         self.term_span.push((self.terms.len(), 0));
@@ -255,6 +268,7 @@ impl ConstraintData {
         self.jac.push([Force::ZERO; 2]);
         self.dir.push(dir);
         self.arm.push(DVec3::ZERO);
+        self.arm2.push(DVec3::ZERO);
         self.dof.push(dof);
         self.mu.push(mu);
         self.vel.push(0.0);

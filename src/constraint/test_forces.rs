@@ -58,7 +58,7 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     for range in tree_ranges(m, trees) {
         out.delta.pa[range].fill(Force::ZERO);
     }
-    if out.kind[k].is_contact() {
+    if out.kind[k].is_point() {
         for side in 0..2 {
             let n = out.node[k][side];
             if n != WORLD {
@@ -68,7 +68,7 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     }
     // a joint row's test torque: a unit torque on its dof, or an equality's on its terms
     let dtau: &[(usize, f64)] = match out.kind[k] {
-        RowKind::Normal | RowKind::Tangent { .. } => &[],
+        RowKind::Normal | RowKind::Tangent { .. } | RowKind::Connect => &[],
         RowKind::Equality => {
             let (start, len) = out.term_span[k];
             &out.terms[start..start + len]
@@ -218,6 +218,7 @@ impl PointAccel {
             RowKind::Normal => j,
             RowKind::Tangent { normal } => normal,
             RowKind::Equality => return cd.joint_terms(j).iter().map(|&(dof, c)| c * qacc[dof]).sum(),
+            RowKind::Connect => return cd.dir[j].dot(accel()),
             RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction => {
                 let (dof, sign) = cd.dof[j];
                 return sign * qacc[dof];
@@ -244,12 +245,13 @@ fn moves(trees: [usize; 2], t: usize) -> bool {
 fn delta_accel(cd: &ConstraintData, trees: [usize; 2], dqdd: &[f64], j: usize, point: &mut PointAccel) -> f64 {
     point.row(cd, j, dqdd, || {
         let ([n0, n1], [t0, t1], r) = (cd.node[j], cd.tree[j], cd.arm[j]);
+        let r1 = if cd.kind[j] == RowKind::Connect { cd.arm2[j] } else { r };
         let mut accel = DVec3::ZERO;
         if moves(trees, t0) {
             accel += cd.delta.a[n0].point_velocity(r);
         }
         if moves(trees, t1) {
-            accel -= cd.delta.a[n1].point_velocity(r);
+            accel -= cd.delta.a[n1].point_velocity(r1);
         }
         accel
     })

@@ -277,6 +277,24 @@ pub struct EqualitySpec {
     pub line: u32,
 }
 
+/// A `<connect>` equality: the point `anchor` of body1 (its frame) held at the point of body2
+/// (the world when absent) it coincides with at qpos0.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConnectSpec {
+    /// Name (may be empty).
+    pub name: String,
+    /// The first body.
+    pub body1: String,
+    /// The second body, or the world.
+    pub body2: Option<String>,
+    /// The point in body1's frame.
+    pub anchor: DVec3,
+    /// Whether the constraint starts active.
+    pub active: bool,
+    /// Source line.
+    pub line: u32,
+}
+
 /// A `<key>` of `<keyframe>`: a named state (absent arrays are qpos0 and zeros).
 #[derive(Clone, Debug, PartialEq)]
 pub struct KeySpec {
@@ -339,6 +357,8 @@ pub struct ModelSpec {
     pub equalities: Vec<EqualitySpec>,
     /// Keyframes.
     pub keys: Vec<KeySpec>,
+    /// Connect equalities.
+    pub connects: Vec<ConnectSpec>,
     /// `<compiler inertiafromgeom>`.
     pub inertiafromgeom: InertiaFromGeom,
     /// `<compiler settotalmass>`, when positive.

@@ -87,6 +87,7 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
             tendons: vec![],
             equalities: vec![],
             keys: vec![],
+            connects: vec![],
             inertiafromgeom: InertiaFromGeom::Auto,
             settotalmass: None,
             contact_excludes: vec![],

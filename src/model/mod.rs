@@ -76,6 +76,19 @@ pub enum Transmission {
     Tendon(usize),
 }
 
+/// A `<connect>` equality: a point of body1 held at a point of body2.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Connect {
+    /// Name (may be empty).
+    pub name: String,
+    /// The bodies (body2 may be the world, 0).
+    pub body: [usize; 2],
+    /// Each side's point in its body's frame (body2's: where body1's anchor is at qpos0).
+    pub anchor: [DVec3; 2],
+    /// Whether it is active.
+    pub active: bool,
+}
+
 /// A named state of the model (MuJoCo's `<key>`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Keyframe {
@@ -430,6 +443,8 @@ pub struct Model {
     pub eq_polycoef: Vec<[f64; 5]>,
     /// Whether each equality is active (neq).
     pub eq_active: Vec<bool>,
+    /// Connect equalities.
+    pub connects: Vec<Connect>,
     /// Keyframes: named states (time, qpos, qvel, ctrl), absent arrays filled with qpos0 and zeros.
     pub keys: Vec<Keyframe>,
     /// Actuator names (nu).

@@ -6,7 +6,9 @@ use roxmltree::Node;
 use super::element::{line, El};
 use super::Parser;
 use crate::error::Result;
-use crate::mjcf::{ActuatorSpec, EqualitySpec, KeySpec, TendonSpec, TransmissionSpec};
+use glam::DVec3;
+
+use crate::mjcf::{ActuatorSpec, ConnectSpec, EqualitySpec, KeySpec, TendonSpec, TransmissionSpec};
 
 /// Attributes every actuator takes.
 const ACTUATOR_ATTRS: &[&str] =
@@ -185,7 +187,11 @@ impl Parser<'_> {
             let tendon = match kind {
                 "joint" => false,
                 "tendon" => true,
-                _ => return Err(self.err(c, None, format!("<{kind}> equality constraints are not supported (joint and tendon are)"))),
+                "connect" => {
+                    self.connect(c)?;
+                    continue;
+                }
+                _ => return Err(self.err(c, None, format!("<{kind}> equality constraints are not supported (connect, joint and tendon are)"))),
             };
             let e = self.el_as(c, None, "equality")?;
             let (a1, a2) = if tendon { ("tendon1", "tendon2") } else { ("joint1", "joint2") };
@@ -207,6 +213,21 @@ impl Parser<'_> {
                 line: e.line,
             });
         }
+        Ok(())
+    }
+
+    /// A `<connect>` between bodies (`site1`/`site2` connects are refused).
+    fn connect(&mut self, c: Node) -> Result<()> {
+        let e = self.el_as(c, None, "equality")?;
+        e.check(&["name", "class", "body1", "body2", "anchor", "active"], &self.warnings)?;
+        self.spec.connects.push(ConnectSpec {
+            name: e.str("name").to_string(),
+            body1: e.get("body1").ok_or_else(|| e.err("body1", "required (site connects are not supported)"))?.to_string(),
+            body2: e.get("body2").map(str::to_string),
+            anchor: e.arr::<3>("anchor")?.map(DVec3::from_array).ok_or_else(|| e.err("anchor", "required"))?,
+            active: e.tristate("active")?.unwrap_or(true),
+            line: e.line,
+        });
         Ok(())
     }
 

@@ -1,0 +1,105 @@
+//! `<connect>` equalities as exact bilateral point rows: a parallelogram four-bar linkage (a
+//! closed loop) keeps its cranks parallel and its coupler level as the analytic answer has it,
+//! with the loop closed after every step; a free body connected to the world at a point swings
+//! as the same body on a ball joint; K of the rows by test forces equals J M⁻¹ Jᵀ.
+
+use sinew::{Model, State};
+
+/// Two 0.5 m cranks hinged about y at x = 0 and x = 1, the coupler (1 m) hinged to the first
+/// crank's tip and connected to the second's (whose geoms it overlaps there: excluded, as a
+/// MuJoCo model of it would); both cranks start at `angle`.
+fn four_bar(angle: f64) -> Model {
+    let xml = format!(
+        "<mujoco><worldbody>\
+           <body name='crank1'><joint name='a' axis='0 1 0' ref='0'/><geom type='capsule' size='0.02' fromto='0 0 0 0 0 -0.5' mass='1'/>\
+             <body name='coupler' pos='0 0 -0.5'><joint name='c' axis='0 1 0'/><geom type='capsule' size='0.02' fromto='0 0 0 1 0 0' mass='2'/></body></body>\
+           <body name='crank2' pos='1 0 0'><joint name='b' axis='0 1 0'/><geom type='capsule' size='0.02' fromto='0 0 0 0 0 -0.5' mass='1'/></body>\
+         </worldbody>\
+         <contact><exclude body1='coupler' body2='crank2'/></contact>\
+         <equality><connect body1='coupler' body2='crank2' anchor='1 0 0'/></equality>\
+         <keyframe><key name='start' qpos='{angle} {n} {angle}'/></keyframe></mujoco>",
+        n = -angle
+    );
+    Model::from_mjcf(&xml).unwrap()
+}
+
+#[test]
+fn a_parallelogram_four_bar_keeps_its_cranks_parallel_and_its_coupler_level() {
+    for mode in [sinew::model::ConstraintMode::Acceleration, sinew::model::ConstraintMode::Velocity] {
+        let mut m = four_bar(0.6);
+        m.opt.constraint_mode = mode;
+        let mut s = State::new(&m);
+        s.qpos.copy_from_slice(&m.keys[0].qpos);
+        let (mut worst_gap, mut least, mut most) = (0.0f64, f64::INFINITY, f64::NEG_INFINITY);
+        for _ in 0..2000 {
+            s.step(&m);
+            let (a, c, b) = (s.qpos[0], s.qpos[1], s.qpos[2]);
+            // the coupler's far end (crank1 tip + coupler) against crank2's tip
+            let tip1 = [-0.5 * a.sin(), -0.5 * a.cos()];
+            let end = [tip1[0] + (a + c).cos(), tip1[1] - (a + c).sin()];
+            let tip2 = [1.0 - 0.5 * b.sin(), -0.5 * b.cos()];
+            worst_gap = worst_gap.max((end[0] - tip2[0]).hypot(end[1] - tip2[1]));
+            // a parallelogram: the cranks stay parallel, the coupler level (a + c = 0)
+            assert!((a - b).abs() < 1e-6 && (a + c).abs() < 1e-6, "{mode:?}: a {a} b {b} c {c}");
+            (least, most) = (least.min(a), most.max(a));
+        }
+        assert!(worst_gap < 1e-6, "{mode:?}: the loop opened by {worst_gap:e}");
+        // it swings (from 0.6 through the bottom to about −0.6), not stuck
+        assert!(least < -0.5 && most > 0.55, "{mode:?}: swung between {least} and {most}");
+    }
+}
+
+#[test]
+fn a_free_body_connected_to_the_world_swings_as_on_a_ball_joint() {
+    let body = "<geom type='box' size='0.05 0.1 0.3' pos='0 0 -0.3' mass='2'/>";
+    let ball = Model::from_mjcf(&format!("<mujoco><worldbody><body name='b' pos='0 0 1' euler='0.4 0.3 0'><joint type='ball'/>{body}</body></worldbody></mujoco>")).unwrap();
+    let free = Model::from_mjcf(&format!(
+        "<mujoco><worldbody><body name='b' pos='0 0 1' euler='0.4 0.3 0'><freejoint/>{body}</body></worldbody>\
+         <equality><connect body1='b' anchor='0 0 0'/></equality></mujoco>"
+    ))
+    .unwrap();
+    let (mut sb, mut sf) = (State::new(&ball), State::new(&free));
+    for _ in 0..500 {
+        sb.step(&ball);
+        sf.step(&free);
+    }
+    // the pivot stays put, and the orientation follows the ball joint's
+    let pivot = (sf.qpos[0].powi(2) + sf.qpos[1].powi(2) + (sf.qpos[2] - 1.0).powi(2)).sqrt();
+    assert!(pivot < 1e-6, "the pivot moved {pivot:e}");
+    let dot: f64 = (0..4).map(|k| sb.qpos[k] * sf.qpos[3 + k]).sum();
+    assert!(1.0 - dot.abs() < 1e-4, "orientations differ: {:?} vs {:?}", &sb.qpos[..4], &sf.qpos[3..]);
+}
+
+#[test]
+fn connect_rows_k_equals_j_minv_jt() {
+    let m = four_bar(0.3);
+    let mut s = State::new(&m);
+    s.qpos.copy_from_slice(&m.keys[0].qpos);
+    s.qvel.copy_from_slice(&[0.4, -0.2, 0.1]);
+    let (st, data) = s.split();
+    let sys = sinew::step::constraint_system(&m, data, &st);
+    let (n, nv) = (sys.kind.len(), m.nv);
+    assert_eq!(n, 6, "a ± pair per axis");
+    for j in 0..n {
+        let mut x: Vec<f64> = (0..nv).map(|k| sys.jac[j * nv + k]).collect();
+        let mut a = sys.inertia.clone();
+        for c in 0..nv {
+            for i in c + 1..nv {
+                let f = a[i * nv + c] / a[c * nv + c];
+                for k in c..nv {
+                    a[i * nv + k] -= f * a[c * nv + k];
+                }
+                x[i] -= f * x[c];
+            }
+        }
+        for c in (0..nv).rev() {
+            let t: f64 = (c + 1..nv).map(|k| a[c * nv + k] * x[k]).sum();
+            x[c] = (x[c] - t) / a[c * nv + c];
+        }
+        for i in 0..n {
+            let jmj: f64 = (0..nv).map(|k| sys.jac[i * nv + k] * x[k]).sum();
+            assert!((sys.k[i * n + j] - jmj).abs() < 1e-10 * (1.0 + jmj.abs()), "K[{i}][{j}] {} vs {jmj}", sys.k[i * n + j]);
+        }
+    }
+}
+
