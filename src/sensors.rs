@@ -217,14 +217,16 @@ fn constraint_forces(f: &Frame<'_>, c: &Constraints, contacts: &[Contact], node_
         }
     }
     // connects pull their two points together
-    for j in (0..con.len()).filter(|&j| con.kind[j] == RowKind::Connect) {
+    for j in 0..con.len() {
+        let RowKind::Connect { angular } = con.kind[j] else { continue };
         let fs = con.dir[j] * (force[j] * per_force);
         let [n0, n1] = con.node[j];
+        let at = |r: DVec3| if angular { Force { ang: fs, lin: DVec3::ZERO } } else { Force::at_point(r, fs) };
         if n0 != WORLD {
-            node_f[n0] += Force::at_point(con.arm[j], fs);
+            node_f[n0] += at(con.arm[j]);
         }
         if n1 != WORLD {
-            node_f[n1] -= Force::at_point(con.arm2[j], fs);
+            node_f[n1] -= at(con.arm2[j]);
         }
     }
     // τ = Jᵀ f: leaves to root, as RNEA's second pass (Featherstone 2008, Table 5.1)

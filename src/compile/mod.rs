@@ -272,15 +272,17 @@ fn connects(m: &Model, spec: &ModelSpec, kin: &crate::dynamics::kinematics::KinD
     spec.connects
         .iter()
         .map(|c| {
-            let find = |name: &str, attr: &str| m.body_id(name).ok_or_else(|| Error::model("connect", Some(attr), c.line, format!("unknown body '{name}'")));
+            let element = if c.weld { "weld" } else { "connect" };
+            let find = |name: &str, attr: &str| m.body_id(name).ok_or_else(|| Error::model(element, Some(attr), c.line, format!("unknown body '{name}'")));
             let b1 = find(&c.body1, "body1")?;
             let b2 = c.body2.as_deref().map_or(Ok(0), |n| find(n, "body2"))?;
             if b1 == b2 {
-                return Err(Error::model("connect", Some("body2"), c.line, "a connect joins two different bodies"));
+                return Err(Error::model(element, Some("body2"), c.line, "an equality joins two different bodies"));
             }
             let world = kin.xpos[b1] + kin.xmat[b1] * c.anchor;
             let anchor2 = kin.xmat[b2].transpose() * (world - kin.xpos[b2]);
-            Ok(Connect { name: c.name.clone(), body: [b1, b2], anchor: [c.anchor, anchor2], active: c.active })
+            let rel = c.weld.then(|| glam::DQuat::from_mat3(&(kin.xmat[b2].transpose() * kin.xmat[b1])).normalize());
+            Ok(Connect { name: c.name.clone(), body: [b1, b2], anchor: [c.anchor, anchor2], rel, active: c.active })
         })
         .collect()
 }

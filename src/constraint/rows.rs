@@ -3,7 +3,7 @@
 //! limits and motion control; and the limits and contacts a constrained motion reaches without a
 //! row, added for a second solve.
 
-use glam::DVec3;
+use glam::{DQuat, DVec3};
 
 use super::system::{arc_lift, point_accel, jacobian, node_of_geom, point_vel, velocity_products, ConstraintData, NewRow, RowKind, SLIDING_SPEED};
 use super::test_forces::{measure, PointAccel};
@@ -12,7 +12,7 @@ use crate::collision::{self, Contact};
 use crate::dynamics::aba::AbaData;
 use crate::dynamics::DynamicsData;
 use crate::dynamics::kinematics::{self, KinData};
-use crate::math::Motion;
+use crate::math::{Force, Motion};
 use crate::state::WorldState;
 use crate::model::{Actuation, FrictionModel, GeomType, Model, WORLD};
 
@@ -276,8 +276,10 @@ pub fn push_equality_rows(m: &Model, qpos: &[f64], qvel: &[f64], out: &mut Const
     }
 }
 
-/// The active connects' rows: a ± pair along each world axis d, J q̇ = d · (v₁(p₁) − v₂(p₂)),
-/// `dist` the error d · (p₁ − p₂) (negated on the − row), at the points' positions now.
+/// The active connects' and welds' rows: a ± pair along each world axis d, J q̇ = d · (v₁(p₁) −
+/// v₂(p₂)) with `dist` the error d · (p₁ − p₂); and for a weld three more pairs, J q̇ = d · (ω₁ − ω₂)
+/// with `dist` d · θ, θ the world rotation vector taking R₂ R₂ᵀR₁(qpos0) to R₁ (negated on the −
+/// rows).
 pub fn push_connect_rows(m: &Model, kin: &KinData, out: &mut ConstraintData) {
     for (c, con) in m.connects.iter().enumerate().filter(|(_, c)| c.active) {
         let nodes = con.body.map(|b| m.body_node[b]);
@@ -289,15 +291,29 @@ pub fn push_connect_rows(m: &Model, kin: &KinData, out: &mut ConstraintData) {
         let (r1, r2) = (kin.rel(nodes[0], pts[0]), kin.rel(nodes[1], pts[1]));
         let gap = r1 - r2;
         let vrel = point_vel(kin, nodes[0], r1) - point_vel(kin, nodes[1], r2);
-        for (axis, d) in [DVec3::X, DVec3::Y, DVec3::Z].into_iter().enumerate() {
+        let omega = |n: usize| if n == WORLD { DVec3::ZERO } else { kin.v[n].ang };
+        let turn = con.rel.map(|rel| {
+            let [q1, q2] = con.body.map(|b| DQuat::from_mat3(&kin.xmat[b]).normalize());
+            kin.xmat[con.body[0]] * crate::math::quat_sub(q1, (q2 * rel).normalize())
+        });
+        let axes = [DVec3::X, DVec3::Y, DVec3::Z];
+        let rows = axes.iter().map(|&d| (false, d)).chain(turn.iter().flat_map(|_| axes.iter().map(|&d| (true, d))));
+        for (k, (angular, d)) in rows.enumerate() {
             for sign in [1.0, -1.0] {
                 let (r, dir) = (out.len(), d * sign);
-                out.push(m, NewRow::contact(RowKind::Connect, nodes, pts, dir, 0.0, 3 * c + axis));
-                out.jac[r] = jacobian(nodes, [r1, r2], [dir; 2]);
-                out.arm[r] = r1;
-                out.arm2[r] = r2;
-                out.vel[r] = dir.dot(vrel);
-                out.dist[r] = dir.dot(gap);
+                out.push(m, NewRow::contact(RowKind::Connect { angular }, nodes, pts, dir, 0.0, 6 * c + k));
+                if angular {
+                    let couple = |side: usize, s: f64| if nodes[side] == WORLD { Force::ZERO } else { Force { ang: dir * s, lin: DVec3::ZERO } };
+                    out.jac[r] = [couple(0, 1.0), couple(1, -1.0)];
+                    out.vel[r] = dir.dot(omega(nodes[0]) - omega(nodes[1]));
+                    out.dist[r] = dir.dot(turn.unwrap_or(DVec3::ZERO));
+                } else {
+                    out.jac[r] = jacobian(nodes, [r1, r2], [dir; 2]);
+                    out.arm[r] = r1;
+                    out.arm2[r] = r2;
+                    out.vel[r] = dir.dot(vrel);
+                    out.dist[r] = dir.dot(gap);
+                }
                 out.dist_start[r] = out.dist[r];
                 if sign < 0.0 {
                     out.mirror[r] = r - 1;
@@ -383,7 +399,7 @@ fn motion_target(m: &Model, a: usize, (kp, kd): (f64, f64), qpos: &[f64], qvel: 
 /// Row j's velocity J_j q̇, from the nodes' spatial velocities `v` of that `qvel`.
 pub fn row_velocity(out: &ConstraintData, j: usize, v: &[Motion], qvel: &[f64]) -> f64 {
     match out.kind[j] {
-        RowKind::Normal | RowKind::Tangent { .. } | RowKind::Connect => {
+        RowKind::Normal | RowKind::Tangent { .. } | RowKind::Connect { .. } => {
             let side = |s: usize| if out.node[j][s] == WORLD { 0.0 } else { v[out.node[j][s]].dot(&out.jac[j][s]) };
             side(0) + side(1)
         }

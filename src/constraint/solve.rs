@@ -270,8 +270,8 @@ pub fn lcp_vector(m: &Model, data: &mut World<'_>, level: Level) -> Option<usize
             (RowKind::Motion { .. }, Level::TimeStep) => h * (con.desired[j] - con.b[j]),
             // an equality: its error x₁ − x₁⁰ − poly (in `dist`) gone at the step's end, which for
             // linear terms the step keeps exactly
-            (RowKind::Equality | RowKind::Connect, Level::Acceleration) => (-dist / lever - vel) / h,
-            (RowKind::Equality | RowKind::Connect, Level::Velocity | Level::TimeStep) => -dist / lever - (vel + h * con.b[j]),
+            (RowKind::Equality | RowKind::Connect { .. }, Level::Acceleration) => (-dist / lever - vel) / h,
+            (RowKind::Equality | RowKind::Connect { .. }, Level::Velocity | Level::TimeStep) => -dist / lever - (vel + h * con.b[j]),
             // dry friction: the dof at rest at the step's end (no force in an instant's impact)
             (RowKind::DryFriction, Level::Acceleration) => -vel / h,
             (RowKind::DryFriction, Level::Velocity) => 0.0,
@@ -327,7 +327,7 @@ fn apart(m: &Model, con: &ConstraintData, j: usize, impact: f64) -> bool {
     let r = match con.kind[j] {
         RowKind::Tangent { normal } => normal,
         RowKind::Normal | RowKind::Limit => j,
-        RowKind::Motion { .. } | RowKind::DryFriction | RowKind::Equality | RowKind::Connect => return false,
+        RowKind::Motion { .. } | RowKind::DryFriction | RowKind::Equality | RowKind::Connect { .. } => return false,
     };
     let h = m.opt.timestep;
     !approaching(con.vel[r], con.dist[r], con.vel[r] + h * con.b[r], m.opt.lever(), impact)
@@ -534,7 +534,7 @@ pub fn row_key(con: &ConstraintData, contacts: &[collision::Contact], j: usize) 
         RowKind::Motion { bounded } => RowKey::Motion { actuator: con.source[j], bounded, positive: con.dof[j].1 > 0.0 },
         RowKind::DryFriction => RowKey::DryFriction { dof: con.source[j], positive: con.dof[j].1 > 0.0 },
         RowKind::Equality => RowKey::Equality { equality: con.source[j], positive: con.dof[j].1 > 0.0 },
-        RowKind::Connect => RowKey::Connect { axis: con.source[j], positive: con.mirror[j] == usize::MAX },
+        RowKind::Connect { .. } => RowKey::Connect { axis: con.source[j], positive: con.mirror[j] == usize::MAX },
         kind => {
             let c = &contacts[con.source[j]];
             let within = match kind {

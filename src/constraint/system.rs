@@ -35,10 +35,14 @@ pub enum RowKind {
     /// A joint or tendon equality: one of a ± pair of rows on its dofs (the row's `terms`) that
     /// together hold x₁ − x₁⁰ − poly(x₂ − x₂⁰) at zero, the force free in sign.
     Equality,
-    /// A connect equality along one world axis: one of a ± pair of rows that together hold the
-    /// two bodies' points together along it, the force free in sign; a point row like a
-    /// contact's, its sides' points `arm` and `arm2`.
-    Connect,
+    /// A connect or weld equality along one world axis: one of a ± pair of rows that together
+    /// hold the two bodies' points together along it (a point row like a contact's, its sides'
+    /// points `arm` and `arm2`), or, `angular`, a weld's bodies' relative rotation about it at
+    /// zero (a pure couple); the force free in sign.
+    Connect {
+        /// A rotation row.
+        angular: bool,
+    },
 }
 
 impl RowKind {
@@ -50,7 +54,7 @@ impl RowKind {
     /// Rows whose Jacobian is a spatial force at each side's node (contacts and connects), as
     /// opposed to torques on dofs.
     pub fn is_point(self) -> bool {
-        matches!(self, RowKind::Normal | RowKind::Tangent { .. } | RowKind::Connect)
+        matches!(self, RowKind::Normal | RowKind::Tangent { .. } | RowKind::Connect { .. })
     }
 }
 
@@ -260,7 +264,7 @@ impl ConstraintData {
         self.kind.push(kind);
         self.node.push(node);
         self.tree.push(match kind {
-            RowKind::Normal | RowKind::Tangent { .. } | RowKind::Connect => node.map(tree_of),
+            RowKind::Normal | RowKind::Tangent { .. } | RowKind::Connect { .. } => node.map(tree_of),
             RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction | RowKind::Equality => [tree_of(m.jnt_node[m.dof_jnt[dof.0]]), WORLD],
         });
         self.term_span.push((self.terms.len(), 0));

@@ -68,7 +68,7 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     }
     // a joint row's test torque: a unit torque on its dof, or an equality's on its terms
     let dtau: &[(usize, f64)] = match out.kind[k] {
-        RowKind::Normal | RowKind::Tangent { .. } | RowKind::Connect => &[],
+        RowKind::Normal | RowKind::Tangent { .. } | RowKind::Connect { .. } => &[],
         RowKind::Equality => {
             let (start, len) = out.term_span[k];
             &out.terms[start..start + len]
@@ -218,7 +218,7 @@ impl PointAccel {
             RowKind::Normal => j,
             RowKind::Tangent { normal } => normal,
             RowKind::Equality => return cd.joint_terms(j).iter().map(|&(dof, c)| c * qacc[dof]).sum(),
-            RowKind::Connect => return cd.dir[j].dot(accel()),
+            RowKind::Connect { .. } => return cd.dir[j].dot(accel()),
             RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction => {
                 let (dof, sign) = cd.dof[j];
                 return sign * qacc[dof];
@@ -245,7 +245,11 @@ fn moves(trees: [usize; 2], t: usize) -> bool {
 fn delta_accel(cd: &ConstraintData, trees: [usize; 2], dqdd: &[f64], j: usize, point: &mut PointAccel) -> f64 {
     point.row(cd, j, dqdd, || {
         let ([n0, n1], [t0, t1], r) = (cd.node[j], cd.tree[j], cd.arm[j]);
-        let r1 = if cd.kind[j] == RowKind::Connect { cd.arm2[j] } else { r };
+        if cd.kind[j] == (RowKind::Connect { angular: true }) {
+            let side = |n: usize, t: usize| if moves(trees, t) { cd.delta.a[n].ang } else { DVec3::ZERO };
+            return side(n0, t0) - side(n1, t1);
+        }
+        let r1 = if cd.kind[j] == (RowKind::Connect { angular: false }) { cd.arm2[j] } else { r };
         let mut accel = DVec3::ZERO;
         if moves(trees, t0) {
             accel += cd.delta.a[n0].point_velocity(r);
@@ -263,6 +267,10 @@ fn delta_accel(cd: &ConstraintData, trees: [usize; 2], dqdd: &[f64], j: usize, p
 pub(super) fn measure(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], cd: &ConstraintData, j: usize, point: &mut PointAccel) -> f64 {
     point.row(cd, j, qacc0, || {
         let ([n0, n1], [p0, p1]) = (cd.node[j], cd.point[j]);
+        if cd.kind[j] == (RowKind::Connect { angular: true }) {
+            let alpha = |n: usize| if n == WORLD { DVec3::ZERO } else { aba.a[n].ang };
+            return alpha(n0) - alpha(n1);
+        }
         let g = m.opt.gravity;
         point_accel(kin, &aba.a, g, n0, kin.rel(n0, p0)) - point_accel(kin, &aba.a, g, n1, kin.rel(n1, p1))
     })

@@ -289,6 +289,8 @@ pub struct ConnectSpec {
     pub body2: Option<String>,
     /// The point in body1's frame.
     pub anchor: DVec3,
+    /// A weld: the bodies' relative rotation at qpos0 is held too.
+    pub weld: bool,
     /// Whether the constraint starts active.
     pub active: bool,
     /// Source line.

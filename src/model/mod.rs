@@ -85,6 +85,8 @@ pub struct Connect {
     pub body: [usize; 2],
     /// Each side's point in its body's frame (body2's: where body1's anchor is at qpos0).
     pub anchor: [DVec3; 2],
+    /// A weld's relative rotation R₂ᵀR₁ at qpos0, held too; None for a connect.
+    pub rel: Option<glam::DQuat>,
     /// Whether it is active.
     pub active: bool,
 }

@@ -330,7 +330,7 @@ impl PySim {
                 RowKind::Motion { .. } => "motion",
                 RowKind::DryFriction => "dry_friction",
                 RowKind::Equality => "equality",
-                RowKind::Connect => "connect",
+                RowKind::Connect { .. } => "connect",
             })
             .collect();
         d.set_item("kind", kinds)?;

@@ -187,7 +187,7 @@ impl Parser<'_> {
             let tendon = match kind {
                 "joint" => false,
                 "tendon" => true,
-                "connect" => {
+                "connect" | "weld" => {
                     self.connect(c)?;
                     continue;
                 }
@@ -216,15 +216,30 @@ impl Parser<'_> {
         Ok(())
     }
 
-    /// A `<connect>` between bodies (`site1`/`site2` connects are refused).
+    /// A `<connect>` or `<weld>` between bodies (site connects and welds, and a weld's own
+    /// `relpose`, are refused; `torquescale`, a soft-constraint setting, is ignored).
     fn connect(&mut self, c: Node) -> Result<()> {
         let e = self.el_as(c, None, "equality")?;
-        e.check(&["name", "class", "body1", "body2", "anchor", "active"], &self.warnings)?;
+        let weld = c.has_tag_name("weld");
+        let allowed: &[&str] = if weld {
+            &["name", "class", "body1", "body2", "anchor", "active", "relpose", "torquescale"]
+        } else {
+            &["name", "class", "body1", "body2", "anchor", "active"]
+        };
+        e.check(allowed, &self.warnings)?;
+        if weld && e.nums("relpose")?.is_some_and(|r| r != [0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]) {
+            return Err(e.err("relpose", "a weld holds the relative pose of qpos0; a given relpose is not supported"));
+        }
         self.spec.connects.push(ConnectSpec {
             name: e.str("name").to_string(),
             body1: e.get("body1").ok_or_else(|| e.err("body1", "required (site connects are not supported)"))?.to_string(),
             body2: e.get("body2").map(str::to_string),
-            anchor: e.arr::<3>("anchor")?.map(DVec3::from_array).ok_or_else(|| e.err("anchor", "required"))?,
+            anchor: match e.arr::<3>("anchor")? {
+                Some(a) => DVec3::from_array(a),
+                None if weld => DVec3::ZERO,
+                None => return Err(e.err("anchor", "required")),
+            },
+            weld,
             active: e.tristate("active")?.unwrap_or(true),
             line: e.line,
         });
