@@ -2,6 +2,9 @@
 //! at rest (to the LCP's regulariser); above it the joint accelerates with the torque less the friction; K of the
 //! rows by test forces equals J M⁻¹ Jᵀ.
 
+#![allow(clippy::needless_range_loop)] // index loops follow the math's notation (and common's)
+mod common;
+
 use sinew::{Model, State};
 
 /// A horizontal pendulum: a 1 kg point-like sphere 0.5 m out on a hinge about y, gravity −z, so
@@ -62,41 +65,7 @@ fn friction_rows_k_equals_j_minv_jt() {
     s.qvel.copy_from_slice(&[0.3, -0.2, 0.5, 1.0]);
     let (st, data) = s.split();
     let sys = sinew::step::constraint_system(&m, data, &st);
-    let n = sys.kind.len();
-    assert_eq!(n, 8, "a ± pair per dof");
+    assert_eq!(sys.kind.len(), 8, "a ± pair per dof");
     assert!(sys.kind.iter().all(|k| *k == sinew::constraint::RowKind::DryFriction));
-    let nv = m.nv;
-    // J M⁻¹ Jᵀ by solving M X = Jᵀ (Gaussian elimination on the small dense system)
-    let mut minv_jt = vec![0.0; nv * n];
-    for r in 0..n {
-        let mut a = sys.inertia.clone();
-        let mut b: Vec<f64> = (0..nv).map(|k| sys.jac[r * nv + k]).collect();
-        for c in 0..nv {
-            let p = (c..nv).max_by(|&x, &y| a[x * nv + c].abs().total_cmp(&a[y * nv + c].abs())).unwrap();
-            for k in 0..nv {
-                a.swap(c * nv + k, p * nv + k);
-            }
-            b.swap(c, p);
-            for i in c + 1..nv {
-                let f = a[i * nv + c] / a[c * nv + c];
-                for k in c..nv {
-                    a[i * nv + k] -= f * a[c * nv + k];
-                }
-                b[i] -= f * b[c];
-            }
-        }
-        for c in (0..nv).rev() {
-            let t: f64 = (c + 1..nv).map(|k| a[c * nv + k] * b[k]).sum();
-            b[c] = (b[c] - t) / a[c * nv + c];
-        }
-        for k in 0..nv {
-            minv_jt[k * n + r] = b[k];
-        }
-    }
-    for i in 0..n {
-        for j in 0..n {
-            let jmj: f64 = (0..nv).map(|k| sys.jac[i * nv + k] * minv_jt[k * n + j]).sum();
-            assert!((sys.k[i * n + j] - jmj).abs() < 1e-10 * (1.0 + jmj.abs()), "K[{i}][{j}] {} vs {jmj}", sys.k[i * n + j]);
-        }
-    }
+    common::assert_k_is_j_minv_jt(&sys, m.nv);
 }

@@ -2,6 +2,9 @@
 //! to the LCP's regulariser (1e-12 to 1e-9 of the motion), K of the rows by test forces equals J M⁻¹ Jᵀ, and a joint
 //! fixed by an equality holds a load without drift.
 
+#![allow(clippy::needless_range_loop)] // index loops follow the math's notation (and common's)
+mod common;
+
 use sinew::{Model, State};
 
 /// Two independent hinged arms (two trees) and a slider on the first; `extra` goes in the file.
@@ -95,33 +98,8 @@ fn equality_rows_k_equals_j_minv_jt() {
     s.qvel.copy_from_slice(&[0.5, -0.1, 0.2]);
     let (st, data) = s.split();
     let sys = sinew::step::constraint_system(&m, data, &st);
-    let (n, nv) = (sys.kind.len(), m.nv);
-    assert_eq!(n, 4);
-    // M is diagonal-free of the trees' coupling; solve M X = Jᵀ by Gaussian elimination
-    let solve = |b: &mut Vec<f64>| {
-        let mut a = sys.inertia.clone();
-        for c in 0..nv {
-            for i in c + 1..nv {
-                let f = a[i * nv + c] / a[c * nv + c];
-                for k in c..nv {
-                    a[i * nv + k] -= f * a[c * nv + k];
-                }
-                b[i] -= f * b[c];
-            }
-        }
-        for c in (0..nv).rev() {
-            let t: f64 = (c + 1..nv).map(|k| a[c * nv + k] * b[k]).sum();
-            b[c] = (b[c] - t) / a[c * nv + c];
-        }
-    };
-    for j in 0..n {
-        let mut x: Vec<f64> = (0..nv).map(|k| sys.jac[j * nv + k]).collect();
-        solve(&mut x);
-        for i in 0..n {
-            let jmj: f64 = (0..nv).map(|k| sys.jac[i * nv + k] * x[k]).sum();
-            assert!((sys.k[i * n + j] - jmj).abs() < 1e-10 * (1.0 + jmj.abs()), "K[{i}][{j}] {} vs {jmj}", sys.k[i * n + j]);
-        }
-    }
+    assert_eq!(sys.kind.len(), 4);
+    common::assert_k_is_j_minv_jt(&sys, m.nv);
 }
 
 #[test]

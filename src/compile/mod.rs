@@ -323,7 +323,7 @@ fn tendons(m: &mut Model, spec: &ModelSpec) -> Result<()> {
             m.tendon_wrap.push(Wrap { dof: m.jnt_dofadr[j], qpos: m.jnt_qposadr[j], coef: *coef });
         }
         m.tendon_adr.push(m.tendon_wrap.len());
-        let rest = m.tendon_wrap[m.tendon_adr[m.ntendon]..].iter().map(|w| w.coef * m.qpos_spring[w.qpos]).sum::<f64>();
+        let rest = Wrap::length(&m.tendon_wrap[m.tendon_adr[m.ntendon]..], &m.qpos_spring);
         m.tendon_name.push(t.name.clone());
         m.tendon_stiffness.push(t.stiffness);
         m.tendon_damping.push(t.damping);
@@ -353,7 +353,7 @@ fn equalities(m: &mut Model, spec: &ModelSpec) -> Result<()> {
                     }
                     vec![Wrap { dof: m.jnt_dofadr[j], qpos: m.jnt_qposadr[j], coef: 1.0 }]
                 };
-                refs[side] = terms.iter().map(|w| w.coef * m.qpos0[w.qpos]).sum();
+                refs[side] = Wrap::length(&terms, &m.qpos0);
                 m.eq_wrap.extend(terms);
             }
             m.eq_adr.push(m.eq_wrap.len());

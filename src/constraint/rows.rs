@@ -14,7 +14,7 @@ use crate::dynamics::DynamicsData;
 use crate::dynamics::kinematics::{self, KinData};
 use crate::math::{Force, Motion};
 use crate::state::WorldState;
-use crate::model::{Actuation, FrictionModel, GeomType, Model, WORLD};
+use crate::model::{Actuation, FrictionModel, GeomType, Model, Wrap, WORLD};
 
 /// What building a step's rows needs besides them (`constraint::rows`).
 #[derive(Clone, Debug, Default)]
@@ -247,7 +247,7 @@ pub fn push_limit_rows(m: &Model, qpos: &[f64], qvel: &[f64], qacc0: &[f64], for
 /// terms' dofs, `dist` the error x₁ − x₁⁰ − poly(x₂ − x₂⁰) (negated on the − row).
 pub fn push_equality_rows(m: &Model, qpos: &[f64], qvel: &[f64], out: &mut ConstraintData) {
     for e in (0..m.neq).filter(|&e| m.eq_active[e]) {
-        let value = |side: usize| m.eq_side(e, side).iter().map(|w| w.coef * qpos[w.qpos]).sum::<f64>() - m.eq_ref[e][side];
+        let value = |side: usize| Wrap::length(m.eq_side(e, side), qpos) - m.eq_ref[e][side];
         let (x1, x2) = (value(0), value(1));
         let c = m.eq_polycoef[e];
         let (poly, slope) = if m.eq_side(e, 1).is_empty() {

@@ -5,7 +5,7 @@
 //! tendons (MuJoCo's `qfrc_passive`).
 
 use crate::math::{quat_sub, quat_wxyz, DVec3};
-use crate::model::{Actuation, JointType, Model};
+use crate::model::{Actuation, JointType, Model, Wrap};
 
 /// Writes the total applied generalised force into `tau` (nv).
 pub fn applied(m: &Model, qpos: &[f64], qvel: &[f64], ctrl: &[f64], tau: &mut [f64]) {
@@ -56,9 +56,7 @@ pub fn applied(m: &Model, qpos: &[f64], qvel: &[f64], ctrl: &[f64], tau: &mut [f
         let [b0, b1, b2] = m.actuator_bias[a];
         u *= m.actuator_gain[a];
         if [b0, b1, b2] != [0.0; 3] {
-            let length: f64 = moment.iter().map(|w| w.coef * qpos[w.qpos]).sum();
-            let velocity: f64 = moment.iter().map(|w| w.coef * qvel[w.dof]).sum();
-            u += b0 + b1 * length + b2 * velocity;
+            u += b0 + b1 * Wrap::length(moment, qpos) + b2 * Wrap::rate(moment, qvel);
         }
         if m.actuator_forcelimited[a] {
             let [lo, hi] = m.actuator_forcerange[a];
@@ -78,8 +76,7 @@ fn tendon_forces(m: &Model, qpos: &[f64], qvel: &[f64], tau: &mut [f64]) {
             continue;
         }
         let terms = m.tendon_terms(t);
-        let length: f64 = terms.iter().map(|w| w.coef * qpos[w.qpos]).sum();
-        let velocity: f64 = terms.iter().map(|w| w.coef * qvel[w.dof]).sum();
+        let (length, velocity) = (Wrap::length(terms, qpos), Wrap::rate(terms, qvel));
         let [lo, hi] = m.tendon_springlength[t];
         let stretch = if length > hi { length - hi } else if length < lo { length - lo } else { 0.0 };
         let f = -k * stretch - b * velocity;

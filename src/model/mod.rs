@@ -117,6 +117,18 @@ pub struct Wrap {
     pub coef: f64,
 }
 
+impl Wrap {
+    /// The length Σ coef · x[qpos] of `terms` at positions `x`.
+    pub fn length(terms: &[Wrap], x: &[f64]) -> f64 {
+        terms.iter().map(|w| w.coef * x[w.qpos]).sum()
+    }
+
+    /// Its rate Σ coef · qvel[dof].
+    pub fn rate(terms: &[Wrap], qvel: &[f64]) -> f64 {
+        terms.iter().map(|w| w.coef * qvel[w.dof]).sum()
+    }
+}
+
 /// Simulation options.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Options {

@@ -148,3 +148,34 @@ pub fn potential_energy(m: &Model, kin: &KinData) -> f64 {
     }
     e
 }
+
+/// Asserts that K of `sys` (by test forces) equals J M⁻¹ Jᵀ with its M (nv × nv), entry by entry
+/// to 1e-10 relative: M X = Jᵀ solved by Gaussian elimination with partial pivoting.
+pub fn assert_k_is_j_minv_jt(sys: &sinew::step::ConstraintSystem, nv: usize) {
+    let n = sys.kind.len();
+    for j in 0..n {
+        let (mut a, mut x) = (sys.inertia.clone(), (0..nv).map(|k| sys.jac[j * nv + k]).collect::<Vec<f64>>());
+        for c in 0..nv {
+            let p = (c..nv).max_by(|&u, &v| a[u * nv + c].abs().total_cmp(&a[v * nv + c].abs())).unwrap();
+            for k in 0..nv {
+                a.swap(c * nv + k, p * nv + k);
+            }
+            x.swap(c, p);
+            for i in c + 1..nv {
+                let f = a[i * nv + c] / a[c * nv + c];
+                for k in c..nv {
+                    a[i * nv + k] -= f * a[c * nv + k];
+                }
+                x[i] -= f * x[c];
+            }
+        }
+        for c in (0..nv).rev() {
+            let t: f64 = (c + 1..nv).map(|k| a[c * nv + k] * x[k]).sum();
+            x[c] = (x[c] - t) / a[c * nv + c];
+        }
+        for i in 0..n {
+            let jmj: f64 = (0..nv).map(|k| sys.jac[i * nv + k] * x[k]).sum();
+            assert!((sys.k[i * n + j] - jmj).abs() < 1e-10 * (1.0 + jmj.abs()), "K[{i}][{j}] {} vs {jmj}", sys.k[i * n + j]);
+        }
+    }
+}
