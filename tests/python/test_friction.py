@@ -120,3 +120,20 @@ def test_contact_friction_combines_condim_and_priority_as_mujoco(box, floor, sli
     d = mujoco.MjData(mj)
     mujoco.mj_forward(mj, d)
     assert d.ncon > 0 and (d.contact.dim[0] == 1) == slides
+
+
+def test_joint_dry_friction_holds_where_mujocos_creeps():
+    """A horizontal pendulum held by 1% more frictionloss than gravity's torque: sinew's exact
+    friction rows keep it at rest for 4 s; MuJoCo's soft friction lets it creep."""
+    import mujoco
+
+    xml = f"""<mujoco><option gravity='0 0 -9.81'/><worldbody><body><joint axis='0 1 0' frictionloss='{1.01 * 9.81 * 0.5}'/>
+        <geom type='sphere' size='0.01' mass='1' pos='0.5 0 0'/></body></worldbody></mujoco>"""
+    sim = sinew.Sim(sinew.Model.from_mjcf_string(xml))
+    sim.step(2000)
+    m = mujoco.MjModel.from_xml_string(xml)
+    d = mujoco.MjData(m)
+    for _ in range(2000):
+        mujoco.mj_step(m, d)
+    assert abs(sim.qpos[0]) < 1e-8
+    assert abs(d.qpos[0]) > 0.05, d.qpos[0]
