@@ -37,7 +37,8 @@ fn unsupported_things_are_errors() {
         ("<mujoco><actuator><position joint=\"j\"/></actuator></mujoco>", "position", Some("joint")),
         ("<mujoco><compiler coordinate=\"global\"/></mujoco>", "compiler", Some("coordinate")),
         ("<mujoco><tendon><spatial/></tendon></mujoco>", "spatial", None),
-        ("<mujoco><tendon><fixed limited=\"true\" range=\"0 1\"/></tendon></mujoco>", "fixed", Some("limited")),
+        ("<mujoco><tendon><fixed armature=\"1\"/></tendon></mujoco>", "fixed", Some("armature")),
+        ("<mujoco><tendon><fixed limited=\"true\" range=\"1 0\"/></tendon></mujoco>", "fixed", Some("range")),
         ("<mujoco><worldbody><body><joint type=\"screw\"/></body></worldbody></mujoco>", "joint", Some("type")),
         ("<mujoco><worldbody><body><joint class=\"nope\"/></body></worldbody></mujoco>", "joint", Some("class")),
     ];
@@ -67,9 +68,8 @@ fn unknown_actuator_joint_is_an_error() {
 fn unmodelled_physics_gives_warnings() {
     let m = Model::from_mjcf("<mujoco><option viscosity=\"0.1\" integrator=\"implicitfast\"/><worldbody><body><joint name=\"j\" frictionloss=\"1\"/><geom size=\"1\"/></body></worldbody>\
         <tendon><fixed frictionloss=\"1\"><joint joint=\"j\"/></fixed></tendon></mujoco>").unwrap();
-    // fluid forces, the implicit integrator and tendon friction; joint friction is modelled
-    assert_eq!(m.warnings.len(), 3, "{:?}", m.warnings);
-    assert!(m.warnings[2].contains("tendon frictionloss"), "{:?}", m.warnings);
+    // fluid forces and the implicit integrator; joint and tendon friction are modelled
+    assert_eq!(m.warnings.len(), 2, "{:?}", m.warnings);
     let m = Model::from_mjcf("<mujoco><worldbody><body><freejoint/><geom name=\"g\" size=\"1\" condim=\"6\"/></body></worldbody></mujoco>").unwrap();
     assert!(m.warnings.len() == 1 && m.warnings[0].contains("condim=6"), "{:?}", m.warnings);
 }

@@ -5,13 +5,14 @@
 
 use glam::{DQuat, DVec3};
 
-use super::system::{arc_lift, point_accel, jacobian, node_of_geom, point_vel, velocity_products, ConstraintData, NewRow, RowKind, SLIDING_SPEED};
+use super::system::{arc_lift, jacobian, node_of_geom, ConstraintData, NewRow, RowKind, SLIDING_SPEED};
 use super::test_forces::{measure, PointAccel};
 use super::{Constraints, History, World};
 use crate::collision::{self, Contact};
 use crate::dynamics::aba::AbaData;
+use crate::dynamics::tendon::TendonData;
 use crate::dynamics::DynamicsData;
-use crate::dynamics::kinematics::{self, KinData};
+use crate::dynamics::kinematics::{self, point_accel, point_vel, velocity_products, KinData};
 use crate::math::{Force, Motion};
 use crate::state::WorldState;
 use crate::model::{Actuation, FrictionModel, GeomType, Model, Wrap, WORLD};
@@ -19,7 +20,7 @@ use crate::model::{Actuation, FrictionModel, GeomType, Model, Wrap, WORLD};
 /// What building a step's rows needs besides them (`constraint::rows`).
 #[derive(Clone, Debug, Default)]
 pub struct RowScratch {
-    /// Limits whose rows this step must include (2 per joint: lower, upper).
+    /// Limits whose rows this step must include (2 per joint, then 2 per tendon: lower, upper).
     pub limit_forced: Vec<bool>,
     /// Friction tangents being recorded this step.
     pub tangents_next: Vec<((usize, usize, usize), DVec3)>,
@@ -36,7 +37,7 @@ impl RowScratch {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
         RowScratch {
-            limit_forced: vec![false; 2 * m.njnt],
+            limit_forced: vec![false; 2 * (m.njnt + m.ntendon)],
             tangents_next: vec![],
             vel_end: vec![0.0; m.nv],
             v_end: vec![Motion::ZERO; m.nnode],
@@ -63,15 +64,28 @@ pub fn missed_contacts(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) -> b
 pub fn missed_limits(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) -> bool {
     let (qpos, qvel) = (&*s.qpos, &*s.qvel);
     let (h, lever) = (m.opt.timestep, m.opt.lever());
+    let (dy, con) = (&*data.dynamics, &data.constraints.con);
     let mut any = false;
+    let has_row = |source: usize, sign: f64| (0..con.len()).any(|r| con.kind[r] == RowKind::Limit && con.source[r] == source && con.dof[r].1 == sign);
     for j in m.limited_joints() {
         let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
         let [lo, hi] = m.jnt_range[j];
-        let v_end = qvel[da] + h * data.dynamics.qacc[da];
+        let v_end = qvel[da] + h * dy.qacc[da];
         for (side, (dist, sign)) in [(qpos[qa] - lo, 1.0), (hi - qpos[qa], -1.0)].into_iter().enumerate() {
-            let has_row = || (0..data.constraints.con.len()).any(|r| data.constraints.con.kind[r] == RowKind::Limit && data.constraints.con.source[r] == j && data.constraints.con.dof[r].1 == sign);
-            if dist + lever * sign * v_end < 0.0 && !has_row() {
+            if dist + lever * sign * v_end < 0.0 && !has_row(j, sign) {
                 data.constraints.rows.limit_forced[2 * j + side] = true;
+                any = true;
+            }
+        }
+    }
+    for t in m.limited_tendons() {
+        let jac = dy.ten.jac(t, m.nv);
+        let v_end: f64 = jac.iter().zip(qvel.iter().zip(&dy.qacc)).map(|(j, (v, a))| j * (v + h * a)).sum();
+        let length = dy.ten.length[t];
+        let [lo, hi] = m.tendon_range[t];
+        for (side, (dist, sign)) in [(length - lo, 1.0), (hi - length, -1.0)].into_iter().enumerate() {
+            if dist + lever * sign * v_end < 0.0 && !has_row(m.njnt + t, sign) {
+                data.constraints.rows.limit_forced[2 * (m.njnt + t) + side] = true;
                 any = true;
             }
         }
@@ -119,9 +133,10 @@ pub fn build_rows(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) {
         con,
     );
     push_limit_rows(m, qpos, qvel, qacc, limit_forced, con);
+    push_tendon_limit_rows(m, &data.dynamics.ten, qvel, qacc, limit_forced, con);
     push_equality_rows(m, qpos, qvel, con);
     push_connect_rows(m, kin, con);
-    push_friction_rows(m, qvel, con);
+    push_friction_rows(m, &data.dynamics.ten, qvel, con);
     push_motion_rows(m, qpos, qvel, ctrl, feedforward, con);
     std::mem::swap(tangents, tangents_next);
     // leapfrog's rows are built at the midpoint: each gap before the opening drift, from the
@@ -323,8 +338,9 @@ pub fn push_connect_rows(m: &Model, kin: &KinData, out: &mut ConstraintData) {
     }
 }
 
-/// Dry friction's rows: a ± pair on each dof with friction loss, each force at most that loss.
-pub fn push_friction_rows(m: &Model, qvel: &[f64], out: &mut ConstraintData) {
+/// Dry friction's rows: a ± pair on each dof and each tendon with friction loss, each force at
+/// most that loss.
+pub fn push_friction_rows(m: &Model, ten: &TendonData, qvel: &[f64], out: &mut ConstraintData) {
     for (dof, &loss) in m.dof_frictionloss.iter().enumerate().filter(|(_, loss)| **loss > 0.0) {
         for sign in [1.0, -1.0] {
             let r = out.len();
@@ -336,6 +352,52 @@ pub fn push_friction_rows(m: &Model, qvel: &[f64], out: &mut ConstraintData) {
             }
         }
     }
+    for (t, &loss) in m.tendon_frictionloss.iter().enumerate().filter(|(_, loss)| **loss > 0.0) {
+        for sign in [1.0, -1.0] {
+            let Some(r) = push_tendon_row(m, ten, RowKind::DryFriction, t, sign, m.nv + t, out) else { break };
+            out.vel[r] = sign * ten.rate(t, qvel);
+            out.cap[r] = loss;
+            if sign < 0.0 {
+                out.mirror[r] = r - 1;
+            }
+        }
+    }
+}
+
+/// The limit rows of the limited tendons: each limit the tendon's length is at or can reach within
+/// the step (with the constraint-free `qacc0`), and each `forced` one (2 per joint, then 2 per
+/// tendon: lower, upper). The row's source is njnt + the tendon.
+pub fn push_tendon_limit_rows(m: &Model, ten: &TendonData, qvel: &[f64], qacc0: &[f64], forced: &[bool], out: &mut ConstraintData) {
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
+    for t in m.limited_tendons() {
+        let [lo, hi] = m.tendon_range[t];
+        let (length, rate) = (ten.length[t], ten.rate(t, qvel));
+        let accel = ten.rate(t, qacc0) + ten.jdot_qdot[t];
+        let source = m.njnt + t;
+        for (side, (dist, sign)) in [(length - lo, 1.0), (hi - length, -1.0)].into_iter().enumerate() {
+            let (v, v_end) = (sign * rate, sign * (rate + h * accel));
+            if dist + lever * v.min(v_end).min(0.0) <= m.tendon_margin[t] || forced[2 * source + side] {
+                let Some(r) = push_tendon_row(m, ten, RowKind::Limit, t, sign, source, out) else { break };
+                out.vel[r] = v;
+                out.dist[r] = dist;
+                out.dist_start[r] = dist;
+            }
+        }
+    }
+}
+
+/// Appends a row of kind `kind` on tendon t's length (J = `sign` J_t over the dofs it moves, J̇ q̇
+/// likewise), or None when no dof moves it here.
+fn push_tendon_row(m: &Model, ten: &TendonData, kind: RowKind, t: usize, sign: f64, source: usize, out: &mut ConstraintData) -> Option<usize> {
+    let jac = ten.jac(t, m.nv);
+    let first = jac.iter().position(|&c| c != 0.0)?;
+    let r = out.len();
+    out.push(m, NewRow::joint(kind, (first, sign), source));
+    for (dof, &c) in jac.iter().enumerate().skip(first).filter(|(_, c)| **c != 0.0) {
+        out.add_term(m, dof, sign * c);
+    }
+    out.jdot[r] = sign * ten.jdot_qdot[t];
+    Some(r)
 }
 
 /// Motion control's rows: each actuated joint driven toward its position target `ctrl` with
@@ -403,8 +465,7 @@ pub fn row_velocity(out: &ConstraintData, j: usize, v: &[Motion], qvel: &[f64]) 
             let side = |s: usize| if out.node[j][s] == WORLD { 0.0 } else { v[out.node[j][s]].dot(&out.jac[j][s]) };
             side(0) + side(1)
         }
-        RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction => out.dof[j].1 * qvel[out.dof[j].0],
-        RowKind::Equality => out.joint_terms(j).iter().map(|&(dof, c)| c * qvel[dof]).sum(),
+        RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction | RowKind::Equality => out.joint_rate(j, qvel),
     }
 }
 
@@ -424,6 +485,15 @@ pub fn refresh(m: &Model, dy: &DynamicsData, s: &WorldState<'_>, feedforward: &[
         out.vel[j] = row_velocity(out, j, &kin.v, qvel);
         if let (RowKind::Motion { .. }, Actuation::Trajectory { kp, kd }) = (out.kind[j], m.opt.actuation) {
             out.desired[j] = out.dof[j].1 * motion_target(m, out.source[j], (kp, kd), qpos, qvel, ctrl, feedforward);
+        }
+        // a tendon row's J̇ q̇ at the new velocities
+        let tendon = match out.kind[j] {
+            RowKind::Limit => out.source[j].checked_sub(m.njnt),
+            RowKind::DryFriction => out.source[j].checked_sub(m.nv),
+            _ => None,
+        };
+        if let Some(t) = tendon {
+            out.jdot[j] = out.dof[j].1 * dy.ten.jdot_qdot[t];
         }
         out.b[j] = measure(m, kin, aba, qacc0, out, j, &mut point);
     }

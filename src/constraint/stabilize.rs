@@ -23,6 +23,7 @@ use super::{Constraints, StepStart, World};
 use crate::collision::{self, CollisionData, Contact};
 use crate::dynamics::aba::{AbaData, DeltaScratch};
 use crate::dynamics::kinematics::{self, KinData};
+use crate::dynamics::tendon::{self, TendonData};
 use crate::integrate::integrate_pos;
 use crate::math::Force;
 use crate::model::{Model, WORLD};
@@ -56,6 +57,8 @@ pub struct StabilizeData {
     dq: Vec<f64>,
     delta: DeltaScratch,
     work: LcpWork,
+    /// The tendons after the step.
+    ten: TendonData,
     /// Variables the solve leaves out.
     left_out: Vec<bool>,
     /// Projections run.
@@ -69,6 +72,7 @@ impl StabilizeData {
             coll: CollisionData::new(m),
             dq: vec![0.0; m.nv],
             delta: DeltaScratch::new(m),
+            ten: TendonData::new(m),
             ..Default::default()
         }
     }
@@ -79,7 +83,10 @@ impl StabilizeData {
 /// projection's LCP counts in `data.stats`.
 pub fn project(m: &Model, data: &mut World<'_>, s: &mut WorldState<'_>) {
     let (qpos, qvel) = (&mut *s.qpos, &*s.qvel);
-    if !(0..data.constraints.con.len()).any(|j| data.constraints.con.kind[j] == RowKind::Normal) && !m.limited_joints().any(|j| violation(m, qpos, j).is_some()) {
+    let con = &data.constraints.con;
+    // a tendon's length after the step needs its kinematics: a step with a tendon limit row checks
+    let checked = |j: usize| con.kind[j] == RowKind::Normal || (con.kind[j] == RowKind::Limit && con.source[j] >= m.njnt);
+    if !(0..con.len()).any(checked) && !m.limited_joints().any(|j| violation(m, qpos, j).is_some()) {
         return;
     }
     for _ in 0..PASSES {
@@ -133,8 +140,13 @@ fn gather(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]) -> bool {
     let nv = m.nv;
     kinematics::forward(m, qpos, qvel, &mut ahead.kin);
     collision::penetrations(m, &ahead.kin, &mut post.coll);
+    tendon::evaluate(m, &ahead.kin, qpos, &mut post.ten);
+    let tendon_violated = m.limited_tendons().any(|t| {
+        let ([lo, hi], l) = (m.tendon_range[t], post.ten.length[t]);
+        l < lo - LIMIT_SLOP || l > hi + LIMIT_SLOP
+    });
     // every row's gap below is a fresh detection's or at least zero
-    if post.coll.contacts.iter().all(|c| c.dist >= -SLOP) && !m.limited_joints().any(|j| violation(m, qpos, j).is_some()) {
+    if post.coll.contacts.iter().all(|c| c.dist >= -SLOP) && !m.limited_joints().any(|j| violation(m, qpos, j).is_some()) && !tendon_violated {
         return false;
     }
     // the rows' Δq̈ (a solve computes only those of the rows it kept)
@@ -189,16 +201,21 @@ fn gather(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]) -> bool {
     // the step's limit rows take part so the projection cannot push a joint past its limit, and
     // brings back one the step carried past it
     for j in (0..con.len()).filter(|&j| con.kind[j] == RowKind::Limit) {
-        let (joint, (dof, sign)) = (con.source[j], con.dof[j]);
-        let q = qpos[m.jnt_qposadr[joint]];
-        let [lo, hi] = m.jnt_range[joint];
-        let gap = if sign > 0.0 { q - lo } else { hi - q };
+        let (source, sign) = (con.source[j], con.dof[j].1);
+        // a joint's position or a tendon's length (source njnt + the tendon) after the step
+        let (x, [lo, hi]) = match source.checked_sub(m.njnt) {
+            None => (qpos[m.jnt_qposadr[source]], m.jnt_range[source]),
+            Some(t) => (post.ten.length[t], m.tendon_range[t]),
+        };
+        let gap = if sign > 0.0 { x - lo } else { hi - x };
         post.gap.push(if gap < -LIMIT_SLOP { gap } else { gap.max(0.0) });
         let start = post.jac.len();
         post.jac.resize(start + nv, 0.0);
-        post.jac[start + dof] = sign;
+        for &(dof, c) in con.joint_terms(j) {
+            post.jac[start + dof] += c;
+        }
         post.dqdd.extend_from_slice(&con.dqdd[j * nv..(j + 1) * nv]);
-        post.limit.push(Some((joint, sign)));
+        post.limit.push(Some((source, sign)));
         post.tree.push(con.tree[j]);
     }
     // limits the step crossed without a row: a unit test torque each

@@ -4,7 +4,7 @@
 use glam::DVec3;
 
 use crate::dynamics::aba::DeltaScratch;
-use crate::dynamics::kinematics::KinData;
+use crate::dynamics::kinematics::{point_accel, KinData};
 use crate::math::{Force, Motion};
 use crate::model::{Model, WORLD};
 
@@ -19,7 +19,8 @@ pub enum RowKind {
         /// Index of the contact's normal row.
         normal: usize,
     },
-    /// Joint limit: torque pushes away from the limit.
+    /// A joint's limit (source: the joint) or a tendon's (source: njnt + the tendon, its J the
+    /// row's `terms`): the force pushes away from the limit.
     Limit,
     /// Motion control (trajectory following): one of a ± pair of rows on an actuated joint that
     /// together make its acceleration equal the desired one, the torque bounded by the motor's
@@ -30,7 +31,8 @@ pub enum RowKind {
     },
     /// Dry friction of a dof (MuJoCo's `frictionloss`): one of a ± pair of rows that together hold
     /// the dof at rest, each force at most its friction loss, as a contact's friction rows hold a
-    /// contact with μ f_n: below the breakaway force the dof does not move at all.
+    /// contact with μ f_n: below the breakaway force the dof does not move at all. A tendon's
+    /// (source: nv + the tendon, its J the row's `terms`) holds its length so.
     DryFriction,
     /// A joint or tendon equality: one of a ± pair of rows on its dofs (the row's `terms`) that
     /// together hold x₁ − x₁⁰ − poly(x₂ − x₂⁰) at zero, the force free in sign.
@@ -121,11 +123,14 @@ pub struct ConstraintData {
     pub arm2: Vec<DVec3>,
     /// Dof and sign (limits).
     pub dof: Vec<(usize, f64)>,
-    /// An equality row's Jacobian as (dof, coefficient) terms: `terms[start..start + len]` with
-    /// (start, len) = `term_span[j]` (empty for the other rows).
+    /// A joint row's Jacobian as (dof, coefficient) terms where it has more than its `dof`
+    /// (equalities, tendon limits and friction): `terms[start..start + len]` with (start, len) =
+    /// `term_span[j]` (empty for the other rows).
     pub terms: Vec<(usize, f64)>,
     /// See `terms`.
     pub term_span: Vec<(usize, usize)>,
+    /// J̇ q̇ of a row with terms whose J varies with the configuration (a spatial tendon's), else 0.
+    pub jdot: Vec<f64>,
     /// Friction coefficient (tangent rows).
     pub mu: Vec<f64>,
     /// Relative velocity along the row.
@@ -189,14 +194,19 @@ impl ConstraintData {
         }
     }
 
-    /// Row j's (dof, coefficient) terms: an equality's, or a joint row's one dof and sign.
+    /// Row j's (dof, coefficient) terms: its `terms`, or a joint row's one dof and sign.
     pub fn joint_terms(&self, j: usize) -> &[(usize, f64)] {
-        match self.kind[j] {
-            RowKind::Equality => {
-                let (start, len) = self.term_span[j];
-                &self.terms[start..start + len]
-            }
-            _ => std::slice::from_ref(&self.dof[j]),
+        match self.term_span[j] {
+            (_, 0) => std::slice::from_ref(&self.dof[j]),
+            (start, len) => &self.terms[start..start + len],
+        }
+    }
+
+    /// Joint row j's rate over its terms: a single dof's, signed, or Σ coef · x[dof].
+    pub fn joint_rate(&self, j: usize, x: &[f64]) -> f64 {
+        match self.term_span[j].1 {
+            0 => self.dof[j].1 * x[self.dof[j].0],
+            _ => self.joint_terms(j).iter().map(|&(dof, c)| c * x[dof]).sum(),
         }
     }
 
@@ -245,6 +255,7 @@ impl ConstraintData {
         self.dof.clear();
         self.terms.clear();
         self.term_span.clear();
+        self.jdot.clear();
         self.mu.clear();
         self.vel.clear();
         self.desired.clear();
@@ -268,6 +279,7 @@ impl ConstraintData {
             RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction | RowKind::Equality => [tree_of(m.jnt_node[m.dof_jnt[dof.0]]), WORLD],
         });
         self.term_span.push((self.terms.len(), 0));
+        self.jdot.push(0.0);
         self.point.push(point);
         self.jac.push([Force::ZERO; 2]);
         self.dir.push(dir);
@@ -312,32 +324,6 @@ impl NewRow {
 
 pub(super) fn node_of_geom(m: &Model, g: usize) -> usize {
     m.body_node[m.geom_body[g]]
-}
-
-/// World classical acceleration of the point of node `n` at `r` (relative to `kin.origin`), from
-/// the nodes' spatial accelerations `a`, plus `g` (the ABA's accelerations carry the base's
-/// fictitious −g, which `g` adds back; the velocity products alone, J̇ q̇, take none).
-#[inline]
-pub(super) fn point_accel(kin: &KinData, a: &[Motion], g: DVec3, n: usize, r: DVec3) -> DVec3 {
-    if n == WORLD {
-        return DVec3::ZERO;
-    }
-    let v = kin.v[n];
-    a[n].point_velocity(r) + v.ang.cross(v.point_velocity(r)) + g
-}
-
-/// World velocity of the point of node `n` at `r` (relative to `kin.origin`).
-pub(super) fn point_vel(kin: &KinData, n: usize, r: DVec3) -> DVec3 {
-    if n == WORLD { DVec3::ZERO } else { kin.v[n].point_velocity(r) }
-}
-
-/// Velocity-product accelerations a_i = a_λ + c_i (q̈ = 0, no gravity): J̇ q̇ of any point.
-pub(super) fn velocity_products(m: &Model, kin: &KinData, a_vp: &mut [Motion]) {
-    for i in 0..m.nnode {
-        let p = m.node_parent[i];
-        let a_parent = if p == WORLD { Motion::ZERO } else { a_vp[p] };
-        a_vp[i] = a_parent + kin.c[i];
-    }
 }
 
 /// The end-of-step target's lift of normal row j. The row predicts the gap after

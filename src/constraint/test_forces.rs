@@ -4,10 +4,10 @@
 
 use glam::DVec3;
 
-use super::system::{point_accel, tree_lists, ConstraintData, RowKind};
+use super::system::{tree_lists, ConstraintData, RowKind};
 use crate::dynamics::aba;
 use crate::dynamics::aba::{AbaData, DeltaScratch};
-use crate::dynamics::kinematics::KinData;
+use crate::dynamics::kinematics::{point_accel, KinData};
 use crate::math::{Force, Motion};
 use crate::model::{Model, WORLD};
 
@@ -66,14 +66,11 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
             }
         }
     }
-    // a joint row's test torque: a unit torque on its dof, or an equality's on its terms
-    let dtau: &[(usize, f64)] = match out.kind[k] {
-        RowKind::Normal | RowKind::Tangent { .. } | RowKind::Connect { .. } => &[],
-        RowKind::Equality => {
-            let (start, len) = out.term_span[k];
-            &out.terms[start..start + len]
-        }
-        RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction => std::slice::from_ref(&out.dof[k]),
+    // a joint row's test torque: a unit torque on its dof, or on its terms
+    let dtau: &[(usize, f64)] = match (out.kind[k].is_point(), out.term_span[k]) {
+        (true, _) => &[],
+        (false, (_, 0)) => std::slice::from_ref(&out.dof[k]),
+        (false, (start, len)) => &out.terms[start..start + len],
     };
     delta_pass(m, kin, aba, trees, dtau, &mut out.delta, &mut out.dqdd[k * nv..(k + 1) * nv]);
     // K is symmetric (J M⁻¹ Jᵀ): this force's measures at the rows of its trees are row k (and
@@ -217,12 +214,8 @@ impl PointAccel {
         let normal = match cd.kind[j] {
             RowKind::Normal => j,
             RowKind::Tangent { normal } => normal,
-            RowKind::Equality => return cd.joint_terms(j).iter().map(|&(dof, c)| c * qacc[dof]).sum(),
             RowKind::Connect { .. } => return cd.dir[j].dot(accel()),
-            RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction => {
-                let (dof, sign) = cd.dof[j];
-                return sign * qacc[dof];
-            }
+            RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction | RowKind::Equality => return cd.joint_rate(j, qacc),
         };
         if self.normal != normal {
             *self = PointAccel { normal, accel: accel() };
@@ -265,6 +258,9 @@ fn delta_accel(cd: &ConstraintData, trees: [usize; 2], dqdd: &[f64], j: usize, p
 /// velocity-product and gravity terms.
 /// `point` carries the point's acceleration from a contact's row to its next ones.
 pub(super) fn measure(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], cd: &ConstraintData, j: usize, point: &mut PointAccel) -> f64 {
+    if cd.term_span[j].1 > 0 {
+        return cd.joint_rate(j, qacc0) + cd.jdot[j];
+    }
     point.row(cd, j, qacc0, || {
         let ([n0, n1], [p0, p1]) = (cd.node[j], cd.point[j]);
         if cd.kind[j] == (RowKind::Connect { angular: true }) {

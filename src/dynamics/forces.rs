@@ -1,14 +1,16 @@
 //! Applied joint forces: actuators (MuJoCo's general actuator with fixed gain and affine bias:
 //! force = gain · ctrl + b₀ + b₁ · length + b₂ · velocity, ctrl clamped to ctrlrange and the force
 //! to forcerange when limited, through the joint or tendon times gear; or a PD servo to ctrl as
-//! position target, see [`Actuation`]) and passive springs and dampers of joints and fixed
-//! tendons (MuJoCo's `qfrc_passive`).
+//! position target, see [`Actuation`]) and passive springs and dampers of joints and tendons
+//! (MuJoCo's `qfrc_passive`).
 
+use super::tendon::TendonData;
 use crate::math::{quat_sub, quat_wxyz, DVec3};
-use crate::model::{Actuation, JointType, Model, Wrap};
+use crate::model::{Actuation, JointType, Model, Transmission, Wrap};
 
-/// Writes the total applied generalised force into `tau` (nv).
-pub fn applied(m: &Model, qpos: &[f64], qvel: &[f64], ctrl: &[f64], tau: &mut [f64]) {
+/// Writes the total applied generalised force into `tau` (nv), the tendons' from `ten` (of this
+/// configuration).
+pub fn applied(m: &Model, ten: &TendonData, qpos: &[f64], qvel: &[f64], ctrl: &[f64], tau: &mut [f64]) {
     // passive: damping on every dof, springs per joint
     for (t, (&v, &b)) in tau.iter_mut().zip(qvel.iter().zip(&m.dof_damping)) {
         *t = -b * v;
@@ -38,7 +40,7 @@ pub fn applied(m: &Model, qpos: &[f64], qvel: &[f64], ctrl: &[f64], tau: &mut [f
             }
         }
     }
-    tendon_forces(m, qpos, qvel, tau);
+    tendon_forces(m, ten, qvel, tau);
     // actuators
     for a in 0..m.nu {
         let mut u = match (m.opt.actuation, m.actuator_joint(a)) {
@@ -52,36 +54,49 @@ pub fn applied(m: &Model, qpos: &[f64], qvel: &[f64], ctrl: &[f64], tau: &mut [f
             let [lo, hi] = m.actuator_ctrlrange[a];
             u = u.clamp(lo, hi);
         }
-        let moment = m.moment(a);
+        // length and rate: gear times the joint's or the tendon's
+        let gear = m.actuator_gear[a];
+        let (length, rate) = match m.actuator_trn[a] {
+            Transmission::Joint(_) => (Wrap::length(m.moment(a), qpos), Wrap::rate(m.moment(a), qvel)),
+            Transmission::Tendon(t) => (gear * ten.length[t], gear * ten.rate(t, qvel)),
+        };
         let [b0, b1, b2] = m.actuator_bias[a];
         u *= m.actuator_gain[a];
         if [b0, b1, b2] != [0.0; 3] {
-            u += b0 + b1 * Wrap::length(moment, qpos) + b2 * Wrap::rate(moment, qvel);
+            u += b0 + b1 * length + b2 * rate;
         }
         if m.actuator_forcelimited[a] {
             let [lo, hi] = m.actuator_forcerange[a];
             u = u.clamp(lo, hi);
         }
-        for w in moment {
-            tau[w.dof] += w.coef * u;
+        match m.actuator_trn[a] {
+            Transmission::Joint(_) => {
+                for w in m.moment(a) {
+                    tau[w.dof] += w.coef * u;
+                }
+            }
+            Transmission::Tendon(t) => {
+                for (f, j) in tau.iter_mut().zip(ten.jac(t, m.nv)) {
+                    *f += gear * j * u;
+                }
+            }
         }
     }
 }
 
-/// Fixed tendons' springs (zero force within the rest deadband) and dampers, on their joints.
-fn tendon_forces(m: &Model, qpos: &[f64], qvel: &[f64], tau: &mut [f64]) {
+/// Tendons' springs (zero force within the rest deadband) and dampers, through their J.
+fn tendon_forces(m: &Model, ten: &TendonData, qvel: &[f64], tau: &mut [f64]) {
     for t in 0..m.ntendon {
         let (k, b) = (m.tendon_stiffness[t], m.tendon_damping[t]);
         if k == 0.0 && b == 0.0 {
             continue;
         }
-        let terms = m.tendon_terms(t);
-        let (length, velocity) = (Wrap::length(terms, qpos), Wrap::rate(terms, qvel));
+        let (length, velocity) = (ten.length[t], ten.rate(t, qvel));
         let [lo, hi] = m.tendon_springlength[t];
         let stretch = if length > hi { length - hi } else if length < lo { length - lo } else { 0.0 };
         let f = -k * stretch - b * velocity;
-        for w in terms {
-            tau[w.dof] += w.coef * f;
+        for (x, j) in tau.iter_mut().zip(ten.jac(t, m.nv)) {
+            *x += j * f;
         }
     }
 }

@@ -297,3 +297,29 @@ pub fn velocities(m: &Model, kin: &KinData, qvel: &[f64], v: &mut [Motion]) {
         v[i] = vi;
     }
 }
+
+/// World classical acceleration of the point of node `n` at `r` (relative to `kin.origin`), from
+/// the nodes' spatial accelerations `a`, plus `g` (the ABA's accelerations carry the base's
+/// fictitious −g, which `g` adds back; the velocity products alone, J̇ q̇, take none).
+#[inline]
+pub fn point_accel(kin: &KinData, a: &[Motion], g: DVec3, n: usize, r: DVec3) -> DVec3 {
+    if n == WORLD {
+        return DVec3::ZERO;
+    }
+    let v = kin.v[n];
+    a[n].point_velocity(r) + v.ang.cross(v.point_velocity(r)) + g
+}
+
+/// World velocity of the point of node `n` at `r` (relative to `kin.origin`).
+pub fn point_vel(kin: &KinData, n: usize, r: DVec3) -> DVec3 {
+    if n == WORLD { DVec3::ZERO } else { kin.v[n].point_velocity(r) }
+}
+
+/// Velocity-product accelerations a_i = a_λ + c_i (q̈ = 0, no gravity): J̇ q̇ of any point.
+pub fn velocity_products(m: &Model, kin: &KinData, a_vp: &mut [Motion]) {
+    for i in 0..m.nnode {
+        let p = m.node_parent[i];
+        let a_parent = if p == WORLD { Motion::ZERO } else { a_vp[p] };
+        a_vp[i] = a_parent + kin.c[i];
+    }
+}

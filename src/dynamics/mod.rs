@@ -1,4 +1,4 @@
-//! Featherstone's dynamics of a kinematic tree: kinematics, applied forces, the articulated-body
+//! Featherstone's dynamics of a kinematic tree: kinematics, tendons, applied forces, the articulated-body
 //! algorithm (the step's), and CRBA and RNEA (checks of it).
 
 pub mod aba;
@@ -6,9 +6,11 @@ pub mod crba;
 pub mod forces;
 pub mod kinematics;
 pub mod rnea;
+pub mod tendon;
 
 use aba::AbaData;
 use kinematics::{KinCache, KinData};
+use tendon::TendonData;
 
 use crate::model::Model;
 
@@ -20,6 +22,8 @@ pub struct DynamicsData {
     pub kin: KinData,
     /// ABA inward-pass quantities and spatial accelerations.
     pub aba: AbaData,
+    /// Tendon lengths and Jacobians.
+    pub ten: TendonData,
     /// Total applied generalised force (nv): actuators + passive.
     pub qfrc_applied: Vec<f64>,
     /// Joint accelerations of the last evaluation (nv).
@@ -31,7 +35,7 @@ pub struct DynamicsData {
 impl DynamicsData {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
-        DynamicsData { kin: KinData::new(m), aba: AbaData::new(m), qfrc_applied: vec![0.0; m.nv], qacc: vec![0.0; m.nv], ahead: KinCache::new(m) }
+        DynamicsData { kin: KinData::new(m), ten: TendonData::new(m), aba: AbaData::new(m), qfrc_applied: vec![0.0; m.nv], qacc: vec![0.0; m.nv], ahead: KinCache::new(m) }
     }
 }
 
@@ -41,10 +45,11 @@ pub fn kinematics(m: &Model, dy: &mut DynamicsData, qpos: &[f64], qvel: &[f64]) 
     dy.ahead.take_into(m, qpos, qvel, &mut dy.kin);
 }
 
-/// Applied forces and both ABA passes, on the kinematics already in `dy.kin`; `h_damp` > 0
+/// Tendons, applied forces and both ABA passes, on the kinematics already in `dy.kin`; `h_damp` > 0
 /// treats joint damping implicitly over that step (Featherstone 2008, Table 7.1 passes 2–3).
 pub fn accelerations(m: &Model, dy: &mut DynamicsData, qpos: &[f64], qvel: &[f64], ctrl: &[f64], h_damp: f64) {
-    forces::applied(m, qpos, qvel, ctrl, &mut dy.qfrc_applied);
+    tendon::evaluate(m, &dy.kin, qpos, &mut dy.ten);
+    forces::applied(m, &dy.ten, qpos, qvel, ctrl, &mut dy.qfrc_applied);
     aba::backward(m, &dy.kin, &dy.qfrc_applied, h_damp, &mut dy.aba);
     aba::forward(m, &dy.kin, &mut dy.aba, &mut dy.qacc);
 }

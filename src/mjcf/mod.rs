@@ -314,21 +314,53 @@ pub struct KeySpec {
     pub line: u32,
 }
 
-/// A fixed tendon: length Σ coef · q over hinge and slide joints, with a spring and a damper.
+/// A tendon: fixed (length Σ coef · q over hinge and slide joints) or spatial (a path through
+/// sites, around wrapping geoms, split by pulleys), with a spring, a damper, limits and dry friction.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TendonSpec {
     /// Name (may be empty).
     pub name: String,
-    /// (joint name, coefficient) of each term.
-    pub joints: Vec<(String, f64)>,
+    /// What its length is.
+    pub path: TendonPathSpec,
     /// Spring stiffness.
     pub stiffness: f64,
     /// Damping.
     pub damping: f64,
     /// The spring's rest length, or deadband [low, high]; None: the length at qpos0.
     pub springlength: Option<[f64; 2]>,
+    /// Length limits [low, high] when limited.
+    pub range: Option<[f64; 2]>,
+    /// Distance from a limit within which its row is built.
+    pub margin: f64,
+    /// Dry friction: the largest force its friction rows exert.
+    pub frictionloss: f64,
     /// Source line.
     pub line: u32,
+}
+
+/// A tendon's length.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TendonPathSpec {
+    /// (joint name, coefficient) of each term.
+    Fixed(Vec<(String, f64)>),
+    /// The path's elements in order, each with its source line.
+    Spatial(Vec<(PathSpec, u32)>),
+}
+
+/// One element of a spatial tendon's path.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PathSpec {
+    /// A site, by name.
+    Site(String),
+    /// A sphere or cylinder the path wraps around, with the optional site that picks the side.
+    Geom {
+        /// Geom name.
+        geom: String,
+        /// Side site name.
+        sidesite: Option<String>,
+    },
+    /// A pulley: the branches after it count length / divisor.
+    Pulley(f64),
 }
 
 /// How body inertias are obtained (`<compiler inertiafromgeom>`).

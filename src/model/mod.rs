@@ -129,6 +129,23 @@ impl Wrap {
     }
 }
 
+/// One element of a spatial tendon's path (MuJoCo's wrap objects).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PathPoint {
+    /// A site the path passes through.
+    Site(usize),
+    /// A sphere or cylinder geom the path wraps around where the straight line between the sites
+    /// either side of it would cross it, on the side of site `side` when given.
+    Geom {
+        /// The geom.
+        geom: usize,
+        /// The side site.
+        side: Option<usize>,
+    },
+    /// A pulley: the path's branches after it count their length divided by `divisor`.
+    Pulley(f64),
+}
+
 /// Simulation options.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Options {
@@ -171,9 +188,19 @@ impl Model {
         &self.eq_wrap[self.eq_adr[2 * e + side]..self.eq_adr[2 * e + side + 1]]
     }
 
-    /// Tendon `t`'s terms.
+    /// Fixed tendon `t`'s terms (empty for a spatial tendon).
     pub fn tendon_terms(&self, t: usize) -> &[Wrap] {
         &self.tendon_wrap[self.tendon_adr[t]..self.tendon_adr[t + 1]]
+    }
+
+    /// Spatial tendon `t`'s path (empty for a fixed tendon).
+    pub fn tendon_path(&self, t: usize) -> &[PathPoint] {
+        &self.tendon_path[self.tendon_path_adr[t]..self.tendon_path_adr[t + 1]]
+    }
+
+    /// Limited tendons (with limits enabled).
+    pub fn limited_tendons(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..self.ntendon).filter(|&t| self.opt.limit && self.tendon_limited[t])
     }
 }
 
@@ -427,20 +454,36 @@ pub struct Model {
     /// Site position in the body frame.
     pub site_pos: Vec<DVec3>,
 
-    /// Number of fixed tendons.
+    /// Number of tendons.
     pub ntendon: usize,
     /// Tendon names (ntendon).
     pub tendon_name: Vec<String>,
-    /// Each tendon's terms, `tendon_wrap[tendon_adr[t]..tendon_adr[t + 1]]`: length Σ coef · qpos.
+    /// A fixed tendon's terms, `tendon_wrap[tendon_adr[t]..tendon_adr[t + 1]]`: length Σ coef ·
+    /// qpos (empty for a spatial tendon).
     pub tendon_wrap: Vec<Wrap>,
     /// See `tendon_wrap` (ntendon + 1).
     pub tendon_adr: Vec<usize>,
+    /// A spatial tendon's path, `tendon_path[tendon_path_adr[t]..tendon_path_adr[t + 1]]` (empty
+    /// for a fixed tendon).
+    pub tendon_path: Vec<PathPoint>,
+    /// See `tendon_path` (ntendon + 1).
+    pub tendon_path_adr: Vec<usize>,
     /// Spring stiffness (ntendon).
     pub tendon_stiffness: Vec<f64>,
     /// Damping (ntendon).
     pub tendon_damping: Vec<f64>,
     /// The spring's deadband [low, high] of lengths where it exerts no force (ntendon).
     pub tendon_springlength: Vec<[f64; 2]>,
+    /// Whether the length is limited to `tendon_range` (ntendon).
+    pub tendon_limited: Vec<bool>,
+    /// Length limits [low, high] (ntendon).
+    pub tendon_range: Vec<[f64; 2]>,
+    /// Distance from a limit within which its row is built (ntendon).
+    pub tendon_margin: Vec<f64>,
+    /// Dry friction: the largest force the tendon's friction rows exert (ntendon).
+    pub tendon_frictionloss: Vec<f64>,
+    /// Length at qpos0 (ntendon).
+    pub tendon_length0: Vec<f64>,
     /// Number of joint and tendon equality constraints.
     pub neq: usize,
     /// Equality names (neq).
@@ -534,10 +577,15 @@ impl Model {
         (0..self.njnt).filter(|&j| self.jnt_limited[j] && matches!(self.jnt_type[j], JointType::Hinge | JointType::Slide))
     }
 
-    /// Whether a step can have constraint rows: contacts, joint limits or motion control.
+    /// Whether a step can have constraint rows: contacts, joint and tendon limits, equalities, dry
+    /// friction or motion control.
     pub fn may_constrain(&self) -> bool {
         (self.opt.contact && !self.collision_pairs.is_empty())
             || (self.opt.limit && self.limited_joints().next().is_some())
+            || self.limited_tendons().next().is_some()
+            || self.eq_active.contains(&true)
+            || self.connects.iter().any(|c| c.active)
+            || self.dof_frictionloss.iter().chain(&self.tendon_frictionloss).any(|&f| f > 0.0)
             || (matches!(self.opt.actuation, Actuation::Trajectory { .. }) && self.nu > 0)
     }
 

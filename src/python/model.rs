@@ -360,6 +360,23 @@ impl PyModel {
     fn site_names(&self) -> Vec<String> {
         self.inner.site_name.clone()
     }
+    /// Number of tendons.
+    #[getter]
+    fn ntendon(&self) -> usize {
+        self.inner.ntendon
+    }
+    /// Tendon names.
+    #[getter]
+    fn tendon_names(&self) -> Vec<String> {
+        self.inner.tendon_name.clone()
+    }
+    /// Tendon length limits (ntendon, 2); NaN for an unlimited tendon.
+    #[getter]
+    fn tendon_range<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let m = &self.inner;
+        let flat: Vec<f64> = (0..m.ntendon).flat_map(|t| if m.tendon_limited[t] { m.tendon_range[t] } else { [f64::NAN; 2] }).collect();
+        PyArray1::from_vec(py, flat).reshape([m.ntendon, 2])
+    }
     /// Actuator names.
     #[getter]
     fn actuator_names(&self) -> Vec<String> {

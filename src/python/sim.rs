@@ -10,7 +10,7 @@ use super::arrays::{as_f64, checked_values, first_nonfinite};
 use super::errors::{diverged, to_py};
 use super::model::PyModel;
 use crate::model::Model;
-use crate::dynamics::kinematics;
+use crate::dynamics::{kinematics, tendon};
 use crate::constraint::History;
 use crate::state::WorldState;
 use crate::step::run::{advance, guarded, Divergence};
@@ -134,6 +134,29 @@ impl PySim {
             .flat_map(|m| (0..3).flat_map(move |r| (0..3).map(move |c| m.col(c)[r])))
             .collect();
         PyArray1::from_vec(py, flat).reshape([self.model.nbody, 3, 3])
+    }
+
+    /// Tendon lengths (ntendon) for the current qpos, as MuJoCo's `ten_length`.
+    #[getter]
+    fn ten_length<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.tendons(py)?;
+        Ok(PyArray1::from_vec(py, self.data.dynamics.ten.length.clone()))
+    }
+    /// Tendon velocities J q̇ (ntendon) for the current state, as MuJoCo's `ten_velocity`.
+    #[getter]
+    fn ten_velocity<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.tendons(py)?;
+        let qvel = self.qvel.bind(py).readonly();
+        let (ten, q) = (&self.data.dynamics.ten, qvel.as_slice()?);
+        let v = (0..self.model.ntendon).map(|t| ten.rate(t, q)).collect();
+        Ok(PyArray1::from_vec(py, v))
+    }
+    /// Tendon Jacobians (ntendon, nv) for the current qpos, as MuJoCo's `ten_J`.
+    #[getter]
+    #[allow(non_snake_case)]
+    fn ten_J<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.tendons(py)?;
+        PyArray1::from_vec(py, self.data.dynamics.ten.jac.clone()).reshape([self.model.ntendon, self.model.nv])
     }
 
     /// Draws the world: rgb (H, W, 3) uint8 and/or depth (H, W) float32 (MuJoCo's z-buffer
@@ -379,6 +402,13 @@ impl PySim {
                 return Err(PyValueError::new_err(format!("{name}[{i}] is {} (must be finite)", a.as_slice()?[i])));
             }
         }
+        Ok(())
+    }
+
+    fn tendons(&mut self, py: Python<'_>) -> PyResult<()> {
+        self.kinematics(py)?;
+        let qpos = self.qpos.bind(py).readonly();
+        tendon::evaluate(&self.model, &self.data.dynamics.kin, qpos.as_slice()?, &mut self.data.dynamics.ten);
         Ok(())
     }
 

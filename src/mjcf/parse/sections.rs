@@ -1,4 +1,4 @@
-//! The sections outside the body tree: `<actuator>`s, `<custom>` numerics, fixed `<tendon>`s and
+//! The sections outside the body tree: `<actuator>`s, `<custom>` numerics, `<tendon>`s and
 //! `<contact>` exclusions.
 
 use roxmltree::Node;
@@ -8,7 +8,7 @@ use super::Parser;
 use crate::error::Result;
 use glam::DVec3;
 
-use crate::mjcf::{ActuatorSpec, ConnectSpec, EqualitySpec, KeySpec, TendonSpec, TransmissionSpec};
+use crate::mjcf::{ActuatorSpec, ConnectSpec, EqualitySpec, KeySpec, PathSpec, TendonPathSpec, TendonSpec, TransmissionSpec};
 
 /// Attributes every actuator takes.
 const ACTUATOR_ATTRS: &[&str] =
@@ -27,9 +27,11 @@ pub(super) fn actuator_attrs(kind: &str) -> &'static [&'static str] {
     }
 }
 
-/// Attributes of a fixed tendon.
-pub(super) const TENDON_ATTRS: &[&str] =
-    &["name", "class", "stiffness", "damping", "springlength", "limited", "range", "frictionloss", "width", "material"];
+/// Attributes of a tendon.
+pub(super) const TENDON_ATTRS: &[&str] = &[
+    "name", "class", "stiffness", "damping", "springlength", "limited", "range", "margin", "frictionloss", "width", "armature",
+    "solreffriction", "solimpfriction",
+];
 
 impl Parser<'_> {
     pub(super) fn actuators(&mut self, n: Node) -> Result<()> {
@@ -136,31 +138,25 @@ impl Parser<'_> {
         Ok(())
     }
 
-    /// Fixed tendons (spatial tendons and tendon limits are errors, `frictionloss` a warning).
+    /// Fixed and spatial tendons.
     pub(super) fn tendon(&mut self, n: Node) -> Result<()> {
         for c in n.children().filter(Node::is_element) {
-            if !c.has_tag_name("fixed") {
-                return Err(self.err(c, None, "spatial tendons are not supported (fixed tendons are)"));
+            let kind = c.tag_name().name();
+            if !matches!(kind, "fixed" | "spatial") {
+                return Err(self.err(c, None, format!("unsupported tendon <{kind}>: <fixed> and <spatial> are")));
             }
             let e = self.el_as(c, None, "tendon")?;
             e.check(TENDON_ATTRS, &self.warnings)?;
-            if e.f64("frictionloss", 0.0)? != 0.0 {
-                self.warnings.borrow_mut().push(format!("<fixed> '{}' at line {}: tendon frictionloss is not modelled by sinew and is ignored", e.str("name"), e.line));
+            if e.f64("armature", 0.0)? != 0.0 {
+                return Err(e.err("armature", "tendon armature is not supported"));
             }
             let limited = e.tristate("limited")?.unwrap_or(self.autolimits && e.has("range"));
-            if limited {
-                return Err(e.err("limited", "tendon limits are not supported"));
-            }
-            let mut joints = vec![];
-            for j in c.children().filter(Node::is_element) {
-                let je = El { node: j, line: line(self.doc, j), defaults: vec![] };
-                if !j.has_tag_name("joint") {
-                    return Err(self.err(j, None, format!("unsupported element <{}> in a fixed tendon", j.tag_name().name())));
-                }
-                je.check(&["joint", "coef"], &self.warnings)?;
-                let name = je.get("joint").ok_or_else(|| je.err("joint", "required"))?;
-                joints.push((name.to_string(), je.f64("coef", 1.0)?));
-            }
+            let range = match (limited, e.arr::<2>("range")?) {
+                (false, _) => None,
+                (true, Some([lo, hi])) if lo <= hi => Some([lo, hi]),
+                (true, _) => return Err(e.err("range", "a limited tendon needs a range low ≤ high")),
+            };
+            let path = if kind == "fixed" { self.fixed_path(c)? } else { self.spatial_path(c)? };
             let springlength = match e.nums("springlength")?.as_deref() {
                 None => None,
                 Some([l]) if *l < 0.0 => None,
@@ -170,14 +166,62 @@ impl Parser<'_> {
             };
             self.spec.tendons.push(TendonSpec {
                 name: e.str("name").to_string(),
-                joints,
+                path,
                 stiffness: e.nonneg("stiffness", 0.0)?,
                 damping: e.nonneg("damping", 0.0)?,
                 springlength,
+                range,
+                margin: e.nonneg("margin", 0.0)?,
+                frictionloss: e.nonneg("frictionloss", 0.0)?,
                 line: e.line,
             });
         }
         Ok(())
+    }
+
+    /// A `<fixed>` tendon's `<joint>` terms.
+    fn fixed_path(&self, c: Node) -> Result<TendonPathSpec> {
+        let mut joints = vec![];
+        for j in c.children().filter(Node::is_element) {
+            let je = El { node: j, line: line(self.doc, j), defaults: vec![] };
+            if !j.has_tag_name("joint") {
+                return Err(self.err(j, None, format!("unsupported element <{}> in a fixed tendon", j.tag_name().name())));
+            }
+            je.check(&["joint", "coef"], &self.warnings)?;
+            let name = je.get("joint").ok_or_else(|| je.err("joint", "required"))?;
+            joints.push((name.to_string(), je.f64("coef", 1.0)?));
+        }
+        Ok(TendonPathSpec::Fixed(joints))
+    }
+
+    /// A `<spatial>` tendon's path: `<site>`, `<geom>` and `<pulley>` elements in order.
+    fn spatial_path(&self, c: Node) -> Result<TendonPathSpec> {
+        let mut path = vec![];
+        for p in c.children().filter(Node::is_element) {
+            let pe = El { node: p, line: line(self.doc, p), defaults: vec![] };
+            let required = |attr: &str| pe.get(attr).map(str::to_string).ok_or_else(|| pe.err(attr, "required"));
+            let item = match p.tag_name().name() {
+                "site" => {
+                    pe.check(&["site"], &self.warnings)?;
+                    PathSpec::Site(required("site")?)
+                }
+                "geom" => {
+                    pe.check(&["geom", "sidesite"], &self.warnings)?;
+                    PathSpec::Geom { geom: required("geom")?, sidesite: pe.get("sidesite").map(str::to_string) }
+                }
+                "pulley" => {
+                    pe.check(&["divisor"], &self.warnings)?;
+                    let divisor = pe.f64("divisor", 0.0)?;
+                    if divisor <= 0.0 {
+                        return Err(pe.err("divisor", format!("must be positive, got {divisor}")));
+                    }
+                    PathSpec::Pulley(divisor)
+                }
+                other => return Err(self.err(p, None, format!("unsupported element <{other}> in a spatial tendon"))),
+            };
+            path.push((item, pe.line));
+        }
+        Ok(TendonPathSpec::Spatial(path))
     }
 
     /// `<joint>` and `<tendon>` equalities (`connect`, `weld` and `flex` are errors).
