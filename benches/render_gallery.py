@@ -21,8 +21,9 @@ import imageio.v2 as imageio
 import numpy as np
 
 import sinew  # noqa: F401  (registers sinew/*)
+from sinew.tasks import TASKS
 
-NAMES = ["InvertedPendulum", "InvertedDoublePendulum", "Reacher", "Hopper", "Walker2d", "HalfCheetah", "Ant", "Humanoid"]
+NAMES = list(TASKS)
 
 
 def main():

@@ -10,7 +10,7 @@ mod visual;
 use inertia::geom_inertia;
 use crate::model::{Connect, GapPair, GeomType, Keyframe, Model, Options, PairTest, PathPoint, PlaneGroup, Transmission, Wrap, WORLD};
 use crate::error::{Error, Result};
-use crate::math::{SpatialInertia, Xform};
+use crate::math::{principal_axes, SpatialInertia, Xform};
 use crate::mjcf::{include, BodySpec, InertiaFromGeom, JointSpec, JointType, ModelSpec, PathSpec, TendonPathSpec, TransmissionSpec};
 use crate::dynamics::kinematics::KinData;
 use crate::dynamics::tendon::{self, TendonData};
@@ -54,6 +54,9 @@ fn compile(spec: ModelSpec) -> Result<Model> {
             contact: spec.option.contact,
             limit: spec.option.limit,
             restitution: spec.restitution.unwrap_or(0.0),
+            density: spec.option.density,
+            viscosity: spec.option.viscosity,
+            wind: spec.option.wind,
             ..Options::default()
         },
         nu: spec.actuators.len(),
@@ -65,11 +68,13 @@ fn compile(spec: ModelSpec) -> Result<Model> {
         body_mass: inertia.iter().map(|i| i.mass).collect(),
         body_ipos: inertia.iter().map(|i| i.com).collect(),
         body_inertia: inertia.iter().map(|i| i.ic).collect(),
+        body_iaxes: spec.bodies.iter().zip(&inertia).map(|(b, i)| inertia_axes(&spec, b, i)).collect(),
         body_node: vec![WORLD; spec.bodies.len()],
         body_offset: vec![Xform::IDENTITY; spec.bodies.len()],
         warnings: spec.warnings.clone(),
         ..Model::default()
     };
+    m.body_fluid_box = inertia.iter().zip(&m.body_iaxes).map(|(i, &axes)| fluid_box(i, axes)).collect();
     joints_and_nodes(&mut m, &spec)?;
     node_inertias(&mut m, &inertia);
     geoms_and_sites(&mut m, &spec);
@@ -105,6 +110,40 @@ fn compile(spec: ModelSpec) -> Result<Model> {
     Ok(m)
 }
 
+/// The principal axes of body `b`'s inertia `i` (columns, body axes): a body whose inertia is its
+/// one geom's takes the geom's axes, and one given by a diagonal `<inertial>` that element's, as
+/// MuJoCo's compiler does (which matters where moments are equal: fluid forces are not symmetric
+/// about such axes).
+fn inertia_axes(spec: &ModelSpec, b: &BodySpec, i: &SpatialInertia) -> DMat3 {
+    match (b.geoms.as_slice(), &b.inertial) {
+        ([g], _) if from_geoms(spec, b) => DMat3::from_quat(g.inertia_quat),
+        // a diagonal `<inertial>`: its own frame
+        (_, Some(inertial)) if !from_geoms(spec, b) && inertial.inertia[3..] == [0.0; 3] => DMat3::from_quat(inertial.quat),
+        _ => principal_axes(i.ic).1,
+    }
+}
+
+/// The sides of the box with inertia `i`'s mass and its moments about `axes` (principal), along
+/// them (MuJoCo's inertia-box fluid model).
+fn fluid_box(i: &SpatialInertia, axes: DMat3) -> DVec3 {
+    if i.mass <= 0.0 {
+        return DVec3::ZERO;
+    }
+    let p = axes.transpose() * i.ic * axes;
+    let (a, b, c) = (p.x_axis.x, p.y_axis.y, p.z_axis.z);
+    let side = |x: f64, y: f64, z: f64| ((y + z - x).max(1e-15) / i.mass * 6.0).sqrt();
+    DVec3::new(side(a, b, c), side(b, a, c), side(c, a, b))
+}
+
+/// Whether body `b`'s inertia comes from its geoms (`<compiler inertiafromgeom>`).
+fn from_geoms(spec: &ModelSpec, b: &BodySpec) -> bool {
+    match spec.inertiafromgeom {
+        InertiaFromGeom::True => true,
+        InertiaFromGeom::False => false,
+        InertiaFromGeom::Auto => b.inertial.is_none(),
+    }
+}
+
 /// Each body's mass properties in its own frame: from its geoms or its `<inertial>` as the
 /// compiler's `inertiafromgeom` says, scaled to `settotalmass`.
 fn body_inertias(spec: &ModelSpec) -> Vec<SpatialInertia> {
@@ -116,12 +155,7 @@ fn body_inertias(spec: &ModelSpec) -> Vec<SpatialInertia> {
             if id == 0 {
                 return SpatialInertia::ZERO;
             }
-            let from_geom = match spec.inertiafromgeom {
-                InertiaFromGeom::True => true,
-                InertiaFromGeom::False => false,
-                InertiaFromGeom::Auto => b.inertial.is_none(),
-            };
-            if from_geom {
+            if from_geoms(spec, b) {
                 b.geoms.iter().fold(SpatialInertia::ZERO, |acc, g| acc.combine(&geom_inertia(g)))
             } else if let Some(i) = &b.inertial {
                 let [xx, yy, zz, xy, xz, yz] = i.inertia;

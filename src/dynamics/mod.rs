@@ -3,6 +3,7 @@
 
 pub mod aba;
 pub mod crba;
+pub mod fluid;
 pub mod forces;
 pub mod kinematics;
 pub mod rnea;
@@ -12,6 +13,7 @@ use aba::AbaData;
 use kinematics::{KinCache, KinData};
 use tendon::TendonData;
 
+use crate::math::Motion;
 use crate::model::Model;
 
 /// One evaluation of a world's dynamics: kinematics, the ABA's quantities, the applied forces
@@ -30,12 +32,15 @@ pub struct DynamicsData {
     pub qacc: Vec<f64>,
     /// The kinematics of the state the next evaluation starts from, when computed ahead.
     pub ahead: KinCache,
+    /// Node velocities of other joint velocities on the same configuration (nnode; empty without
+    /// fluid forces, the one reader).
+    pub v_other: Vec<Motion>,
 }
 
 impl DynamicsData {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
-        DynamicsData { kin: KinData::new(m), ten: TendonData::new(m), aba: AbaData::new(m), qfrc_applied: vec![0.0; m.nv], qacc: vec![0.0; m.nv], ahead: KinCache::new(m) }
+        DynamicsData { kin: KinData::new(m), ten: TendonData::new(m), aba: AbaData::new(m), qfrc_applied: vec![0.0; m.nv], qacc: vec![0.0; m.nv], ahead: KinCache::new(m), v_other: vec![Motion::ZERO; if m.opt.density > 0.0 || m.opt.viscosity > 0.0 { m.nnode } else { 0 }] }
     }
 }
 
@@ -50,6 +55,7 @@ pub fn kinematics(m: &Model, dy: &mut DynamicsData, qpos: &[f64], qvel: &[f64]) 
 pub fn accelerations(m: &Model, dy: &mut DynamicsData, qpos: &[f64], qvel: &[f64], ctrl: &[f64], h_damp: f64) {
     tendon::evaluate(m, &dy.kin, qpos, &mut dy.ten);
     forces::applied(m, &dy.ten, qpos, qvel, ctrl, &mut dy.qfrc_applied);
+    fluid::add_forces(m, &dy.kin, &dy.kin.v, &mut dy.qfrc_applied);
     aba::backward(m, &dy.kin, &dy.qfrc_applied, h_damp, &mut dy.aba);
     aba::forward(m, &dy.kin, &mut dy.aba, &mut dy.qacc);
 }

@@ -33,8 +33,13 @@ pub fn rk4(m: &Model, dy: &mut DynamicsData, rk: &mut Rk4Scratch, s: &mut WorldS
             }
         }
         integrate_pos(m, &mut rk.qpos, &rk.dv, h);
-        // the dynamics need the nodes only (the next step recomputes the kinematics)
-        kinematics::forward_nodes(m, &rk.qpos, &rk.qvel, &mut dy.kin);
+        // the dynamics need the nodes, and the bodies' poses where spatial tendons or fluid
+        // forces read them (the next step recomputes the kinematics)
+        if m.forces_read_bodies() {
+            kinematics::forward(m, &rk.qpos, &rk.qvel, &mut dy.kin);
+        } else {
+            kinematics::forward_nodes(m, &rk.qpos, &rk.qvel, &mut dy.kin);
+        }
         dynamics::accelerations(m, dy, &rk.qpos, &rk.qvel, ctrl, 0.0);
         rk.kv[i].copy_from_slice(&rk.qvel);
         rk.ka[i].copy_from_slice(&dy.qacc);

@@ -148,3 +148,55 @@ mod tests {
         assert!((moved.ic - rot * i.ic * rot.transpose()).abs_diff_eq(DMat3::ZERO, 1e-15));
     }
 }
+
+/// The principal moments and axes of a symmetric 3×3 inertia: (moments, axes as columns) with
+/// `i = axes · diag(moments) · axesᵀ`, by cyclic Jacobi rotations (Golub & Van Loan 2013, §8.5).
+/// An inertia already diagonal keeps the frame's own axes, as MuJoCo's compiler does.
+pub fn principal_axes(i: DMat3) -> (DVec3, DMat3) {
+    let mut a = [[0.0; 3]; 3];
+    for (r, row) in a.iter_mut().enumerate() {
+        for (c, x) in row.iter_mut().enumerate() {
+            *x = i.col(c)[r];
+        }
+    }
+    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let scale = a[0][0].abs() + a[1][1].abs() + a[2][2].abs();
+    for _ in 0..50 {
+        let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
+        if off <= 1e-15 * scale {
+            break;
+        }
+        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
+            if a[p][q] == 0.0 {
+                continue;
+            }
+            // the rotation in the (p, q) plane that zeroes a[p][q]
+            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let t = if theta == 0.0 { 1.0 } else { t };
+            let c = 1.0 / (t * t + 1.0).sqrt();
+            let s = t * c;
+            for k in 0..3 {
+                let (akp, akq) = (a[k][p], a[k][q]);
+                a[k][p] = c * akp - s * akq;
+                a[k][q] = s * akp + c * akq;
+            }
+            for k in 0..3 {
+                let (apk, aqk) = (a[p][k], a[q][k]);
+                a[p][k] = c * apk - s * aqk;
+                a[q][k] = s * apk + c * aqk;
+            }
+            for row in v.iter_mut() {
+                let (vp, vq) = (row[p], row[q]);
+                row[p] = c * vp - s * vq;
+                row[q] = s * vp + c * vq;
+            }
+        }
+    }
+    let axes = DMat3::from_cols(
+        DVec3::new(v[0][0], v[1][0], v[2][0]),
+        DVec3::new(v[0][1], v[1][1], v[2][1]),
+        DVec3::new(v[0][2], v[1][2], v[2][2]),
+    );
+    (DVec3::new(a[0][0], a[1][1], a[2][2]), axes)
+}

@@ -5,7 +5,7 @@ mod inertia;
 mod spatial;
 
 pub use glam::{DMat3, DQuat, DVec3};
-pub use inertia::{ArtInertia, SpatialInertia};
+pub use inertia::{principal_axes, ArtInertia, SpatialInertia};
 pub use spatial::{Force, Motion, Xform};
 
 /// SplitMix64's output for `state` (Steele, Lea & Flood 2014): a well-mixed 64-bit value; the

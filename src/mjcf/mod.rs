@@ -95,6 +95,12 @@ pub struct OptionSpec {
     pub contact: bool,
     /// Joint limits enabled (`<flag limit>`).
     pub limit: bool,
+    /// Density of the medium, for fluid forces.
+    pub density: f64,
+    /// Viscosity of the medium, for fluid forces.
+    pub viscosity: f64,
+    /// Velocity of the medium.
+    pub wind: DVec3,
 }
 
 /// A joint as written, with defaults applied and units converted.
@@ -143,6 +149,10 @@ pub struct GeomSpec {
     pub pos: DVec3,
     /// Orientation in the body frame.
     pub quat: DQuat,
+    /// MuJoCo's orientation of the geom's frame, which the principal axes of a body of this one
+    /// geom take: `quat`, but for a `fromto` geom the shortest rotation of +z onto from − to
+    /// (sinew's own frame points z from `from` to `to`; the shape is the same).
+    pub inertia_quat: DQuat,
     /// Density for mass-from-volume.
     pub density: f64,
     /// Explicit mass, overriding density.

@@ -69,6 +69,9 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
                 integrator: Integrator::Euler,
                 contact: true,
                 limit: true,
+                density: 0.0,
+                viscosity: 0.0,
+                wind: DVec3::ZERO,
             },
             bodies: vec![BodySpec {
                 name: "world".into(),
@@ -234,20 +237,15 @@ impl<'d> Parser<'d> {
                         v => return Err(e.err("integrator", format!("unknown integrator '{v}'"))),
                     }
                 }
-                "density" | "viscosity" | "wind" | "magnetic" => {
-                    if e.nums(a.name())?.unwrap_or_default().iter().any(|&x| x != 0.0) {
-                        self.warnings.borrow_mut().push(format!(
-                            "<option> {}={} at line {}: fluid and field forces are not modelled by sinew",
-                            a.name(),
-                            a.value(),
-                            e.line
-                        ));
-                    }
-                }
+                "density" => self.spec.option.density = e.nonneg("density", 0.0)?,
+                "viscosity" => self.spec.option.viscosity = e.nonneg("viscosity", 0.0)?,
+                "wind" => self.spec.option.wind = e.vec3("wind", DVec3::ZERO)?,
                 // MuJoCo solver settings; sinew's solver has its own
                 "iterations" | "solver" | "tolerance" | "ls_iterations" | "ls_tolerance" | "noslip_iterations"
                 | "noslip_tolerance" | "cone" | "impratio" | "jacobian" | "o_margin" | "o_solref" | "o_solimp"
                 | "ccd_iterations" | "ccd_tolerance" | "sdf_iterations" | "sdf_initpoints" | "apirate" => {}
+                // the field magnetometers read: no force
+                "magnetic" => {}
                 other => return Err(e.err(other, "unsupported attribute")),
             }
         }

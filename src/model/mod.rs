@@ -167,6 +167,12 @@ pub struct Options {
     pub actuation: Actuation,
     /// Acceleration-level (seed) or velocity-level constraint handling.
     pub constraint_mode: ConstraintMode,
+    /// Density of the medium (kg/m³), for fluid forces.
+    pub density: f64,
+    /// Viscosity of the medium (Pa s), for fluid forces.
+    pub viscosity: f64,
+    /// Velocity of the medium (m/s).
+    pub wind: DVec3,
 }
 
 impl Model {
@@ -218,6 +224,9 @@ impl Default for Options {
             friction: FrictionModel::Pyramid,
             actuation: Actuation::Motor,
             constraint_mode: ConstraintMode::Acceleration,
+            density: 0.0,
+            viscosity: 0.0,
+            wind: DVec3::ZERO,
         }
     }
 }
@@ -352,6 +361,11 @@ pub struct Model {
     pub body_ipos: Vec<DVec3>,
     /// Rotational inertia about the centre of mass, body axes (nbody).
     pub body_inertia: Vec<DMat3>,
+    /// Principal axes of the rotational inertia, as columns in body axes (nbody).
+    pub body_iaxes: Vec<DMat3>,
+    /// Sides of the box with the body's principal moments of inertia, along `body_iaxes` (nbody):
+    /// what the fluid sees.
+    pub body_fluid_box: Vec<DVec3>,
     /// Node whose frame the body moves with, or [`WORLD`] (nbody).
     pub body_node: Vec<usize>,
     /// Body frame relative to its node frame (nbody).
@@ -587,6 +601,12 @@ impl Model {
             || self.connects.iter().any(|c| c.active)
             || self.dof_frictionloss.iter().chain(&self.tendon_frictionloss).any(|&f| f > 0.0)
             || (matches!(self.opt.actuation, Actuation::Trajectory { .. }) && self.nu > 0)
+    }
+
+    /// Whether the applied forces read the bodies' poses (spatial tendons, fluid forces), not the
+    /// nodes' alone.
+    pub fn forces_read_bodies(&self) -> bool {
+        !self.tendon_path.is_empty() || self.opt.density > 0.0 || self.opt.viscosity > 0.0
     }
 
     /// Index of the body named `name`.

@@ -4,7 +4,7 @@ use crate::constraint::impact::needs_impact;
 use crate::constraint::rows::refresh;
 use crate::constraint::solve::{apply, solve_rows, Level};
 use crate::constraint::{impact_speed, World};
-use crate::dynamics::{aba, forces, kinematics, tendon};
+use crate::dynamics::{aba, fluid, forces, kinematics, tendon};
 use crate::model::Model;
 use crate::state::WorldState;
 use crate::timing::{timed, Stage};
@@ -46,7 +46,12 @@ const MAX_IMPACT_PASSES: usize = 16;
 /// momentum at every impact: benches/free_flight.py), then the rows' velocities and b anew.
 fn new_velocities(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) {
     let (qpos, qvel, ctrl) = (&*s.qpos, &*s.qvel, s.ctrl);
-    forces::applied(m, &data.dynamics.ten, qpos, qvel, ctrl, &mut data.dynamics.qfrc_applied);
+    let dy = &mut *data.dynamics;
+    forces::applied(m, &dy.ten, qpos, qvel, ctrl, &mut dy.qfrc_applied);
+    if !dy.v_other.is_empty() {
+        kinematics::velocities(m, &dy.kin, qvel, &mut dy.v_other);
+        fluid::add_forces(m, &dy.kin, &dy.v_other, &mut dy.qfrc_applied);
+    }
     aba::backward_bias(m, &data.dynamics.kin, &data.dynamics.qfrc_applied, &mut data.dynamics.aba);
     aba::forward(m, &data.dynamics.kin, &mut data.dynamics.aba, &mut data.dynamics.qacc);
     kinematics::forward_velocity(m, qvel, &mut data.dynamics.kin);

@@ -13,6 +13,7 @@ mod inverted_double_pendulum;
 mod inverted_pendulum;
 mod planar;
 mod reacher;
+mod swimmer;
 
 use std::fmt::Debug;
 
@@ -22,6 +23,7 @@ pub use inverted_double_pendulum::InvertedDoublePendulum;
 pub use inverted_pendulum::InvertedPendulum;
 pub use planar::{Healthy, Planar};
 pub use reacher::Reacher;
+pub use swimmer::Swimmer;
 
 use crate::model::Model;
 
@@ -30,6 +32,7 @@ pub const TASKS: &[&Spec] = &[
     &inverted_pendulum::SPEC,
     &inverted_double_pendulum::SPEC,
     &reacher::SPEC,
+    &swimmer::SPEC,
     &planar::HOPPER,
     &planar::WALKER2D,
     &planar::HALF_CHEETAH,

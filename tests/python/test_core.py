@@ -30,9 +30,9 @@ def test_model_loads_every_gym_file(gym_model):
         warnings.simplefilter("always")
         m = sinew.Model.from_mjcf(path)
     assert m.nq > 0
-    # swimmer's fluid forces are the only unmodelled physics in these files
-    assert bool(m.warnings) == (name == "swimmer")
-    assert any(issubclass(x.category, sinew.ModelWarning) for x in w) == (name == "swimmer")
+    # every physics of these files is modelled (swimmer's fluid forces too)
+    assert not m.warnings
+    assert not any(issubclass(x.category, sinew.ModelWarning) for x in w)
 
 
 def test_arrays_are_assignable_in_place_and_shape_checked():

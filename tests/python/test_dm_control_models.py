@@ -1,7 +1,7 @@
 """dm_control's suite models, read as the dm-control package ships them (includes and all),
 against MuJoCo on the same files: sizes, qpos0, masses, and the constraint-free acceleration at
 random states and controls (joint and tendon springs and dampers, motors and servos on joints and
-tendons; tendon lengths and Jacobians; MuJoCo's fluid forces, which sinew does not model, switched off); each steps 2 s with
+tendons; tendon lengths and Jacobians; fluid forces); each steps 2 s with
 random controls, finite, in both constraint modes. The files sinew cannot read yet fail with a
 ModelError naming what stops them."""
 
@@ -42,7 +42,6 @@ def test_suite_model_equals_mujocos(name):
     np.testing.assert_array_equal(m.qpos0, mj.qpos0)
     np.testing.assert_allclose(m.body_mass, mj.body_mass, rtol=1e-12)
     mj.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
-    mj.opt.density = mj.opt.viscosity = 0.0
     d = mujoco.MjData(mj)
     rng = np.random.default_rng(1)
     for _ in range(5):

@@ -105,7 +105,7 @@ def test_reward_terms_and_termination_match_the_twins_formulas(name):
         mujoco.mj_rnePostConstraint(r.model, r.data)
 
     def position():
-        if name in ("Hopper", "Walker2d", "HalfCheetah"):
+        if name in ("Hopper", "Walker2d", "HalfCheetah", "Swimmer"):
             return np.array([r.data.qpos[0], 0.0])
         if name == "Ant":
             return r.data.body(r._main_body).xpos[:2].copy()

@@ -68,8 +68,6 @@ def test_accelerations_match_mj_forward_without_constraints(gym_model):
     _, path = gym_model
     mj, sm = load_both(path)
     mj.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
-    mj.opt.density = 0.0  # fluid forces: warned about, not modelled by sinew
-    mj.opt.viscosity = 0.0
     d = mujoco.MjData(mj)
     sim = sinew.Sim(sm)
     rng = np.random.default_rng(0)

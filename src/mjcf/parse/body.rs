@@ -197,6 +197,7 @@ impl Parser<'_> {
             return Err(e.err("size", format!("sizes must be positive, got {given:?}")));
         }
         let (mut pos, mut quat) = (e.vec3("pos", DVec3::ZERO)?, self.orientation(&e)?);
+        let mut inertia_quat = quat;
         if let Some(ft) = e.arr::<6>("fromto")? {
             if matches!(kind, GeomType::Plane | GeomType::Sphere) {
                 return Err(e.err("fromto", "fromto needs a capsule, cylinder, box or ellipsoid"));
@@ -208,6 +209,7 @@ impl Parser<'_> {
             }
             pos = (a + b) * 0.5;
             quat = quat_z_to(d.normalize());
+            inertia_quat = quat_z_to(-d.normalize());
             let half = d.length() * 0.5;
             match kind {
                 GeomType::Capsule | GeomType::Cylinder => size[1] = half,
@@ -241,6 +243,7 @@ impl Parser<'_> {
             size,
             pos,
             quat,
+            inertia_quat,
             density: e.nonneg("density", 1000.0)?,
             mass,
             friction: fr,

@@ -1,0 +1,62 @@
+"""Fluid forces (MuJoCo's inertia-box model) against MuJoCo on the same files: the
+constraint-free acceleration at random states with density, viscosity and wind, for bodies whose
+inertia is not diagonal in their frame and a free body; and gymnasium's swimmer stepped with RK4
+(whose stages read the bodies' poses) beside MuJoCo until a joint reaches its limit."""
+
+import os
+
+import mujoco
+import numpy as np
+
+import sinew
+from conftest import gym_model_path
+
+XML = """<mujoco><option density="1200" viscosity="0.02" wind="0.3 -0.2 0.1" gravity="0 0 -3">
+    <flag contact="disable"/></option>
+  <worldbody>
+    <body pos="0 0 1"><freejoint/>
+      <geom type="box" size="0.2 0.1 0.05" euler="20 35 -10"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0.2 0.1" size="0.04"/>
+      <body pos="0.3 0.2 0.1"><joint type="hinge" axis="0 1 1"/><joint type="slide" axis="1 0 0"/>
+        <geom type="ellipsoid" size="0.1 0.05 0.03" euler="0 40 70"/></body>
+    </body>
+    <body pos="1 0 0"><joint type="ball"/><geom type="cylinder" size="0.05 0.2" euler="30 0 0"/></body>
+  </worldbody>
+</mujoco>"""
+
+
+def test_fluid_forces_equal_mujocos():
+    m, mj = sinew.Model.from_mjcf_string(XML), mujoco.MjModel.from_xml_string(XML)
+    d, sim = mujoco.MjData(mj), sinew.Sim(m)
+    assert not m.warnings
+    rng = np.random.default_rng(0)
+    moved = 0.0
+    for _ in range(50):
+        q = mj.qpos0.copy()
+        mujoco.mj_integratePos(mj, q, rng.normal(0.0, 0.5, mj.nv), 1.0)
+        v = rng.normal(0.0, 2.0, mj.nv)
+        d.qpos[:], d.qvel[:] = q, v
+        mujoco.mj_forward(mj, d)
+        sim.qpos[:], sim.qvel[:] = q, v
+        sim.forward()
+        np.testing.assert_allclose(sim.qacc, d.qacc, rtol=1e-10, atol=1e-10)
+        moved = max(moved, np.abs(d.qfrc_passive).max())
+    # the fluid's forces were far from negligible
+    assert moved > 1.0
+
+
+def test_swimmer_steps_as_mujocos_until_a_joint_limit():
+    path = gym_model_path("swimmer")
+    m, mj = sinew.Model.from_mjcf(path), mujoco.MjModel.from_xml_path(path)
+    assert m.integrator == "RK4"
+    d, sim = mujoco.MjData(mj), sinew.Sim(m)
+    rng = np.random.default_rng(1)
+    d.qvel[:] = sim.qvel[:] = rng.uniform(-0.1, 0.1, mj.nv)
+    for t in range(300):
+        d.ctrl[:] = sim.ctrl[:] = 0.3 * np.sin(0.2 * t + np.array([0.0, -1.5]))
+        mujoco.mj_step(mj, d)
+        sim.step()
+    assert np.abs(d.qpos[3:]).max() < np.radians(100)  # no limit reached
+    assert abs(d.qpos[0]) > 0.01  # it swam
+    np.testing.assert_allclose(sim.qpos, d.qpos, rtol=0, atol=1e-10)
+    np.testing.assert_allclose(sim.qvel, d.qvel, rtol=0, atol=1e-10)
