@@ -122,33 +122,6 @@ impl ArtInertia {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::SpatialInertia;
-    use crate::math::Motion;
-    use glam::{DMat3, DVec3};
-    use glam::DQuat;
-
-    #[test]
-    fn rigid_and_articulated_forms_agree() {
-        let i = SpatialInertia::new(2.5, DVec3::new(0.1, -0.2, 0.3), DMat3::from_diagonal(DVec3::new(0.4, 0.5, 0.6)));
-        let m = Motion::new(DVec3::new(1.0, -2.0, 0.5), DVec3::new(0.3, 0.1, -0.7));
-        let (f1, f2) = (i.mul_motion(&m), i.to_art().mul_motion(&m));
-        assert!((f1.ang - f2.ang).length() < 1e-14 && (f1.lin - f2.lin).length() < 1e-14);
-    }
-
-    #[test]
-    fn moved_inertia_is_the_rotated_and_shifted_one() {
-        let i = SpatialInertia::new(2.5, DVec3::new(0.1, -0.2, 0.3), DMat3::from_cols(DVec3::new(0.4, 0.05, -0.02), DVec3::new(0.05, 0.5, 0.01), DVec3::new(-0.02, 0.01, 0.6)));
-        let rot = DMat3::from_quat(DQuat::from_rotation_y(0.8) * DQuat::from_rotation_x(-0.3));
-        let pos = DVec3::new(0.5, 1.0, -2.0);
-        let moved = i.to_parent(rot, pos);
-        assert_eq!(moved.mass, i.mass);
-        assert!((moved.com - (rot * i.com + pos)).length() < 1e-15);
-        assert!((moved.ic - rot * i.ic * rot.transpose()).abs_diff_eq(DMat3::ZERO, 1e-15));
-    }
-}
-
 /// The principal moments and axes of a symmetric 3×3 inertia: (moments, axes as columns) with
 /// `i = axes · diag(moments) · axesᵀ`, by cyclic Jacobi rotations (Golub & Van Loan 2013, §8.5).
 /// An inertia already diagonal keeps the frame's own axes, as MuJoCo's compiler does.
@@ -199,4 +172,49 @@ pub fn principal_axes(i: DMat3) -> (DVec3, DMat3) {
         DVec3::new(v[0][2], v[1][2], v[2][2]),
     );
     (DVec3::new(a[0][0], a[1][1], a[2][2]), axes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::SpatialInertia;
+    use crate::math::Motion;
+    use glam::{DMat3, DVec3};
+    use glam::DQuat;
+
+    #[test]
+    fn rigid_and_articulated_forms_agree() {
+        let i = SpatialInertia::new(2.5, DVec3::new(0.1, -0.2, 0.3), DMat3::from_diagonal(DVec3::new(0.4, 0.5, 0.6)));
+        let m = Motion::new(DVec3::new(1.0, -2.0, 0.5), DVec3::new(0.3, 0.1, -0.7));
+        let (f1, f2) = (i.mul_motion(&m), i.to_art().mul_motion(&m));
+        assert!((f1.ang - f2.ang).length() < 1e-14 && (f1.lin - f2.lin).length() < 1e-14);
+    }
+
+    #[test]
+    fn moved_inertia_is_the_rotated_and_shifted_one() {
+        let i = SpatialInertia::new(2.5, DVec3::new(0.1, -0.2, 0.3), DMat3::from_cols(DVec3::new(0.4, 0.05, -0.02), DVec3::new(0.05, 0.5, 0.01), DVec3::new(-0.02, 0.01, 0.6)));
+        let rot = DMat3::from_quat(DQuat::from_rotation_y(0.8) * DQuat::from_rotation_x(-0.3));
+        let pos = DVec3::new(0.5, 1.0, -2.0);
+        let moved = i.to_parent(rot, pos);
+        assert_eq!(moved.mass, i.mass);
+        assert!((moved.com - (rot * i.com + pos)).length() < 1e-15);
+        assert!((moved.ic - rot * i.ic * rot.transpose()).abs_diff_eq(DMat3::ZERO, 1e-15));
+    }
+
+    #[test]
+    fn principal_axes_diagonalise_an_inertia() {
+        let rot = DMat3::from_euler(glam::EulerRot::XYZ, 0.3, -1.1, 0.7);
+        for moments in [DVec3::new(3.0, 2.0, 1.0), DVec3::new(2.0, 2.0, 0.5)] {
+            let i = rot * DMat3::from_diagonal(moments) * rot.transpose();
+            let (p, axes) = super::principal_axes(i);
+            let back = axes * DMat3::from_diagonal(p) * axes.transpose();
+            assert!((back - i).abs_diff_eq(DMat3::ZERO, 1e-12), "{back:?}");
+            assert!((axes.transpose() * axes).abs_diff_eq(DMat3::IDENTITY, 1e-12));
+            let (mut got, mut want) = (p.to_array(), moments.to_array());
+            got.sort_by(f64::total_cmp);
+            want.sort_by(f64::total_cmp);
+            assert!(got.iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-12), "{got:?}");
+        }
+        // a diagonal inertia keeps its frame
+        assert_eq!(super::principal_axes(DMat3::from_diagonal(DVec3::new(1.0, 2.0, 3.0))).1, DMat3::IDENTITY);
+    }
 }
