@@ -37,7 +37,7 @@ fn tendons(m: &Model, qpos: &[f64], qvel: &[f64]) -> TendonData {
     let mut kin = KinData::new(m);
     kinematics::forward(m, qpos, qvel, &mut kin);
     let mut ten = TendonData::new(m);
-    tendon::evaluate(m, &kin, qpos, &mut ten);
+    tendon::compute(m, &kin, qpos, &mut ten);
     ten
 }
 
@@ -67,7 +67,7 @@ fn j_is_the_lengths_derivative_for_every_path_kind() {
         };
         let (up, down) = (moved(eps), moved(-eps));
         for t in 0..m.ntendon {
-            let rate = ten.rate(t, &qvel);
+            let rate = ten.rate(&m, t, &qvel);
             let fd = (up[t] - down[t]) / (2.0 * eps);
             // a wrap switching on or off within ±ε has no derivative there
             if (ten.length[t] - up[t]).abs() > 1e-3 || (ten.length[t] - down[t]).abs() > 1e-3 {
@@ -108,7 +108,7 @@ fn jdot_qdot_is_the_rates_derivative_along_the_motion() {
         let rate_at = |s: f64| {
             let mut q = qpos.clone();
             sinew::integrate::integrate_pos(&m, &mut q, &qvel, s);
-            tendons(&m, &q, &qvel).rate(2, &qvel)
+            tendons(&m, &q, &qvel).rate(&m, 2, &qvel)
         };
         let eps = 1e-6;
         let fd = (rate_at(eps) - rate_at(-eps)) / (2.0 * eps);

@@ -82,6 +82,9 @@ fn compile(spec: ModelSpec) -> Result<Model> {
     tendons(&mut m, &spec)?;
     equalities(&mut m, &spec)?;
     actuators(&mut m, &spec)?;
+    m.tendons_act = (0..m.ntendon).any(|t| {
+        m.tendon_stiffness[t] != 0.0 || m.tendon_damping[t] != 0.0 || m.tendon_limited[t] || m.tendon_frictionloss[t] > 0.0
+    }) || m.actuator_trn.iter().any(|t| matches!(t, Transmission::Tendon(_)));
     for (b1, b2) in &spec.contact_excludes {
         let find = |n: &str| {
             m.body_id(n).ok_or_else(|| Error::Compile(format!("<exclude> names unknown body '{n}'")))
@@ -391,7 +394,7 @@ fn tendons(m: &mut Model, spec: &ModelSpec) -> Result<()> {
         let mut kin = KinData::new(m);
         crate::dynamics::kinematics::forward(m, q, &vec![0.0; m.nv], &mut kin);
         let mut ten = TendonData::new(m);
-        tendon::evaluate(m, &kin, q, &mut ten);
+        tendon::compute(m, &kin, q, &mut ten);
         ten.length
     };
     let (length0, rest) = (lengths(&m.qpos0), lengths(&m.qpos_spring));

@@ -355,7 +355,7 @@ pub fn push_friction_rows(m: &Model, ten: &TendonData, qvel: &[f64], out: &mut C
     for (t, &loss) in m.tendon_frictionloss.iter().enumerate().filter(|(_, loss)| **loss > 0.0) {
         for sign in [1.0, -1.0] {
             let Some(r) = push_tendon_row(m, ten, RowKind::DryFriction, t, sign, m.nv + t, out) else { break };
-            out.vel[r] = sign * ten.rate(t, qvel);
+            out.vel[r] = sign * ten.rate(m, t, qvel);
             out.cap[r] = loss;
             if sign < 0.0 {
                 out.mirror[r] = r - 1;
@@ -371,8 +371,8 @@ pub fn push_tendon_limit_rows(m: &Model, ten: &TendonData, qvel: &[f64], qacc0: 
     let (h, lever) = (m.opt.timestep, m.opt.lever());
     for t in m.limited_tendons() {
         let [lo, hi] = m.tendon_range[t];
-        let (length, rate) = (ten.length[t], ten.rate(t, qvel));
-        let accel = ten.rate(t, qacc0) + ten.jdot_qdot[t];
+        let (length, rate) = (ten.length[t], ten.rate(m, t, qvel));
+        let accel = ten.rate(m, t, qacc0) + ten.jdot_qdot[t];
         let source = m.njnt + t;
         for (side, (dist, sign)) in [(length - lo, 1.0), (hi - length, -1.0)].into_iter().enumerate() {
             let (v, v_end) = (sign * rate, sign * (rate + h * accel));

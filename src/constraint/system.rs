@@ -203,6 +203,7 @@ impl ConstraintData {
     }
 
     /// Joint row j's rate over its terms: a single dof's, signed, or Σ coef · x[dof].
+    #[inline]
     pub fn joint_rate(&self, j: usize, x: &[f64]) -> f64 {
         match self.term_span[j].1 {
             0 => self.dof[j].1 * x[self.dof[j].0],

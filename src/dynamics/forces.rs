@@ -54,15 +54,14 @@ pub fn applied(m: &Model, ten: &TendonData, qpos: &[f64], qvel: &[f64], ctrl: &[
             let [lo, hi] = m.actuator_ctrlrange[a];
             u = u.clamp(lo, hi);
         }
-        // length and rate: gear times the joint's or the tendon's
-        let gear = m.actuator_gear[a];
-        let (length, rate) = match m.actuator_trn[a] {
-            Transmission::Joint(_) => (Wrap::length(m.moment(a), qpos), Wrap::rate(m.moment(a), qvel)),
-            Transmission::Tendon(t) => (gear * ten.length[t], gear * ten.rate(t, qvel)),
-        };
         let [b0, b1, b2] = m.actuator_bias[a];
         u *= m.actuator_gain[a];
         if [b0, b1, b2] != [0.0; 3] {
+            // length and rate: gear times the joint's or the tendon's
+            let (length, rate) = match m.actuator_trn[a] {
+                Transmission::Joint(_) => (Wrap::length(m.moment(a), qpos), Wrap::rate(m.moment(a), qvel)),
+                Transmission::Tendon(t) => (m.actuator_gear[a] * ten.length[t], m.actuator_gear[a] * ten.rate(m, t, qvel)),
+            };
             u += b0 + b1 * length + b2 * rate;
         }
         if m.actuator_forcelimited[a] {
@@ -75,11 +74,7 @@ pub fn applied(m: &Model, ten: &TendonData, qpos: &[f64], qvel: &[f64], ctrl: &[
                     tau[w.dof] += w.coef * u;
                 }
             }
-            Transmission::Tendon(t) => {
-                for (f, j) in tau.iter_mut().zip(ten.jac(t, m.nv)) {
-                    *f += gear * j * u;
-                }
-            }
+            Transmission::Tendon(t) => ten.apply(m, t, m.actuator_gear[a] * u, tau),
         }
     }
 }
@@ -91,12 +86,9 @@ fn tendon_forces(m: &Model, ten: &TendonData, qvel: &[f64], tau: &mut [f64]) {
         if k == 0.0 && b == 0.0 {
             continue;
         }
-        let (length, velocity) = (ten.length[t], ten.rate(t, qvel));
+        let (length, velocity) = (ten.length[t], ten.rate(m, t, qvel));
         let [lo, hi] = m.tendon_springlength[t];
         let stretch = if length > hi { length - hi } else if length < lo { length - lo } else { 0.0 };
-        let f = -k * stretch - b * velocity;
-        for (x, j) in tau.iter_mut().zip(ten.jac(t, m.nv)) {
-            *x += j * f;
-        }
+        ten.apply(m, t, -k * stretch - b * velocity, tau);
     }
 }

@@ -29,11 +29,17 @@ pub struct TendonData {
 }
 
 impl TendonData {
-    /// Buffers sized for `m`.
+    /// Buffers sized for `m`, with the fixed tendons' J (constant) filled in.
     pub fn new(m: &Model) -> Self {
+        let mut jac = vec![0.0; m.ntendon * m.nv];
+        for t in 0..m.ntendon {
+            for w in m.tendon_terms(t) {
+                jac[t * m.nv + w.dof] += w.coef;
+            }
+        }
         TendonData {
             length: vec![0.0; m.ntendon],
-            jac: vec![0.0; m.ntendon * m.nv],
+            jac,
             jdot_qdot: vec![0.0; m.ntendon],
             a_vp: vec![Motion::ZERO; if m.tendon_path.is_empty() { 0 } else { m.nnode }],
         }
@@ -44,32 +50,54 @@ impl TendonData {
         &self.jac[t * nv..(t + 1) * nv]
     }
 
-    /// Tendon t's rate J_t · q̇.
-    pub fn rate(&self, t: usize, qvel: &[f64]) -> f64 {
-        self.jac(t, qvel.len()).iter().zip(qvel).map(|(j, v)| j * v).sum()
+    /// Tendon t's rate J_t · q̇ (a fixed tendon's over its terms).
+    pub fn rate(&self, m: &Model, t: usize, qvel: &[f64]) -> f64 {
+        match m.tendon_terms(t) {
+            [] => self.jac(t, m.nv).iter().zip(qvel).map(|(j, v)| j * v).sum(),
+            terms => Wrap::rate(terms, qvel),
+        }
+    }
+
+    /// tau += f J_t: the joint forces of a force f along tendon t (a fixed tendon's on its terms).
+    pub fn apply(&self, m: &Model, t: usize, f: f64, tau: &mut [f64]) {
+        match m.tendon_terms(t) {
+            [] => {
+                for (x, j) in tau.iter_mut().zip(self.jac(t, m.nv)) {
+                    *x += j * f;
+                }
+            }
+            terms => {
+                for w in terms {
+                    tau[w.dof] += w.coef * f;
+                }
+            }
+        }
     }
 }
 
-/// The tendons of (qpos, qvel) with its kinematics `kin` into `ten`.
+/// Stage 2's tendons: [`compute`], skipped where no tendon acts on the motion (a model whose
+/// tendons are there to be read, as gymnasium's humanoid's, pays nothing for them).
 pub fn evaluate(m: &Model, kin: &KinData, qpos: &[f64], ten: &mut TendonData) {
-    if m.ntendon == 0 {
-        return;
+    if m.tendons_act {
+        compute(m, kin, qpos, ten);
     }
+}
+
+/// The tendons of (qpos, qvel) with its kinematics `kin` into `ten`: every length, and a spatial
+/// tendon's J and J̇ q̇ (a fixed tendon's are constant).
+pub fn compute(m: &Model, kin: &KinData, qpos: &[f64], ten: &mut TendonData) {
     let nv = m.nv;
-    ten.jac.fill(0.0);
     if !m.tendon_path.is_empty() {
         velocity_products(m, kin, &mut ten.a_vp);
     }
     for t in 0..m.ntendon {
-        let row = &mut ten.jac[t * nv..(t + 1) * nv];
         let terms = m.tendon_terms(t);
         if terms.is_empty() {
+            let row = &mut ten.jac[t * nv..(t + 1) * nv];
+            row.fill(0.0);
             (ten.length[t], ten.jdot_qdot[t]) = spatial(m, kin, &ten.a_vp, m.tendon_path(t), row);
         } else {
-            for w in terms {
-                row[w.dof] += w.coef;
-            }
-            (ten.length[t], ten.jdot_qdot[t]) = (Wrap::length(terms, qpos), 0.0);
+            ten.length[t] = Wrap::length(terms, qpos);
         }
     }
 }

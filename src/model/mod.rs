@@ -498,6 +498,9 @@ pub struct Model {
     pub tendon_frictionloss: Vec<f64>,
     /// Length at qpos0 (ntendon).
     pub tendon_length0: Vec<f64>,
+    /// Whether any tendon acts on the motion (a spring, damper, limit, dry friction or actuator on
+    /// it; equalities read their own terms): the step evaluates the tendons only then.
+    pub tendons_act: bool,
     /// Number of joint and tendon equality constraints.
     pub neq: usize,
     /// Equality names (neq).

@@ -148,7 +148,7 @@ impl PySim {
         self.tendons(py)?;
         let qvel = self.qvel.bind(py).readonly();
         let (ten, q) = (&self.data.dynamics.ten, qvel.as_slice()?);
-        let v = (0..self.model.ntendon).map(|t| ten.rate(t, q)).collect();
+        let v = (0..self.model.ntendon).map(|t| ten.rate(&self.model, t, q)).collect();
         Ok(PyArray1::from_vec(py, v))
     }
     /// Tendon Jacobians (ntendon, nv) for the current qpos, as MuJoCo's `ten_J`.
@@ -408,7 +408,7 @@ impl PySim {
     fn tendons(&mut self, py: Python<'_>) -> PyResult<()> {
         self.kinematics(py)?;
         let qpos = self.qpos.bind(py).readonly();
-        tendon::evaluate(&self.model, &self.data.dynamics.kin, qpos.as_slice()?, &mut self.data.dynamics.ten);
+        tendon::compute(&self.model, &self.data.dynamics.kin, qpos.as_slice()?, &mut self.data.dynamics.ten);
         Ok(())
     }
 
