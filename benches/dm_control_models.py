@@ -1,9 +1,10 @@
 """dm_control's suite models (the dm-control package's files, includes and all) beside MuJoCo:
 whether sinew loads each, its sizes, the largest relative error of the constraint-free
-acceleration at 5 random states and controls (MuJoCo's fluid forces off: sinew does not model
-them), whether 2 s of random controls stay finite, and single-world steps/s of sinew's `Sim.step`
-and MuJoCo's `mj_step` over those 2 s, one Python call a step (one thread, the file's own
-timestep and integrator; MuJoCo computes fish's and swimmer's fluid forces, sinew does not).
+acceleration at 5 random states and controls (fluid forces, tendons and actuators included),
+whether 2 s of random controls stay finite, the largest overshoot of a tendon's length limit
+over those 2 s in each simulator (ball_in_cup's string), and single-world steps/s of sinew's
+`Sim.step` and MuJoCo's `mj_step` over those 2 s, one Python call a step (one thread, the file's
+own timestep and integrator).
 
     python benches/dm_control_models.py [--out results/dm_control_models.md]
 """
@@ -25,7 +26,6 @@ SUITE = os.path.join(importlib.util.find_spec("dm_control").submodule_search_loc
 
 def qacc_error(m, mj):
     mj.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
-    mj.opt.density = mj.opt.viscosity = 0.0
     d = mujoco.MjData(mj)
     rng = np.random.default_rng(1)
     worst = 0.0
@@ -48,36 +48,53 @@ def controls(nu, lo, hi, steps):
     return rng.uniform(lo, hi, size=(steps, nu)) if nu else np.zeros((steps, 0))
 
 
+def overshoot(length, ranges):
+    """The largest distance by which a length lies outside its [low, high] (NaN: unlimited)."""
+    lo, hi = ranges.T
+    out = np.maximum(lo - length, length - hi)
+    return float(np.max(out[np.isfinite(out)], initial=0.0))
+
+
 def rollout(m, path):
     steps = int(round(2.0 / m.timestep))
     lo, hi = m.actuator_ctrlrange.T if m.nu else (np.zeros(0), np.zeros(0))
     u = controls(m.nu, lo, hi, steps)
     s = sinew.Sim(m)
-    t = time.perf_counter()
-    finite = True
+    limited = not np.isnan(m.tendon_range).all()
+    finite, ours_over, elapsed = True, 0.0, 0.0
     try:
         for k in range(steps):
             s.ctrl[:] = u[k]
+            t = time.perf_counter()
             s.step()
+            elapsed += time.perf_counter() - t
+            if limited:
+                ours_over = max(ours_over, overshoot(s.ten_length, m.tendon_range))
     except sinew.SimulationError:
         finite = False
-    ours = steps / (time.perf_counter() - t)
+    ours = steps / elapsed
     mj = mujoco.MjModel.from_xml_path(path)
     d = mujoco.MjData(mj)
-    t = time.perf_counter()
+    ranges = np.where(mj.tendon_limited[:, None] == 1, mj.tendon_range, np.nan)
+    theirs_over, elapsed = 0.0, 0.0
     for k in range(steps):
         d.ctrl[:] = u[k]
+        t = time.perf_counter()
         mujoco.mj_step(mj, d)
-    theirs = steps / (time.perf_counter() - t)
-    return finite, ours, theirs
+        elapsed += time.perf_counter() - t
+        if limited:
+            theirs_over = max(theirs_over, overshoot(d.ten_length, ranges))
+    theirs = steps / elapsed
+    over = f"{ours_over:.1e} / {theirs_over:.1e}" if limited else ""
+    return finite, over, ours, theirs
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=None)
     args = ap.parse_args()
-    rows = ["| model | loads | nq / nv / nu | qacc error vs MuJoCo | 2 s finite | sinew steps/s | MuJoCo steps/s |",
-            "|---|---|---|---|---|---|---|"]
+    rows = ["| model | loads | nq / nv / nu | qacc error vs MuJoCo | 2 s finite | tendon limit overshoot (m), sinew / MuJoCo | sinew steps/s | MuJoCo steps/s |",
+            "|---|---|---|---|---|---|---|---|"]
     for path in sorted(glob.glob(os.path.join(SUITE, "*.xml"))):
         name = os.path.basename(path)[:-4]
         with warnings.catch_warnings():
@@ -86,11 +103,11 @@ def main():
                 m = sinew.Model.from_mjcf(path)
             except sinew.ModelError as e:
                 reason = str(e).split(": ", 1)[1]
-                rows.append(f"| {name} | no: {reason} | | | | | |")
+                rows.append(f"| {name} | no: {reason} | | | | | | |")
                 continue
         err = qacc_error(m, mujoco.MjModel.from_xml_path(path))
-        finite, ours, theirs = rollout(m, path)
-        rows.append(f"| {name} | yes | {m.nq} / {m.nv} / {m.nu} | {err:.1e} | {'yes' if finite else 'no'} | {ours:,.0f} | {theirs:,.0f} |")
+        finite, over, ours, theirs = rollout(m, path)
+        rows.append(f"| {name} | yes | {m.nq} / {m.nv} / {m.nu} | {err:.1e} | {'yes' if finite else 'no'} | {over} | {ours:,.0f} | {theirs:,.0f} |")
     loaded = sum(" | yes | " in r for r in rows)
     text = "\n".join([f"dm_control's suite: {loaded} of {len(rows) - 2} files load.", "", *rows, ""])
     print(text)
