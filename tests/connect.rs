@@ -127,7 +127,7 @@ fn a_box_welded_to_the_world_holds_still_and_one_welded_to_an_arm_moves_as_one_b
     }
     assert!((a.qpos[0] - b.qpos[0]).abs() < 1e-4, "arm angle {} vs {}", a.qpos[0], b.qpos[0]);
     // the box sits at the arm's end, to the rows' linearisation: each step leaves an error of
-    // order (h ω)² r that the next removes (4e-5 m here at several rad/s; no position projection)
+    // order (h ω)² r that the next removes (4e-5 m here at several rad/s; docs/physics.md says why no position projection)
     let (x, z) = (0.5 * b.qpos[0].cos(), -0.5 * b.qpos[0].sin());
     assert!((b.qpos[1] - x).abs() < 1e-4 && (b.qpos[3] - z).abs() < 1e-4, "box at {:?}, off by {:e}, {:e}", &b.qpos[1..4], b.qpos[1] - x, b.qpos[3] - z);
 }

@@ -69,7 +69,7 @@ fn a_tendon_coupling_holds_to_round_off() {
 #[test]
 fn a_nonlinear_coupling_holds_to_the_steps_second_order() {
     // the rows are the coupling's linearisation: each step leaves an error of order (h q̇)² that
-    // the next step removes (no position projection yet): 4e-5 here, with the arms spun by
+    // the next step removes (docs/physics.md says why no position projection): 4e-5 here, with the arms spun by
     // random torques up to several rad/s
     let m = arms("<equality><joint joint1='b' joint2='a' polycoef='0 1 0.5'/></equality>");
     let w = worst(&m, |q| q[2] - (q[0] + 0.5 * q[0] * q[0]));

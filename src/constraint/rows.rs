@@ -15,7 +15,7 @@ use crate::dynamics::DynamicsData;
 use crate::dynamics::kinematics::{self, point_accel, point_vel, velocity_products, KinData};
 use crate::math::{Force, Motion};
 use crate::state::WorldState;
-use crate::model::{Actuation, FrictionModel, GeomType, Model, Wrap, WORLD};
+use crate::model::{Actuation, Connect, FrictionModel, GeomType, Model, Wrap, WORLD};
 
 /// What building a step's rows needs besides them (`constraint::rows`).
 #[derive(Clone, Debug, Default)]
@@ -262,14 +262,7 @@ pub fn push_limit_rows(m: &Model, qpos: &[f64], qvel: &[f64], qacc0: &[f64], for
 /// terms' dofs, `dist` the error x₁ − x₁⁰ − poly(x₂ − x₂⁰) (negated on the − row).
 pub fn push_equality_rows(m: &Model, qpos: &[f64], qvel: &[f64], out: &mut ConstraintData) {
     for e in (0..m.neq).filter(|&e| m.eq_active[e]) {
-        let value = |side: usize| Wrap::length(m.eq_side(e, side), qpos) - m.eq_ref[e][side];
-        let (x1, x2) = (value(0), value(1));
-        let c = m.eq_polycoef[e];
-        let (poly, slope) = if m.eq_side(e, 1).is_empty() {
-            (c[0], 0.0)
-        } else {
-            (c[0] + x2 * (c[1] + x2 * (c[2] + x2 * (c[3] + x2 * c[4]))), c[1] + x2 * (2.0 * c[2] + x2 * (3.0 * c[3] + x2 * 4.0 * c[4])))
-        };
+        let (error, slope) = equality_error(m, e, qpos);
         for sign in [1.0, -1.0] {
             let r = out.len();
             let first = m.eq_side(e, 0).first().map_or(0, |w| w.dof);
@@ -280,7 +273,7 @@ pub fn push_equality_rows(m: &Model, qpos: &[f64], qvel: &[f64], out: &mut Const
             for w in m.eq_side(e, 1).iter().filter(|_| slope != 0.0) {
                 out.add_term(m, w.dof, -sign * slope * w.coef);
             }
-            out.dist[r] = sign * (x1 - poly);
+            out.dist[r] = sign * error;
             out.dist_start[r] = out.dist[r];
             let vel = row_velocity(out, r, &[], qvel);
             out.vel[r] = vel;
@@ -291,26 +284,57 @@ pub fn push_equality_rows(m: &Model, qpos: &[f64], qvel: &[f64], out: &mut Const
     }
 }
 
+/// Equality e's error x₁ − x₁⁰ − poly(x₂ − x₂⁰) at `qpos`, and poly′(x₂ − x₂⁰).
+pub fn equality_error(m: &Model, e: usize, qpos: &[f64]) -> (f64, f64) {
+    let value = |side: usize| Wrap::length(m.eq_side(e, side), qpos) - m.eq_ref[e][side];
+    let (x1, x2) = (value(0), value(1));
+    let c = m.eq_polycoef[e];
+    if m.eq_side(e, 1).is_empty() {
+        return (x1 - c[0], 0.0);
+    }
+    let poly = c[0] + x2 * (c[1] + x2 * (c[2] + x2 * (c[3] + x2 * c[4])));
+    (x1 - poly, c[1] + x2 * (2.0 * c[2] + x2 * (3.0 * c[3] + x2 * 4.0 * c[4])))
+}
+
+/// Connect c's errors in the kinematics `kin`: p₁ − p₂ (world), and for a weld the world rotation
+/// vector taking R₂ R₂ᵀR₁(qpos0) to R₁; with each side's point relative to `kin.origin`.
+pub fn connect_error(m: &Model, c: &Connect, kin: &KinData) -> ConnectError {
+    let nodes = c.body.map(|b| m.body_node[b]);
+    let pts = [0, 1].map(|s| {
+        let (rot, pos) = m.body_offset[c.body[s]].pose();
+        rot * c.anchor[s] + pos
+    });
+    let r = [kin.rel(nodes[0], pts[0]), kin.rel(nodes[1], pts[1])];
+    let turn = c.rel.map(|rel| {
+        let [q1, q2] = c.body.map(|b| DQuat::from_mat3(&kin.xmat[b]).normalize());
+        kin.xmat[c.body[0]] * crate::math::quat_sub(q1, (q2 * rel).normalize())
+    });
+    ConnectError { nodes, pts, r, gap: r[0] - r[1], turn }
+}
+
+/// A connect's or weld's state in one configuration ([`connect_error`]).
+pub struct ConnectError {
+    /// Each side's node.
+    pub nodes: [usize; 2],
+    /// Each side's point in its node's frame (the world's: world coordinates).
+    pub pts: [DVec3; 2],
+    /// Each side's point relative to the kinematics' origin.
+    pub r: [DVec3; 2],
+    /// p₁ − p₂.
+    pub gap: DVec3,
+    /// A weld's rotation error (None for a connect).
+    pub turn: Option<DVec3>,
+}
+
 /// The active connects' and welds' rows: a ± pair along each world axis d, J q̇ = d · (v₁(p₁) −
 /// v₂(p₂)) with `dist` the error d · (p₁ − p₂); and for a weld three more pairs, J q̇ = d · (ω₁ − ω₂)
 /// with `dist` d · θ, θ the world rotation vector taking R₂ R₂ᵀR₁(qpos0) to R₁ (negated on the −
 /// rows).
 pub fn push_connect_rows(m: &Model, kin: &KinData, out: &mut ConstraintData) {
     for (c, con) in m.connects.iter().enumerate().filter(|(_, c)| c.active) {
-        let nodes = con.body.map(|b| m.body_node[b]);
-        // each side's point in its node's frame (the world's: world coordinates)
-        let pts = [0, 1].map(|s| {
-            let (rot, pos) = m.body_offset[con.body[s]].pose();
-            rot * con.anchor[s] + pos
-        });
-        let (r1, r2) = (kin.rel(nodes[0], pts[0]), kin.rel(nodes[1], pts[1]));
-        let gap = r1 - r2;
+        let ConnectError { nodes, pts, r: [r1, r2], gap, turn } = connect_error(m, con, kin);
         let vrel = point_vel(kin, nodes[0], r1) - point_vel(kin, nodes[1], r2);
         let omega = |n: usize| if n == WORLD { DVec3::ZERO } else { kin.v[n].ang };
-        let turn = con.rel.map(|rel| {
-            let [q1, q2] = con.body.map(|b| DQuat::from_mat3(&kin.xmat[b]).normalize());
-            kin.xmat[con.body[0]] * crate::math::quat_sub(q1, (q2 * rel).normalize())
-        });
         let axes = [DVec3::X, DVec3::Y, DVec3::Z];
         let rows = axes.iter().map(|&d| (false, d)).chain(turn.iter().flat_map(|_| axes.iter().map(|&d| (true, d))));
         for (k, (angular, d)) in rows.enumerate() {
