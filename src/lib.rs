@@ -26,6 +26,7 @@ pub mod constraint;
 pub mod step;
 pub mod batch;
 pub mod sensors;
+pub mod sensordata;
 pub mod tasks;
 pub mod render;
 pub use step::data;

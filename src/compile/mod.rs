@@ -8,7 +8,7 @@ mod pairs;
 mod visual;
 
 use inertia::geom_inertia;
-use crate::model::{Connect, GapPair, GeomType, Keyframe, Model, Options, PairTest, PathPoint, PlaneGroup, Transmission, Wrap, WORLD};
+use crate::model::{Connect, GapPair, GeomType, Keyframe, Model, Options, PairTest, PathPoint, PlaneGroup, SensorFrame, SensorKind, Transmission, Wrap, WORLD};
 use crate::error::{Error, Result};
 use crate::math::{principal_axes, SpatialInertia, Xform};
 use crate::mjcf::{include, BodySpec, InertiaFromGeom, JointSpec, JointType, ModelSpec, PathSpec, TendonPathSpec, TransmissionSpec};
@@ -82,6 +82,7 @@ fn compile(spec: ModelSpec) -> Result<Model> {
     tendons(&mut m, &spec)?;
     equalities(&mut m, &spec)?;
     actuators(&mut m, &spec)?;
+    sensors(&mut m, &spec)?;
     m.tendons_act = (0..m.ntendon).any(|t| {
         m.tendon_stiffness[t] != 0.0 || m.tendon_damping[t] != 0.0 || m.tendon_limited[t] || m.tendon_frictionloss[t] > 0.0
     }) || m.actuator_trn.iter().any(|t| matches!(t, Transmission::Tendon(_)));
@@ -301,6 +302,9 @@ fn geoms_and_sites(m: &mut Model, spec: &ModelSpec) {
             m.site_name.push(s.name.clone());
             m.site_body.push(b);
             m.site_pos.push(s.pos);
+            m.site_mat.push(DMat3::from_quat(s.quat));
+            m.site_type.push(s.kind);
+            m.site_size.push(s.size);
         }
     }
     m.ngeom = m.geom_type.len();
@@ -538,6 +542,66 @@ fn actuators(m: &mut Model, spec: &ModelSpec) -> Result<()> {
         m.actuator_forcelimited.push(a.forcelimited);
         m.actuator_gain.push(a.gain);
         m.actuator_bias.push(a.bias);
+    }
+    Ok(())
+}
+
+/// The `<sensor>`s sinew computes, each object resolved; the kinds it does not compute are left
+/// out with a warning (their names stay out of `sensordata`).
+fn sensors(m: &mut Model, spec: &ModelSpec) -> Result<()> {
+    for sp in &spec.sensors {
+        let attr = |a: &str| sp.attrs.iter().find(|(k, _)| k == a).map(|(_, v)| v.as_str());
+        let find = |names: &[String], a: &str| {
+            let name = attr(a).ok_or_else(|| Error::model(&sp.kind, Some(a), sp.line, "required"))?;
+            names.iter().position(|n| n == name).ok_or_else(|| Error::model(&sp.kind, Some(a), sp.line, format!("unknown {a} '{name}'")))
+        };
+        let frame = |ty: &str, name: &str| -> Result<Option<SensorFrame>> {
+            let (Some(t), Some(_)) = (attr(ty), attr(name)) else { return Ok(None) };
+            Ok(Some(match t {
+                "body" => SensorFrame::Body(find(&m.body_name, name)?),
+                "xbody" => SensorFrame::XBody(find(&m.body_name, name)?),
+                "geom" => SensorFrame::Geom(find(&m.geom_name, name)?),
+                "site" => SensorFrame::Site(find(&m.site_name, name)?),
+                other => return Err(Error::model(&sp.kind, Some(ty), sp.line, format!("sensor frames are bodies, xbodies, geoms and sites, not '{other}'"))),
+            }))
+        };
+        let scalar_joint = |a: &str| -> Result<usize> {
+            let j = find(&m.jnt_name, a)?;
+            if matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide) { Ok(j) } else { Err(Error::model(&sp.kind, Some(a), sp.line, "joint sensors read hinge and slide joints")) }
+        };
+        let object = || frame("objtype", "objname")?.ok_or_else(|| Error::model(&sp.kind, Some("objtype"), sp.line, "objtype and objname are required"));
+        let kind = match sp.kind.as_str() {
+            "jointpos" => SensorKind::JointPos(scalar_joint("joint")?),
+            "jointvel" => SensorKind::JointVel(scalar_joint("joint")?),
+            "tendonpos" => SensorKind::TendonPos(find(&m.tendon_name, "tendon")?),
+            "tendonvel" => SensorKind::TendonVel(find(&m.tendon_name, "tendon")?),
+            "actuatorpos" => SensorKind::ActuatorPos(find(&m.actuator_name, "actuator")?),
+            "actuatorvel" => SensorKind::ActuatorVel(find(&m.actuator_name, "actuator")?),
+            "framepos" => SensorKind::FramePos(object()?, frame("reftype", "refname")?),
+            "framexaxis" | "frameyaxis" | "framezaxis" => {
+                let axis = ["framexaxis", "frameyaxis", "framezaxis"].iter().position(|k| *k == sp.kind).unwrap_or(0);
+                SensorKind::FrameAxis(object()?, axis, frame("reftype", "refname")?)
+            }
+            "framelinvel" | "frameangvel" if attr("reftype").is_some() => {
+                return Err(Error::model(&sp.kind, Some("reftype"), sp.line, "velocity sensors in a reference frame are not supported"));
+            }
+            "framelinvel" => SensorKind::FrameLinVel(object()?),
+            "frameangvel" => SensorKind::FrameAngVel(object()?),
+            "subtreecom" => SensorKind::SubtreeCom(find(&m.body_name, "body")?),
+            "subtreelinvel" => SensorKind::SubtreeLinVel(find(&m.body_name, "body")?),
+            "subtreeangmom" => SensorKind::SubtreeAngMom(find(&m.body_name, "body")?),
+            "gyro" => SensorKind::Gyro(find(&m.site_name, "site")?),
+            "velocimeter" => SensorKind::Velocimeter(find(&m.site_name, "site")?),
+            "touch" => SensorKind::Touch(find(&m.site_name, "site")?),
+            other => {
+                m.warnings.push(format!("<{other}> sensor '{}' at line {}: not computed by sinew, left out of sensordata", sp.name, sp.line));
+                continue;
+            }
+        };
+        m.sensor_adr.push(m.nsensordata);
+        m.nsensordata += kind.dim();
+        m.sensor_name.push(sp.name.clone());
+        m.sensor_kind.push(kind);
     }
     Ok(())
 }

@@ -186,6 +186,10 @@ pub struct SiteSpec {
     pub pos: DVec3,
     /// Orientation in the body frame.
     pub quat: DQuat,
+    /// Shape (a touch sensor's zone).
+    pub kind: GeomType,
+    /// Size parameters, as a geom's of that shape.
+    pub size: [f64; 3],
 }
 
 /// Explicit `<inertial>`.
@@ -307,6 +311,19 @@ pub struct ConnectSpec {
     pub line: u32,
 }
 
+/// A `<sensor>` child as written: its kind (the element's name), name and object attributes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SensorSpec {
+    /// The element's name (`jointpos`, `touch`, …).
+    pub kind: String,
+    /// Name (may be empty).
+    pub name: String,
+    /// The attributes naming its objects (`joint`, `site`, `objtype`, `objname`, …).
+    pub attrs: Vec<(String, String)>,
+    /// Source line.
+    pub line: u32,
+}
+
 /// A `<key>` of `<keyframe>`: a named state (absent arrays are qpos0 and zeros).
 #[derive(Clone, Debug, PartialEq)]
 pub struct KeySpec {
@@ -401,6 +418,8 @@ pub struct ModelSpec {
     pub equalities: Vec<EqualitySpec>,
     /// Keyframes.
     pub keys: Vec<KeySpec>,
+    /// `<sensor>`s, in order.
+    pub sensors: Vec<SensorSpec>,
     /// Connect equalities.
     pub connects: Vec<ConnectSpec>,
     /// `<compiler inertiafromgeom>`.

@@ -88,6 +88,7 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
             }],
             actuators: vec![],
             tendons: vec![],
+            sensors: vec![],
             equalities: vec![],
             keys: vec![],
             connects: vec![],
@@ -121,7 +122,8 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
             "asset" => p.asset(c)?,
             "statistic" => p.statistic(c)?,
             "keyframe" => p.keyframe(c)?,
-            "size" | "sensor" | "extension" => {}
+            "sensor" => p.sensor(c)?,
+            "size" | "extension" => {}
             other => return Err(p.err(c, None, format!("unsupported element <{other}>"))),
         }
     }

@@ -360,6 +360,26 @@ impl PyModel {
     fn site_names(&self) -> Vec<String> {
         self.inner.site_name.clone()
     }
+    /// Names of the sensors sinew computes, in `sensordata`'s order.
+    #[getter]
+    fn sensor_names(&self) -> Vec<String> {
+        self.inner.sensor_name.clone()
+    }
+    /// Each sensor's first entry in `Sim.sensordata`.
+    #[getter]
+    fn sensor_adr(&self) -> Vec<usize> {
+        self.inner.sensor_adr.clone()
+    }
+    /// Each sensor's number of entries.
+    #[getter]
+    fn sensor_dim(&self) -> Vec<usize> {
+        self.inner.sensor_kind.iter().map(|k| k.dim()).collect()
+    }
+    /// Length of `Sim.sensordata`.
+    #[getter]
+    fn nsensordata(&self) -> usize {
+        self.inner.nsensordata
+    }
     /// Number of tendons.
     #[getter]
     fn ntendon(&self) -> usize {

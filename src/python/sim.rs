@@ -11,6 +11,7 @@ use super::errors::{diverged, to_py};
 use super::model::PyModel;
 use crate::model::Model;
 use crate::dynamics::{kinematics, tendon};
+use crate::sensordata;
 use crate::constraint::History;
 use crate::state::WorldState;
 use crate::step::run::{advance, guarded, Divergence};
@@ -136,6 +137,18 @@ impl PySim {
         PyArray1::from_vec(py, flat).reshape([self.model.nbody, 3, 3])
     }
 
+    /// The file's sensors (nsensordata) at the current state, touch from the last step's contact
+    /// forces, as MuJoCo's `sensordata` (`Model.sensor_names`, `sensor_adr`; the kinds sinew does
+    /// not compute are left out).
+    #[getter]
+    fn sensordata<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.tendons(py)?;
+        let (qpos, qvel) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly());
+        let mut out = vec![0.0; self.model.nsensordata];
+        let d = &self.data;
+        sensordata::compute(&self.model, &d.dynamics.kin, &d.dynamics.ten, qpos.as_slice()?, qvel.as_slice()?, (&d.constraints, &d.coll.contacts), &mut out);
+        Ok(PyArray1::from_vec(py, out))
+    }
     /// Tendon lengths (ntendon) for the current qpos, as MuJoCo's `ten_length`.
     #[getter]
     fn ten_length<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {

@@ -269,7 +269,24 @@ impl Parser<'_> {
                 quat = quat_z_to((b - a).normalize());
             }
         }
-        Ok(SiteSpec { name: e.str("name").to_string(), pos, quat })
+        let kind = match e.get("type").unwrap_or("sphere") {
+            "sphere" => GeomType::Sphere,
+            "capsule" => GeomType::Capsule,
+            "cylinder" => GeomType::Cylinder,
+            "box" => GeomType::Box,
+            "ellipsoid" => GeomType::Ellipsoid,
+            v => return Err(e.err("type", format!("unsupported site type '{v}'"))),
+        };
+        // MuJoCo's default size, each given number replacing its own
+        let mut size = [0.005; 3];
+        for (s, g) in size.iter_mut().zip(e.nums("size")?.unwrap_or_default()) {
+            *s = g;
+        }
+        if let Some(ft) = e.arr::<6>("fromto")? {
+            let half = 0.5 * (DVec3::from_slice(&ft[3..]) - DVec3::from_slice(&ft[..3])).length();
+            size[if matches!(kind, GeomType::Box | GeomType::Ellipsoid) { 2 } else { 1 }] = half;
+        }
+        Ok(SiteSpec { name: e.str("name").to_string(), pos, quat, kind, size })
     }
 
     pub(super) fn inertial(&mut self, n: Node) -> Result<InertialSpec> {

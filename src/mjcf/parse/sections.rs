@@ -8,7 +8,7 @@ use super::Parser;
 use crate::error::Result;
 use glam::DVec3;
 
-use crate::mjcf::{ActuatorSpec, ConnectSpec, EqualitySpec, KeySpec, PathSpec, TendonPathSpec, TendonSpec, TransmissionSpec};
+use crate::mjcf::{ActuatorSpec, ConnectSpec, EqualitySpec, KeySpec, PathSpec, SensorSpec, TendonPathSpec, TendonSpec, TransmissionSpec};
 
 /// Attributes every actuator takes.
 const ACTUATOR_ATTRS: &[&str] =
@@ -222,6 +222,20 @@ impl Parser<'_> {
             path.push((item, pe.line));
         }
         Ok(TendonPathSpec::Spatial(path))
+    }
+
+    /// `<sensor>`s: each kept with its object attributes for the compiler, which resolves them
+    /// (and warns about kinds sinew does not compute).
+    pub(super) fn sensor(&mut self, n: Node) -> Result<()> {
+        const OBJECTS: &[&str] = &["joint", "tendon", "actuator", "site", "body", "objtype", "objname", "reftype", "refname"];
+        for c in n.children().filter(Node::is_element) {
+            let e = El { node: c, line: line(self.doc, c), defaults: vec![] };
+            // noise, cutoff and user do not change what sinew computes
+            e.check(&[OBJECTS, &["name", "noise", "cutoff", "nsample", "interp", "delay", "interval"]].concat(), &self.warnings)?;
+            let attrs = OBJECTS.iter().filter_map(|&a| e.get(a).map(|v| (a.to_string(), v.to_string()))).collect();
+            self.spec.sensors.push(SensorSpec { kind: c.tag_name().name().to_string(), name: e.str("name").to_string(), attrs, line: e.line });
+        }
+        Ok(())
     }
 
     /// `<joint>` and `<tendon>` equalities (`connect`, `weld` and `flex` are errors).

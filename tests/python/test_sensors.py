@@ -1,0 +1,67 @@
+"""Sensors a model file declares, against MuJoCo on dm_control's suite files: every position and
+velocity sensor (frame positions and axes, joints, subtree centre of mass and velocity, gyro,
+velocimeter) equals MuJoCo's `sensordata` at random states; a touch sensor reads the weight a
+box rests on it with; the kinds sinew does not compute are named in a warning."""
+
+import importlib.util
+import os
+import warnings
+
+import mujoco
+import numpy as np
+import pytest
+
+import sinew
+
+SUITE = os.path.join(importlib.util.find_spec("dm_control").submodule_search_locations[0], "suite")
+#: suite files whose sensors include position and velocity kinds
+FILES = ["cheetah", "finger", "fish", "hopper", "humanoid", "humanoid_CMU", "swimmer", "walker"]
+
+
+def load(name):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", sinew.ModelWarning)
+        return sinew.Model.from_mjcf(os.path.join(SUITE, name + ".xml"))
+
+
+@pytest.mark.parametrize("name", FILES)
+def test_position_and_velocity_sensors_equal_mujocos(name):
+    m, mj = load(name), mujoco.MjModel.from_xml_path(os.path.join(SUITE, name + ".xml"))
+    d, sim = mujoco.MjData(mj), sinew.Sim(m)
+    kinds = {mj.sensor(i).name: mujoco.mjtSensor(mj.sensor_type[i]).name for i in range(mj.nsensor)}
+    checked = [n for n in m.sensor_names if kinds[n] != "mjSENS_TOUCH"]
+    assert checked
+    rng = np.random.default_rng(2)
+    for _ in range(10):
+        q = mj.qpos0.copy()
+        mujoco.mj_integratePos(mj, q, rng.normal(0.0, 0.5, mj.nv), 1.0)
+        v = rng.normal(0.0, 1.0, mj.nv)
+        d.qpos[:], d.qvel[:] = q, v
+        mujoco.mj_forward(mj, d)
+        sim.qpos[:], sim.qvel[:] = q, v
+        data = sim.sensordata
+        for n, adr, dim in zip(m.sensor_names, m.sensor_adr, m.sensor_dim):
+            if n in checked:
+                np.testing.assert_allclose(data[adr:adr + dim], d.sensor(n).data, rtol=1e-10, atol=1e-12, err_msg=n)
+
+
+def test_touch_reads_the_weight_a_foot_carries():
+    # a box resting on the floor: a site around its bottom face reads its weight, one around its
+    # top face nothing
+    xml = """<mujoco><worldbody><geom type="plane" size="5 5 0.1"/>
+      <body pos="0 0 0.1"><freejoint/><geom type="box" size="0.2 0.1 0.1" mass="2"/>
+        <site name="bottom" type="box" size="0.25 0.15 0.02" pos="0 0 -0.1"/>
+        <site name="top" type="box" size="0.25 0.15 0.02" pos="0 0 0.1"/></body></worldbody>
+      <sensor><touch name="bottom" site="bottom"/><touch name="top" site="top"/></sensor></mujoco>"""
+    for mode in ["acceleration", "velocity"]:
+        sim = sinew.Sim(sinew.Model.from_mjcf_string(xml).with_options(constraint_mode=mode))
+        for _ in range(200):
+            sim.step()
+        bottom, top = sim.sensordata
+        assert bottom == pytest.approx(2 * 9.81, rel=1e-6) and top == 0.0, (mode, bottom, top)
+
+
+def test_kinds_not_computed_are_named_in_a_warning():
+    m = load("humanoid")
+    assert any("<accelerometer> sensor" in w for w in m.warnings)
+    assert "accelerometer" not in " ".join(m.sensor_names)
