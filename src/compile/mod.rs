@@ -108,6 +108,7 @@ fn compile(spec: ModelSpec) -> Result<Model> {
     let mut dy = DynamicsData::new(&m);
     crate::dynamics::forward(&m, &mut dy, &m.qpos0, &vec![0.0; m.nv], &vec![0.0; m.nu]);
     check_solvable(&m, &dy)?;
+    spring_dampers(&mut m, &spec, &dy.kin);
     m.connects = connects(&m, &spec, &dy.kin)?;
     m.motion_plane = motion_plane(&m, &dy.kin);
     m.vis = visual::compile(&spec, |n| m.body_id(n))?;
@@ -544,6 +545,26 @@ fn actuators(m: &mut Model, spec: &ModelSpec) -> Result<()> {
         m.actuator_bias.push(a.bias);
     }
     Ok(())
+}
+
+/// Stiffness and damping of the joints with a `springdamper` (time constant τ, damping ratio ζ),
+/// as MuJoCo sets them: with m the joint's effective inertia at qpos0, 1 / (M⁻¹)ᵢᵢ (`kin`: there),
+/// stiffness m / (τ ζ)² and damping 2 m / τ.
+fn spring_dampers(m: &mut Model, spec: &ModelSpec, kin: &KinData) {
+    let joints: Vec<_> = spec.bodies.iter().flat_map(|b| &b.joints).collect();
+    if joints.iter().all(|j| j.springdamper.is_none()) {
+        return;
+    }
+    let mass_matrix = crate::dynamics::crba::crba(m, kin);
+    for (j, spec) in joints.iter().enumerate() {
+        let Some([tc, dr]) = spec.springdamper else { continue };
+        let d = m.jnt_dofadr[j];
+        let mut unit = vec![0.0; m.nv];
+        unit[d] = 1.0;
+        let inertia = 1.0 / crate::dynamics::crba::cholesky_solve(&mass_matrix, &unit)[d];
+        m.jnt_stiffness[j] = inertia / (tc * tc * dr * dr);
+        m.dof_damping[d] = 2.0 * inertia / tc;
+    }
 }
 
 /// The `<sensor>`s sinew computes, each object resolved; the kinds it does not compute are left

@@ -130,6 +130,9 @@ pub struct JointSpec {
     pub frictionloss: f64,
     /// Spring stiffness.
     pub stiffness: f64,
+    /// (time constant, damping ratio) that set stiffness and damping from the joint's inertia at
+    /// qpos0, overriding both.
+    pub springdamper: Option<[f64; 2]>,
     /// Spring rest position.
     pub springref: f64,
     /// Source line.

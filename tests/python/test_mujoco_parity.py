@@ -150,3 +150,25 @@ def test_rk4_step_equals_mujocos_on_a_free_joint():
         sim.step()
     np.testing.assert_allclose(sim.qpos, d.qpos, atol=1e-12)
     np.testing.assert_allclose(sim.qvel, d.qvel, atol=1e-10)
+
+
+def test_springdamper_sets_stiffness_and_damping_as_mujocos():
+    """A joint's springdamper (time constant, damping ratio) overrides its stiffness and damping
+    with those of its effective inertia at qpos0, 1 / (M⁻¹)ᵢᵢ, as MuJoCo's compiler does."""
+    xml = """<mujoco><worldbody><body><joint springdamper="0.2 0.7" armature="0.01"/>
+      <geom type="capsule" fromto="0 0 0 0.4 0 0" size="0.05"/>
+      <body pos="0.4 0 0"><joint springdamper="0.1 1" stiffness="5" damping="3"/>
+        <geom type="capsule" fromto="0 0 0 0.4 0 0" size="0.04"/>
+        <body pos="0.4 0 0"><joint type="slide" springdamper="0.05 0.3"/><geom size="0.05"/></body></body></body>
+      </worldbody></mujoco>"""
+    mj, sim = mujoco.MjModel.from_xml_string(xml), sinew.Sim(sinew.Model.from_mjcf_string(xml))
+    assert mj.jnt_stiffness.min() > 0 and mj.dof_damping.min() > 0
+    d = mujoco.MjData(mj)
+    rng = np.random.default_rng(3)
+    for _ in range(10):
+        q, v = rng.normal(0.0, 0.5, mj.nq), rng.normal(0.0, 1.0, mj.nv)
+        d.qpos[:], d.qvel[:] = q, v
+        mujoco.mj_forward(mj, d)
+        sim.qpos[:], sim.qvel[:] = q, v
+        sim.forward()
+        np.testing.assert_allclose(sim.qacc, d.qacc, rtol=1e-10, atol=1e-10)

@@ -12,7 +12,7 @@ use crate::mjcf::{BodySpec, GeomSpec, GeomType, InertialSpec, JointSpec, JointTy
 
 pub(super) const JOINT_ATTRS: &[&str] = &[
     "name", "class", "type", "pos", "axis", "ref", "range", "limited", "margin", "armature", "damping", "stiffness",
-    "springref", "frictionloss",
+    "springref", "frictionloss", "springdamper",
 ];
 pub(super) const GEOM_ATTRS: &[&str] = &[
     "name", "class", "type", "size", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "fromto", "density",
@@ -118,6 +118,7 @@ impl Parser<'_> {
                 frictionloss: 0.0,
                 stiffness: 0.0,
                 springref: 0.0,
+                springdamper: None,
                 line: e.line,
             });
         }
@@ -146,6 +147,17 @@ impl Parser<'_> {
         if kind == JointType::Free && limited {
             return Err(e.err("limited", "free joints cannot be limited"));
         }
+        // (time constant, damping ratio); zeros (MuJoCo's default) leave stiffness and damping be
+        let springdamper = match e.arr::<2>("springdamper")? {
+            Some([tc, dr]) if tc > 0.0 && dr > 0.0 => {
+                if !matches!(kind, JointType::Hinge | JointType::Slide) {
+                    return Err(e.err("springdamper", "springdamper sets hinge and slide joints"));
+                }
+                Some([tc, dr])
+            }
+            Some([tc, dr]) if tc < 0.0 || dr < 0.0 => return Err(e.err("springdamper", format!("must be non-negative, got {tc} {dr}"))),
+            _ => None,
+        };
         Ok(JointSpec {
             name: e.str("name").to_string(),
             kind,
@@ -160,6 +172,7 @@ impl Parser<'_> {
             frictionloss: e.nonneg("frictionloss", 0.0)?,
             stiffness: e.nonneg("stiffness", 0.0)?,
             springref: conv(e.f64("springref", 0.0)?),
+            springdamper,
             line: e.line,
         })
     }
