@@ -1,7 +1,7 @@
-//! The body tree: `<worldbody>` and each `<body>` with its joints, geoms, sites, cameras, lights
-//! and inertial.
+//! The body tree: `<worldbody>` and each `<body>` with its joints, geoms, sites, cameras, lights,
+//! inertial and `<frame>`s.
 
-use glam::DVec3;
+use glam::{DQuat, DVec3};
 use roxmltree::Node;
 
 use super::element::{line, El};
@@ -54,8 +54,55 @@ impl Parser<'_> {
                     let l = self.light(c, childclass)?;
                     self.spec.bodies[body].lights.push(l);
                 }
+                "frame" => self.frame(c, body, childclass)?,
                 other => return Err(self.err(c, None, format!("unsupported element <{other}> in a body"))),
             }
+        }
+        Ok(())
+    }
+
+    /// A `<frame>`: its children belong to the enclosing body, posed in the frame's pose (and
+    /// its `childclass` their default).
+    fn frame(&mut self, n: Node, body: usize, childclass: Option<&str>) -> Result<()> {
+        let e = El { node: n, line: line(self.doc, n), defaults: vec![] };
+        e.check(&["name", "childclass", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis"], &self.warnings)?;
+        let cc = n.attribute("childclass").or(childclass).map(str::to_string);
+        if let Some(c) = &cc
+            && !self.classes.contains_key(c)
+        {
+            return Err(e.err("childclass", format!("unknown default class '{c}'")));
+        }
+        let (t, q) = (e.vec3("pos", DVec3::ZERO)?, self.orientation(&e)?);
+        let b = &self.spec.bodies[body];
+        let before = (self.spec.bodies.len(), b.joints.len(), b.geoms.len(), b.sites.len(), b.cameras.len(), b.lights.len());
+        let had_inertial = b.inertial.is_some();
+        self.enter(n)?;
+        let out = self.body_children(n, body, cc.as_deref());
+        self.depth -= 1;
+        out?;
+        // what the frame's children added, carried from the frame's coordinates to the body's
+        let (place, turn) = (|p: DVec3| q * p + t, |r: DQuat| (q * r).normalize());
+        for child in self.spec.bodies[before.0..].iter_mut().filter(|c| c.parent == body) {
+            (child.pos, child.quat) = (place(child.pos), turn(child.quat));
+        }
+        let b = &mut self.spec.bodies[body];
+        for j in &mut b.joints[before.1..] {
+            (j.pos, j.axis) = (place(j.pos), q * j.axis);
+        }
+        for g in &mut b.geoms[before.2..] {
+            (g.pos, g.quat, g.inertia_quat) = (place(g.pos), turn(g.quat), turn(g.inertia_quat));
+        }
+        for s in &mut b.sites[before.3..] {
+            (s.pos, s.quat) = (place(s.pos), turn(s.quat));
+        }
+        for c in &mut b.cameras[before.4..] {
+            (c.pos, c.quat) = (place(c.pos), turn(c.quat));
+        }
+        for l in &mut b.lights[before.5..] {
+            (l.pos, l.dir) = (place(l.pos), q * l.dir);
+        }
+        if let Some(i) = b.inertial.as_mut().filter(|_| !had_inertial) {
+            (i.pos, i.quat) = (place(i.pos), turn(i.quat));
         }
         Ok(())
     }
