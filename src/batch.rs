@@ -48,6 +48,8 @@ pub struct Batch {
     call: Arc<AtomicU64>,
     /// One zero control per world, for models without actuators (the chunk iterators need a slot).
     no_ctrl: Vec<f64>,
+    /// Stand-in activations (one per world) for a model without any.
+    no_act: Vec<f64>,
     /// The task outputs' slots (3 per world) of a step without a task.
     no_task: Vec<f64>,
     no_task_flag: Vec<bool>,
@@ -75,6 +77,8 @@ pub struct BatchState<'a> {
     pub qvel: &'a mut [f64],
     /// Controls (N × nu).
     pub ctrl: &'a [f64],
+    /// Actuator activations (N × na).
+    pub act: &'a mut [f64],
     /// Simulated time per world (N).
     pub time: &'a mut [f64],
     /// Set for worlds that diverged and were reset during the call (N).
@@ -113,8 +117,9 @@ impl Batch {
             Some(built.map_err(|e| crate::error::Error::Input(format!("cannot start the thread pool: {e}")))?)
         };
         let no_ctrl = vec![0.0; if model.nu == 0 { data.len() } else { 0 }];
+        let no_act = vec![0.0; if model.na == 0 { data.len() } else { 0 }];
         let (no_task, no_task_flag) = (vec![0.0; 3 * data.len()], vec![false; data.len()]);
-        Ok(Batch { root: sensors::body_root(&model), model, data, threads, pool, call: Arc::default(), no_ctrl, no_task, no_task_flag })
+        Ok(Batch { root: sensors::body_root(&model), model, data, threads, pool, call: Arc::default(), no_ctrl, no_act, no_task, no_task_flag })
     }
 
     /// Number of worlds.
@@ -143,10 +148,12 @@ impl Batch {
     pub fn step(&mut self, st: BatchState<'_>, n: usize, task: Option<TaskRun<'_>>) {
         let m = &*self.model;
         let root = &self.root[..];
-        let (nq, nv, nu, nb) = (m.nq.max(1), m.nv.max(1), m.nu.max(1), m.nbody);
+        let (nq, nv, nu, na, nb) = (m.nq.max(1), m.nv.max(1), m.nu.max(1), m.na.max(1), m.nbody);
         let data = &mut self.data;
         let ctrl = if m.nu == 0 { &self.no_ctrl[..] } else { st.ctrl };
-        let BatchState { qpos, qvel, time, diverged, active, out, .. } = st;
+        let BatchState { qpos, qvel, act, time, diverged, active, out, .. } = st;
+        // without activations, one unused slot per world
+        let act = if m.na == 0 { &mut self.no_act[..] } else { act };
         // without a task its outputs are one unused slot per world
         let (spec, obs_dim, ninfo, obs, reward, terminated, info) = match task {
             Some(t) => (Some(t.task), t.task.obs_dim(m), t.task.info_names().len(), t.obs, t.reward, t.terminated, t.info),
@@ -160,15 +167,15 @@ impl Batch {
         // back, so that each keeps to its own end of the batch from call to call
         let worlds = Mutex::new(
             data.iter_mut()
-                .zip(qpos.chunks_mut(nq).zip(qvel.chunks_mut(nv)).zip(ctrl.chunks(nu)))
+                .zip(qpos.chunks_mut(nq).zip(qvel.chunks_mut(nv)).zip(ctrl.chunks(nu)).zip(act.chunks_mut(na)))
                 .zip(time.iter_mut().zip(diverged.iter_mut()).zip(active.iter()))
                 .zip(out.xpos.chunks_mut(3 * nb).zip(out.xmat.chunks_mut(9 * nb)).zip(out.xipos.chunks_mut(3 * nb)))
                 .zip(out.xvel.chunks_mut(6 * nb).zip(out.cfrc_ext.chunks_mut(6 * nb)).zip(out.qfrc_constraint.chunks_mut(nv)))
                 .zip(out.cinert.chunks_mut(10 * nb).zip(out.cvel.chunks_mut(6 * nb)))
                 .zip(obs.chunks_mut(obs_dim.max(1)).zip(reward.iter_mut()).zip(terminated.iter_mut()).zip(info.chunks_mut(ninfo.max(1))))
-                .map(|((((((d, ((qpos, qvel), ctrl)), ((time, diverged), &active)), ((xpos, xmat), xipos)), ((xvel, cfrc_ext), qfrc_constraint)), (cinert, cvel)), (((obs, reward), terminated), info))| World {
+                .map(|((((((d, (((qpos, qvel), ctrl), act)), ((time, diverged), &active)), ((xpos, xmat), xipos)), ((xvel, cfrc_ext), qfrc_constraint)), (cinert, cvel)), (((obs, reward), terminated), info))| World {
                     data: d,
-                    state: WorldState { time, qpos: &mut qpos[..m.nq], qvel: &mut qvel[..m.nv], ctrl: &ctrl[..m.nu] },
+                    state: WorldState { time, qpos: &mut qpos[..m.nq], qvel: &mut qvel[..m.nv], ctrl: &ctrl[..m.nu], act: &mut act[..m.na] },
                     diverged,
                     active,
                     out: Sensors { xpos, xmat, xipos, xvel, cfrc_ext, qfrc_constraint: &mut qfrc_constraint[..m.nv], cinert, cvel },
@@ -221,8 +228,8 @@ impl Batch {
     }
 
     /// Resets world `i` to qpos0 at rest (its constraint forces cleared) in the given rows.
-    pub fn reset(&mut self, i: usize, qpos: &mut [f64], qvel: &mut [f64]) {
-        reset_world(&self.model, &mut self.data[i], qpos, qvel);
+    pub fn reset(&mut self, i: usize, qpos: &mut [f64], qvel: &mut [f64], act: &mut [f64]) {
+        reset_world(&self.model, &mut self.data[i], qpos, qvel, act);
     }
 
     /// Recomputes the sensor outputs of world `i` for its current state (after a reset or a
@@ -263,7 +270,7 @@ fn env_step(m: &Model, root: &[usize], task: Option<&dyn Task>, n: usize, w: Wor
         // the rewarded position before the env step, from the outputs of the state it starts in
         let before = task.map(|t| t.position(m, &out.world_view(s.qpos, s.qvel, s.ctrl)));
         if advance(m, data, s, n).is_some() {
-            reset_world(m, data, s.qpos, s.qvel);
+            reset_world(m, data, s.qpos, s.qvel, s.act);
             *s.time = 0.0;
             *diverged = true;
         }
@@ -287,8 +294,9 @@ fn env_step(m: &Model, root: &[usize], task: Option<&dyn Task>, n: usize, w: Wor
 
 /// Back to qpos0 at rest, with nothing carried over from before: no friction tangents, LCP warm
 /// start or cached kinematics (a reset world steps exactly as a new one).
-fn reset_world(m: &Model, d: &mut Data, qpos: &mut [f64], qvel: &mut [f64]) {
+fn reset_world(m: &Model, d: &mut Data, qpos: &mut [f64], qvel: &mut [f64], act: &mut [f64]) {
     qpos.copy_from_slice(&m.qpos0);
     qvel.fill(0.0);
+    act.fill(0.0);
     d.forget_history();
 }

@@ -132,7 +132,7 @@ fn walk(m: &Model, r: &mut Rng, steps: usize, jump: usize, drift: f64, v_max: f6
             (q, v) = random_state(m, r);
         }
         let mut time = 0.0;
-        let s = WorldState { time: &mut time, qpos: &mut q, qvel: &mut v, ctrl: &ctrl };
+        let s = WorldState { time: &mut time, qpos: &mut q, qvel: &mut v, ctrl: &ctrl, act: &mut [] };
         sinew::step::forward(m, &mut data, &s);
         collide(m, &data.dynamics, &s, &mut cd);
         let mut fresh = CollisionData::new(m);

@@ -8,7 +8,7 @@ mod pairs;
 mod visual;
 
 use inertia::geom_inertia;
-use crate::model::{Connect, GapPair, GeomType, Keyframe, Model, Options, PairTest, PathPoint, PlaneGroup, SensorFrame, SensorKind, Transmission, Wrap, WORLD};
+use crate::model::{ActuatorDyn, Connect, GapPair, GeomType, Keyframe, Model, Options, PairTest, PathPoint, PlaneGroup, SensorFrame, SensorKind, Transmission, Wrap, WORLD};
 use crate::error::{Error, Result};
 use crate::math::{principal_axes, SpatialInertia, Xform};
 use crate::mjcf::{include, BodySpec, InertiaFromGeom, JointSpec, JointType, ModelSpec, PathSpec, TendonPathSpec, TransmissionSpec};
@@ -106,7 +106,7 @@ fn compile(spec: ModelSpec) -> Result<Model> {
     m.plane_groups = plane_groups(&mut m);
     // the forward dynamics at qpos0, as MuJoCo's mj_setConst runs it
     let mut dy = DynamicsData::new(&m);
-    crate::dynamics::forward(&m, &mut dy, &m.qpos0, &vec![0.0; m.nv], &vec![0.0; m.nu]);
+    crate::dynamics::forward(&m, &mut dy, &m.qpos0, &vec![0.0; m.nv], &vec![0.0; m.nu], &vec![0.0; m.na]);
     check_solvable(&m, &dy)?;
     spring_dampers(&mut m, &spec, &dy.kin);
     m.connects = connects(&m, &spec, &dy.kin)?;
@@ -334,6 +334,7 @@ fn connects(m: &Model, spec: &ModelSpec, kin: &crate::dynamics::kinematics::KinD
 /// The keyframes, each array checked against the model's sizes and the state's bounds.
 fn keyframes(m: &Model, spec: &ModelSpec) -> Result<Vec<Keyframe>> {
     let nu = spec.actuators.len();
+    let na = spec.actuators.iter().filter(|a| a.dynamics != ActuatorDyn::None).count();
     spec.keys
         .iter()
         .map(|k| {
@@ -348,6 +349,7 @@ fn keyframes(m: &Model, spec: &ModelSpec) -> Result<Vec<Keyframe>> {
                 qpos: array(&k.qpos, "qpos", m.nq, &m.qpos0)?,
                 qvel: array(&k.qvel, "qvel", m.nv, &vec![0.0; m.nv])?,
                 ctrl: array(&k.ctrl, "ctrl", nu, &vec![0.0; nu])?,
+                act: array(&k.act, "act", na, &vec![0.0; na])?,
             })
         })
         .collect()
@@ -542,6 +544,10 @@ fn actuators(m: &mut Model, spec: &ModelSpec) -> Result<()> {
         m.actuator_forcerange.push(a.forcerange);
         m.actuator_forcelimited.push(a.forcelimited);
         m.actuator_gain.push(a.gain);
+        m.actuator_actadr.push((a.dynamics != ActuatorDyn::None).then_some(m.na));
+        m.na += (a.dynamics != ActuatorDyn::None) as usize;
+        m.actuator_dyn.push(a.dynamics);
+        m.actuator_actrange.push(a.actrange);
         m.actuator_bias.push(a.bias);
     }
     Ok(())

@@ -1,6 +1,7 @@
-//! Applied joint forces: actuators (MuJoCo's general actuator with fixed gain and affine bias:
-//! force = gain · ctrl + b₀ + b₁ · length + b₂ · velocity, ctrl clamped to ctrlrange and the force
-//! to forcerange when limited, through the joint or tendon times gear; or a PD servo to ctrl as
+//! Applied joint forces: actuators (MuJoCo's general actuator with affine gain and bias:
+//! force = (g₀ + g₁ · length + g₂ · velocity) · u + b₀ + b₁ · length + b₂ · velocity, u the
+//! activation of an actuator with dynamics, else ctrl clamped to ctrlrange, the force clamped to
+//! forcerange when limited, through the joint or tendon times gear; or a PD servo to ctrl as
 //! position target, see [`Actuation`]) and passive springs and dampers of joints and tendons
 //! (MuJoCo's `qfrc_passive`).
 
@@ -10,7 +11,7 @@ use crate::model::{Actuation, JointType, Model, Transmission, Wrap};
 
 /// Writes the total applied generalised force into `tau` (nv), the tendons' from `ten` (of this
 /// configuration).
-pub fn applied(m: &Model, ten: &TendonData, qpos: &[f64], qvel: &[f64], ctrl: &[f64], tau: &mut [f64]) {
+pub fn applied(m: &Model, ten: &TendonData, qpos: &[f64], qvel: &[f64], (ctrl, act): (&[f64], &[f64]), tau: &mut [f64]) {
     // passive: damping on every dof, springs per joint
     for (t, (&v, &b)) in tau.iter_mut().zip(qvel.iter().zip(&m.dof_damping)) {
         *t = -b * v;
@@ -54,14 +55,25 @@ pub fn applied(m: &Model, ten: &TendonData, qpos: &[f64], qvel: &[f64], ctrl: &[
             let [lo, hi] = m.actuator_ctrlrange[a];
             u = u.clamp(lo, hi);
         }
+        // an actuator with dynamics is driven by its activation
+        if let Some(i) = m.actuator_actadr[a] {
+            u = act[i];
+        }
         let [b0, b1, b2] = m.actuator_bias[a];
-        u *= m.actuator_gain[a];
+        let [g0, g1, g2] = m.actuator_gain[a];
+        // length and rate: gear times the joint's or the tendon's
+        let length_rate = || match m.actuator_trn[a] {
+            Transmission::Joint(_) => (Wrap::length(m.moment(a), qpos), Wrap::rate(m.moment(a), qvel)),
+            Transmission::Tendon(t) => (m.actuator_gear[a] * ten.length[t], m.actuator_gear[a] * ten.rate(m, t, qvel)),
+        };
+        if [g1, g2] == [0.0; 2] {
+            u *= g0;
+        } else {
+            let (length, rate) = length_rate();
+            u *= g0 + g1 * length + g2 * rate;
+        }
         if [b0, b1, b2] != [0.0; 3] {
-            // length and rate: gear times the joint's or the tendon's
-            let (length, rate) = match m.actuator_trn[a] {
-                Transmission::Joint(_) => (Wrap::length(m.moment(a), qpos), Wrap::rate(m.moment(a), qvel)),
-                Transmission::Tendon(t) => (m.actuator_gear[a] * ten.length[t], m.actuator_gear[a] * ten.rate(m, t, qvel)),
-            };
+            let (length, rate) = length_rate();
             u += b0 + b1 * length + b2 * rate;
         }
         if m.actuator_forcelimited[a] {

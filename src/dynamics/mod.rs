@@ -2,6 +2,7 @@
 //! algorithm (the step's), and CRBA and RNEA (checks of it).
 
 pub mod aba;
+pub mod activation;
 pub mod crba;
 pub mod fluid;
 pub mod forces;
@@ -30,6 +31,8 @@ pub struct DynamicsData {
     pub qfrc_applied: Vec<f64>,
     /// Joint accelerations of the last evaluation (nv).
     pub qacc: Vec<f64>,
+    /// Activation rates of the last advance (na).
+    pub act_dot: Vec<f64>,
     /// The kinematics of the state the next evaluation starts from, when computed ahead.
     pub ahead: KinCache,
     /// Node velocities of other joint velocities on the same configuration (nnode; empty without
@@ -40,7 +43,7 @@ pub struct DynamicsData {
 impl DynamicsData {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
-        DynamicsData { kin: KinData::new(m), ten: TendonData::new(m), aba: AbaData::new(m), qfrc_applied: vec![0.0; m.nv], qacc: vec![0.0; m.nv], ahead: KinCache::new(m), v_other: vec![Motion::ZERO; if m.opt.density > 0.0 || m.opt.viscosity > 0.0 { m.nnode } else { 0 }] }
+        DynamicsData { kin: KinData::new(m), ten: TendonData::new(m), aba: AbaData::new(m), qfrc_applied: vec![0.0; m.nv], qacc: vec![0.0; m.nv], act_dot: vec![0.0; m.na], ahead: KinCache::new(m), v_other: vec![Motion::ZERO; if m.opt.density > 0.0 || m.opt.viscosity > 0.0 { m.nnode } else { 0 }] }
     }
 }
 
@@ -52,9 +55,9 @@ pub fn kinematics(m: &Model, dy: &mut DynamicsData, qpos: &[f64], qvel: &[f64]) 
 
 /// Tendons, applied forces and both ABA passes, on the kinematics already in `dy.kin`; `h_damp` > 0
 /// treats joint damping implicitly over that step (Featherstone 2008, Table 7.1 passes 2–3).
-pub fn accelerations(m: &Model, dy: &mut DynamicsData, qpos: &[f64], qvel: &[f64], ctrl: &[f64], h_damp: f64) {
+pub fn accelerations(m: &Model, dy: &mut DynamicsData, qpos: &[f64], qvel: &[f64], ctrl: &[f64], act: &[f64], h_damp: f64) {
     tendon::evaluate(m, &dy.kin, qpos, &mut dy.ten);
-    forces::applied(m, &dy.ten, qpos, qvel, ctrl, &mut dy.qfrc_applied);
+    forces::applied(m, &dy.ten, qpos, qvel, (ctrl, act), &mut dy.qfrc_applied);
     fluid::add_forces(m, &dy.kin, &dy.kin.v, &mut dy.qfrc_applied);
     aba::backward(m, &dy.kin, &dy.qfrc_applied, h_damp, &mut dy.aba);
     aba::forward(m, &dy.kin, &mut dy.aba, &mut dy.qacc);
@@ -62,7 +65,7 @@ pub fn accelerations(m: &Model, dy: &mut DynamicsData, qpos: &[f64], qvel: &[f64
 
 /// Forward dynamics at (qpos, qvel, ctrl) without constraints: `dy.qacc` gets the true
 /// accelerations (no implicit damping), as MuJoCo's `mj_forward` with constraints disabled.
-pub fn forward(m: &Model, dy: &mut DynamicsData, qpos: &[f64], qvel: &[f64], ctrl: &[f64]) {
+pub fn forward(m: &Model, dy: &mut DynamicsData, qpos: &[f64], qvel: &[f64], ctrl: &[f64], act: &[f64]) {
     kinematics::forward(m, qpos, qvel, &mut dy.kin);
-    accelerations(m, dy, qpos, qvel, ctrl, 0.0);
+    accelerations(m, dy, qpos, qvel, ctrl, act, 0.0);
 }

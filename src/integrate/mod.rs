@@ -51,13 +51,18 @@ pub struct Rk4Scratch {
     pub qvel: Vec<f64>,
     /// Combined increment.
     pub dv: Vec<f64>,
+    /// Stage activation rates (4 × na).
+    pub kact: [Vec<f64>; 4],
+    /// Stage activations (na).
+    pub act: Vec<f64>,
 }
 
 impl Rk4Scratch {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
         let v = || vec![0.0; m.nv];
-        Rk4Scratch { kv: [v(), v(), v(), v()], ka: [v(), v(), v(), v()], qpos: vec![0.0; m.nq], qvel: v(), dv: v() }
+        let a = || vec![0.0; m.na];
+        Rk4Scratch { kv: [v(), v(), v(), v()], ka: [v(), v(), v(), v()], qpos: vec![0.0; m.nq], qvel: v(), dv: v(), kact: [a(), a(), a(), a()], act: a() }
     }
 }
 

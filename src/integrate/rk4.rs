@@ -1,11 +1,11 @@
-//! Stage 8 for RK4 models — classical fourth-order Runge–Kutta over (qpos, qvel) on a step
+//! Stage 8 for RK4 models — classical fourth-order Runge–Kutta over (qpos, qvel, act) on a step
 //! without constraint rows; ball and free rotations by Runge–Kutta–Munthe-Kaas, which keeps the
 //! fourth order on SO(3) (Munthe-Kaas 1998; Hairer, Lubich & Wanner 2006, §IV.8.2).
 
 use glam::DVec3;
 
 use super::{integrate_pos, Rk4Scratch, RK4_A, RK4_B};
-use crate::dynamics::{self, kinematics, DynamicsData};
+use crate::dynamics::{self, activation, kinematics, DynamicsData};
 use crate::model::{JointType, Model};
 use crate::state::WorldState;
 
@@ -13,15 +13,17 @@ use crate::state::WorldState;
 /// with `uᵢ = h Σⱼ Aᵢⱼ Kⱼ` and `Kⱼ = dexp⁻¹(ωⱼ)` at `uⱼ`: adding body-frame angular
 /// velocities taken at different orientations as if they were one vector would be second order.
 pub fn rk4(m: &Model, dy: &mut DynamicsData, rk: &mut Rk4Scratch, s: &mut WorldState<'_>, h: f64) {
-    let (qpos, qvel, ctrl) = (&mut *s.qpos, &mut *s.qvel, s.ctrl);
+    let (qpos, qvel, ctrl, act) = (&mut *s.qpos, &mut *s.qvel, s.ctrl, &mut *s.act);
     // stage 1 is the step's own evaluation (without implicit damping)
     rk.kv[0].copy_from_slice(qvel);
     rk.ka[0].copy_from_slice(&dy.qacc);
+    activation::rates(m, ctrl, act, &mut rk.kact[0]);
     for i in 1..4 {
         // stage state: X0 + h Σ_j A_ij F_j
         rk.qpos.copy_from_slice(qpos);
         rk.dv.fill(0.0);
         rk.qvel.copy_from_slice(qvel);
+        rk.act.copy_from_slice(act);
         for j in 0..i {
             let a = RK4_A[i - 1][j];
             if a == 0.0 {
@@ -30,6 +32,9 @@ pub fn rk4(m: &Model, dy: &mut DynamicsData, rk: &mut Rk4Scratch, s: &mut WorldS
             for k in 0..m.nv {
                 rk.dv[k] += a * rk.kv[j][k];
                 rk.qvel[k] += h * a * rk.ka[j][k];
+            }
+            for k in 0..m.na {
+                rk.act[k] += h * a * rk.kact[j][k];
             }
         }
         integrate_pos(m, &mut rk.qpos, &rk.dv, h);
@@ -40,9 +45,10 @@ pub fn rk4(m: &Model, dy: &mut DynamicsData, rk: &mut Rk4Scratch, s: &mut WorldS
         } else {
             kinematics::forward_nodes(m, &rk.qpos, &rk.qvel, &mut dy.kin);
         }
-        dynamics::accelerations(m, dy, &rk.qpos, &rk.qvel, ctrl, 0.0);
+        dynamics::accelerations(m, dy, &rk.qpos, &rk.qvel, ctrl, &rk.act, 0.0);
         rk.kv[i].copy_from_slice(&rk.qvel);
         rk.ka[i].copy_from_slice(&dy.qacc);
+        activation::rates(m, ctrl, &rk.act, &mut rk.kact[i]);
         lie_algebra_velocity(m, &mut rk.kv[i], &rk.dv, h);
     }
     rk.dv.fill(0.0);
@@ -53,6 +59,14 @@ pub fn rk4(m: &Model, dy: &mut DynamicsData, rk: &mut Rk4Scratch, s: &mut WorldS
         }
     }
     integrate_pos(m, qpos, &rk.dv, h);
+    // the activations by the weighted rates (MuJoCo's mj_advance)
+    rk.act.fill(0.0);
+    for j in 0..4 {
+        for k in 0..m.na {
+            rk.act[k] += RK4_B[j] * rk.kact[j][k];
+        }
+    }
+    activation::advance(m, act, &rk.act, h);
     // report the acceleration at the start of the step
     dy.qacc.copy_from_slice(&rk.ka[0]);
 }

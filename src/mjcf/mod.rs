@@ -249,7 +249,7 @@ pub enum TransmissionSpec {
 /// gear), applied through the transmission times gear.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ActuatorSpec {
-    /// Element (`motor`, `position`, `velocity`, `general`).
+    /// Element (`motor`, `position`, `velocity`, `general`, …).
     pub kind: String,
     /// Name (may be empty).
     pub name: String,
@@ -265,12 +265,30 @@ pub struct ActuatorSpec {
     pub forcerange: [f64; 2],
     /// Whether the force is clamped to `forcerange`.
     pub forcelimited: bool,
-    /// Fixed gain (MuJoCo's `gainprm[0]`).
-    pub gain: f64,
+    /// Affine gain g₀ + g₁ · length + g₂ · velocity (MuJoCo's `gainprm[0..3]`; fixed: g₀ alone).
+    pub gain: [f64; 3],
     /// Affine bias (MuJoCo's `biasprm[0..3]`; zero for none).
     pub bias: [f64; 3],
+    /// Activation dynamics.
+    pub dynamics: ActuatorDyn,
+    /// Activation range, when limited.
+    pub actrange: Option<[f64; 2]>,
     /// Source line.
     pub line: u32,
+}
+
+/// An actuator's activation dynamics (MuJoCo's `dyntype`): with an activation `act`, the force
+/// is gain · act + bias instead of gain · ctrl + bias.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ActuatorDyn {
+    /// No activation: the force reads ctrl.
+    None,
+    /// act˙ = ctrl.
+    Integrator,
+    /// act˙ = (ctrl − act) / τ, integrated as the model's integrator does.
+    Filter(f64),
+    /// The same filter, integrated exactly over each step: act += (ctrl − act)(1 − e^(−h/τ)).
+    FilterExact(f64),
 }
 
 /// A `<joint>` or `<tendon>` equality: x₁ − x₁⁰ = Σₖ polycoef[k] (x₂ − x₂⁰)ᵏ, x a joint's
@@ -340,6 +358,8 @@ pub struct KeySpec {
     pub qvel: Option<Vec<f64>>,
     /// Controls (nu), if given.
     pub ctrl: Option<Vec<f64>>,
+    /// Activations (na), if given.
+    pub act: Option<Vec<f64>>,
     /// Source line.
     pub line: u32,
 }

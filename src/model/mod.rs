@@ -12,7 +12,7 @@ pub mod visual;
 
 use glam::{DMat3, DQuat, DVec3};
 
-pub use crate::mjcf::{GeomType, Integrator, JointType};
+pub use crate::mjcf::{ActuatorDyn, GeomType, Integrator, JointType};
 use crate::math::{SpatialInertia, Xform};
 
 /// Parent index of nodes attached to the world.
@@ -104,6 +104,8 @@ pub struct Keyframe {
     pub qvel: Vec<f64>,
     /// Controls (nu).
     pub ctrl: Vec<f64>,
+    /// Activations (na).
+    pub act: Vec<f64>,
 }
 
 /// One term of a linear length: coef · qpos[qpos] along dof `dof` (a hinge's or slide's).
@@ -611,8 +613,16 @@ pub struct Model {
     pub actuator_moment: Vec<Wrap>,
     /// See `actuator_moment` (nu + 1).
     pub actuator_moment_adr: Vec<usize>,
-    /// Fixed gain: force = gain · ctrl + bias (nu).
-    pub actuator_gain: Vec<f64>,
+    /// Affine gain g₀ + g₁ · length + g₂ · velocity: force = gain · (ctrl, or act) + bias (nu).
+    pub actuator_gain: Vec<[f64; 3]>,
+    /// Activation dynamics (nu).
+    pub actuator_dyn: Vec<ActuatorDyn>,
+    /// Each actuator's activation in `act`, if it has one (nu).
+    pub actuator_actadr: Vec<Option<usize>>,
+    /// Activation range [low, high] when limited (nu).
+    pub actuator_actrange: Vec<Option<[f64; 2]>>,
+    /// Number of activations (actuators with dynamics).
+    pub na: usize,
     /// Affine bias b₀ + b₁ · length + b₂ · velocity (nu).
     pub actuator_bias: Vec<[f64; 3]>,
     /// Gear (nu).

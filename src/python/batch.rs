@@ -23,6 +23,7 @@ pub struct PyBatch {
     qpos: Py<PyArray2<f64>>,
     qvel: Py<PyArray2<f64>>,
     ctrl: Py<PyArray2<f64>>,
+    act: Py<PyArray2<f64>>,
     time: Py<PyArray1<f64>>,
     diverged: Py<PyArray1<bool>>,
     xpos: Py<PyArray3<f64>>,
@@ -78,6 +79,7 @@ impl PyBatch {
             qpos,
             qvel: PyArray2::zeros(py, [num_envs, m.nv], false).unbind(),
             ctrl: PyArray2::zeros(py, [num_envs, m.nu], false).unbind(),
+            act: PyArray2::zeros(py, [num_envs, m.na], false).unbind(),
             time: PyArray1::zeros(py, num_envs, false).unbind(),
             diverged: PyArray1::from_vec(py, vec![false; num_envs]).unbind(),
             xpos: PyArray3::zeros(py, [num_envs, m.nbody, 3], false).unbind(),
@@ -124,6 +126,11 @@ impl PyBatch {
     #[getter]
     fn ctrl(&self, py: Python<'_>) -> Py<PyArray2<f64>> {
         self.ctrl.clone_ref(py)
+    }
+    /// Actuator activations (N, na), stepped in place (MuJoCo's `act`).
+    #[getter]
+    fn act(&self, py: Python<'_>) -> Py<PyArray2<f64>> {
+        self.act.clone_ref(py)
     }
     /// Simulated time per world (N,).
     #[getter]
@@ -202,12 +209,13 @@ impl PyBatch {
             }
         }
         let (mut qpos, mut qvel, ctrl) = (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readonly());
-        let (mut time, mut div) = (self.time.bind(py).readwrite(), self.diverged.bind(py).readwrite());
+        let (mut time, mut div, mut act) = (self.time.bind(py).readwrite(), self.diverged.bind(py).readwrite(), self.act.bind(py).readwrite());
         let mut out = self.sensor_arrays(py);
         let st = BatchState {
             qpos: qpos.as_slice_mut()?,
             qvel: qvel.as_slice_mut()?,
             ctrl: ctrl.as_slice()?,
+            act: act.as_slice_mut()?,
             time: time.as_slice_mut()?,
             diverged: div.as_slice_mut()?,
             active: &active,
@@ -352,11 +360,11 @@ impl PyBatch {
         let start_v = qvel.map(|v| checked_values(&v, "qvel", &[k, m.nv])).transpose()?;
         {
             let (mut qpos, mut qvel) = (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite());
-            let (mut ctrl, mut time) = (self.ctrl.bind(py).readwrite(), self.time.bind(py).readwrite());
-            let (qp, qv, c, t) = (qpos.as_slice_mut()?, qvel.as_slice_mut()?, ctrl.as_slice_mut()?, time.as_slice_mut()?);
+            let (mut ctrl, mut time, mut act) = (self.ctrl.bind(py).readwrite(), self.time.bind(py).readwrite(), self.act.bind(py).readwrite());
+            let (qp, qv, c, t, a) = (qpos.as_slice_mut()?, qvel.as_slice_mut()?, ctrl.as_slice_mut()?, time.as_slice_mut()?, act.as_slice_mut()?);
             for (k, &i) in chosen.iter().enumerate() {
                 let (q, v) = (&mut qp[i * m.nq..(i + 1) * m.nq], &mut qv[i * m.nv..(i + 1) * m.nv]);
-                self.inner.reset(i, q, v);
+                self.inner.reset(i, q, v, &mut a[i * m.na..(i + 1) * m.na]);
                 if let Some(s) = &start_q {
                     q.copy_from_slice(&s[k * m.nq..(k + 1) * m.nq]);
                 }
@@ -381,19 +389,21 @@ impl PyBatch {
         self.refresh(py, &which)
     }
 
-    /// World `i`'s state as `Sim.get_state` gives it: [time, qpos, qvel, ctrl], and with
+    /// World `i`'s state as `Sim.get_state` gives it: [time, qpos, qvel, act, ctrl], and with
     /// `full=True` the feed-forward and the history the next step reads, so that a world (or a
     /// Sim) given it by `set_state` steps on bit-identically. Without `i`, every world's: an
-    /// (N, 1 + nq + nv + nu) array of short states, or a list of N full ones.
+    /// (N, 1 + nq + nv + na + nu) array of short states, or a list of N full ones.
     #[pyo3(signature = (i=None, full=false))]
     fn get_state<'py>(&self, py: Python<'py>, i: Option<usize>, full: bool) -> PyResult<Bound<'py, PyAny>> {
         let m = &*self.inner.model;
         let (qpos, qvel, ctrl, time) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly(), self.time.bind(py).readonly());
-        let (q, v, c, t) = (qpos.as_slice()?, qvel.as_slice()?, ctrl.as_slice()?, time.as_slice()?);
+        let act = self.act.bind(py).readonly();
+        let (q, v, c, t, a) = (qpos.as_slice()?, qvel.as_slice()?, ctrl.as_slice()?, time.as_slice()?, act.as_slice()?);
         let one = |i: usize| {
-            let mut out = Vec::with_capacity(1 + m.nq + m.nv + m.nu);
+            let mut out = Vec::with_capacity(1 + m.nq + m.nv + m.na + m.nu);
             let d = &self.inner.data[i];
-            FlatState::write(t[i], &q[i * m.nq..(i + 1) * m.nq], &v[i * m.nv..(i + 1) * m.nv], &c[i * m.nu..(i + 1) * m.nu], full.then_some(d), &mut out);
+            let world = (&q[i * m.nq..(i + 1) * m.nq], &v[i * m.nv..(i + 1) * m.nv], &a[i * m.na..(i + 1) * m.na]);
+            FlatState::write(t[i], world, &c[i * m.nu..(i + 1) * m.nu], full.then_some(d), &mut out);
             out
         };
         match i {
@@ -401,7 +411,7 @@ impl PyBatch {
             None if full => Ok(pyo3::types::PyList::new(py, (0..self.inner.len()).map(|i| PyArray1::from_vec(py, one(i))))?.into_any()),
             None => {
                 let flat: Vec<f64> = (0..self.inner.len()).flat_map(one).collect();
-                Ok(PyArray1::from_vec(py, flat).reshape([self.inner.len(), 1 + m.nq + m.nv + m.nu])?.into_any())
+                Ok(PyArray1::from_vec(py, flat).reshape([self.inner.len(), 1 + m.nq + m.nv + m.na + m.nu])?.into_any())
             }
         }
     }
@@ -439,10 +449,13 @@ impl PyBatch {
         {
             let (mut qpos, mut qvel, mut ctrl, mut time) = (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readwrite(), self.time.bind(py).readwrite());
             let (q, v, c, t) = (qpos.as_slice_mut()?, qvel.as_slice_mut()?, ctrl.as_slice_mut()?, time.as_slice_mut()?);
+            let mut act = self.act.bind(py).readwrite();
+            let a = act.as_slice_mut()?;
             for (k, st) in &states {
                 t[*k] = st.time;
                 q[k * m.nq..(k + 1) * m.nq].copy_from_slice(st.qpos);
                 v[k * m.nv..(k + 1) * m.nv].copy_from_slice(st.qvel);
+                a[k * m.na..(k + 1) * m.na].copy_from_slice(st.act);
                 c[k * m.nu..(k + 1) * m.nu].copy_from_slice(st.ctrl);
                 st.restore(&mut self.inner.data[*k]);
             }

@@ -155,7 +155,7 @@ impl PyModel {
         }
         if !matches!(m.opt.actuation, Actuation::Motor) {
             let servos = if pd_gains.is_some() { "pd_gains" } else { "trajectory_gains" };
-            if let Some(a) = (0..m.nu).find(|&a| m.actuator_joint(a).is_none() || m.actuator_gain[a] != 1.0 || m.actuator_bias[a] != [0.0; 3]) {
+            if let Some(a) = (0..m.nu).find(|&a| m.actuator_joint(a).is_none() || m.actuator_gain[a] != [1.0, 0.0, 0.0] || m.actuator_bias[a] != [0.0; 3] || m.actuator_actadr[a].is_some()) {
                 return Err(PyValueError::new_err(format!(
                     "{servos} drive motors on joints; actuator {a} ('{}') is not one",
                     m.actuator_name[a]
@@ -187,6 +187,11 @@ impl PyModel {
     #[getter]
     fn nu(&self) -> usize {
         self.inner.nu
+    }
+    /// Number of actuator activations (actuators with dynamics: `Sim.act`).
+    #[getter]
+    fn na(&self) -> usize {
+        self.inner.na
     }
     /// Number of bodies including the world.
     #[getter]

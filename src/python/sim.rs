@@ -29,6 +29,7 @@ pub struct PySim {
     qpos: Py<PyArray1<f64>>,
     qvel: Py<PyArray1<f64>>,
     ctrl: Py<PyArray1<f64>>,
+    act: Py<PyArray1<f64>>,
     qacc: Py<PyArray1<f64>>,
     time: f64,
     /// The history at the start of the running `step` call, restored if it diverges.
@@ -56,6 +57,7 @@ impl PySim {
             qpos: PyArray1::from_slice(py, &m.qpos0).unbind(),
             qvel: PyArray1::zeros(py, m.nv, false).unbind(),
             ctrl: PyArray1::zeros(py, m.nu, false).unbind(),
+            act: PyArray1::zeros(py, m.na, false).unbind(),
             qacc: PyArray1::zeros(py, m.nv, false).unbind(),
             time: 0.0,
             saved: History::new(),
@@ -95,6 +97,16 @@ impl PySim {
     #[setter]
     fn set_ctrl(&self, py: Python<'_>, v: Bound<'_, PyAny>) -> PyResult<()> {
         self.assign(py, &self.ctrl, &v, "ctrl")
+    }
+    /// Actuator activations (na,), float64: the state of the actuators with dynamics (MuJoCo's
+    /// `act`), advanced by the step.
+    #[getter]
+    fn act(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
+        self.act.clone_ref(py)
+    }
+    #[setter]
+    fn set_act(&self, py: Python<'_>, v: Bound<'_, PyAny>) -> PyResult<()> {
+        self.assign(py, &self.act, &v, "act")
     }
     /// Accelerations (nv,) from the last `forward()` or at the start of the last step.
     #[getter]
@@ -192,9 +204,9 @@ impl PySim {
     /// Computes qacc for the current state without advancing time.
     fn forward(&mut self, py: Python<'_>) -> PyResult<()> {
         self.check_inputs(py)?;
-        let (mut qpos, mut qvel, ctrl) = (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readonly());
+        let (mut qpos, mut qvel, ctrl, mut act) = (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readonly(), self.act.bind(py).readwrite());
         let (m, data, mut time) = (&self.model, &mut self.data, self.time);
-        let s = WorldState { time: &mut time, qpos: qpos.as_slice_mut()?, qvel: qvel.as_slice_mut()?, ctrl: ctrl.as_slice()? };
+        let s = WorldState { time: &mut time, qpos: qpos.as_slice_mut()?, qvel: qvel.as_slice_mut()?, ctrl: ctrl.as_slice()?, act: act.as_slice_mut()? };
         super::errors::guard("Sim.forward", || crate::step::forward(m, data, &s))?;
         self.qacc.bind(py).readwrite().as_slice_mut()?.copy_from_slice(&self.data.dynamics.qacc);
         Ok(())
@@ -208,10 +220,10 @@ impl PySim {
         self.check_inputs(py)?;
         let m = &*self.model;
         let data = &mut self.data;
-        let (mut qpos, mut qvel, ctrl) =
-            (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readonly());
+        let (mut qpos, mut qvel, ctrl, mut act) =
+            (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readonly(), self.act.bind(py).readwrite());
         let start = self.time;
-        let mut s = WorldState { time: &mut self.time, qpos: qpos.as_slice_mut()?, qvel: qvel.as_slice_mut()?, ctrl: ctrl.as_slice()? };
+        let mut s = WorldState { time: &mut self.time, qpos: qpos.as_slice_mut()?, qvel: qvel.as_slice_mut()?, ctrl: ctrl.as_slice()?, act: act.as_slice_mut()? };
         self.saved.clone_from(&data.constraints.history);
         let outcome = py.detach(|| guarded(data, &mut s, |data, s| advance(m, data, s, n)));
         let error = match outcome {
@@ -252,14 +264,17 @@ impl PySim {
         let k = key.map(|k| super::model::keyframe_index(&m, &k)).transpose()?.map(|i| &m.keys[i]);
         self.qpos.bind(py).readwrite().as_slice_mut()?.copy_from_slice(k.map_or(&m.qpos0, |k| &k.qpos));
         let (mut qvel, mut ctrl) = (self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readwrite());
+        let mut act = self.act.bind(py).readwrite();
         match k {
             Some(k) => {
                 qvel.as_slice_mut()?.copy_from_slice(&k.qvel);
                 ctrl.as_slice_mut()?.copy_from_slice(&k.ctrl);
+                act.as_slice_mut()?.copy_from_slice(&k.act);
             }
             None => {
                 qvel.as_slice_mut()?.fill(0.0);
                 ctrl.as_slice_mut()?.fill(0.0);
+                act.as_slice_mut()?.fill(0.0);
             }
         }
         self.qacc.bind(py).readwrite().as_slice_mut()?.fill(0.0);
@@ -269,7 +284,7 @@ impl PySim {
         Ok(())
     }
 
-    /// The state as one float64 array: [time, qpos (nq), qvel (nv), ctrl (nu)], MuJoCo's
+    /// The state as one float64 array: [time, qpos (nq), qvel (nv), act (na), ctrl (nu)], MuJoCo's
     /// integration state. `full=True` appends the trajectory feed-forward (2 nu) and the history
     /// the next step reads (friction tangents, the LCP's warm start, the random stream, whether
     /// the last step had rows:
@@ -277,8 +292,8 @@ impl PySim {
     #[pyo3(signature = (full=false))]
     fn get_state<'py>(&self, py: Python<'py>, full: bool) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let mut v = Vec::with_capacity(1 + self.model.nq + self.model.nv + self.model.nu);
-        let (qpos, qvel, ctrl) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly());
-        FlatState::write(self.time, qpos.as_slice()?, qvel.as_slice()?, ctrl.as_slice()?, full.then_some(&self.data), &mut v);
+        let (qpos, qvel, ctrl, act) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly(), self.act.bind(py).readonly());
+        FlatState::write(self.time, (qpos.as_slice()?, qvel.as_slice()?, act.as_slice()?), ctrl.as_slice()?, full.then_some(&self.data), &mut v);
         Ok(PyArray1::from_vec(py, v))
     }
 
@@ -294,6 +309,7 @@ impl PySim {
         self.qpos.bind(py).readwrite().as_slice_mut()?.copy_from_slice(st.qpos);
         self.qvel.bind(py).readwrite().as_slice_mut()?.copy_from_slice(st.qvel);
         self.ctrl.bind(py).readwrite().as_slice_mut()?.copy_from_slice(st.ctrl);
+        self.act.bind(py).readwrite().as_slice_mut()?.copy_from_slice(st.act);
         st.restore(&mut self.data);
         Ok(())
     }
@@ -351,8 +367,8 @@ impl PySim {
         self.check_inputs(py)?;
         let m = &*self.model;
         let (mut qpos, mut qvel, ctrl) = (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readonly());
-        let mut time = self.time;
-        let s = WorldState { time: &mut time, qpos: qpos.as_slice_mut()?, qvel: qvel.as_slice_mut()?, ctrl: ctrl.as_slice()? };
+        let (mut time, mut act) = (self.time, self.act.bind(py).to_vec()?);
+        let s = WorldState { time: &mut time, qpos: qpos.as_slice_mut()?, qvel: qvel.as_slice_mut()?, ctrl: ctrl.as_slice()?, act: &mut act };
         let sys = crate::step::constraint_system(m, &self.data, &s);
         let nr = sys.kind.len();
         let d = pyo3::types::PyDict::new(py);
@@ -409,7 +425,7 @@ impl PySim {
 
 impl PySim {
     fn check_inputs(&self, py: Python<'_>) -> PyResult<()> {
-        for (name, arr) in [("qpos", &self.qpos), ("qvel", &self.qvel), ("ctrl", &self.ctrl)] {
+        for (name, arr) in [("qpos", &self.qpos), ("qvel", &self.qvel), ("ctrl", &self.ctrl), ("act", &self.act)] {
             let a = arr.bind(py).readonly();
             if let Some(i) = first_nonfinite(a.as_slice()?) {
                 return Err(PyValueError::new_err(format!("{name}[{i}] is {} (must be finite)", a.as_slice()?[i])));

@@ -48,7 +48,7 @@ impl Data {
             coll: CollisionData::new(m),
             constraints: Constraints::new(m),
             sensors: SensorScratch { root_com: vec![(DVec3::ZERO, 0.0); m.nbody], node_force: vec![crate::math::Force::ZERO; m.nnode] },
-            fault: Fault { qpos: vec![0.0; m.nq], qvel: vec![0.0; m.nv], time: 0.0, message: None },
+            fault: Fault { qpos: vec![0.0; m.nq], qvel: vec![0.0; m.nv], act: vec![0.0; m.na], time: 0.0, message: None },
             #[cfg(feature = "stage-timing")]
             stage_ns: [0; crate::timing::STAGES],
         }
@@ -96,6 +96,8 @@ pub struct Fault {
     pub qpos: Vec<f64>,
     /// qvel at the start of the call.
     pub qvel: Vec<f64>,
+    /// act at the start of the call.
+    pub act: Vec<f64>,
     /// Time at the start of the call.
     pub time: f64,
     /// The panic's message, if the call met one.
@@ -107,6 +109,7 @@ impl Fault {
     pub fn save(&mut self, s: &WorldState<'_>) {
         self.qpos.copy_from_slice(s.qpos);
         self.qvel.copy_from_slice(s.qvel);
+        self.act.copy_from_slice(s.act);
         self.time = *s.time;
     }
 
@@ -114,6 +117,7 @@ impl Fault {
     pub fn restore(&self, s: &mut WorldState<'_>) {
         s.qpos.copy_from_slice(&self.qpos);
         s.qvel.copy_from_slice(&self.qvel);
+        s.act.copy_from_slice(&self.act);
         *s.time = self.time;
     }
 }

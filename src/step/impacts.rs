@@ -47,7 +47,7 @@ const MAX_IMPACT_PASSES: usize = 16;
 fn new_velocities(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) {
     let (qpos, qvel, ctrl) = (&*s.qpos, &*s.qvel, s.ctrl);
     let dy = &mut *data.dynamics;
-    forces::applied(m, &dy.ten, qpos, qvel, ctrl, &mut dy.qfrc_applied);
+    forces::applied(m, &dy.ten, qpos, qvel, (ctrl, &*s.act), &mut dy.qfrc_applied);
     if !dy.v_other.is_empty() {
         kinematics::velocities(m, &dy.kin, qvel, &mut dy.v_other);
         fluid::add_forces(m, &dy.kin, &dy.v_other, &mut dy.qfrc_applied);

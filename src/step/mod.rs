@@ -12,7 +12,7 @@ use impacts::impacts;
 use crate::constraint::rows::{build_rows, missed_contacts, missed_limits};
 use crate::constraint::solve::{apply_to_qacc, solve_rows, Level};
 use crate::constraint::{stabilize, test_forces, RowKind};
-use crate::dynamics::{self, kinematics};
+use crate::dynamics::{self, activation, kinematics};
 use crate::integrate::{self, rk4::rk4};
 use crate::model::{ConstraintMode, Integrator, Model};
 use data::Data;
@@ -24,10 +24,10 @@ use crate::timing::timed;
 /// Forward dynamics at the state without constraints: fills `data.dynamics.qacc` with the true
 /// accelerations (no implicit damping), as MuJoCo's `mj_forward` with constraints disabled.
 pub fn forward(m: &Model, data: &mut Data, s: &WorldState<'_>) {
-    dynamics::forward(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl);
+    dynamics::forward(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, s.act);
 }
 
-/// Advances the state (time, qpos, qvel) by one time step under its ctrl.
+/// Advances the state (time, qpos, qvel, act) by one time step under its ctrl.
 pub fn step(m: &Model, data: &mut Data, s: &mut WorldState<'_>) {
     let (h, lever) = (m.opt.timestep, m.opt.lever());
     let h_damp = damping_horizon(m, data);
@@ -41,7 +41,7 @@ pub fn step(m: &Model, data: &mut Data, s: &mut WorldState<'_>) {
     // 1. poses and velocities
     timed!(data, Stage::Kinematics, dynamics::kinematics(m, &mut data.dynamics, s.qpos, s.qvel));
     // 2. articulated inertias and the constraint-free accelerations
-    timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, h_damp));
+    timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, s.act, h_damp));
     // 3. contacts of this configuration (reach over the step from velocities and accelerations)
     timed!(data, Stage::Collision, collision::collide(m, &data.dynamics, s, &mut data.coll));
     // 4. constraint rows: contacts (normal + friction), active limits, motion control
@@ -56,6 +56,7 @@ pub fn step(m: &Model, data: &mut Data, s: &mut WorldState<'_>) {
         // 8. integrate: semi-implicit Euler (the seed's scheme; RK4's constrained steps too), or
         // leapfrog's closing kick and drift
         timed!(data, Stage::Integration, integrate::kick_drift(m, s.qpos, s.qvel, &data.dynamics.qacc, h, lever));
+        advance_activations(m, data, s);
         // 9. limits leapfrog's drift crossed, penetration and limits the linearised rows missed
         if leapfrog {
             timed!(data, Stage::Projection, stabilize::hold_limits(m, &data.constraints.start, s.qpos));
@@ -77,16 +78,28 @@ fn damping_horizon(m: &Model, data: &Data) -> f64 {
     }
 }
 
+/// The activations over the step by their rates at its start (semi-implicit Euler's and
+/// leapfrog's; RK4 advances them with its stages).
+fn advance_activations(m: &Model, data: &mut Data, s: &mut WorldState<'_>) {
+    if m.na > 0 {
+        activation::rates(m, s.ctrl, s.act, &mut data.dynamics.act_dot);
+        activation::advance(m, s.act, &data.dynamics.act_dot, m.opt.timestep);
+    }
+}
+
 /// Stage 8 of a step without constraint rows, from the dynamics evaluated with damping over
 /// `h_damp`.
 fn free_step(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) {
     let (h, lever) = (m.opt.timestep, m.opt.lever());
     data.constraints.solve.force.clear();
     match m.opt.integrator {
-        Integrator::Euler | Integrator::Leapfrog => timed!(data, Stage::Integration, integrate::kick_drift(m, s.qpos, s.qvel, &data.dynamics.qacc, h, lever)),
+        Integrator::Euler | Integrator::Leapfrog => {
+            timed!(data, Stage::Integration, integrate::kick_drift(m, s.qpos, s.qvel, &data.dynamics.qacc, h, lever));
+            advance_activations(m, data, s);
+        }
         Integrator::Rk4 => {
             if h_damp != 0.0 {
-                timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, 0.0));
+                timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, s.act, 0.0));
             }
             timed!(data, Stage::Integration, rk4(m, &mut data.dynamics, &mut data.rk4, s, h))
         }
@@ -101,7 +114,7 @@ fn constrain(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) {
     let h = m.opt.timestep;
     // with constraints the step is semi-implicit Euler: damping implicit over the step
     if h_damp != h {
-        timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, h));
+        timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, s.act, h));
     }
     let mut redo = false;
     data.constraints.solve.impact_warm.clear();
@@ -133,7 +146,7 @@ fn constrain(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) {
             let side = (data.constraints.con.dof[r].1 < 0.0) as usize;
             data.constraints.rows.limit_forced[2 * data.constraints.con.source[r] + side] = true;
         }
-        timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, h));
+        timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, s.act, h));
         timed!(data, Stage::Rows, build_rows(m, &mut data.world(), s));
         data.constraints.solve.impact_warm.clear();
     }
@@ -168,7 +181,7 @@ pub fn constraint_system(m: &Model, data: &Data, s: &WorldState<'_>) -> Constrai
     let h = m.opt.timestep;
     kinematics::forward(m, s.qpos, s.qvel, &mut d.dynamics.kin);
     // the constrained step's dynamics: damping implicit over the step, whatever the integrator
-    dynamics::accelerations(m, &mut d.dynamics, s.qpos, s.qvel, s.ctrl, h);
+    dynamics::accelerations(m, &mut d.dynamics, s.qpos, s.qvel, s.ctrl, s.act, h);
     collision::collide(m, &d.dynamics, s, &mut d.coll);
     build_rows(m, &mut d.world(), s);
     test_forces::assemble(m, &d.dynamics.kin, &d.dynamics.aba, &d.dynamics.qacc, &mut d.constraints.con);

@@ -5,7 +5,7 @@ use crate::step::data::Data;
 use crate::model::Model;
 use crate::state::WorldState;
 
-/// qpos, qvel, ctrl and time of one world, with its scratch.
+/// qpos, qvel, act, ctrl and time of one world, with its scratch.
 #[derive(Clone, Debug)]
 pub struct State {
     /// Positions (nq).
@@ -14,6 +14,8 @@ pub struct State {
     pub qvel: Vec<f64>,
     /// Controls (nu).
     pub ctrl: Vec<f64>,
+    /// Actuator activations (na).
+    pub act: Vec<f64>,
     /// Simulated time (s).
     pub time: f64,
     /// Derived quantities of the last evaluation.
@@ -23,12 +25,12 @@ pub struct State {
 impl State {
     /// The reference state qpos0, zero velocity and control.
     pub fn new(m: &Model) -> Self {
-        State { qpos: m.qpos0.clone(), qvel: vec![0.0; m.nv], ctrl: vec![0.0; m.nu], time: 0.0, data: Data::new(m) }
+        State { qpos: m.qpos0.clone(), qvel: vec![0.0; m.nv], ctrl: vec![0.0; m.nu], act: vec![0.0; m.na], time: 0.0, data: Data::new(m) }
     }
 
     /// The state borrowed as one value, beside the world's scratch.
     pub fn split(&mut self) -> (WorldState<'_>, &mut Data) {
-        (WorldState { time: &mut self.time, qpos: &mut self.qpos, qvel: &mut self.qvel, ctrl: &self.ctrl }, &mut self.data)
+        (WorldState { time: &mut self.time, qpos: &mut self.qpos, qvel: &mut self.qvel, ctrl: &self.ctrl, act: &mut self.act }, &mut self.data)
     }
 
     /// One step.
@@ -46,7 +48,7 @@ impl State {
 }
 
 /// A world's state as one flat array, as `Sim.get_state` and `Batch.get_state` give it:
-/// [time, qpos (nq), qvel (nv), ctrl (nu)], MuJoCo's integration state, then for a full state the
+/// [time, qpos (nq), qvel (nv), act (na), ctrl (nu)], MuJoCo's integration state, then for a full state the
 /// trajectory feed-forward (2 nu) and the history the next step reads ([`crate::constraint::History`]).
 pub struct FlatState<'a> {
     /// Simulated time.
@@ -55,6 +57,8 @@ pub struct FlatState<'a> {
     pub qpos: &'a [f64],
     /// Velocities.
     pub qvel: &'a [f64],
+    /// Activations.
+    pub act: &'a [f64],
     /// Controls.
     pub ctrl: &'a [f64],
     /// Feed-forward and history of a full state.
@@ -63,10 +67,11 @@ pub struct FlatState<'a> {
 
 impl<'a> FlatState<'a> {
     /// Appends the state of a world (`data` given: the full state) to `out`.
-    pub fn write(time: f64, qpos: &[f64], qvel: &[f64], ctrl: &[f64], data: Option<&Data>, out: &mut Vec<f64>) {
+    pub fn write(time: f64, (qpos, qvel, act): (&[f64], &[f64], &[f64]), ctrl: &[f64], data: Option<&Data>, out: &mut Vec<f64>) {
         out.push(time);
         out.extend_from_slice(qpos);
         out.extend_from_slice(qvel);
+        out.extend_from_slice(act);
         out.extend_from_slice(ctrl);
         if let Some(d) = data {
             out.extend_from_slice(&d.constraints.feedforward);
@@ -75,14 +80,14 @@ impl<'a> FlatState<'a> {
     }
 
     /// Reads a flat state of `m`, checking its length and every number (finite time, qpos, qvel
-    /// and ctrl within the divergence bound; a valid history).
+    /// act and ctrl within the divergence bound; a valid history).
     pub fn read(m: &Model, v: &'a [f64]) -> crate::error::Result<FlatState<'a>> {
-        let (nq, nv, nu) = (m.nq, m.nv, m.nu);
-        let short = 1 + nq + nv + nu;
+        let (nq, nv, na, nu) = (m.nq, m.nv, m.na, m.nu);
+        let short = 1 + nq + nv + na + nu;
         let len = v.len();
         if len != short && len < short + 2 * nu + crate::constraint::history::FLAT_HISTORY_MIN {
             return Err(crate::error::Error::Input(format!(
-                "state: expected shape [{short}] (time, qpos, qvel, ctrl) or a full state from get_state(full=True), got length {len}"
+                "state: expected shape [{short}] (time, qpos, qvel, act, ctrl) or a full state from get_state(full=True), got length {len}"
             )));
         }
         if let Some(i) = v[..short].iter().position(|&x| crate::math::out_of_range(x)) {
@@ -97,7 +102,8 @@ impl<'a> FlatState<'a> {
             }
             Some((ff, crate::constraint::History::from_flat(&v[short + 2 * nu..], m.ngeom)?))
         };
-        Ok(FlatState { time: v[0], qpos: &v[1..1 + nq], qvel: &v[1 + nq..1 + nq + nv], ctrl: &v[1 + nq + nv..short], full })
+        let (q, a) = (1 + nq, 1 + nq + nv);
+        Ok(FlatState { time: v[0], qpos: &v[1..q], qvel: &v[q..a], act: &v[a..a + na], ctrl: &v[a + na..short], full })
     }
 
     /// Makes `data` the state's (feed-forward and history; a short state leaves none).

@@ -240,7 +240,7 @@ pub fn saved_state(m: &Model, steps: usize, seed: u64) -> Vec<f64> {
     let mut t = Tally::default();
     run_steps(m, &mut s, steps, &mut rng, &mut t, "seed state");
     let mut v = vec![];
-    FlatState::write(s.time, &s.qpos, &s.qvel, &s.ctrl, Some(&s.data), &mut v);
+    FlatState::write(s.time, (&s.qpos, &s.qvel, &s.act), &s.ctrl, Some(&s.data), &mut v);
     v
 }
 

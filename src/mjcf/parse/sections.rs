@@ -8,23 +8,44 @@ use super::Parser;
 use crate::error::Result;
 use glam::DVec3;
 
-use crate::mjcf::{ActuatorSpec, ConnectSpec, EqualitySpec, KeySpec, PathSpec, SensorSpec, TendonPathSpec, TendonSpec, TransmissionSpec};
+use crate::mjcf::{ActuatorDyn, ActuatorSpec, ConnectSpec, EqualitySpec, KeySpec, PathSpec, SensorSpec, TendonPathSpec, TendonSpec, TransmissionSpec};
 
 /// Attributes every actuator takes.
 const ACTUATOR_ATTRS: &[&str] =
     &["name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited"];
 
-/// Attributes of actuator kind `kind` (`motor`, `position`, `velocity`, `general`).
+/// Attributes of actuator kind `kind` (`motor`, `position`, `velocity`, `intvelocity`, `damper`,
+/// `cylinder`, `general`).
 pub(super) fn actuator_attrs(kind: &str) -> &'static [&'static str] {
     match kind {
-        "position" => &["name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "kp", "kv"],
+        "position" => &["name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "kp", "kv", "timeconst"],
         "velocity" => &["name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "kv"],
+        "intvelocity" => &[
+            "name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "kp", "kv", "actrange",
+            "actlimited",
+        ],
+        "damper" => &["name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "kv"],
+        "cylinder" => &[
+            "name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "timeconst", "area",
+            "diameter", "bias",
+        ],
         "general" => &[
             "name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "gaintype",
-            "gainprm", "biastype", "biasprm", "dyntype", "dynprm",
+            "gainprm", "biastype", "biasprm", "dyntype", "dynprm", "actlimited", "actrange", "actearly",
         ],
         _ => ACTUATOR_ATTRS,
     }
+}
+
+/// The actuator kinds read.
+const ACTUATOR_KINDS: &[&str] = &["motor", "position", "velocity", "intvelocity", "damper", "cylinder", "general"];
+
+/// An actuator's gain, bias and activation (its kind's shortcut, or `<general>`'s own).
+struct Drive {
+    gain: [f64; 3],
+    bias: [f64; 3],
+    dynamics: ActuatorDyn,
+    actrange: Option<[f64; 2]>,
 }
 
 /// Attributes of a tendon.
@@ -37,8 +58,8 @@ impl Parser<'_> {
     pub(super) fn actuators(&mut self, n: Node) -> Result<()> {
         for c in n.children().filter(Node::is_element) {
             let kind = c.tag_name().name();
-            if !matches!(kind, "motor" | "position" | "velocity" | "general") {
-                return Err(self.err(c, None, format!("unsupported actuator <{kind}>: <motor>, <position>, <velocity> and <general> are")));
+            if !ACTUATOR_KINDS.contains(&kind) {
+                return Err(self.err(c, None, format!("unsupported actuator <{kind}>: {} are", ACTUATOR_KINDS.iter().map(|k| format!("<{k}>")).collect::<Vec<_>>().join(", "))));
             }
             let e = self.el(c, None)?;
             for t in ["site", "jointinparent", "body", "refsite", "cranksite", "slidersite"] {
@@ -57,7 +78,7 @@ impl Parser<'_> {
             if gear.is_empty() || gear.len() > 6 || gear[1..].iter().any(|&g| g != 0.0) {
                 return Err(e.err("gear", "only a scalar gear is supported for joint and tendon transmissions"));
             }
-            let (gain, bias) = self.gain_and_bias(&e, kind)?;
+            let Drive { gain, bias, dynamics, actrange } = self.drive(&e, kind)?;
             let ctrlrange = e.arr::<2>("ctrlrange")?.unwrap_or([0.0, 0.0]);
             let forcerange = e.arr::<2>("forcerange")?.unwrap_or([0.0, 0.0]);
             let ctrllimited = e.tristate("ctrllimited")?.unwrap_or(self.autolimits && e.has("ctrlrange"));
@@ -79,6 +100,8 @@ impl Parser<'_> {
                 forcelimited,
                 gain,
                 bias,
+                dynamics,
+                actrange,
                 line: e.line,
             });
         }
@@ -88,40 +111,89 @@ impl Parser<'_> {
     /// An actuator's fixed gain and affine bias, as MuJoCo sets them for each kind: a motor's
     /// force is ctrl; a position servo's kp (ctrl − length) − kv velocity; a velocity servo's
     /// kv (ctrl − velocity); a general actuator's from `gainprm` and `biasprm`.
-    fn gain_and_bias(&self, e: &El, kind: &str) -> Result<(f64, [f64; 3])> {
+    fn drive(&self, e: &El, kind: &str) -> Result<Drive> {
+        let drive = |gain: [f64; 3], bias: [f64; 3], dynamics: ActuatorDyn| Drive { gain, bias, dynamics, actrange: None };
         Ok(match kind {
             "position" => {
-                let (kp, kv) = (e.nonneg("kp", 1.0)?, e.nonneg("kv", 0.0)?);
-                (kp, [0.0, -kp, -kv])
+                let (kp, kv, tc) = (e.nonneg("kp", 1.0)?, e.nonneg("kv", 0.0)?, e.nonneg("timeconst", 0.0)?);
+                drive([kp, 0.0, 0.0], [0.0, -kp, -kv], if tc > 0.0 { ActuatorDyn::FilterExact(tc) } else { ActuatorDyn::None })
             }
             "velocity" => {
                 let kv = e.nonneg("kv", 1.0)?;
-                (kv, [0.0, 0.0, -kv])
+                drive([kv, 0.0, 0.0], [0.0, 0.0, -kv], ActuatorDyn::None)
             }
-            "general" => {
-                if let Some(d) = e.get("dyntype").filter(|d| *d != "none") {
-                    return Err(e.err("dyntype", format!("actuator activation dynamics '{d}' are not supported")));
-                }
-                if let Some(g) = e.get("gaintype").filter(|g| *g != "fixed") {
-                    return Err(e.err("gaintype", format!("gain type '{g}' is not supported (fixed is)")));
-                }
-                let prm = |name: &str, default: f64| -> Result<[f64; 3]> {
-                    let v = e.nums(name)?.unwrap_or_else(|| vec![default]);
-                    if v.len() > 3 && v[3..].iter().any(|&x| x != 0.0) {
-                        return Err(e.err(name, "only the first three parameters are supported"));
-                    }
-                    Ok([0, 1, 2].map(|k| v.get(k).copied().unwrap_or(0.0)))
-                };
-                let gain = prm("gainprm", 1.0)?[0];
-                let bias = match e.get("biastype").unwrap_or("none") {
-                    "none" => [0.0; 3],
-                    "affine" => prm("biasprm", 0.0)?,
-                    other => return Err(e.err("biastype", format!("bias type '{other}' is not supported (none and affine are)"))),
-                };
-                (gain, bias)
+            "intvelocity" => {
+                let (kp, kv) = (e.nonneg("kp", 1.0)?, e.nonneg("kv", 0.0)?);
+                Drive { actrange: self.actrange(e)?, ..drive([kp, 0.0, 0.0], [0.0, -kp, -kv], ActuatorDyn::Integrator) }
             }
-            _ => (1.0, [0.0; 3]),
+            "damper" => {
+                let kv = e.nonneg("kv", 1.0)?;
+                drive([0.0, 0.0, -kv], [0.0; 3], ActuatorDyn::None)
+            }
+            "cylinder" => {
+                let tc = e.nonneg("timeconst", 1.0)?;
+                let area = match e.arr::<1>("diameter")? {
+                    Some([d]) => std::f64::consts::PI / 4.0 * d * d,
+                    None => e.nonneg("area", 1.0)?,
+                };
+                let bias = e.nums("bias")?.unwrap_or_default();
+                drive([area, 0.0, 0.0], [0, 1, 2].map(|k| bias.get(k).copied().unwrap_or(0.0)), ActuatorDyn::Filter(tc))
+            }
+            "general" => self.general(e)?,
+            _ => drive([1.0, 0.0, 0.0], [0.0; 3], ActuatorDyn::None),
         })
+    }
+
+    /// `<general>`'s gain (fixed or affine), bias (none or affine) and dynamics (none,
+    /// integrator, filter, filterexact).
+    fn general(&self, e: &El) -> Result<Drive> {
+        let prm = |name: &str, default: f64| -> Result<[f64; 3]> {
+            let v = e.nums(name)?.unwrap_or_else(|| vec![default]);
+            if v.len() > 3 && v[3..].iter().any(|&x| x != 0.0) {
+                return Err(e.err(name, "only the first three parameters are supported"));
+            }
+            Ok([0, 1, 2].map(|k| v.get(k).copied().unwrap_or(0.0)))
+        };
+        let gain = match e.get("gaintype").unwrap_or("fixed") {
+            "fixed" => [prm("gainprm", 1.0)?[0], 0.0, 0.0],
+            "affine" => prm("gainprm", 1.0)?,
+            other => return Err(e.err("gaintype", format!("gain type '{other}' is not supported (fixed and affine are)"))),
+        };
+        let bias = match e.get("biastype").unwrap_or("none") {
+            "none" => [0.0; 3],
+            "affine" => prm("biasprm", 0.0)?,
+            other => return Err(e.err("biastype", format!("bias type '{other}' is not supported (none and affine are)"))),
+        };
+        let tau = || -> Result<f64> {
+            let t = prm("dynprm", 1.0)?[0];
+            if t <= 0.0 {
+                return Err(e.err("dynprm", format!("a filter's time constant must be positive, got {t}")));
+            }
+            Ok(t)
+        };
+        let dynamics = match e.get("dyntype").unwrap_or("none") {
+            "none" => ActuatorDyn::None,
+            "integrator" => ActuatorDyn::Integrator,
+            "filter" => ActuatorDyn::Filter(tau()?),
+            "filterexact" => ActuatorDyn::FilterExact(tau()?),
+            other => return Err(e.err("dyntype", format!("activation dynamics '{other}' are not supported (none, integrator, filter and filterexact are)"))),
+        };
+        if e.get("actearly") == Some("true") {
+            return Err(e.err("actearly", "actearly is not supported"));
+        }
+        Ok(Drive { gain, bias, dynamics, actrange: self.actrange(e)? })
+    }
+
+    /// An actuator's activation range when limited (`actlimited`, or `actrange` under autolimits).
+    fn actrange(&self, e: &El) -> Result<Option<[f64; 2]>> {
+        let range = e.arr::<2>("actrange")?;
+        if !e.tristate("actlimited")?.unwrap_or(self.autolimits && range.is_some()) {
+            return Ok(None);
+        }
+        match range {
+            Some([lo, hi]) if lo < hi => Ok(Some([lo, hi])),
+            _ => Err(e.err("actrange", "a limited activation needs actrange[0] < actrange[1]")),
+        }
     }
 
     pub(super) fn custom(&mut self, n: Node) -> Result<()> {
@@ -304,8 +376,7 @@ impl Parser<'_> {
         Ok(())
     }
 
-    /// `<key>`s: named states (`act`, `mpos` and `mquat` must be empty: sinew has no activations
-    /// or mocap bodies).
+    /// `<key>`s: named states (`mpos` and `mquat` must be empty: sinew has no mocap bodies).
     pub(super) fn keyframe(&mut self, n: Node) -> Result<()> {
         for c in n.children().filter(Node::is_element) {
             if !c.has_tag_name("key") {
@@ -313,9 +384,9 @@ impl Parser<'_> {
             }
             let e = El { node: c, line: line(self.doc, c), defaults: vec![] };
             e.check(&["name", "time", "qpos", "qvel", "ctrl", "act", "mpos", "mquat"], &self.warnings)?;
-            for a in ["act", "mpos", "mquat"] {
+            for a in ["mpos", "mquat"] {
                 if e.nums(a)?.is_some_and(|v| !v.is_empty()) {
-                    return Err(e.err(a, "sinew's models have no activations or mocap bodies"));
+                    return Err(e.err(a, "sinew's models have no mocap bodies"));
                 }
             }
             self.spec.keys.push(KeySpec {
@@ -324,6 +395,7 @@ impl Parser<'_> {
                 qpos: e.nums("qpos")?,
                 qvel: e.nums("qvel")?,
                 ctrl: e.nums("ctrl")?,
+                act: e.nums("act")?,
                 line: e.line,
             });
         }

@@ -1,0 +1,77 @@
+"""Actuator activation dynamics against MuJoCo on the same file: `<general>` with integrator,
+filter and filterexact dynamics, affine gain and bias, limited activations, and the shortcuts
+`<intvelocity>`, `<damper>`, `<cylinder>` and `<position timeconst>`, stepped with Euler and RK4
+under random controls: qpos, qvel and act equal MuJoCo's to round-off. act is state: it is in
+`get_state`/`set_state`, pickles, resets, keyframes and a Batch's arrays."""
+
+import pickle
+
+import mujoco
+import numpy as np
+import pytest
+
+import sinew
+
+XML = """<mujoco><option timestep="0.005" integrator="{integrator}"/>
+  <default><geom contype="0" conaffinity="0"/></default>
+  <worldbody>
+    <body><joint name="a" type="hinge" axis="0 1 0" damping="0.2"/><geom type="capsule" fromto="0 0 0 0.4 0 0" size="0.04"/>
+      <body pos="0.4 0 0"><joint name="b" type="hinge" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0.4 0 0" size="0.04"/>
+        <body pos="0.4 0 0"><joint name="c" type="slide" axis="1 0 0"/><geom size="0.05"/></body></body></body>
+  </worldbody>
+  <tendon><fixed name="t"><joint joint="a" coef="0.5"/><joint joint="b" coef="-1"/></fixed></tendon>
+  <actuator>
+    <general joint="a" dyntype="filter" dynprm="0.05" gainprm="3" ctrlrange="-1 1" ctrllimited="true"/>
+    <general joint="b" dyntype="integrator" gainprm="2" biastype="affine" biasprm="0 -1 -0.1" actlimited="true" actrange="-0.5 0.5"/>
+    <general tendon="t" dyntype="filterexact" dynprm="0.1" gaintype="affine" gainprm="1 0.5 -0.2"/>
+    <intvelocity joint="c" kp="5" actrange="-0.2 0.2"/>
+    <damper joint="a" kv="0.3" ctrlrange="0 1"/>
+    <cylinder joint="b" timeconst="0.02" diameter="0.1" bias="0.1 -0.5 0"/>
+    <position joint="c" kp="10" kv="1" timeconst="0.03"/>
+  </actuator>
+  <keyframe><key name="charged" act="0.1 0.2 0.3 0.1 0.2 0.3"/></keyframe>
+</mujoco>"""
+
+
+@pytest.mark.parametrize("integrator", ["Euler", "RK4"])
+def test_activations_step_as_mujocos(integrator):
+    xml = XML.format(integrator=integrator)
+    mj, m = mujoco.MjModel.from_xml_string(xml), sinew.Model.from_mjcf_string(xml)
+    d, sim = mujoco.MjData(mj), sinew.Sim(m)
+    assert len(sim.act) == mj.na == 6
+    rng = np.random.default_rng(0)
+    for _ in range(400):
+        d.ctrl[:] = sim.ctrl[:] = rng.uniform(-1.0, 1.0, mj.nu)
+        mujoco.mj_step(mj, d)
+        sim.step()
+    assert np.abs(d.act).max() > 0.1  # the activations moved
+    np.testing.assert_allclose(sim.act, d.act, rtol=0, atol=1e-10)
+    np.testing.assert_allclose(sim.qpos, d.qpos, rtol=0, atol=1e-10)
+    np.testing.assert_allclose(sim.qvel, d.qvel, rtol=0, atol=1e-10)
+
+
+def test_act_is_state():
+    m = sinew.Model.from_mjcf_string(XML.format(integrator="Euler"))
+    sim = sinew.Sim(m)
+    sim.reset(key="charged")
+    np.testing.assert_array_equal(sim.act, [0.1, 0.2, 0.3, 0.1, 0.2, 0.3])
+    sim.ctrl[:] = 0.5
+    sim.step(10)
+    state, copy = sim.get_state(full=True), pickle.loads(pickle.dumps(sim))
+    other = sinew.Sim(m)
+    other.set_state(state)
+    np.testing.assert_array_equal(other.act, sim.act)
+    for s in (sim, other, copy):
+        s.step(20)
+    np.testing.assert_array_equal(other.get_state(), sim.get_state())
+    np.testing.assert_array_equal(copy.get_state(), sim.get_state())
+    sim.reset()
+    assert not sim.act.any()
+    # a batch steps its worlds' activations as a Sim does, and resets them
+    b = sinew.Batch(m, 3, num_threads=1)
+    b.ctrl[:] = 0.5
+    b.set_state([state] * 3)
+    b.step(20)
+    np.testing.assert_array_equal(b.act[1], other.act)
+    b.reset(mask=[True, False, False])
+    assert not b.act[0].any() and b.act[1].any()
