@@ -1,10 +1,13 @@
 //! Mass properties of geoms and bodies, computed exactly as MuJoCo's compiler does
-//! (uniform density; capsule = cylinder + two hemispheres; planes are massless).
+//! (uniform density; capsule = cylinder + two hemispheres; planes are massless), the bodies'
+//! principal axes and fluid boxes, and the stiffness and damping a `springdamper` sets.
 
 use glam::{DMat3, DVec3};
 
-use crate::math::SpatialInertia;
-use crate::mjcf::{GeomSpec, GeomType};
+use crate::dynamics::kinematics::KinData;
+use crate::math::{principal_axes, SpatialInertia};
+use crate::mjcf::{BodySpec, GeomSpec, GeomType, InertiaFromGeom, ModelSpec};
+use crate::model::Model;
 
 /// Volume of a geom.
 pub fn geom_volume(kind: GeomType, s: [f64; 3]) -> f64 {
@@ -56,4 +59,93 @@ pub fn geom_inertia(g: &GeomSpec) -> SpatialInertia {
     let rot = DMat3::from_quat(g.quat);
     let local = SpatialInertia::new(m, DVec3::ZERO, DMat3::from_diagonal(geom_moments(g.kind, g.size, m)));
     local.to_parent(rot, g.pos)
+}
+
+/// The principal axes of body `b`'s inertia `i` (columns, body axes): a body whose inertia is its
+/// one geom's takes the geom's axes, and one given by a diagonal `<inertial>` that element's, as
+/// MuJoCo's compiler does (which matters where moments are equal: fluid forces are not symmetric
+/// about such axes).
+pub(super) fn inertia_axes(spec: &ModelSpec, b: &BodySpec, i: &SpatialInertia) -> DMat3 {
+    match (b.geoms.as_slice(), &b.inertial) {
+        ([g], _) if from_geoms(spec, b) => DMat3::from_quat(g.inertia_quat),
+        // a diagonal `<inertial>`: its own frame
+        (_, Some(inertial)) if !from_geoms(spec, b) && inertial.inertia[3..] == [0.0; 3] => DMat3::from_quat(inertial.quat),
+        _ => principal_axes(i.ic).1,
+    }
+}
+
+/// The sides of the box with inertia `i`'s mass and its moments about `axes` (principal), along
+/// them (MuJoCo's inertia-box fluid model).
+pub(super) fn fluid_box(i: &SpatialInertia, axes: DMat3) -> DVec3 {
+    if i.mass <= 0.0 {
+        return DVec3::ZERO;
+    }
+    let p = axes.transpose() * i.ic * axes;
+    let (a, b, c) = (p.x_axis.x, p.y_axis.y, p.z_axis.z);
+    let side = |x: f64, y: f64, z: f64| ((y + z - x).max(1e-15) / i.mass * 6.0).sqrt();
+    DVec3::new(side(a, b, c), side(b, a, c), side(c, a, b))
+}
+
+/// Whether body `b`'s inertia comes from its geoms (`<compiler inertiafromgeom>`).
+pub(super) fn from_geoms(spec: &ModelSpec, b: &BodySpec) -> bool {
+    match spec.inertiafromgeom {
+        InertiaFromGeom::True => true,
+        InertiaFromGeom::False => false,
+        InertiaFromGeom::Auto => b.inertial.is_none(),
+    }
+}
+
+/// Each body's mass properties in its own frame: from its geoms or its `<inertial>` as the
+/// compiler's `inertiafromgeom` says, scaled to `settotalmass`.
+pub(super) fn body_inertias(spec: &ModelSpec) -> Vec<SpatialInertia> {
+    let mut inertia: Vec<SpatialInertia> = spec
+        .bodies
+        .iter()
+        .enumerate()
+        .map(|(id, b)| {
+            if id == 0 {
+                return SpatialInertia::ZERO;
+            }
+            if from_geoms(spec, b) {
+                b.geoms.iter().fold(SpatialInertia::ZERO, |acc, g| acc.combine(&geom_inertia(g)))
+            } else if let Some(i) = &b.inertial {
+                let [xx, yy, zz, xy, xz, yz] = i.inertia;
+                let local = DMat3::from_cols(DVec3::new(xx, xy, xz), DVec3::new(xy, yy, yz), DVec3::new(xz, yz, zz));
+                SpatialInertia::new(i.mass, DVec3::ZERO, local).to_parent(DMat3::from_quat(i.quat), i.pos)
+            } else {
+                SpatialInertia::ZERO
+            }
+        })
+        .collect();
+    if let Some(total) = spec.settotalmass {
+        let sum: f64 = inertia.iter().map(|i| i.mass).sum();
+        if sum > 0.0 {
+            let k = total / sum;
+            for i in &mut inertia {
+                i.mass *= k;
+                i.ic *= k;
+            }
+        }
+    }
+    inertia
+}
+
+/// Stiffness and damping of the joints with a `springdamper` (time constant τ, damping ratio ζ),
+/// as MuJoCo sets them: with m the joint's effective inertia at qpos0, 1 / (M⁻¹)ᵢᵢ (`kin`: there),
+/// stiffness m / (τ ζ)² and damping 2 m / τ.
+pub(super) fn spring_dampers(m: &mut Model, spec: &ModelSpec, kin: &KinData) {
+    let joints: Vec<_> = spec.bodies.iter().flat_map(|b| &b.joints).collect();
+    if joints.iter().all(|j| j.springdamper.is_none()) {
+        return;
+    }
+    let mass_matrix = crate::dynamics::crba::crba(m, kin);
+    for (j, spec) in joints.iter().enumerate() {
+        let Some([tc, dr]) = spec.springdamper else { continue };
+        let d = m.jnt_dofadr[j];
+        let mut unit = vec![0.0; m.nv];
+        unit[d] = 1.0;
+        let inertia = 1.0 / crate::dynamics::crba::cholesky_solve(&mass_matrix, &unit)[d];
+        m.jnt_stiffness[j] = inertia / (tc * tc * dr * dr);
+        m.dof_damping[d] = 2.0 * inertia / tc;
+    }
 }

@@ -5,15 +5,17 @@ use glam::{DMat3, DVec3};
 
 mod inertia;
 mod pairs;
+mod sensors;
+mod tendons;
 mod visual;
 
-use inertia::geom_inertia;
-use crate::model::{ActuatorDyn, Connect, GapPair, GeomType, Keyframe, Model, Options, PairTest, PathPoint, PlaneGroup, SensorFrame, SensorKind, Transmission, Wrap, WORLD};
+use inertia::{body_inertias, fluid_box, inertia_axes, spring_dampers};
+use sensors::sensors;
+use tendons::tendons;
+use crate::model::{ActuatorDyn, Connect, GapPair, GeomType, Keyframe, Model, Options, PairTest, PlaneGroup, Transmission, Wrap, WORLD};
 use crate::error::{Error, Result};
-use crate::math::{principal_axes, SpatialInertia, Xform};
-use crate::mjcf::{include, BodySpec, InertiaFromGeom, JointSpec, JointType, ModelSpec, PathSpec, TendonPathSpec, TransmissionSpec};
-use crate::dynamics::kinematics::KinData;
-use crate::dynamics::tendon::{self, TendonData};
+use crate::math::{SpatialInertia, Xform};
+use crate::mjcf::{include, BodySpec, JointSpec, JointType, ModelSpec, TransmissionSpec};
 use crate::dynamics::DynamicsData;
 
 impl Model {
@@ -113,75 +115,6 @@ fn compile(spec: ModelSpec) -> Result<Model> {
     m.motion_plane = motion_plane(&m, &dy.kin);
     m.vis = visual::compile(&spec, |n| m.body_id(n))?;
     Ok(m)
-}
-
-/// The principal axes of body `b`'s inertia `i` (columns, body axes): a body whose inertia is its
-/// one geom's takes the geom's axes, and one given by a diagonal `<inertial>` that element's, as
-/// MuJoCo's compiler does (which matters where moments are equal: fluid forces are not symmetric
-/// about such axes).
-fn inertia_axes(spec: &ModelSpec, b: &BodySpec, i: &SpatialInertia) -> DMat3 {
-    match (b.geoms.as_slice(), &b.inertial) {
-        ([g], _) if from_geoms(spec, b) => DMat3::from_quat(g.inertia_quat),
-        // a diagonal `<inertial>`: its own frame
-        (_, Some(inertial)) if !from_geoms(spec, b) && inertial.inertia[3..] == [0.0; 3] => DMat3::from_quat(inertial.quat),
-        _ => principal_axes(i.ic).1,
-    }
-}
-
-/// The sides of the box with inertia `i`'s mass and its moments about `axes` (principal), along
-/// them (MuJoCo's inertia-box fluid model).
-fn fluid_box(i: &SpatialInertia, axes: DMat3) -> DVec3 {
-    if i.mass <= 0.0 {
-        return DVec3::ZERO;
-    }
-    let p = axes.transpose() * i.ic * axes;
-    let (a, b, c) = (p.x_axis.x, p.y_axis.y, p.z_axis.z);
-    let side = |x: f64, y: f64, z: f64| ((y + z - x).max(1e-15) / i.mass * 6.0).sqrt();
-    DVec3::new(side(a, b, c), side(b, a, c), side(c, a, b))
-}
-
-/// Whether body `b`'s inertia comes from its geoms (`<compiler inertiafromgeom>`).
-fn from_geoms(spec: &ModelSpec, b: &BodySpec) -> bool {
-    match spec.inertiafromgeom {
-        InertiaFromGeom::True => true,
-        InertiaFromGeom::False => false,
-        InertiaFromGeom::Auto => b.inertial.is_none(),
-    }
-}
-
-/// Each body's mass properties in its own frame: from its geoms or its `<inertial>` as the
-/// compiler's `inertiafromgeom` says, scaled to `settotalmass`.
-fn body_inertias(spec: &ModelSpec) -> Vec<SpatialInertia> {
-    let mut inertia: Vec<SpatialInertia> = spec
-        .bodies
-        .iter()
-        .enumerate()
-        .map(|(id, b)| {
-            if id == 0 {
-                return SpatialInertia::ZERO;
-            }
-            if from_geoms(spec, b) {
-                b.geoms.iter().fold(SpatialInertia::ZERO, |acc, g| acc.combine(&geom_inertia(g)))
-            } else if let Some(i) = &b.inertial {
-                let [xx, yy, zz, xy, xz, yz] = i.inertia;
-                let local = DMat3::from_cols(DVec3::new(xx, xy, xz), DVec3::new(xy, yy, yz), DVec3::new(xz, yz, zz));
-                SpatialInertia::new(i.mass, DVec3::ZERO, local).to_parent(DMat3::from_quat(i.quat), i.pos)
-            } else {
-                SpatialInertia::ZERO
-            }
-        })
-        .collect();
-    if let Some(total) = spec.settotalmass {
-        let sum: f64 = inertia.iter().map(|i| i.mass).sum();
-        if sum > 0.0 {
-            let k = total / sum;
-            for i in &mut inertia {
-                i.mass *= k;
-                i.ic *= k;
-            }
-        }
-    }
-    inertia
 }
 
 /// Joints, dofs and nodes in MuJoCo's order: each body's joints share a node while their dofs
@@ -355,116 +288,6 @@ fn keyframes(m: &Model, spec: &ModelSpec) -> Result<Vec<Keyframe>> {
         .collect()
 }
 
-/// The tendons: a fixed one's terms, a spatial one's path (checked as MuJoCo does: sites at both
-/// ends and either side of each geom and pulley; geoms spheres or cylinders), limits, springs,
-/// dampers and dry friction, and the lengths at qpos0 and at the springs' rest.
-fn tendons(m: &mut Model, spec: &ModelSpec) -> Result<()> {
-    m.tendon_adr.push(0);
-    m.tendon_path_adr.push(0);
-    for t in &spec.tendons {
-        match &t.path {
-            TendonPathSpec::Fixed(joints) => {
-                for (name, coef) in joints {
-                    let Some(j) = m.jnt_name.iter().position(|n| n == name) else {
-                        return Err(Error::model("fixed", Some("joint"), t.line, format!("unknown joint '{name}'")));
-                    };
-                    if !matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide) {
-                        return Err(Error::model("fixed", Some("joint"), t.line, "fixed tendons sum hinge and slide joints only"));
-                    }
-                    m.tendon_wrap.push(Wrap { dof: m.jnt_dofadr[j], qpos: m.jnt_qposadr[j], coef: *coef });
-                }
-                if joints.is_empty() {
-                    return Err(Error::model("fixed", None, t.line, "a fixed tendon needs at least one joint"));
-                }
-            }
-            TendonPathSpec::Spatial(path) => spatial_path(m, path, t.line)?,
-        }
-        m.tendon_adr.push(m.tendon_wrap.len());
-        m.tendon_path_adr.push(m.tendon_path.len());
-        m.tendon_name.push(t.name.clone());
-        m.tendon_stiffness.push(t.stiffness);
-        m.tendon_damping.push(t.damping);
-        m.tendon_springlength.push(t.springlength.unwrap_or([f64::NAN; 2]));
-        m.tendon_limited.push(t.range.is_some());
-        m.tendon_range.push(t.range.unwrap_or([0.0; 2]));
-        m.tendon_margin.push(t.margin);
-        m.tendon_frictionloss.push(t.frictionloss);
-        m.ntendon += 1;
-        // a limit's or friction's row holds the dofs of two kinematic trees at most
-        if (t.range.is_some() || t.frictionloss > 0.0) && tendon_trees(m, m.ntendon - 1).len() > 2 {
-            let kind = if matches!(t.path, TendonPathSpec::Fixed(_)) { "fixed" } else { "spatial" };
-            return Err(Error::model(kind, None, t.line, "a limited or frictional tendon may span two kinematic trees at most"));
-        }
-    }
-    // lengths at qpos0 and at the springs' rest (MuJoCo's tendon_length0 and default springlength)
-    let lengths = |q: &[f64]| {
-        let mut kin = KinData::new(m);
-        crate::dynamics::kinematics::forward(m, q, &vec![0.0; m.nv], &mut kin);
-        let mut ten = TendonData::new(m);
-        tendon::compute(m, &kin, q, &mut ten);
-        ten.length
-    };
-    let (length0, rest) = (lengths(&m.qpos0), lengths(&m.qpos_spring));
-    m.tendon_length0 = length0;
-    for (s, l) in m.tendon_springlength.iter_mut().zip(rest) {
-        if s[0].is_nan() {
-            *s = [l, l];
-        }
-    }
-    Ok(())
-}
-
-/// A spatial tendon's path into `m.tendon_path`, each name resolved and the order checked.
-fn spatial_path(m: &mut Model, path: &[(PathSpec, u32)], line: u32) -> Result<()> {
-    let find = |names: &[String], kind: &str, name: &str, at: u32| {
-        names.iter().position(|n| n == name).ok_or_else(|| Error::model(kind, Some(kind), at, format!("unknown {kind} '{name}'")))
-    };
-    let is_site = |k: usize| matches!(path.get(k), Some((PathSpec::Site(_), _)));
-    if path.len() < 2 || !is_site(0) || !is_site(path.len() - 1) {
-        return Err(Error::model("spatial", None, line, "a spatial tendon's path begins and ends with a site"));
-    }
-    for (k, (item, at)) in path.iter().enumerate() {
-        let point = match item {
-            PathSpec::Site(name) => PathPoint::Site(find(&m.site_name, "site", name, *at)?),
-            PathSpec::Geom { geom, sidesite } => {
-                let g = find(&m.geom_name, "geom", geom, *at)?;
-                if !matches!(m.geom_type[g], GeomType::Sphere | GeomType::Cylinder) {
-                    return Err(Error::model("geom", Some("geom"), *at, "a tendon wraps around spheres and cylinders only"));
-                }
-                if !is_site(k - 1) || !is_site(k + 1) {
-                    return Err(Error::model("geom", None, *at, "a wrapping geom lies between two sites of the path"));
-                }
-                let side = sidesite.as_ref().map(|s| find(&m.site_name, "site", s, *at)).transpose()?;
-                PathPoint::Geom { geom: g, side }
-            }
-            PathSpec::Pulley(divisor) => {
-                if !is_site(k - 1) || !is_site(k + 1) {
-                    return Err(Error::model("pulley", None, *at, "a pulley lies between two sites of the path"));
-                }
-                PathPoint::Pulley(*divisor)
-            }
-        };
-        m.tendon_path.push(point);
-    }
-    Ok(())
-}
-
-/// The kinematic trees ([`Model::node_tree`]) tendon t's length depends on.
-fn tendon_trees(m: &Model, t: usize) -> Vec<usize> {
-    let mut bodies: Vec<usize> = m.tendon_terms(t).iter().map(|w| m.jnt_body[m.dof_jnt[w.dof]]).collect();
-    for p in m.tendon_path(t) {
-        match *p {
-            PathPoint::Site(s) => bodies.push(m.site_body[s]),
-            PathPoint::Geom { geom, .. } => bodies.push(m.geom_body[geom]),
-            PathPoint::Pulley(_) => {}
-        }
-    }
-    let mut trees: Vec<usize> = bodies.iter().filter(|&&b| m.body_node[b] != WORLD).map(|&b| m.node_tree[m.body_node[b]]).collect();
-    trees.sort_unstable();
-    trees.dedup();
-    trees
-}
-
 /// The joint and tendon equalities, each side as its terms and its value at qpos0.
 fn equalities(m: &mut Model, spec: &ModelSpec) -> Result<()> {
     m.eq_adr.push(0);
@@ -549,86 +372,6 @@ fn actuators(m: &mut Model, spec: &ModelSpec) -> Result<()> {
         m.actuator_dyn.push(a.dynamics);
         m.actuator_actrange.push(a.actrange);
         m.actuator_bias.push(a.bias);
-    }
-    Ok(())
-}
-
-/// Stiffness and damping of the joints with a `springdamper` (time constant τ, damping ratio ζ),
-/// as MuJoCo sets them: with m the joint's effective inertia at qpos0, 1 / (M⁻¹)ᵢᵢ (`kin`: there),
-/// stiffness m / (τ ζ)² and damping 2 m / τ.
-fn spring_dampers(m: &mut Model, spec: &ModelSpec, kin: &KinData) {
-    let joints: Vec<_> = spec.bodies.iter().flat_map(|b| &b.joints).collect();
-    if joints.iter().all(|j| j.springdamper.is_none()) {
-        return;
-    }
-    let mass_matrix = crate::dynamics::crba::crba(m, kin);
-    for (j, spec) in joints.iter().enumerate() {
-        let Some([tc, dr]) = spec.springdamper else { continue };
-        let d = m.jnt_dofadr[j];
-        let mut unit = vec![0.0; m.nv];
-        unit[d] = 1.0;
-        let inertia = 1.0 / crate::dynamics::crba::cholesky_solve(&mass_matrix, &unit)[d];
-        m.jnt_stiffness[j] = inertia / (tc * tc * dr * dr);
-        m.dof_damping[d] = 2.0 * inertia / tc;
-    }
-}
-
-/// The `<sensor>`s sinew computes, each object resolved; the kinds it does not compute are left
-/// out with a warning (their names stay out of `sensordata`).
-fn sensors(m: &mut Model, spec: &ModelSpec) -> Result<()> {
-    for sp in &spec.sensors {
-        let attr = |a: &str| sp.attrs.iter().find(|(k, _)| k == a).map(|(_, v)| v.as_str());
-        let find = |names: &[String], a: &str| {
-            let name = attr(a).ok_or_else(|| Error::model(&sp.kind, Some(a), sp.line, "required"))?;
-            names.iter().position(|n| n == name).ok_or_else(|| Error::model(&sp.kind, Some(a), sp.line, format!("unknown {a} '{name}'")))
-        };
-        let frame = |ty: &str, name: &str| -> Result<Option<SensorFrame>> {
-            let (Some(t), Some(_)) = (attr(ty), attr(name)) else { return Ok(None) };
-            Ok(Some(match t {
-                "body" => SensorFrame::Body(find(&m.body_name, name)?),
-                "xbody" => SensorFrame::XBody(find(&m.body_name, name)?),
-                "geom" => SensorFrame::Geom(find(&m.geom_name, name)?),
-                "site" => SensorFrame::Site(find(&m.site_name, name)?),
-                other => return Err(Error::model(&sp.kind, Some(ty), sp.line, format!("sensor frames are bodies, xbodies, geoms and sites, not '{other}'"))),
-            }))
-        };
-        let scalar_joint = |a: &str| -> Result<usize> {
-            let j = find(&m.jnt_name, a)?;
-            if matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide) { Ok(j) } else { Err(Error::model(&sp.kind, Some(a), sp.line, "joint sensors read hinge and slide joints")) }
-        };
-        let object = || frame("objtype", "objname")?.ok_or_else(|| Error::model(&sp.kind, Some("objtype"), sp.line, "objtype and objname are required"));
-        let kind = match sp.kind.as_str() {
-            "jointpos" => SensorKind::JointPos(scalar_joint("joint")?),
-            "jointvel" => SensorKind::JointVel(scalar_joint("joint")?),
-            "tendonpos" => SensorKind::TendonPos(find(&m.tendon_name, "tendon")?),
-            "tendonvel" => SensorKind::TendonVel(find(&m.tendon_name, "tendon")?),
-            "actuatorpos" => SensorKind::ActuatorPos(find(&m.actuator_name, "actuator")?),
-            "actuatorvel" => SensorKind::ActuatorVel(find(&m.actuator_name, "actuator")?),
-            "framepos" => SensorKind::FramePos(object()?, frame("reftype", "refname")?),
-            "framexaxis" | "frameyaxis" | "framezaxis" => {
-                let axis = ["framexaxis", "frameyaxis", "framezaxis"].iter().position(|k| *k == sp.kind).unwrap_or(0);
-                SensorKind::FrameAxis(object()?, axis, frame("reftype", "refname")?)
-            }
-            "framelinvel" | "frameangvel" if attr("reftype").is_some() => {
-                return Err(Error::model(&sp.kind, Some("reftype"), sp.line, "velocity sensors in a reference frame are not supported"));
-            }
-            "framelinvel" => SensorKind::FrameLinVel(object()?),
-            "frameangvel" => SensorKind::FrameAngVel(object()?),
-            "subtreecom" => SensorKind::SubtreeCom(find(&m.body_name, "body")?),
-            "subtreelinvel" => SensorKind::SubtreeLinVel(find(&m.body_name, "body")?),
-            "subtreeangmom" => SensorKind::SubtreeAngMom(find(&m.body_name, "body")?),
-            "gyro" => SensorKind::Gyro(find(&m.site_name, "site")?),
-            "velocimeter" => SensorKind::Velocimeter(find(&m.site_name, "site")?),
-            "touch" => SensorKind::Touch(find(&m.site_name, "site")?),
-            other => {
-                m.warnings.push(format!("<{other}> sensor '{}' at line {}: not computed by sinew, left out of sensordata", sp.name, sp.line));
-                continue;
-            }
-        };
-        m.sensor_adr.push(m.nsensordata);
-        m.nsensordata += kind.dim();
-        m.sensor_name.push(sp.name.clone());
-        m.sensor_kind.push(kind);
     }
     Ok(())
 }
