@@ -371,6 +371,7 @@ fn actuators(m: &mut Model, spec: &ModelSpec) -> Result<()> {
         m.na += (a.dynamics != ActuatorDyn::None) as usize;
         m.actuator_dyn.push(a.dynamics);
         m.actuator_actrange.push(a.actrange);
+        m.actuator_plain.push(a.dynamics == ActuatorDyn::None && a.gain[1..] == [0.0; 2] && a.bias == [0.0; 3]);
         m.actuator_bias.push(a.bias);
     }
     Ok(())

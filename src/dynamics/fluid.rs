@@ -12,12 +12,17 @@ use crate::math::{Force, Motion};
 use crate::model::{Model, WORLD};
 
 /// Adds the fluid forces of the bodies moving at the node velocities `v` (the configuration's
-/// kinematics in `kin`) to the joint forces `tau`.
+/// kinematics in `kin`) to the joint forces `tau`; nothing without a medium.
+#[inline]
 pub fn add_forces(m: &Model, kin: &KinData, v: &[Motion], tau: &mut [f64]) {
-    let (rho, mu) = (m.opt.density, m.opt.viscosity);
-    if rho == 0.0 && mu == 0.0 {
-        return;
+    if m.opt.density != 0.0 || m.opt.viscosity != 0.0 {
+        body_forces(m, kin, v, tau);
     }
+}
+
+/// [`add_forces`] in a medium.
+fn body_forces(m: &Model, kin: &KinData, v: &[Motion], tau: &mut [f64]) {
+    let (rho, mu) = (m.opt.density, m.opt.viscosity);
     for b in 1..m.nbody {
         let n = m.body_node[b];
         if n == WORLD || m.body_mass[b] < 1e-15 {

@@ -55,26 +55,10 @@ pub fn applied(m: &Model, ten: &TendonData, qpos: &[f64], qvel: &[f64], (ctrl, a
             let [lo, hi] = m.actuator_ctrlrange[a];
             u = u.clamp(lo, hi);
         }
-        // an actuator with dynamics is driven by its activation
-        if let Some(i) = m.actuator_actadr[a] {
-            u = act[i];
-        }
-        let [b0, b1, b2] = m.actuator_bias[a];
-        let [g0, g1, g2] = m.actuator_gain[a];
-        // length and rate: gear times the joint's or the tendon's
-        let length_rate = || match m.actuator_trn[a] {
-            Transmission::Joint(_) => (Wrap::length(m.moment(a), qpos), Wrap::rate(m.moment(a), qvel)),
-            Transmission::Tendon(t) => (m.actuator_gear[a] * ten.length[t], m.actuator_gear[a] * ten.rate(m, t, qvel)),
-        };
-        if [g1, g2] == [0.0; 2] {
-            u *= g0;
+        if m.actuator_plain[a] {
+            u *= m.actuator_gain[a][0];
         } else {
-            let (length, rate) = length_rate();
-            u *= g0 + g1 * length + g2 * rate;
-        }
-        if [b0, b1, b2] != [0.0; 3] {
-            let (length, rate) = length_rate();
-            u += b0 + b1 * length + b2 * rate;
+            u = general_force(m, ten, a, u, (qpos, qvel), act);
         }
         if m.actuator_forcelimited[a] {
             let [lo, hi] = m.actuator_forcerange[a];
@@ -89,6 +73,21 @@ pub fn applied(m: &Model, ten: &TendonData, qpos: &[f64], qvel: &[f64], (ctrl, a
             Transmission::Tendon(t) => ten.apply(m, t, m.actuator_gear[a] * u, tau),
         }
     }
+}
+
+/// A general actuator's force at control `u`: gain · (u, or its activation) + bias, gain and bias
+/// affine in its length and rate (gear times its joint's or tendon's).
+fn general_force(m: &Model, ten: &TendonData, a: usize, u: f64, (qpos, qvel): (&[f64], &[f64]), act: &[f64]) -> f64 {
+    // an actuator with dynamics is driven by its activation
+    let u = m.actuator_actadr[a].map_or(u, |i| act[i]);
+    let ([g0, g1, g2], [b0, b1, b2]) = (m.actuator_gain[a], m.actuator_bias[a]);
+    let (length, rate) = match m.actuator_trn[a] {
+        Transmission::Joint(_) => (Wrap::length(m.moment(a), qpos), Wrap::rate(m.moment(a), qvel)),
+        Transmission::Tendon(t) => (m.actuator_gear[a] * ten.length[t], m.actuator_gear[a] * ten.rate(m, t, qvel)),
+    };
+    let gain = if [g1, g2] == [0.0; 2] { g0 } else { g0 + g1 * length + g2 * rate };
+    let force = u * gain;
+    if [b0, b1, b2] == [0.0; 3] { force } else { force + (b0 + b1 * length + b2 * rate) }
 }
 
 /// Tendons' springs (zero force within the rest deadband) and dampers, through their J.

@@ -17,7 +17,10 @@ pub fn rk4(m: &Model, dy: &mut DynamicsData, rk: &mut Rk4Scratch, s: &mut WorldS
     // stage 1 is the step's own evaluation (without implicit damping)
     rk.kv[0].copy_from_slice(qvel);
     rk.ka[0].copy_from_slice(&dy.qacc);
-    activation::rates(m, ctrl, act, &mut rk.kact[0]);
+    let acts = m.na > 0;
+    if acts {
+        activation::rates(m, ctrl, act, &mut rk.kact[0]);
+    }
     for i in 1..4 {
         // stage state: X0 + h Σ_j A_ij F_j
         rk.qpos.copy_from_slice(qpos);
@@ -48,7 +51,9 @@ pub fn rk4(m: &Model, dy: &mut DynamicsData, rk: &mut Rk4Scratch, s: &mut WorldS
         dynamics::accelerations(m, dy, &rk.qpos, &rk.qvel, ctrl, &rk.act, 0.0);
         rk.kv[i].copy_from_slice(&rk.qvel);
         rk.ka[i].copy_from_slice(&dy.qacc);
-        activation::rates(m, ctrl, &rk.act, &mut rk.kact[i]);
+        if acts {
+            activation::rates(m, ctrl, &rk.act, &mut rk.kact[i]);
+        }
         lie_algebra_velocity(m, &mut rk.kv[i], &rk.dv, h);
     }
     rk.dv.fill(0.0);
@@ -60,13 +65,15 @@ pub fn rk4(m: &Model, dy: &mut DynamicsData, rk: &mut Rk4Scratch, s: &mut WorldS
     }
     integrate_pos(m, qpos, &rk.dv, h);
     // the activations by the weighted rates (MuJoCo's mj_advance)
-    rk.act.fill(0.0);
-    for j in 0..4 {
-        for k in 0..m.na {
-            rk.act[k] += RK4_B[j] * rk.kact[j][k];
+    if acts {
+        rk.act.fill(0.0);
+        for j in 0..4 {
+            for k in 0..m.na {
+                rk.act[k] += RK4_B[j] * rk.kact[j][k];
+            }
         }
+        activation::advance(m, act, &rk.act, h);
     }
-    activation::advance(m, act, &rk.act, h);
     // report the acceleration at the start of the step
     dy.qacc.copy_from_slice(&rk.ka[0]);
 }

@@ -559,6 +559,8 @@ pub struct Model {
     pub actuator_actrange: Vec<Option<[f64; 2]>>,
     /// Number of activations (actuators with dynamics).
     pub na: usize,
+    /// Actuators whose force is gain₀ · ctrl alone (no dynamics, fixed gain, no bias) (nu).
+    pub actuator_plain: Vec<bool>,
     /// Affine bias b₀ + b₁ · length + b₂ · velocity (nu).
     pub actuator_bias: Vec<[f64; 3]>,
     /// Gear (nu).
