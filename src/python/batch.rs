@@ -11,6 +11,8 @@ use super::arrays::{as_f64, checked_values};
 use super::model::PyModel;
 use crate::batch::{Batch, BatchState, TaskRun};
 use crate::step::state::FlatState;
+use crate::dynamics::{kinematics, tendon};
+use crate::sensordata;
 use crate::sensors::Sensors;
 use crate::tasks::Task;
 
@@ -141,6 +143,24 @@ impl PyBatch {
     #[getter]
     fn diverged(&self, py: Python<'_>) -> Py<PyArray1<bool>> {
         self.diverged.clone_ref(py)
+    }
+    /// Each world's file sensors (N, nsensordata) at its current state, touch from its last
+    /// step's contact forces, as `Sim.sensordata` (computed on each read).
+    #[getter]
+    fn sensordata<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let m = self.inner.model.clone();
+        let (n, ns) = (self.inner.len(), m.nsensordata);
+        let (qpos, qvel) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly());
+        let (qp, qv) = (qpos.as_slice()?, qvel.as_slice()?);
+        let mut out = vec![0.0; n * ns];
+        for (i, d) in self.inner.data.iter_mut().enumerate() {
+            let (q, v) = (&qp[i * m.nq..(i + 1) * m.nq], &qv[i * m.nv..(i + 1) * m.nv]);
+            let dy = &mut d.dynamics;
+            kinematics::forward(&m, q, v, &mut dy.kin);
+            tendon::compute(&m, &dy.kin, q, &mut dy.ten);
+            sensordata::compute(&m, &dy.kin, &dy.ten, q, v, (&d.constraints, &d.coll.contacts), &mut out[i * ns..(i + 1) * ns]);
+        }
+        PyArray1::from_vec(py, out).reshape([n, ns])
     }
     /// Body positions (N, nbody, 3) for the current state.
     #[getter]

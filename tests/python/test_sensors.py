@@ -59,6 +59,10 @@ def test_touch_reads_the_weight_a_foot_carries():
             sim.step()
         bottom, top = sim.sensordata
         assert bottom == pytest.approx(2 * 9.81, rel=1e-6) and top == 0.0, (mode, bottom, top)
+        # a batch's worlds read the same
+        b = sinew.Batch(sim.model, 2, num_threads=1)
+        b.step(200)
+        np.testing.assert_array_equal(b.sensordata, [sim.sensordata] * 2)
 
 
 def test_kinds_not_computed_are_named_in_a_warning():
