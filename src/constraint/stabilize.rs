@@ -282,13 +282,7 @@ fn push_jacobian(m: &Model, kin: &KinData, nodes: [usize; 2], jac: [Force; 2], o
     let start = out.len();
     out.resize(start + m.nv, 0.0);
     for side in 0..2 {
-        let (mut i, f) = (nodes[side], jac[side]);
-        while i != WORLD {
-            for r in 0..m.node_nv[i] {
-                out[start + m.node_dofadr[i] + r] += kin.s[i][r].dot(&f);
-            }
-            i = m.node_parent[i];
-        }
+        kinematics::add_joint_forces(m, kin, nodes[side], &jac[side], &mut out[start..]);
     }
 }
 

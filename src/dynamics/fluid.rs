@@ -7,7 +7,7 @@
 
 use glam::DVec3;
 
-use super::kinematics::KinData;
+use super::kinematics::{add_joint_forces, KinData};
 use crate::math::{Force, Motion};
 use crate::model::{Model, WORLD};
 
@@ -47,13 +47,6 @@ fn body_forces(m: &Model, kin: &KinData, v: &[Motion], tau: &mut [f64]) {
             torque -= rho * s * arm / 64.0 * w.abs() * w;
         }
         let (torque, force) = (rot * torque, rot * force);
-        let f = Force { ang: torque + r.cross(force), lin: force };
-        let mut i = n;
-        while i != WORLD {
-            for k in 0..m.node_nv[i] {
-                tau[m.node_dofadr[i] + k] += kin.s[i][k].dot(&f);
-            }
-            i = m.node_parent[i];
-        }
+        add_joint_forces(m, kin, n, &Force { ang: torque + r.cross(force), lin: force }, tau);
     }
 }

@@ -8,7 +8,7 @@
 
 use glam::{DMat3, DVec3};
 
-use crate::math::{quat_wxyz, Motion, SpatialInertia, Xform};
+use crate::math::{quat_wxyz, Force, Motion, SpatialInertia, Xform};
 use crate::model::{JointType, Model, WORLD};
 
 /// Kinematics of a state computed ahead of the step that starts from it: post-stabilisation's
@@ -321,5 +321,17 @@ pub fn velocity_products(m: &Model, kin: &KinData, a_vp: &mut [Motion]) {
         let p = m.node_parent[i];
         let a_parent = if p == WORLD { Motion::ZERO } else { a_vp[p] };
         a_vp[i] = a_parent + kin.c[i];
+    }
+}
+
+/// tau += Sᵀ f over the path from node `n` to the root: the joint forces of the spatial force `f`
+/// (world coordinates about `kin.origin`) on node `n` (RNEA's inward force pass, Featherstone
+/// 2008, Table 5.1).
+pub fn add_joint_forces(m: &Model, kin: &KinData, mut n: usize, f: &Force, tau: &mut [f64]) {
+    while n != WORLD {
+        for k in 0..m.node_nv[n] {
+            tau[m.node_dofadr[n] + k] += kin.s[n][k].dot(f);
+        }
+        n = m.node_parent[n];
     }
 }

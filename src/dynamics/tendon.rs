@@ -10,9 +10,9 @@
 
 use glam::{DMat3, DVec2, DVec3};
 
-use super::kinematics::{point_accel, point_vel, velocity_products, KinData};
+use super::kinematics::{add_joint_forces, point_accel, point_vel, velocity_products, KinData};
 use crate::math::{Force, Motion};
-use crate::model::{GeomType, Model, PathPoint, Wrap, WORLD};
+use crate::model::{GeomType, Model, PathPoint, Wrap};
 
 /// The tendons of one evaluation.
 #[derive(Clone, Debug, Default)]
@@ -184,14 +184,7 @@ fn segment(m: &Model, kin: &KinData, a_vp: &[Motion], a: Anchor, b: Anchor, divi
 
 /// row += J_pᵀ dir: the joint forces of the force `dir` at point `p`, carried to the root.
 fn add_point_jacobian(m: &Model, kin: &KinData, p: Anchor, dir: DVec3, row: &mut [f64]) {
-    let f = Force::at_point(p.r, dir);
-    let mut n = p.node;
-    while n != WORLD {
-        for k in 0..m.node_nv[n] {
-            row[m.node_dofadr[n] + k] += kin.s[n][k].dot(&f);
-        }
-        n = m.node_parent[n];
-    }
+    add_joint_forces(m, kin, p.node, &Force::at_point(p.r, dir), row);
 }
 
 /// MuJoCo's smallest value (`mjMINVAL`).

@@ -61,17 +61,21 @@ impl Parser<'_> {
         Ok(())
     }
 
+    /// The default class `n`'s children take: its own `childclass`, else the enclosing one's.
+    fn childclass(&self, n: Node, enclosing: Option<&str>, e: &El) -> Result<Option<String>> {
+        let cc = n.attribute("childclass").or(enclosing).map(str::to_string);
+        match &cc {
+            Some(c) if !self.classes.contains_key(c) => Err(e.err("childclass", format!("unknown default class '{c}'"))),
+            _ => Ok(cc),
+        }
+    }
+
     /// A `<frame>`: its children belong to the enclosing body, posed in the frame's pose (and
     /// its `childclass` their default).
     fn frame(&mut self, n: Node, body: usize, childclass: Option<&str>) -> Result<()> {
         let e = El { node: n, line: line(self.doc, n), defaults: vec![] };
         e.check(&["name", "childclass", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis"], &self.warnings)?;
-        let cc = n.attribute("childclass").or(childclass).map(str::to_string);
-        if let Some(c) = &cc
-            && !self.classes.contains_key(c)
-        {
-            return Err(e.err("childclass", format!("unknown default class '{c}'")));
-        }
+        let cc = self.childclass(n, childclass, &e)?;
         let (t, q) = (e.vec3("pos", DVec3::ZERO)?, self.orientation(&e)?);
         let b = &self.spec.bodies[body];
         let before = (self.spec.bodies.len(), b.joints.len(), b.geoms.len(), b.sites.len(), b.cameras.len(), b.lights.len());
@@ -120,12 +124,7 @@ impl Parser<'_> {
         if n.attribute("mocap") == Some("true") {
             return Err(e.err("mocap", "mocap bodies are not supported"));
         }
-        let cc = n.attribute("childclass").or(childclass).map(str::to_string);
-        if let Some(c) = &cc
-            && !self.classes.contains_key(c)
-        {
-            return Err(e.err("childclass", format!("unknown default class '{c}'")));
-        }
+        let cc = self.childclass(n, childclass, &e)?;
         let id = self.spec.bodies.len();
         let name = n.attribute("name").map_or_else(|| format!("body{id}"), str::to_string);
         if self.spec.bodies.iter().any(|b| b.name == name) {
