@@ -12,6 +12,7 @@
 
 pub mod error;
 pub mod math;
+pub mod geometry;
 pub mod timing;
 
 // rooms in dependency order: each imports only the rooms above it in this list

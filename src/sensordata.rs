@@ -174,6 +174,6 @@ fn inside(kind: GeomType, size: [f64; 3], p: DVec3) -> bool {
         GeomType::Cylinder => p.x.hypot(p.y) <= a && p.z.abs() <= b,
         GeomType::Box => p.x.abs() <= a && p.y.abs() <= b && p.z.abs() <= c,
         GeomType::Ellipsoid => (p / DVec3::new(a, b, c)).length_squared() <= 1.0,
-        GeomType::Plane => false,
+        GeomType::Plane | GeomType::Mesh | GeomType::Hfield => false,
     }
 }

@@ -28,7 +28,8 @@ fn bad_numbers_name_element_attribute_and_line() {
 fn unsupported_things_are_errors() {
     let cases = [
         ("<mujoco><worldbody><body><joint foo=\"1\"/><geom size=\"1\"/></body></worldbody></mujoco>", "joint", Some("foo")),
-        ("<mujoco><worldbody><body><geom type=\"mesh\" size=\"1\"/></body></worldbody></mujoco>", "geom", Some("type")),
+        ("<mujoco><worldbody><body><geom type=\"mesh\" size=\"1\"/></body></worldbody></mujoco>", "geom", Some("mesh")),
+        ("<mujoco><worldbody><body><geom type=\"sdf\" size=\"1\"/></body></worldbody></mujoco>", "geom", Some("type")),
         ("<mujoco><worldbody><body><composite/></body></worldbody></mujoco>", "composite", None),
         ("<mujoco><equality><flex flex=\"a\"/></equality></mujoco>", "flex", None),
         ("<mujoco><equality><weld body1=\"a\"/></equality></mujoco>", "weld", Some("body1")),

@@ -37,10 +37,12 @@ use crate::state::WorldState;
 use crate::math::Motion;
 
 mod broadphase;
+mod convex;
 mod data;
 mod gaps;
 mod narrowphase;
 mod shapes;
+mod terrain;
 
 use broadphase::{apart, arm_speed, judge_groups, near_pairs, own_reach_of};
 pub use data::{CollisionData, Contact, MAX_CONTACTS};

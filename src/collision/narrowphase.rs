@@ -3,20 +3,25 @@
 
 use glam::{DMat3, DVec3};
 
+use super::convex::{on_plane, point_polytope, polytopes, Manifold, PosedBox, PosedHull, Segment};
+use super::terrain::hfield_contacts;
 use super::data::{pose_axes, CollisionData, Contact, MAX_CONTACTS};
 use super::shapes::{box_box, closest_on_segment, closest_segments, point_box, segment_box_points, spheres};
 use crate::dynamics::kinematics::KinData;
+use crate::geometry::{HField, Hull};
 use crate::model::{GeomType, Model};
 
 #[derive(Clone, Copy)]
-pub(super) enum Shape {
+pub(super) enum Shape<'a> {
     Plane { p: DVec3, n: DVec3 },
     Sphere { c: DVec3, r: f64 },
     Segment { a: DVec3, b: DVec3, r: f64 },
     Box { c: DVec3, rot: DMat3, half: DVec3 },
+    Hull { c: DVec3, rot: DMat3, hull: &'a Hull },
+    HField { p: DVec3, rot: DMat3, field: &'a HField },
 }
 
-pub(super) fn shape(m: &Model, cd: &CollisionData, g: usize) -> Shape {
+pub(super) fn shape<'a>(m: &'a Model, cd: &CollisionData, g: usize) -> Shape<'a> {
     let (p, r, s) = (cd.geom_xpos[g], cd.geom_xmat[g], m.geom_size[g]);
     match m.geom_type[g] {
         GeomType::Plane => Shape::Plane { p, n: r.col(2) },
@@ -27,6 +32,14 @@ pub(super) fn shape(m: &Model, cd: &CollisionData, g: usize) -> Shape {
             Shape::Segment { a: p - h, b: p + h, r: s[0] }
         }
         GeomType::Box => Shape::Box { c: p, rot: r, half: DVec3::from_array(s) },
+        GeomType::Mesh => match m.geom_mesh[g] {
+            Some(k) => Shape::Hull { c: p, rot: r, hull: &m.meshes[k].hull },
+            None => Shape::Box { c: p, rot: r, half: DVec3::from_array(s) },
+        },
+        GeomType::Hfield => match m.geom_hfield[g] {
+            Some(k) => Shape::HField { p, rot: r, field: &m.hfields[k] },
+            None => Shape::Plane { p, n: r.col(2) },
+        },
     }
 }
 
@@ -63,9 +76,9 @@ pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, i: usize, j
             }
         }
     };
-    // order so that a plane, if any, is geom2 (the normal then points out of the plane)
+    // order so that a plane or height field, if any, is geom2 (the normal then points out of it)
     let (g1, g2, s1, s2) = match (si, sj) {
-        (Shape::Plane { .. }, _) => (j, i, sj, si),
+        (Shape::Plane { .. } | Shape::HField { .. }, _) => (j, i, sj, si),
         _ => (i, j, si, sj),
     };
     match (s1, s2) {
@@ -138,9 +151,58 @@ pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, i: usize, j
                 add(cd, g1, g2, feature, pos, n, d);
             }
         }
+        (_, Shape::HField { p, rot, field }) => {
+            for &(feature, pos, n, d) in hfield_contacts(field, p, rot, s1, margin, m.geom_rbound[g1]).iter() {
+                add(cd, g1, g2, feature, pos, n, d);
+            }
+        }
+        (Shape::Hull { .. }, _) | (_, Shape::Hull { .. }) => {
+            let scale = m.geom_rbound[g1] + m.geom_rbound[g2];
+            for &(feature, pos, n, d) in hull_pair(s1, s2, margin, scale).iter() {
+                add(cd, g1, g2, feature, pos, n, d);
+            }
+        }
         _ => {}
     }
     f64::NEG_INFINITY
+}
+
+/// Contacts of a pair with a hull (normals from shape 2 to shape 1).
+fn hull_pair(s1: Shape, s2: Shape, margin: f64, scale: f64) -> Manifold {
+    let flip = |mut m: Manifold| {
+        for p in &mut m.points[..m.len] {
+            p.2 = -p.2;
+        }
+        m
+    };
+    let one = |feature, pos, n, d| {
+        let mut m = Manifold::EMPTY;
+        m.points[0] = (feature, pos, n, d);
+        m.len = 1;
+        m
+    };
+    // a capsule is its core segment within margin + r: its surface is r nearer the other shape
+    let rounded = |mut m: Manifold, r: f64, toward_core: f64| {
+        for p in &mut m.points[..m.len] {
+            p.1 -= p.2 * (toward_core * 0.5 * r);
+            p.3 -= r;
+        }
+        m
+    };
+    match (s1, s2) {
+        (Shape::Hull { c, rot, hull }, Shape::Plane { p, n }) => on_plane(&PosedHull { hull, c, rot }, p, n, margin),
+        (Shape::Sphere { c, r }, Shape::Hull { c: hc, rot, hull }) | (Shape::Hull { c: hc, rot, hull }, Shape::Sphere { c, r }) => {
+            let (out, d) = point_polytope(&PosedHull { hull, c: hc, rot }, c);
+            let n = if matches!(s1, Shape::Sphere { .. }) { out } else { -out };
+            one(0, c - out * (r + 0.5 * (d - r)), n, d - r)
+        }
+        (Shape::Hull { c, rot, hull }, Shape::Segment { a, b, r }) => rounded(polytopes(&PosedHull { hull, c, rot }, &Segment { a, b }, margin + r, scale), r, -1.0),
+        (Shape::Segment { a, b, r }, Shape::Hull { c, rot, hull }) => flip(rounded(polytopes(&PosedHull { hull, c, rot }, &Segment { a, b }, margin + r, scale), r, -1.0)),
+        (Shape::Hull { c, rot, hull }, Shape::Box { c: bc, rot: br, half }) => polytopes(&PosedHull { hull, c, rot }, &PosedBox { c: bc, rot: br, half }, margin, scale),
+        (Shape::Box { c: bc, rot: br, half }, Shape::Hull { c, rot, hull }) => polytopes(&PosedBox { c: bc, rot: br, half }, &PosedHull { hull, c, rot }, margin, scale),
+        (Shape::Hull { c, rot, hull }, Shape::Hull { c: c2, rot: r2, hull: h2 }) => polytopes(&PosedHull { hull, c, rot }, &PosedHull { hull: h2, c: c2, rot: r2 }, margin, scale),
+        _ => Manifold::EMPTY,
+    }
 }
 
 /// Whether `c` repeats a contact of the parent or child body at the same point with the same

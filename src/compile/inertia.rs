@@ -13,11 +13,12 @@ use crate::model::Model;
 pub fn geom_volume(kind: GeomType, s: [f64; 3]) -> f64 {
     use std::f64::consts::PI;
     match kind {
-        GeomType::Plane => 0.0,
+        GeomType::Plane | GeomType::Hfield => 0.0,
         GeomType::Sphere => 4.0 / 3.0 * PI * s[0].powi(3),
         GeomType::Capsule => PI * s[0] * s[0] * (2.0 * s[1] + 4.0 / 3.0 * s[0]),
         GeomType::Cylinder => PI * s[0] * s[0] * 2.0 * s[1],
-        GeomType::Box => 8.0 * s[0] * s[1] * s[2],
+        // a mesh geom's mass is set from its mesh's volume (compile/meshes.rs)
+        GeomType::Box | GeomType::Mesh => 8.0 * s[0] * s[1] * s[2],
         GeomType::Ellipsoid => 4.0 / 3.0 * PI * s[0] * s[1] * s[2],
     }
 }
@@ -26,7 +27,7 @@ pub fn geom_volume(kind: GeomType, s: [f64; 3]) -> f64 {
 fn geom_moments(kind: GeomType, s: [f64; 3], m: f64) -> DVec3 {
     use std::f64::consts::PI;
     match kind {
-        GeomType::Plane => DVec3::ZERO,
+        GeomType::Plane | GeomType::Hfield => DVec3::ZERO,
         GeomType::Sphere => DVec3::splat(0.4 * m * s[0] * s[0]),
         GeomType::Capsule => {
             // split the mass between the cylinder and the two hemispheres by volume
@@ -42,7 +43,8 @@ fn geom_moments(kind: GeomType, s: [f64; 3], m: f64) -> DVec3 {
             let ix = m * (3.0 * r * r + h * h) / 12.0;
             DVec3::new(ix, ix, m * r * r / 2.0)
         }
-        GeomType::Box => {
+        // a mesh's size is its inertia box: the box's moments are the mesh's
+        GeomType::Box | GeomType::Mesh => {
             let (a, b, c) = (s[0] * s[0], s[1] * s[1], s[2] * s[2]);
             DVec3::new(m / 3.0 * (b + c), m / 3.0 * (a + c), m / 3.0 * (a + b))
         }

@@ -3,6 +3,7 @@
 
 use glam::{DMat3, DVec3};
 
+mod assets;
 mod inertia;
 mod pairs;
 mod sensors;
@@ -40,12 +41,15 @@ impl Model {
 
     /// Parses and compiles expanded text, an error naming the file and line it comes from.
     fn from_expanded(x: &include::Expanded) -> Result<Model> {
-        crate::mjcf::parse(&x.text).and_then(compile).map_err(|e| x.locate(e))
+        crate::mjcf::parse(&x.text).and_then(|spec| compile(spec, &x.dir)).map_err(|e| x.locate(e))
     }
 }
 
-/// `ModelSpec` → `Model`.
-fn compile(spec: ModelSpec) -> Result<Model> {
+/// `ModelSpec` → `Model`; asset files are found from `dir`.
+fn compile(mut spec: ModelSpec, dir: &std::path::Path) -> Result<Model> {
+    let meshes = assets::load_meshes(&spec, dir)?;
+    let hfields = assets::load_hfields(&spec, dir)?;
+    assets::fit_geoms(&mut spec, &meshes, &hfields)?;
     let inertia = body_inertias(&spec);
     let mut m = Model {
         name: spec.name.clone(),
@@ -79,7 +83,9 @@ fn compile(spec: ModelSpec) -> Result<Model> {
     m.body_fluid_box = inertia.iter().zip(&m.body_iaxes).map(|(i, &axes)| fluid_box(i, axes)).collect();
     joints_and_nodes(&mut m, &spec)?;
     node_inertias(&mut m, &inertia);
-    geoms_and_sites(&mut m, &spec);
+    geoms_and_sites(&mut m, &spec, &meshes, &hfields);
+    m.meshes = meshes;
+    m.hfields = hfields;
     m.keys = keyframes(&m, &spec)?;
     tendons(&mut m, &spec)?;
     equalities(&mut m, &spec)?;
@@ -214,9 +220,13 @@ fn node_inertias(m: &mut Model, inertia: &[SpatialInertia]) {
 }
 
 /// Geoms and sites in body order.
-fn geoms_and_sites(m: &mut Model, spec: &ModelSpec) {
+fn geoms_and_sites(m: &mut Model, spec: &ModelSpec, meshes: &[crate::geometry::Mesh], hfields: &[crate::geometry::HField]) {
     for (b, body) in spec.bodies.iter().enumerate() {
         for g in &body.geoms {
+            let mesh = g.mesh.as_ref().and_then(|n| meshes.iter().position(|x| &x.name == n));
+            let hfield = g.hfield.as_ref().and_then(|n| hfields.iter().position(|x| &x.name == n));
+            m.geom_mesh.push(mesh);
+            m.geom_hfield.push(hfield);
             m.geom_name.push(g.name.clone());
             m.geom_type.push(g.kind);
             m.geom_body.push(b);
@@ -224,7 +234,12 @@ fn geoms_and_sites(m: &mut Model, spec: &ModelSpec) {
             m.geom_pos.push(g.pos);
             m.geom_quat.push(g.quat);
             m.geom_mat.push(DMat3::from_quat(g.quat));
-            m.geom_rbound.push(pairs::geom_rbound(g.kind, g.size));
+            let rbound = match (mesh, hfield) {
+                (Some(k), _) => meshes[k].rbound,
+                (_, Some(k)) => hfields[k].rbound(),
+                _ => pairs::geom_rbound(g.kind, g.size),
+            };
+            m.geom_rbound.push(rbound);
             m.geom_friction.push(g.friction);
             m.geom_contype.push(g.contype);
             m.geom_conaffinity.push(g.conaffinity);

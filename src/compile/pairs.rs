@@ -12,7 +12,8 @@ pub fn geom_rbound(kind: GeomType, s: [f64; 3]) -> f64 {
         GeomType::Plane => f64::INFINITY,
         GeomType::Sphere => s[0],
         GeomType::Capsule | GeomType::Cylinder => s[0] + s[1],
-        GeomType::Box => DVec3::from_array(s).length(),
+        // a mesh's comes from its vertices (compile/mod.rs); its inertia box's is a stand-in
+        GeomType::Box | GeomType::Mesh | GeomType::Hfield => DVec3::from_array(s).length(),
         GeomType::Ellipsoid => s[0].max(s[1]).max(s[2]),
     }
 }

@@ -46,6 +46,7 @@ pub(super) fn compile(spec: &ModelSpec, body_id: impl Fn(&str) -> Option<usize>)
             .transpose()
     };
     let (mut geom_rgba, mut geom_material, mut lights, mut cameras) = (vec![], vec![], vec![], vec![]);
+    let geom_drawn = spec.bodies.iter().flat_map(|b| &b.geoms).map(|g| (0..3).contains(&g.group)).collect();
     for (b, body) in spec.bodies.iter().enumerate() {
         for g in &body.geoms {
             let mat = match &g.material {
@@ -99,6 +100,7 @@ pub(super) fn compile(spec: &ModelSpec, body_id: impl Fn(&str) -> Option<usize>)
     Ok(Visual {
         geom_rgba,
         geom_material,
+        geom_drawn,
         materials,
         skybox: textures.iter().position(|t| t.kind == TextureKind::Skybox),
         textures,

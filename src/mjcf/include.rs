@@ -20,6 +20,9 @@ pub struct Expanded {
     pub text: String,
     /// Runs of lines from one file: (first line here, file (None: the main text), its line there).
     runs: Vec<(u32, Option<PathBuf>, u32)>,
+    /// The main file's directory (the working directory for text given directly): where asset
+    /// paths start.
+    pub dir: PathBuf,
 }
 
 impl Expanded {
@@ -53,13 +56,13 @@ impl Expanded {
 /// Expands the includes of `text`, the contents of `file` (None: text given directly, whose
 /// includes are relative to the working directory).
 pub fn expand(text: &str, file: Option<&Path>) -> Result<Expanded> {
-    if !text.contains("include") {
-        return Ok(Expanded { text: text.to_string(), runs: vec![(1, None, 1)] });
-    }
     let main_dir = file.and_then(Path::parent).map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+    if !text.contains("include") {
+        return Ok(Expanded { text: text.to_string(), runs: vec![(1, None, 1)], dir: main_dir });
+    }
     let mut out = Builder { text: String::with_capacity(text.len()), lines: 1, runs: vec![], main_dir, stack: vec![] };
     out.splice(text, None, file.map(Path::to_path_buf), 0..text.len())?;
-    Ok(Expanded { text: out.text, runs: out.runs })
+    Ok(Expanded { text: out.text, runs: out.runs, dir: out.main_dir })
 }
 
 struct Builder {

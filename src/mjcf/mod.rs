@@ -80,6 +80,10 @@ pub enum GeomType {
     Box,
     /// Ellipsoid of semi-axes size[0..3].
     Ellipsoid,
+    /// Convex hull of a mesh asset (`GeomSpec::mesh`); size: the half-sides of its inertia box.
+    Mesh,
+    /// Height field (`GeomSpec::hfield`); size: the field's x, y half-extents and height.
+    Hfield,
 }
 
 /// Simulation options (`<option>`, `<compiler>`, `<flag>`).
@@ -176,6 +180,48 @@ pub struct GeomSpec {
     pub rgba: [f64; 4],
     /// Material name.
     pub material: Option<String>,
+    /// Mesh asset name (a mesh geom's shape).
+    pub mesh: Option<String>,
+    /// Height-field asset name (a height-field geom's shape).
+    pub hfield: Option<String>,
+    /// Visibility group (MuJoCo's viewer draws groups 0–2 by default).
+    pub group: i32,
+    /// Source line.
+    pub line: u32,
+}
+
+/// A `<mesh>` asset: its vertices from a file or inline, and how they are placed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshSpec {
+    /// Name (the file's stem unless given).
+    pub name: String,
+    /// File, relative to `meshdir` (else `assetdir`, else the model file's directory).
+    pub file: Option<String>,
+    /// Inline vertices (x y z …), rounded to single precision as MuJoCo stores them.
+    pub vertex: Vec<[f32; 3]>,
+    /// Inline triangles.
+    pub face: Vec<[u32; 3]>,
+    /// Scale, reference frame and mass distribution.
+    pub placement: crate::geometry::MeshPlacement,
+    /// Source line.
+    pub line: u32,
+}
+
+/// An `<hfield>` asset.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HFieldSpec {
+    /// Name (the file's stem unless given).
+    pub name: String,
+    /// PNG or binary grid file, found as mesh files are.
+    pub file: Option<String>,
+    /// Rows and columns (with `elevation`, or zeros).
+    pub nrow: usize,
+    /// Columns.
+    pub ncol: usize,
+    /// x, y half-extents, height of elevation 1, base depth.
+    pub size: [f64; 4],
+    /// Inline elevations (nrow × ncol), or empty.
+    pub elevation: Vec<f64>,
     /// Source line.
     pub line: u32,
 }
@@ -455,6 +501,12 @@ pub struct ModelSpec {
     pub restitution: Option<f64>,
     /// Textures, materials, `<visual>` and `<statistic>`.
     pub visual: VisualSpec,
+    /// Mesh assets.
+    pub meshes: Vec<MeshSpec>,
+    /// Height-field assets.
+    pub hfields: Vec<HFieldSpec>,
+    /// `<compiler meshdir>`, else `assetdir`: where mesh files are found.
+    pub meshdir: Option<String>,
     /// Things accepted but not modelled that may change the physics.
     pub warnings: Vec<String>,
 }

@@ -8,6 +8,7 @@ use roxmltree::{Document, Node};
 
 use super::{BodySpec, InertiaFromGeom, Integrator, ModelSpec, OptionSpec, VisualSpec};
 
+mod assets;
 mod body;
 mod element;
 mod sections;
@@ -97,6 +98,9 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
             contact_excludes: vec![],
             restitution: None,
             visual: VisualSpec::default(),
+            meshes: vec![],
+            hfields: vec![],
+            meshdir: None,
             warnings: vec![],
         },
     };
@@ -197,7 +201,13 @@ impl<'d> Parser<'d> {
                 "coordinate" if v == "local" => {}
                 "coordinate" => return Err(e.err("coordinate", "only local coordinates are supported")),
                 "autolimits" => self.autolimits = v == "true",
-                "meshdir" | "texturedir" | "assetdir" | "strippath" | "discardvisual" | "fusestatic"
+                "meshdir" => self.spec.meshdir = Some(v.to_string()),
+                "assetdir" => {
+                    if self.spec.meshdir.is_none() {
+                        self.spec.meshdir = Some(v.to_string());
+                    }
+                }
+                "texturedir" | "strippath" | "discardvisual" | "fusestatic"
                 | "convexhull" | "usethread" | "alignfree" | "balanceinertia" => {}
                 "boundmass" | "boundinertia" => {
                     if e.f64(a.name(), 0.0)? != 0.0 {

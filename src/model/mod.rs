@@ -451,6 +451,14 @@ pub struct Model {
     pub geom_mat: Vec<DMat3>,
     /// Bounding radius about the geom centre; infinite for planes (ngeom).
     pub geom_rbound: Vec<f64>,
+    /// Mesh of each geom (mesh geoms), an index into `meshes`.
+    pub geom_mesh: Vec<Option<usize>>,
+    /// Mesh assets, in the frames their geoms use.
+    pub meshes: Vec<crate::geometry::Mesh>,
+    /// Height field of each geom (height-field geoms), an index into `hfields`.
+    pub geom_hfield: Vec<Option<usize>>,
+    /// Height-field assets.
+    pub hfields: Vec<crate::geometry::HField>,
     /// Friction (sliding, torsional, rolling) (ngeom).
     pub geom_friction: Vec<[f64; 3]>,
     /// Contact type bits (ngeom).

@@ -97,6 +97,9 @@ pub struct Visual {
     pub geom_rgba: Vec<[f64; 4]>,
     /// Material of each geom (ngeom).
     pub geom_material: Vec<Option<usize>>,
+    /// Whether each geom is drawn: its `group` is 0, 1 or 2, the groups MuJoCo's viewer shows
+    /// by default (ngeom).
+    pub geom_drawn: Vec<bool>,
     /// Materials.
     pub materials: Vec<Material>,
     /// Textures.

@@ -15,9 +15,13 @@ mod shadow;
 use cover::{Bins, RowCover, Sphere};
 use floor::{Floor, FloorRow};
 use shadow::ShadowGrid;
-use super::raycast::{intersect, meets_sphere, plane};
+use super::raycast::{intersect, meets_sphere, plane, triangles, Hit};
 use super::{Frame, Poses, View};
 use crate::model::visual::{Builtin, TextureKind};
+use std::sync::Arc;
+
+use parry3d_f64::shape::TriMesh;
+
 use crate::model::{GeomType, Model};
 
 /// A geom as one frame sees it.
@@ -45,6 +49,8 @@ struct Geom {
     mirror: Option<usize>,
     /// Texture colours and the repeat scale of local coordinates, when textured.
     texture: Option<Tex>,
+    /// A mesh's or height field's triangles.
+    mesh: Option<Arc<TriMesh>>,
 }
 
 #[derive(Clone, Copy)]
@@ -142,8 +148,18 @@ pub(super) struct Scene {
 }
 
 impl Geom {
-    /// Geom g of a world at `poses`, relative to the eye of `view`, in single precision.
-    fn new(m: &Model, poses: &Poses, view: &View, g: usize) -> Geom {
+    /// First hit of the ray `o + t d` (geom frame) in `[t0, t1)`.
+    #[inline]
+    fn hit(&self, o: Vec3A, d: Vec3A, t0: f32, t1: f32) -> Option<Hit> {
+        match &self.mesh {
+            Some(t) => triangles(t, o, d, t0, t1),
+            None => intersect(self.kind, &self.size, o, d, t0, t1),
+        }
+    }
+
+    /// Geom g of a world at `poses`, relative to the eye of `view`, in single precision;
+    /// `meshes`: the triangles of each mesh, then of each height field.
+    fn new(m: &Model, poses: &Poses, view: &View, g: usize, meshes: &[Option<Arc<TriMesh>>]) -> Geom {
         let v = &m.vis;
         let f = |x: DVec3| x.as_vec3a();
         let rot = poses.xmat(m.geom_body[g]) * m.geom_mat[g];
@@ -179,6 +195,11 @@ impl Geom {
             reflectance: mat.map_or(0.0, |mt| mt.reflectance) as f32,
             mirror: None,
             texture,
+            mesh: match (m.geom_mesh[g], m.geom_hfield[g]) {
+                (Some(k), _) => meshes[k].clone(),
+                (_, Some(k)) => meshes[m.meshes.len() + k].clone(),
+                _ => None,
+            },
         }
     }
 }
@@ -220,12 +241,14 @@ fn light_sources(m: &Model, view: &View, lights: &[(usize, DVec3, DVec3)], geoms
 impl Scene {
     /// The frame of `view` of a world at `poses`, with `lights` (index, position, direction) on.
     /// Everything is stored relative to the eye, in single precision.
-    pub(super) fn new(m: &Model, poses: &Poses, view: &View, lights: &[(usize, DVec3, DVec3)], extent: f64, width: usize, height: usize) -> Scene {
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn new(m: &Model, poses: &Poses, view: &View, lights: &[(usize, DVec3, DVec3)], extent: f64, width: usize, height: usize, meshes: &[Option<Arc<TriMesh>>]) -> Scene {
         let v = &m.vis;
         let f = |x: DVec3| x.as_vec3a();
-        let geoms: Vec<Geom> = (0..m.ngeom).map(|g| Geom::new(m, poses, view, g)).collect();
+        let geoms: Vec<Geom> = (0..m.ngeom).map(|g| Geom::new(m, poses, view, g, meshes)).collect();
         let axes = Axes { forward: f(view.forward), up: f(view.up), right: f(view.right) };
-        let solids: Vec<u32> = (0..m.ngeom as u32).filter(|&g| geoms[g as usize].rbound.is_finite()).collect();
+        let drawn = |g: u32| m.vis.geom_drawn.get(g as usize).copied().unwrap_or(true);
+        let solids: Vec<u32> = (0..m.ngeom as u32).filter(|&g| drawn(g) && geoms[g as usize].rbound.is_finite()).collect();
         let (ambient, directional, spots) = light_sources(m, view, lights, &geoms, &solids, axes.forward);
         let sky = v.skybox.map(|i| {
             let t = &v.textures[i];
@@ -251,7 +274,7 @@ impl Scene {
             sky,
             eps: (1e-5 * extent) as f32,
         };
-        s.primary = s.bin(s.geoms.iter().enumerate().map(|(g, geom)| (g as u32, geom.pos, geom.rbound)));
+        s.primary = s.bin(s.geoms.iter().enumerate().filter(|&(g, _)| drawn(g as u32)).map(|(g, geom)| (g as u32, geom.pos, geom.rbound)));
         if let [g] = s.primary.everywhere[..] {
             s.floor = Floor::new(&s.geoms, g as usize);
         }
@@ -403,7 +426,7 @@ impl Scene {
             if ol.cross(dl).length_squared() > geom.rbound * geom.rbound * dl.length_squared() {
                 continue;
             }
-            if let Some((t, n)) = intersect(geom.kind, &geom.size, ol, dl, t0, t1) {
+            if let Some((t, n)) = geom.hit(ol, dl, t0, t1) {
                 t1 = t;
                 best = Some((g as usize, t, n));
             }
@@ -417,7 +440,7 @@ impl Scene {
         let mut best = None;
         for &g in solids {
             let geom = &self.geoms[g as usize];
-            if let Some((t, n)) = intersect(geom.kind, &geom.size, eyes[g as usize], geom.rot_t * d, t0, t1) {
+            if let Some((t, n)) = geom.hit(eyes[g as usize], geom.rot_t * d, t0, t1) {
                 t1 = t;
                 best = Some((g as usize, t, n));
             }
@@ -429,7 +452,7 @@ impl Scene {
     #[inline]
     fn meets(&self, g: u32, p: Vec3A, l: Vec3A, t1: f32) -> bool {
         let geom = &self.geoms[g as usize];
-        intersect(geom.kind, &geom.size, geom.rot_t * (p - geom.pos), geom.rot_t * l, 0.0, t1).is_some()
+        geom.hit(geom.rot_t * (p - geom.pos), geom.rot_t * l, 0.0, t1).is_some()
     }
 
     /// Whether a solid other than `own` lies on the segment from `p` along unit `l` up to `t1`.

@@ -16,7 +16,7 @@ pub(super) const JOINT_ATTRS: &[&str] = &[
 ];
 pub(super) const GEOM_ATTRS: &[&str] = &[
     "name", "class", "type", "size", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "fromto", "density",
-    "mass", "friction", "contype", "conaffinity", "condim", "priority", "margin", "rgba", "material",
+    "mass", "friction", "contype", "conaffinity", "condim", "priority", "margin", "rgba", "material", "mesh", "hfield",
 ];
 pub(super) const SITE_ATTRS: &[&str] =
     &["name", "class", "type", "size", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "fromto"];
@@ -233,8 +233,20 @@ impl Parser<'_> {
             "cylinder" => GeomType::Cylinder,
             "box" => GeomType::Box,
             "ellipsoid" => GeomType::Ellipsoid,
+            "mesh" => GeomType::Mesh,
+            "hfield" => GeomType::Hfield,
             v => return Err(e.err("type", format!("unsupported geom type '{v}'"))),
         };
+        let hfield = e.get("hfield").map(str::to_string);
+        if (kind == GeomType::Hfield) != hfield.is_some() {
+            return Err(e.err("hfield", "a height-field geom needs an hfield, and only it takes one"));
+        }
+        let mesh = e.get("mesh").map(str::to_string);
+        match (kind, &mesh) {
+            (GeomType::Mesh, None) => return Err(e.err("mesh", "a mesh geom needs a mesh")),
+            (GeomType::Mesh, Some(_)) | (_, None) => {}
+            (_, Some(_)) => return Err(e.err("mesh", "fitting a primitive geom to a mesh is not supported; use type=\"mesh\"")),
+        }
         if kind == GeomType::Plane && body != 0 {
             return Err(e.err("type", "planes must belong to the world body"));
         }
@@ -243,7 +255,7 @@ impl Parser<'_> {
             GeomType::Sphere => 1,
             GeomType::Capsule | GeomType::Cylinder => if e.has("fromto") { 1 } else { 2 },
             GeomType::Box | GeomType::Ellipsoid => if e.has("fromto") { 2 } else { 3 },
-            GeomType::Plane => 0,
+            GeomType::Plane | GeomType::Mesh | GeomType::Hfield => 0,
         };
         if given.len() < needed {
             return Err(e.err("size", format!("{kind:?} needs {needed} size values, got {}", given.len())));
@@ -258,7 +270,7 @@ impl Parser<'_> {
         let (mut pos, mut quat) = (e.vec3("pos", DVec3::ZERO)?, self.orientation(&e)?);
         let mut inertia_quat = quat;
         if let Some(ft) = e.arr::<6>("fromto")? {
-            if matches!(kind, GeomType::Plane | GeomType::Sphere) {
+            if matches!(kind, GeomType::Plane | GeomType::Sphere | GeomType::Mesh | GeomType::Hfield) {
                 return Err(e.err("fromto", "fromto needs a capsule, cylinder, box or ellipsoid"));
             }
             let (a, b) = (DVec3::new(ft[0], ft[1], ft[2]), DVec3::new(ft[3], ft[4], ft[5]));
@@ -313,6 +325,9 @@ impl Parser<'_> {
             margin: e.nonneg("margin", 0.0)?,
             rgba: e.rgba("rgba", DEFAULT_GEOM_RGBA)?,
             material: e.get("material").map(str::to_string),
+            mesh,
+            hfield,
+            group: e.int("group", 0)?,
             line: e.line,
         })
     }

@@ -108,7 +108,20 @@ impl Parser<'_> {
                     }
                     self.spec.visual.materials.push(m);
                 }
-                // meshes and height fields cannot be geoms here (the geom says so)
+                "mesh" => {
+                    let m = self.mesh(c)?;
+                    if self.spec.meshes.iter().any(|o| o.name == m.name) {
+                        return Err(self.err(c, Some("name"), format!("duplicate mesh name '{}'", m.name)));
+                    }
+                    self.spec.meshes.push(m);
+                }
+                "hfield" => {
+                    let h = self.hfield(c)?;
+                    if self.spec.hfields.iter().any(|o| o.name == h.name) {
+                        return Err(self.err(c, Some("name"), format!("duplicate hfield name '{}'", h.name)));
+                    }
+                    self.spec.hfields.push(h);
+                }
                 _ => {}
             }
         }

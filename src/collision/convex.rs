@@ -1,0 +1,510 @@
+//! Contacts of convex polytopes — mesh hulls, boxes and segments (a capsule's core) — by the
+//! separating-axis test with Gauss-map pruning of edge pairs, then face clipping (Gregorius,
+//! "The Separating Axis Test between Convex Polyhedra", GDC 2013; Ericson 2005, §5.2.1 and
+//! §8.3.4 for Sutherland–Hodgman clipping). Face axes are preferred unless an edge axis is
+//! clearly better, as in `box_box`. Each point keeps an identity made from the features that
+//! made it (an incident vertex, or the incident edge and the reference side plane that cut it),
+//! so a resting contact keeps its rows' warm start from step to step. A face touching a face
+//! yields at most [`MAX_MANIFOLD`] points spanning the support polygon ([`reduce`]): more only
+//! repeat what those rows hold and make the LCP degenerate.
+
+use glam::{DMat3, DVec3};
+
+use super::shapes::closest_segments;
+use crate::geometry::Hull;
+
+/// Most points a pair of polytopes (or a hull on a plane) contributes.
+pub(super) const MAX_MANIFOLD: usize = 8;
+
+/// Largest polygon a clip keeps (an incident face's vertices plus one per reference side).
+const MAX_POLY: usize = 128;
+
+/// Feature offsets of a polytope pair's points: face contacts with A or B as reference, edge pairs.
+const FACE_A: usize = 1 << 40;
+const FACE_B: usize = 2 << 40;
+const EDGE: usize = 3 << 40;
+/// A clipped point's identity: the reference side `k` and the incident vertex its edge starts at.
+const CUT: usize = 1 << 20;
+
+/// A point of a manifold: (feature, point midway between the surfaces, unit normal from B to A,
+/// signed distance).
+pub(super) type Point = (usize, DVec3, DVec3, f64);
+
+/// Up to [`MAX_MANIFOLD`] points.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Manifold {
+    pub(super) points: [Point; MAX_MANIFOLD],
+    pub(super) len: usize,
+}
+
+impl Manifold {
+    pub(super) const EMPTY: Manifold = Manifold { points: [(0, DVec3::ZERO, DVec3::ZERO, 0.0); MAX_MANIFOLD], len: 0 };
+
+    pub(super) fn iter(&self) -> impl Iterator<Item = &Point> {
+        self.points[..self.len].iter()
+    }
+}
+
+/// A convex polytope posed in world coordinates.
+pub(super) trait Polytope {
+    fn nvert(&self) -> usize;
+    fn vert(&self, i: usize) -> DVec3;
+    fn nface(&self) -> usize;
+    /// Outward unit normal and offset (normal · x on the face).
+    fn plane(&self, f: usize) -> (DVec3, f64);
+    fn face_len(&self, f: usize) -> usize;
+    /// The face's k-th vertex, counter-clockwise about its normal.
+    fn face_vert(&self, f: usize, k: usize) -> usize;
+    fn nedge(&self) -> usize;
+    /// An edge's ends and the normals of its two faces (None for a segment, all of whose
+    /// perpendiculars are normals).
+    fn edge(&self, e: usize) -> ([usize; 2], Option<[DVec3; 2]>);
+    fn centre(&self) -> DVec3;
+    /// Largest projection of a vertex on `d`.
+    fn support(&self, d: DVec3) -> f64 {
+        (0..self.nvert()).map(|i| self.vert(i).dot(d)).fold(f64::NEG_INFINITY, f64::max)
+    }
+}
+
+/// A mesh's hull at a pose.
+pub(super) struct PosedHull<'a> {
+    pub(super) hull: &'a Hull,
+    pub(super) c: DVec3,
+    pub(super) rot: DMat3,
+}
+
+impl Polytope for PosedHull<'_> {
+    fn nvert(&self) -> usize {
+        self.hull.vert.len()
+    }
+    fn vert(&self, i: usize) -> DVec3 {
+        self.c + self.rot * self.hull.vert[i]
+    }
+    fn nface(&self) -> usize {
+        self.hull.faces.len()
+    }
+    fn plane(&self, f: usize) -> (DVec3, f64) {
+        let face = &self.hull.faces[f];
+        let n = self.rot * face.normal;
+        (n, face.offset + n.dot(self.c))
+    }
+    fn face_len(&self, f: usize) -> usize {
+        self.hull.faces[f].verts.len()
+    }
+    fn face_vert(&self, f: usize, k: usize) -> usize {
+        self.hull.faces[f].verts[k] as usize
+    }
+    fn nedge(&self) -> usize {
+        self.hull.edges.len()
+    }
+    fn edge(&self, e: usize) -> ([usize; 2], Option<[DVec3; 2]>) {
+        let edge = &self.hull.edges[e];
+        let n = edge.faces.map(|f| self.rot * self.hull.faces[f as usize].normal);
+        (edge.ends.map(|i| i as usize), Some(n))
+    }
+    fn centre(&self) -> DVec3 {
+        self.c
+    }
+    fn support(&self, d: DVec3) -> f64 {
+        self.hull.support(self.rot.transpose() * d).1 + d.dot(self.c)
+    }
+}
+
+/// A box at a pose: vertex k has the signs of bits 0, 1, 2 of k; faces +x, −x, +y, −y, +z, −z.
+pub(super) struct PosedBox {
+    pub(super) c: DVec3,
+    pub(super) rot: DMat3,
+    pub(super) half: DVec3,
+}
+
+/// The box's faces, counter-clockwise about their outward normals.
+const BOX_FACES: [[usize; 4]; 6] = [[1, 3, 7, 5], [0, 4, 6, 2], [2, 6, 7, 3], [0, 1, 5, 4], [4, 5, 7, 6], [0, 2, 3, 1]];
+
+impl Polytope for PosedBox {
+    fn nvert(&self) -> usize {
+        8
+    }
+    fn vert(&self, i: usize) -> DVec3 {
+        let s = |bit: usize| if i & (1 << bit) != 0 { 1.0 } else { -1.0 };
+        self.c + self.rot * DVec3::new(s(0) * self.half.x, s(1) * self.half.y, s(2) * self.half.z)
+    }
+    fn nface(&self) -> usize {
+        6
+    }
+    fn plane(&self, f: usize) -> (DVec3, f64) {
+        let sign = if f.is_multiple_of(2) { 1.0 } else { -1.0 };
+        let n = self.rot.col(f / 2) * sign;
+        (n, self.half[f / 2] + n.dot(self.c))
+    }
+    fn face_len(&self, _: usize) -> usize {
+        4
+    }
+    fn face_vert(&self, f: usize, k: usize) -> usize {
+        BOX_FACES[f][k]
+    }
+    fn nedge(&self) -> usize {
+        12
+    }
+    fn edge(&self, e: usize) -> ([usize; 2], Option<[DVec3; 2]>) {
+        // four edges along each axis; the other two axes' bits pick the edge and its faces
+        let (axis, k) = (e / 4, e % 4);
+        let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+        let base = ((k & 1) << u) | ((k >> 1) << v);
+        let face = |ax: usize, set: bool| {
+            let (n, _) = self.plane(2 * ax + usize::from(!set));
+            n
+        };
+        ([base, base | (1 << axis)], Some([face(u, k & 1 != 0), face(v, k >> 1 != 0)]))
+    }
+    fn centre(&self) -> DVec3 {
+        self.c
+    }
+    fn support(&self, d: DVec3) -> f64 {
+        let l = self.rot.transpose() * d;
+        d.dot(self.c) + l.abs().dot(self.half)
+    }
+}
+
+/// A segment (a capsule's core): two vertices, one edge, no faces.
+pub(super) struct Segment {
+    pub(super) a: DVec3,
+    pub(super) b: DVec3,
+}
+
+impl Polytope for Segment {
+    fn nvert(&self) -> usize {
+        2
+    }
+    fn vert(&self, i: usize) -> DVec3 {
+        if i == 0 { self.a } else { self.b }
+    }
+    fn nface(&self) -> usize {
+        0
+    }
+    fn plane(&self, _: usize) -> (DVec3, f64) {
+        // never asked: a segment has no faces
+        (DVec3::ZERO, f64::NEG_INFINITY)
+    }
+    fn face_len(&self, _: usize) -> usize {
+        2
+    }
+    fn face_vert(&self, _: usize, k: usize) -> usize {
+        k
+    }
+    fn nedge(&self) -> usize {
+        1
+    }
+    fn edge(&self, _: usize) -> ([usize; 2], Option<[DVec3; 2]>) {
+        ([0, 1], None)
+    }
+    fn centre(&self) -> DVec3 {
+        (self.a + self.b) * 0.5
+    }
+}
+
+/// Whether the arcs of two edges' Gauss maps cross: edge A between faces of normals `na`, edge B
+/// between faces of normals `nb` (None: a segment of direction `db`, whose map is the great
+/// circle ⊥ db), so that their cross product is a face of the Minkowski difference.
+fn minkowski_face(na: [DVec3; 2], nb: Option<[DVec3; 2]>, db: DVec3) -> bool {
+    let (a, b) = (na[0], na[1]);
+    let Some([c, d]) = nb else { return a.dot(db) * b.dot(db) < 0.0 };
+    let (c, d) = (-c, -d);
+    let (bxa, dxc) = (b.cross(a), d.cross(c));
+    let (cba, dba, adc, bdc) = (c.dot(bxa), d.dot(bxa), a.dot(dxc), b.dot(dxc));
+    cba * dba < 0.0 && adc * bdc < 0.0 && cba * bdc > 0.0
+}
+
+/// Contacts of polytopes A and B within `margin` (points midway, normals from B to A).
+pub(super) fn polytopes(a: &impl Polytope, b: &impl Polytope, margin: f64, scale: f64) -> Manifold {
+    let tol = 1e-9 * scale;
+    // the deepest-separating face of each: (separation, face)
+    let face_query = |p: &dyn PolyRef, q: &dyn PolyRef| {
+        let mut best = (f64::NEG_INFINITY, 0);
+        for f in 0..p.nface_() {
+            let (n, d) = p.plane_(f);
+            let s = -q.support_(-n) - d;
+            if s > best.0 + tol {
+                best = (s, f);
+            }
+        }
+        best
+    };
+    let fa = face_query(a, b);
+    let fb = face_query(b, a);
+    if fa.0 > margin || fb.0 > margin {
+        return Manifold::EMPTY;
+    }
+    let mut edge = (f64::NEG_INFINITY, 0, 0, DVec3::ZERO);
+    for ea in 0..a.nedge() {
+        let ([a0, a1], na) = a.edge(ea);
+        let (pa, da) = (a.vert(a0), a.vert(a1) - a.vert(a0));
+        let Some(na) = na else { continue };
+        for eb in 0..b.nedge() {
+            let ([b0, b1], nb) = b.edge(eb);
+            let (pb, db) = (b.vert(b0), b.vert(b1) - b.vert(b0));
+            if !minkowski_face(na, nb, db) {
+                continue;
+            }
+            let axis = da.cross(db);
+            let len = axis.length();
+            if len < 1e-6 * da.length() * db.length() {
+                continue;
+            }
+            let axis = if axis.dot(pa - a.centre()) < 0.0 { -axis / len } else { axis / len };
+            let s = axis.dot(pb - pa);
+            if s > edge.0 {
+                edge = (s, ea, eb, axis);
+            }
+        }
+    }
+    if edge.0 > margin {
+        return Manifold::EMPTY;
+    }
+    // touching faces (separations near zero) keep their face contact: an edge pair must be
+    // better by more than round-off, or the manifold would flip between one point and a face's
+    let face = fa.0.max(fb.0);
+    if edge.0 > face + 0.05 * face.abs() + 1e3 * tol {
+        let (_, ea, eb, axis) = edge;
+        let ([a0, a1], _) = a.edge(ea);
+        let ([b0, b1], _) = b.edge(eb);
+        let (q1, q2) = closest_segments(a.vert(a0), a.vert(a1), b.vert(b0), b.vert(b1));
+        let mut out = Manifold::EMPTY;
+        out.points[0] = (EDGE + ea * b.nedge() + eb, (q1 + q2) * 0.5, -axis, axis.dot(q2 - q1));
+        out.len = 1;
+        return out;
+    }
+    if fb.0 > fa.0 + tol {
+        let mut m = clip(b, fb.1, a, margin, tol);
+        for p in &mut m.points[..m.len] {
+            p.0 += FACE_B;
+        }
+        m
+    } else {
+        let mut m = clip(a, fa.1, b, margin, tol);
+        for p in &mut m.points[..m.len] {
+            p.0 += FACE_A;
+            p.2 = -p.2;
+        }
+        m
+    }
+}
+
+/// Object-safe views of a polytope for the face query.
+trait PolyRef {
+    fn nface_(&self) -> usize;
+    fn plane_(&self, f: usize) -> (DVec3, f64);
+    fn support_(&self, d: DVec3) -> f64;
+}
+
+impl<T: Polytope> PolyRef for T {
+    fn nface_(&self) -> usize {
+        self.nface()
+    }
+    fn plane_(&self, f: usize) -> (DVec3, f64) {
+        self.plane(f)
+    }
+    fn support_(&self, d: DVec3) -> f64 {
+        self.support(d)
+    }
+}
+
+/// Face contact: the incident face of `inc` (the one most opposed to reference face `f` of `r`)
+/// clipped by the side planes of `f`; points within `margin` of the face, normals along the
+/// face's (from the reference toward the incident polytope).
+fn clip(r: &impl Polytope, f: usize, inc: &impl Polytope, margin: f64, tol: f64) -> Manifold {
+    let (n, d) = r.plane(f);
+    let fi = (0..inc.nface()).min_by(|&x, &y| inc.plane(x).0.dot(n).total_cmp(&inc.plane(y).0.dot(n)));
+    let mut poly = [(DVec3::ZERO, 0usize); MAX_POLY];
+    let mut len = 0;
+    let verts = fi.map_or(2, |fi| inc.face_len(fi));
+    for k in 0..verts.min(MAX_POLY) {
+        let v = fi.map_or(k, |fi| inc.face_vert(fi, k));
+        poly[len] = (inc.vert(v), v);
+        len += 1;
+    }
+    let nr = r.face_len(f);
+    for k in 0..nr {
+        if len == 0 {
+            break;
+        }
+        let (v0, v1) = (r.vert(r.face_vert(f, k)), r.vert(r.face_vert(f, (k + 1) % nr)));
+        let side = (v1 - v0).cross(n).normalize_or_zero();
+        let mut next = [(DVec3::ZERO, 0usize); MAX_POLY];
+        let mut m = 0;
+        // a two-vertex polygon (a segment) is one edge, not a closed loop
+        let edges = if len == 2 { 1 } else { len };
+        for i in 0..edges.max(1) {
+            let ((p, ip), (q, _)) = (poly[i], poly[(i + 1) % len]);
+            let (sp, sq) = (side.dot(p - v0), side.dot(q - v0));
+            if sp <= tol && m < MAX_POLY {
+                next[m] = (p, ip);
+                m += 1;
+            }
+            if ((sp < -tol && sq > tol) || (sp > tol && sq < -tol)) && m < MAX_POLY {
+                next[m] = (p + (q - p) * (sp / (sp - sq)), CUT + (k << 12) + (ip & 0xfff));
+                m += 1;
+            }
+            if len == 2 && sq <= tol && m < MAX_POLY {
+                next[m] = poly[1];
+                m += 1;
+            }
+        }
+        poly = next;
+        len = m;
+    }
+    let mut pts = [(0usize, DVec3::ZERO, n, f64::INFINITY); MAX_POLY];
+    let mut count = 0;
+    for &(p, id) in &poly[..len] {
+        let depth = n.dot(p) - d;
+        let at = p - n * (0.5 * depth);
+        if depth <= margin && !pts[..count].iter().any(|o| o.1.distance(at) <= tol) {
+            pts[count] = ((f << 24) + id, at, n, depth);
+            count += 1;
+        }
+    }
+    reduce(&pts[..count], n)
+}
+
+/// At most [`MAX_MANIFOLD`] of `pts` around normal `n`: all when few, else the deepest, the one
+/// farthest from it, the one spanning the largest triangle with those two and the one adding the
+/// most area on the other side (the classic reduction that keeps a face's support polygon).
+pub(super) fn reduce(pts: &[Point], n: DVec3) -> Manifold {
+    let mut out = Manifold::EMPTY;
+    let push = |out: &mut Manifold, i: usize| {
+        if !out.points[..out.len].iter().any(|q| q.0 == pts[i].0) {
+            out.points[out.len] = pts[i];
+            out.len += 1;
+        }
+    };
+    if pts.len() <= MAX_MANIFOLD {
+        (0..pts.len()).for_each(|i| push(&mut out, i));
+        return out;
+    }
+    let best = |score: &dyn Fn(DVec3) -> f64| (0..pts.len()).max_by(|&i, &j| score(pts[i].1).total_cmp(&score(pts[j].1))).unwrap_or(0);
+    let a = (0..pts.len()).min_by(|&i, &j| pts[i].3.total_cmp(&pts[j].3)).unwrap_or(0);
+    let pa = pts[a].1;
+    let b = best(&|p| p.distance_squared(pa));
+    let pb = pts[b].1;
+    let area = |p: DVec3| (pb - pa).cross(p - pa).dot(n);
+    let c = best(&|p| area(p).abs());
+    let side = area(pts[c].1).signum();
+    // the fourth on the other side of ab from c
+    let d = best(&|p| -side * area(p));
+    for i in [a, b, c, d] {
+        push(&mut out, i);
+    }
+    out
+}
+
+/// The vertices of `p` within `margin` of the plane through `o` with unit normal `n` (points on
+/// the plane's side midway, normals `n`, features the vertex indices), at most [`MAX_MANIFOLD`].
+pub(super) fn on_plane(p: &impl Polytope, o: DVec3, n: DVec3, margin: f64) -> Manifold {
+    let mut pts = [(0usize, DVec3::ZERO, n, 0.0); MAX_POLY];
+    let mut count = 0;
+    for i in 0..p.nvert() {
+        let v = p.vert(i);
+        let d = (v - o).dot(n);
+        if d <= margin && count < MAX_POLY {
+            pts[count] = (i, v - n * (0.5 * d), n, d);
+            count += 1;
+        }
+    }
+    reduce(&pts[..count], n)
+}
+
+/// Signed distance of point `q` from a polytope and the unit normal from it toward `q`: the
+/// closest point of the faces that see `q`, or, inside, the face of least penetration.
+pub(super) fn point_polytope(p: &impl Polytope, q: DVec3) -> (DVec3, f64) {
+    let (mut top, mut top_face) = (f64::NEG_INFINITY, 0);
+    for f in 0..p.nface() {
+        let (n, d) = p.plane(f);
+        let s = n.dot(q) - d;
+        if s > top {
+            (top, top_face) = (s, f);
+        }
+    }
+    if top <= 0.0 {
+        return (p.plane(top_face).0, top);
+    }
+    let mut best = (f64::INFINITY, q);
+    for f in 0..p.nface() {
+        let (n, d) = p.plane(f);
+        let s = n.dot(q) - d;
+        if s <= 0.0 {
+            continue;
+        }
+        let on = q - n * s;
+        let k = p.face_len(f);
+        let vert = |i: usize| p.vert(p.face_vert(f, i % k));
+        let inside = (0..k).all(|i| (vert(i + 1) - vert(i)).cross(n).dot(on - vert(i)) <= 0.0);
+        let closest = if inside {
+            on
+        } else {
+            (0..k).map(|i| super::shapes::closest_on_segment(vert(i), vert(i + 1), q)).min_by(|a, b| a.distance_squared(q).total_cmp(&b.distance_squared(q))).unwrap_or(on)
+        };
+        let dist = closest.distance(q);
+        if dist < best.0 {
+            best = (dist, closest);
+        }
+    }
+    ((q - best.1) / best.0.max(1e-300), best.0)
+}
+
+/// A triangle of a height field (world vertices, counter-clockwise seen from above the field)
+/// and the prism under it down to the field's base: MuJoCo's convex piece of a height field.
+pub(super) struct Prism {
+    /// Top vertices 0–2, then the base vertices below them 3–5.
+    pub(super) v: [DVec3; 6],
+    /// Faces: top, base, then the sides over edges 0–1, 1–2, 2–0.
+    pub(super) planes: [(DVec3, f64); 5],
+}
+
+const PRISM_FACES: [&[usize]; 5] = [&[0, 1, 2], &[3, 5, 4], &[0, 3, 4, 1], &[1, 4, 5, 2], &[2, 5, 3, 0]];
+/// Edges: ends and faces.
+const PRISM_EDGES: [([usize; 2], [usize; 2]); 9] =
+    [([0, 1], [0, 2]), ([1, 2], [0, 3]), ([2, 0], [0, 4]), ([3, 4], [1, 2]), ([4, 5], [1, 3]), ([5, 3], [1, 4]), ([0, 3], [4, 2]), ([1, 4], [2, 3]), ([2, 5], [3, 4])];
+
+impl Prism {
+    /// The prism under triangle `top` (world) whose base lies `depth` below the field's plane
+    /// (origin `o`, up `up`).
+    pub(super) fn new(top: [DVec3; 3], o: DVec3, up: DVec3, depth: f64) -> Prism {
+        let base = |p: DVec3| p - up * (up.dot(p - o) + depth);
+        let v = [top[0], top[1], top[2], base(top[0]), base(top[1]), base(top[2])];
+        let plane = |f: &[usize]| {
+            let n = (v[f[1]] - v[f[0]]).cross(v[f[2]] - v[f[0]]).normalize_or_zero();
+            (n, n.dot(v[f[0]]))
+        };
+        Prism { v, planes: PRISM_FACES.map(plane) }
+    }
+}
+
+impl Polytope for Prism {
+    fn nvert(&self) -> usize {
+        6
+    }
+    fn vert(&self, i: usize) -> DVec3 {
+        self.v[i]
+    }
+    fn nface(&self) -> usize {
+        5
+    }
+    fn plane(&self, f: usize) -> (DVec3, f64) {
+        self.planes[f]
+    }
+    fn face_len(&self, f: usize) -> usize {
+        PRISM_FACES[f].len()
+    }
+    fn face_vert(&self, f: usize, k: usize) -> usize {
+        PRISM_FACES[f][k]
+    }
+    fn nedge(&self) -> usize {
+        9
+    }
+    fn edge(&self, e: usize) -> ([usize; 2], Option<[DVec3; 2]>) {
+        let (ends, faces) = PRISM_EDGES[e];
+        (ends, Some(faces.map(|f| self.planes[f].0)))
+    }
+    fn centre(&self) -> DVec3 {
+        self.v.iter().copied().sum::<DVec3>() / 6.0
+    }
+}

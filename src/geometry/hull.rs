@@ -1,0 +1,143 @@
+//! Convex hulls as collision shapes: the hull's vertices, its triangles, its faces (coplanar
+//! triangles merged into one polygon, so a box has six) and its edges with the two faces each
+//! joins (the Gauss map the separating-axis test prunes edge pairs with). Quickhull from parry.
+
+use glam::DVec3;
+
+/// Triangles whose normals differ by less than this (1 − cos of the angle) are one face.
+const COPLANAR: f64 = 1e-9;
+
+/// A face of a hull: outward unit normal, plane offset (normal · x on the face) and its vertices
+/// in counter-clockwise order about the normal.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Face {
+    /// Outward unit normal.
+    pub normal: DVec3,
+    /// normal · x for the points x of the face.
+    pub offset: f64,
+    /// Vertex indices, counter-clockwise about `normal`.
+    pub verts: Vec<u32>,
+}
+
+/// An edge of a hull between two faces.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Edge {
+    /// End vertices.
+    pub ends: [u32; 2],
+    /// The faces on either side.
+    pub faces: [u32; 2],
+}
+
+/// A convex polyhedron.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Hull {
+    /// Vertices.
+    pub vert: Vec<DVec3>,
+    /// Triangles, counter-clockwise seen from outside.
+    pub tris: Vec<[u32; 3]>,
+    /// Faces (merged coplanar triangles).
+    pub faces: Vec<Face>,
+    /// Edges between faces.
+    pub edges: Vec<Edge>,
+}
+
+impl Hull {
+    /// The convex hull of `points`; None when they span no volume.
+    pub fn new(points: &[DVec3]) -> Option<Hull> {
+        let pts: Vec<_> = points.iter().map(|p| parry3d_f64::math::Vector::new(p.x, p.y, p.z)).collect();
+        let (v, tris) = parry3d_f64::transformation::try_convex_hull(&pts).ok()?;
+        if tris.len() < 4 {
+            return None;
+        }
+        let vert: Vec<DVec3> = v.iter().map(|p| DVec3::new(p.x, p.y, p.z)).collect();
+        let mut h = Hull { vert, tris, ..Hull::default() };
+        h.merge_faces();
+        Some(h)
+    }
+
+    /// The vertex farthest along `d` and its projection on `d`.
+    pub fn support(&self, d: DVec3) -> (usize, f64) {
+        let mut best = (0, f64::NEG_INFINITY);
+        for (i, v) in self.vert.iter().enumerate() {
+            let s = v.dot(d);
+            if s > best.1 {
+                best = (i, s);
+            }
+        }
+        best
+    }
+
+    /// Groups adjacent triangles with one normal into faces; lists the edges between faces.
+    fn merge_faces(&mut self) {
+        let normal = |t: &[u32; 3]| {
+            let [a, b, c] = t.map(|i| self.vert[i as usize]);
+            (b - a).cross(c - a).normalize_or_zero()
+        };
+        let normals: Vec<DVec3> = self.tris.iter().map(normal).collect();
+        // the triangle on the other side of each directed edge
+        let mut twin = std::collections::HashMap::new();
+        for (t, tri) in self.tris.iter().enumerate() {
+            for k in 0..3 {
+                twin.insert((tri[k], tri[(k + 1) % 3]), t);
+            }
+        }
+        // union–find of coplanar neighbours
+        let mut root: Vec<usize> = (0..self.tris.len()).collect();
+        fn find(root: &mut [usize], mut i: usize) -> usize {
+            while root[i] != i {
+                root[i] = root[root[i]];
+                i = root[i];
+            }
+            i
+        }
+        for (t, tri) in self.tris.iter().enumerate() {
+            for k in 0..3 {
+                if let Some(&u) = twin.get(&(tri[(k + 1) % 3], tri[k]))
+                    && normals[t].dot(normals[u]) > 1.0 - COPLANAR
+                {
+                    let (a, b) = (find(&mut root, t), find(&mut root, u));
+                    root[a.max(b)] = a.min(b);
+                }
+            }
+        }
+        let mut face_of = vec![usize::MAX; self.tris.len()];
+        for t in 0..self.tris.len() {
+            let r = find(&mut root, t);
+            if face_of[r] == usize::MAX {
+                face_of[r] = self.faces.len();
+                self.faces.push(Face { normal: DVec3::ZERO, offset: 0.0, verts: vec![] });
+            }
+            face_of[t] = face_of[r];
+        }
+        // each face's boundary: its directed edges whose twin lies in another face, chained
+        let mut next: Vec<std::collections::HashMap<u32, u32>> = vec![Default::default(); self.faces.len()];
+        for (t, tri) in self.tris.iter().enumerate() {
+            let [a, b, c] = tri.map(|i| self.vert[i as usize]);
+            let f = face_of[t];
+            self.faces[f].normal += (b - a).cross(c - a);
+            for k in 0..3 {
+                let (i, j) = (tri[k], tri[(k + 1) % 3]);
+                let other = twin.get(&(j, i)).map_or(usize::MAX, |&u| face_of[u]);
+                if other != f {
+                    next[f].insert(i, j);
+                    if i < j {
+                        self.edges.push(Edge { ends: [i, j], faces: [f as u32, other as u32] });
+                    }
+                }
+            }
+        }
+        for (f, face) in self.faces.iter_mut().enumerate() {
+            face.normal = face.normal.normalize();
+            let start = *next[f].keys().min().expect("a face has a boundary");
+            let mut v = start;
+            loop {
+                face.verts.push(v);
+                v = next[f][&v];
+                if v == start || face.verts.len() > next[f].len() {
+                    break;
+                }
+            }
+            face.offset = face.verts.iter().map(|&i| face.normal.dot(self.vert[i as usize])).sum::<f64>() / face.verts.len() as f64;
+        }
+    }
+}
