@@ -17,6 +17,7 @@ pub mod timing;
 
 // rooms in dependency order: each imports only the rooms above it in this list
 pub mod mjcf;
+pub mod urdf;
 pub mod model;
 pub mod state;
 pub mod dynamics;

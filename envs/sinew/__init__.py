@@ -3,9 +3,9 @@
 Core API (a contract): ``Model.from_mjcf(path)``, ``Model.from_mjcf_string(xml)``, ``Sim(model)``.
 """
 
-from sinew._core import Batch, Model, ModelError, ModelWarning, Sim, SimulationError, __version__
+from sinew._core import Batch, Model, ModelError, ModelWarning, Sim, SimulationError, __version__, urdf_to_mjcf
 from sinew.registration import register_envs
 
-__all__ = ["Batch", "Model", "ModelError", "ModelWarning", "Sim", "SimulationError", "__version__"]
+__all__ = ["Batch", "Model", "ModelError", "ModelWarning", "Sim", "SimulationError", "__version__", "urdf_to_mjcf"]
 
 register_envs()

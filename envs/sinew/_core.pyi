@@ -13,6 +13,15 @@ MAX_STATE: float
 MAX_RENDER_SIDE: int
 
 def task_specs() -> list[dict[str, Any]]: ...
+def urdf_to_mjcf(
+    path: Union[str, PathLike[str]],
+    *,
+    floating_base: bool = False,
+    visual: bool = False,
+    package_dirs: Optional[Sequence[Union[str, PathLike[str]]]] = None,
+    motors: bool = False,
+    self_collision: bool = False,
+) -> str: ...
 
 class ModelError(ValueError):
     """Malformed or unsupported model; carries ``element``, ``attribute`` and ``line`` when known."""
@@ -32,6 +41,16 @@ class Model:
 
     @staticmethod
     def from_mjcf(path: Union[str, PathLike[str]]) -> Model: ...
+    @staticmethod
+    def from_urdf(
+        path: Union[str, PathLike[str]],
+        *,
+        floating_base: bool = False,
+        visual: bool = False,
+        package_dirs: Optional[Sequence[Union[str, PathLike[str]]]] = None,
+        motors: bool = False,
+        self_collision: bool = False,
+    ) -> Model: ...
     @staticmethod
     def from_mjcf_string(xml: str) -> Model: ...
     def with_options(

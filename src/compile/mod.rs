@@ -30,10 +30,32 @@ impl Model {
         Ok(Model::load_file(path)?.0)
     }
 
-    /// Reads, parses and compiles an MJCF file; also gives its text with every include expanded
-    /// (the model's whole description, which needs no other file).
+    /// Reads and compiles a URDF file ([`crate::urdf`]).
+    pub fn from_urdf_file(path: &std::path::Path, opts: &crate::urdf::UrdfOptions) -> Result<Model> {
+        let text = crate::mjcf::read_file(path)?;
+        Ok(Model::load_urdf(&text, path, opts)?.0)
+    }
+
+    fn load_urdf(text: &str, path: &std::path::Path, opts: &crate::urdf::UrdfOptions) -> Result<(Model, String)> {
+        let mjcf = crate::urdf::to_mjcf(text, Some(path), opts).map_err(|e| e.in_file(path))?;
+        Ok((Model::from_mjcf_in(&mjcf, path)?, mjcf))
+    }
+
+    /// Compiles MJCF text as if it were the file at `path` (includes and assets found from its
+    /// directory; errors naming it).
+    pub fn from_mjcf_in(xml: &str, path: &std::path::Path) -> Result<Model> {
+        let expanded = include::expand(xml, Some(path)).map_err(|e| e.in_file(path))?;
+        Model::from_expanded(&expanded).map_err(|e| e.in_file(path))
+    }
+
+    /// Reads, parses and compiles an MJCF file (or a URDF file, whose root is `<robot>`, with
+    /// default [`crate::urdf::UrdfOptions`]); also gives its text with every include expanded
+    /// (the model's whole description as MJCF, which needs no other file but its assets).
     pub fn load_file(path: &std::path::Path) -> Result<(Model, String)> {
         let text = crate::mjcf::read_file(path)?;
+        if roxmltree::Document::parse(&text).is_ok_and(|d| d.root_element().has_tag_name("robot")) {
+            return Model::load_urdf(&text, path, &crate::urdf::UrdfOptions::default());
+        }
         let expanded = include::expand(&text, Some(path)).map_err(|e| e.in_file(path))?;
         let m = Model::from_expanded(&expanded).map_err(|e| e.in_file(path))?;
         Ok((m, expanded.text))

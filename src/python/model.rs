@@ -57,6 +57,22 @@ fn integrator_name(i: Integrator) -> &'static str {
     }
 }
 
+/// A URDF file as MJCF text (the options of `Model.from_urdf`), its mesh files as absolute
+/// paths: to place the robot in a scene of your own (a floor, terrain) and load it with
+/// `Model.from_mjcf_string`.
+#[pyfunction]
+#[pyo3(signature = (path, *, floating_base=false, visual=false, package_dirs=None, motors=false, self_collision=false))]
+pub fn urdf_to_mjcf(py: Python<'_>, path: std::path::PathBuf, floating_base: bool, visual: bool, package_dirs: Option<Vec<std::path::PathBuf>>, motors: bool, self_collision: bool) -> PyResult<String> {
+    let opts = crate::urdf::UrdfOptions { floating_base, visual, package_dirs: package_dirs.unwrap_or_default(), motors, self_collision };
+    let made = py.detach(|| {
+        super::errors::guard_model("urdf_to_mjcf", || {
+            let text = crate::mjcf::read_file(&path)?;
+            crate::urdf::to_mjcf(&text, Some(&path), &opts).map_err(|e| e.in_file(&path))
+        })
+    })?;
+    made.map_err(|e| to_py(py, e))
+}
+
 #[pymethods]
 impl PyModel {
     /// Loads an MJCF file.
@@ -68,6 +84,24 @@ impl PyModel {
             })
         })?;
         let (m, source) = loaded.map_err(|e| to_py(py, e))?;
+        emit_warnings(py, &m)?;
+        Ok(PyModel::new(m, source.into()))
+    }
+
+    /// Loads a URDF file: the root link fixed to the world unless `floating_base`; `<visual>`
+    /// geometry drawn (no contacts, no mass) when `visual`; `package://NAME/…` found under the
+    /// directories of `package_dirs` (each holding NAME, or NAME itself); a motor on every joint
+    /// with an effort limit when `motors`; the links colliding with each other when
+    /// `self_collision` (MuJoCo's rule; off by default, as in PyBullet).
+    #[staticmethod]
+    #[pyo3(signature = (path, *, floating_base=false, visual=false, package_dirs=None, motors=false, self_collision=false))]
+    // Python's keywords, one argument each
+    #[allow(clippy::too_many_arguments)]
+    fn from_urdf(py: Python<'_>, path: std::path::PathBuf, floating_base: bool, visual: bool, package_dirs: Option<Vec<std::path::PathBuf>>, motors: bool, self_collision: bool) -> PyResult<Self> {
+        let mjcf = urdf_to_mjcf(py, path.clone(), floating_base, visual, package_dirs, motors, self_collision)?;
+        let loaded = py.detach(|| super::errors::guard_model("Model.from_urdf", || Model::from_mjcf_in(&mjcf, &path)))?;
+        let m = loaded.map_err(|e| to_py(py, e))?;
+        let source = mjcf;
         emit_warnings(py, &m)?;
         Ok(PyModel::new(m, source.into()))
     }
