@@ -3,9 +3,13 @@
 from sinew._core import Batch, Model, Sim
 
 
-def model(xml: str, options: dict) -> Model:
-    """The model compiled from ``xml`` with ``options`` (``Model.with_options`` keywords)."""
-    return Model.from_mjcf_string(xml).with_options(**options)
+def model(xml: str, options: dict, path=None, hfields=None) -> Model:
+    """The model compiled from ``xml`` (read as the file ``path``) with ``options``
+    (``Model.with_options`` keywords) and its height fields' elevations."""
+    m = Model.from_mjcf_string(xml, path).with_options(**options)
+    for name, data in (hfields or {}).items():
+        m = m.with_hfield_data(name, data)
+    return m
 
 
 def sim(m: Model, state) -> Sim:

@@ -17,6 +17,8 @@ pub struct PyModel {
     pub inner: Arc<Model>,
     /// The MJCF text it was compiled from (its options may have changed since: `inner.opt`).
     source: Arc<str>,
+    /// The file it was read from, where its asset paths start (None: the working directory).
+    path: Option<std::path::PathBuf>,
     /// What its frames share, made at the first render.
     renderer: std::sync::OnceLock<Arc<Renderer>>,
 }
@@ -24,7 +26,17 @@ pub struct PyModel {
 impl PyModel {
     /// Wraps a model compiled from `source`.
     pub fn new(m: Model, source: Arc<str>) -> Self {
-        PyModel { inner: Arc::new(m), source, renderer: std::sync::OnceLock::new() }
+        PyModel { inner: Arc::new(m), source, path: None, renderer: std::sync::OnceLock::new() }
+    }
+
+    /// Wraps `m`, a changed copy of this model, keeping its source and path.
+    fn sharing(&self, m: Model) -> Self {
+        PyModel { path: self.path.clone(), ..PyModel::new(m, self.source.clone()) }
+    }
+
+    /// Wraps a model compiled from `source` read as the file at `path`.
+    fn at(m: Model, source: Arc<str>, path: std::path::PathBuf) -> Self {
+        PyModel { path: Some(path), ..PyModel::new(m, source) }
     }
 
     /// The model's renderer, made once.
@@ -85,7 +97,7 @@ impl PyModel {
         })?;
         let (m, source) = loaded.map_err(|e| to_py(py, e))?;
         emit_warnings(py, &m)?;
-        Ok(PyModel::new(m, source.into()))
+        Ok(PyModel::at(m, source.into(), std::path::absolute(&path).unwrap_or(path)))
     }
 
     /// Loads a URDF file: the root link fixed to the world unless `floating_base`; `<visual>`
@@ -101,17 +113,56 @@ impl PyModel {
         let mjcf = urdf_to_mjcf(py, path.clone(), floating_base, visual, package_dirs, motors, self_collision)?;
         let loaded = py.detach(|| super::errors::guard_model("Model.from_urdf", || Model::from_mjcf_in(&mjcf, &path)))?;
         let m = loaded.map_err(|e| to_py(py, e))?;
-        let source = mjcf;
         emit_warnings(py, &m)?;
-        Ok(PyModel::new(m, source.into()))
+        Ok(PyModel::at(m, mjcf.into(), std::path::absolute(&path).unwrap_or(path)))
     }
 
-    /// Loads MJCF text.
+    /// Loads MJCF text; its includes and asset files are found as if it were the file `path`
+    /// (None: relative to the working directory).
     #[staticmethod]
-    fn from_mjcf_string(py: Python<'_>, xml: &str) -> PyResult<Self> {
-        let m = super::errors::guard_model("Model.from_mjcf_string", || Model::from_mjcf(xml))?.map_err(|e| to_py(py, e))?;
+    #[pyo3(signature = (xml, path=None))]
+    fn from_mjcf_string(py: Python<'_>, xml: &str, path: Option<std::path::PathBuf>) -> PyResult<Self> {
+        let m = super::errors::guard_model("Model.from_mjcf_string", || match &path {
+            Some(p) => Model::from_mjcf_in(xml, p),
+            None => Model::from_mjcf(xml),
+        })?
+        .map_err(|e| to_py(py, e))?;
         emit_warnings(py, &m)?;
-        Ok(PyModel::new(m, xml.into()))
+        Ok(match path {
+            Some(p) => PyModel::at(m, xml.into(), p),
+            None => PyModel::new(m, xml.into()),
+        })
+    }
+
+    /// The height fields' names.
+    #[getter]
+    fn hfield_names(&self) -> Vec<String> {
+        self.inner.hfields.iter().map(|h| h.name.clone()).collect()
+    }
+
+    /// The elevations (nrow, ncol), in [0, 1] of the field's height, of height field `hfield` (a
+    /// name or an index): a copy.
+    fn hfield_data<'py>(&self, py: Python<'py>, hfield: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let h = &self.inner.hfields[hfield_index(&self.inner, hfield)?];
+        numpy::PyArray1::from_vec(py, h.data.clone()).reshape([h.nrow, h.ncol])
+    }
+
+    /// A copy whose height field `hfield` (a name or an index) has the elevations `data` (nrow,
+    /// ncol), each finite, in units of the field's height (MuJoCo's `hfield_data`: 0 at the
+    /// base's top, 1 at the field's height); everything else shared.
+    fn with_hfield_data(&self, hfield: &Bound<'_, PyAny>, data: numpy::PyReadonlyArray2<'_, f64>) -> PyResult<Self> {
+        let k = hfield_index(&self.inner, hfield)?;
+        let h = &self.inner.hfields[k];
+        let a = data.as_array();
+        if a.shape() != [h.nrow, h.ncol] {
+            return Err(PyValueError::new_err(format!("height field '{}' is {} × {}, got data of shape {:?}", h.name, h.nrow, h.ncol, a.shape())));
+        }
+        if let Some(bad) = a.iter().find(|x| !x.is_finite() || x.abs() > crate::math::MAX_STATE) {
+            return Err(PyValueError::new_err(format!("height field '{}': elevation {bad} is not finite or beyond ±{:e}", h.name, crate::math::MAX_STATE)));
+        }
+        let mut m = (*self.inner).clone();
+        m.hfields[k].data = a.iter().copied().collect();
+        Ok(self.sharing(m))
     }
 
     /// A copy with some options replaced (the model itself never changes); `integrator` is
@@ -204,7 +255,7 @@ impl PyModel {
                 _ => return Err(PyValueError::new_err(format!("friction must be 'pyramid' or 'one_tangent', got '{f}'"))),
             };
         }
-        Ok(PyModel::new(m, self.source.clone()))
+        Ok(self.sharing(m))
     }
 
     /// Number of position coordinates.
@@ -544,7 +595,15 @@ impl PyModel {
             Actuation::Pd { kp, kd } => d.set_item("pd_gains", (kp, kd))?,
             Actuation::Trajectory { kp, kd } => d.set_item("trajectory_gains", (kp, kd))?,
         }
-        let args = pyo3::types::PyTuple::new(py, [self.source.to_string().into_pyobject(py)?.into_any(), d.into_any()])?;
+        let fields = pyo3::types::PyDict::new(py);
+        for h in &self.inner.hfields {
+            fields.set_item(&h.name, numpy::PyArray1::from_vec(py, h.data.clone()).reshape([h.nrow, h.ncol])?)?;
+        }
+        let path = self.path.as_ref().map(|p| p.to_string_lossy().into_owned());
+        let args = pyo3::types::PyTuple::new(
+            py,
+            [self.source.to_string().into_pyobject(py)?.into_any(), d.into_any(), path.into_pyobject(py)?.into_any(), fields.into_any()],
+        )?;
         Ok((py.import("sinew._pickle")?.getattr("model")?, args))
     }
 
@@ -567,6 +626,19 @@ fn rows3<'py>(py: Python<'py>, it: impl Iterator<Item = [f64; 3]>) -> Bound<'py,
     let flat: Vec<f64> = it.flat_map(|a| a.into_iter()).collect();
     let n = flat.len() / 3;
     numpy::PyArray1::from_vec(py, flat).reshape([n, 3]).expect("n*3 elements")
+}
+
+/// The index of height field `hfield` (a name or an index); a `ValueError` names those there are.
+fn hfield_index(m: &Model, hfield: &Bound<'_, PyAny>) -> PyResult<usize> {
+    let names: Vec<&str> = m.hfields.iter().map(|h| h.name.as_str()).collect();
+    let found = if let Ok(i) = hfield.extract::<i64>() {
+        usize::try_from(i).ok().filter(|&i| i < names.len())
+    } else if let Ok(name) = hfield.extract::<String>() {
+        names.iter().position(|n| *n == name)
+    } else {
+        None
+    };
+    found.ok_or_else(|| PyValueError::new_err(format!("unknown height field {hfield}; the model has {names:?}")))
 }
 
 /// The index of keyframe `key` (a name or an index); a `ValueError` names the keys there are.

@@ -1,0 +1,97 @@
+"""Meshes and height fields from Python: every mesh option (refpos, refquat, scale, mirrored, the
+four inertia modes) weighs as in MuJoCo; height-field elevations are read and replaced from Python
+(what dm_control's terrain tasks do each episode), checked, and kept through pickling; a model
+whose meshes lie beside its file pickles and loads from anywhere."""
+
+import importlib.util
+import os
+import pickle
+
+import mujoco
+import numpy as np
+import pytest
+
+import sinew
+
+SUITE = os.path.join(importlib.util.find_spec("dm_control").submodule_search_locations[0], "suite")
+FRUSTUM = ("0.1 0 -0.04  0.05 0.08660254 -0.04  -0.05 0.08660254 -0.04  -0.1 0 -0.04  -0.05 -0.08660254 -0.04  "
+           "0.05 -0.08660254 -0.04 0.06 0 0.04  0.03 0.05196152 0.04  -0.03 0.05196152 0.04  -0.06 0 0.04  "
+           "-0.03 -0.05196152 0.04  0.03 -0.05196152 0.04")
+TET = 'vertex="0 0 0  1 0 0  0 1 0  0 0 1" face="0 2 1  0 1 3  0 3 2  1 2 3"'
+MESHES = f"""<mujoco><asset>
+<mesh name="placed" vertex="{FRUSTUM}" refpos="0.01 0.02 0.03" refquat="0.9 0.3 0.2 0.1" scale="1 2 0.5"/>
+<mesh name="hull" vertex="0 0 0  1 0 0  0 1 0  0 0 1  1 1 1  0.5 0.2 0.9" inertia="convex"/>
+<mesh name="shell" {TET} inertia="shell"/>
+<mesh name="mirrored" {TET} inertia="exact" scale="-1 1 1"/>
+</asset><worldbody>
+<body pos="0 0 1" euler="10 20 30"><freejoint/><geom type="mesh" mesh="placed" pos="0.1 0.2 0.3" euler="5 6 7"/>
+  <geom type="mesh" mesh="hull" density="500"/></body>
+<body pos="1 0 1"><freejoint/><geom type="mesh" mesh="shell"/></body>
+<body pos="2 0 1"><freejoint/><geom type="mesh" mesh="mirrored" mass="2"/></body>
+</worldbody></mujoco>"""
+
+
+def test_every_mesh_option_weighs_as_in_mujoco(tmp_path):
+    path = tmp_path / "meshes.xml"
+    path.write_text(MESHES)
+    m, mj = sinew.Model.from_mjcf(path), mujoco.MjModel.from_xml_path(str(path))
+    np.testing.assert_allclose(m.body_mass, mj.body_mass, rtol=1e-12)
+    np.testing.assert_allclose(m.body_ipos, mj.body_ipos, atol=1e-12)
+    tensors = np.array(m.body_inertia_tensor)
+    for b in range(1, mj.nbody):
+        rot = np.zeros(9)
+        mujoco.mju_quat2Mat(rot, mj.body_iquat[b])
+        rot = rot.reshape(3, 3)
+        theirs = rot @ np.diag(mj.body_inertia[b]) @ rot.T
+        np.testing.assert_allclose(tensors[b], theirs, rtol=0, atol=1e-9 * np.abs(theirs).max())
+
+
+def terrain():
+    return sinew.Model.from_mjcf_string("""<mujoco><option timestep="0.002"/><asset>
+        <hfield name="ground" nrow="21" ncol="21" size="1 1 0.5 0.1"/></asset><worldbody>
+        <geom type="hfield" hfield="ground"/>
+        <body pos="0.3 -0.2 1"><freejoint/><geom type="sphere" size="0.05"/></body></worldbody></mujoco>""")
+
+
+def test_height_field_elevations_are_read_and_replaced_from_python():
+    m = terrain()
+    assert m.hfield_names == ["ground"]
+    flat = m.hfield_data("ground")
+    assert flat.shape == (21, 21) and not flat.any()
+    # a bowl whose lowest point (the centre, elevation 0.5: 0.25 m) holds the ball dropped in it
+    x, y = np.meshgrid(np.linspace(-1, 1, 21), np.linspace(-1, 1, 21))
+    bowl = 1.0 - 0.5 * np.exp(-(x ** 2 + y ** 2))
+    bowled = m.with_hfield_data(0, bowl)
+    np.testing.assert_array_equal(bowled.hfield_data(0), bowl)
+    assert not m.hfield_data(0).any(), "the original model is unchanged"
+    sims = [sinew.Sim(bowled), sinew.Sim(m)]
+    for _ in range(5000):
+        for s in sims:
+            s.step()
+    in_bowl, on_flat = sims
+    assert abs(on_flat.qpos[2] - 0.05) < 1e-6, "on the flat field the ball rests at its radius"
+    # it rolls to and fro about the centre (no rolling friction), never below the bowl's floor
+    r = np.hypot(*in_bowl.qpos[:2])
+    floor = 0.5 * (1.0 - 0.5 * np.exp(-r ** 2)) + 0.05
+    assert r < 0.5 and floor - 0.01 < in_bowl.qpos[2] < floor + 0.02, in_bowl.qpos[:3]
+    # pickling keeps the elevations
+    again = pickle.loads(pickle.dumps(bowled))
+    np.testing.assert_array_equal(again.hfield_data("ground"), bowl)
+
+
+@pytest.mark.parametrize("bad,says", [
+    (np.zeros((20, 21)), "shape"),
+    (np.full((21, 21), np.nan), "finite"),
+])
+def test_bad_elevations_are_value_errors(bad, says):
+    with pytest.raises(ValueError, match=says):
+        terrain().with_hfield_data("ground", bad)
+    with pytest.raises(ValueError, match="unknown height field"):
+        terrain().hfield_data("nope")
+
+
+def test_a_meshed_model_pickles_and_loads_from_anywhere(tmp_path, monkeypatch):
+    dog = sinew.Model.from_mjcf(os.path.join(SUITE, "dog.xml"))
+    monkeypatch.chdir(tmp_path)
+    again = pickle.loads(pickle.dumps(dog))
+    np.testing.assert_array_equal(again.body_mass, dog.body_mass)
