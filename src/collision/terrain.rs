@@ -15,21 +15,31 @@ const MAX_GATHER: usize = 64;
 /// Contacts of `other` (within `margin`) with the height field `h` at pose (`p`, `rot`); normals
 /// point from the field toward `other`.
 pub(super) fn hfield_contacts(h: &HField, p: DVec3, rot: DMat3, other: Shape, margin: f64, scale: f64) -> Manifold {
-    let (centre, r) = match other {
-        Shape::Sphere { c, r } => (c, r),
-        Shape::Segment { a, b, r } => ((a + b) * 0.5, 0.5 * a.distance(b) + r),
-        Shape::Box { c, half, .. } => (c, half.length()),
-        Shape::Hull { c, hull, .. } => (c, hull.vert.iter().map(|v| v.length()).fold(0.0, f64::max)),
+    let up = rot.col(2);
+    // the shape's bounding radius about its centre and its lowest point along the field's up
+    let (centre, r, lowest) = match other {
+        Shape::Sphere { c, r } => (c, r, c.dot(up) - r),
+        Shape::Segment { a, b, r } => ((a + b) * 0.5, 0.5 * a.distance(b) + r, a.dot(up).min(b.dot(up)) - r),
+        Shape::Box { c, rot: br, half } => (c, half.length(), c.dot(up) - (br.transpose() * up).abs().dot(half)),
+        Shape::Hull { c, rot: hr, hull } => {
+            (c, hull.vert.iter().map(|v| v.length()).fold(0.0, f64::max), c.dot(up) - hull.support(hr.transpose() * -up).1)
+        }
         Shape::Plane { .. } | Shape::HField { .. } => return Manifold::EMPTY,
     };
     let local = rot.transpose() * (centre - p);
+    // a cell whose highest corner lies below the shape's lowest point by more than the margin
+    // cannot touch it
+    let above = lowest - p.dot(up) - margin;
     let (rows, cols) = h.cells_under(local.x, local.y, r + margin);
-    let up = rot.col(2);
     let tol = 1e-9 * scale;
     let mut pts = [(0usize, DVec3::ZERO, DVec3::Z, 0.0); MAX_GATHER];
     let mut count = 0;
     for row in rows {
         for col in cols.clone() {
+            let top = [(row, col), (row, col + 1), (row + 1, col), (row + 1, col + 1)].map(|(r, c)| h.data[r * h.ncol + c]).into_iter().fold(0.0, f64::max);
+            if top * h.size[2] < above {
+                continue;
+            }
             for (t, tri) in h.cell_triangles(row, col).into_iter().enumerate() {
                 let top = tri.map(|v| p + rot * v);
                 let prism = Prism::new(top, p, up, h.size[3]);
