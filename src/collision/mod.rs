@@ -2,8 +2,9 @@
 //!
 //! Pairs: plane–{sphere, capsule, box}, sphere–sphere, sphere–capsule, capsule–capsule, sphere–box
 //! (exact), capsule–box (the segment's ends and its point nearest the box, as spheres) and box–box
-//! (separating axes: face contacts clipped to the overlap of the faces, or one edge–edge point).
-//! Cylinders collide as capsules of the same radius and half-length, ellipsoids as spheres of their
+//! (separating axes: face contacts clipped to the overlap of the faces, or one edge–edge point);
+//! a mesh's convex hull against a plane, a sphere, a capsule, a box or another hull, and a height
+//! field's triangle prisms against all but planes (`convex.rs`, `terrain.rs`). Cylinders collide as capsules of the same radius and half-length, ellipsoids as spheres of their
 //! largest semi-axis (documented approximations). Filtering follows MuJoCo: contype/conaffinity
 //! bits, no contact within a body or between a body and its parent (unless the parent is the
 //! world), `<exclude>` pairs. A contact's friction and condim are MuJoCo's: the higher-priority

@@ -1,47 +1,14 @@
 //! The narrowphase: each geom as a shape in world, one arm per unordered pair of shapes, and
 //! MuJoCo's rule for a pair's friction and condim.
 
-use glam::{DMat3, DVec3};
+use glam::DVec3;
 
 use super::convex::{on_plane, point_polytope, polytopes, Manifold, PosedBox, PosedHull, Segment};
 use super::terrain::hfield_contacts;
 use super::data::{pose_axes, CollisionData, Contact, MAX_CONTACTS};
-use super::shapes::{box_box, closest_on_segment, closest_segments, point_box, segment_box_points, spheres};
+use super::shapes::{box_box, closest_on_segment, closest_segments, point_box, segment_box_points, shape, spheres, Shape};
 use crate::dynamics::kinematics::KinData;
-use crate::geometry::{HField, Hull};
-use crate::model::{GeomType, Model};
-
-#[derive(Clone, Copy)]
-pub(super) enum Shape<'a> {
-    Plane { p: DVec3, n: DVec3 },
-    Sphere { c: DVec3, r: f64 },
-    Segment { a: DVec3, b: DVec3, r: f64 },
-    Box { c: DVec3, rot: DMat3, half: DVec3 },
-    Hull { c: DVec3, rot: DMat3, hull: &'a Hull },
-    HField { p: DVec3, rot: DMat3, field: &'a HField },
-}
-
-pub(super) fn shape<'a>(m: &'a Model, cd: &CollisionData, g: usize) -> Shape<'a> {
-    let (p, r, s) = (cd.geom_xpos[g], cd.geom_xmat[g], m.geom_size[g]);
-    match m.geom_type[g] {
-        GeomType::Plane => Shape::Plane { p, n: r.col(2) },
-        GeomType::Sphere => Shape::Sphere { c: p, r: s[0] },
-        GeomType::Ellipsoid => Shape::Sphere { c: p, r: s[0].max(s[1]).max(s[2]) },
-        GeomType::Capsule | GeomType::Cylinder => {
-            let h = r.col(2) * s[1];
-            Shape::Segment { a: p - h, b: p + h, r: s[0] }
-        }
-        GeomType::Box => Shape::Box { c: p, rot: r, half: DVec3::from_array(s) },
-        GeomType::Mesh => match m.geom_mesh[g] {
-            Some(k) => Shape::Hull { c: p, rot: r, hull: &m.meshes[k].hull },
-            None => Shape::Box { c: p, rot: r, half: DVec3::from_array(s) },
-        },
-        GeomType::Hfield => match m.geom_hfield[g] {
-            Some(k) => Shape::HField { p, rot: r, field: &m.hfields[k] },
-            None => Shape::Plane { p, n: r.col(2) },
-        },
-    }
-}
+use crate::model::Model;
 
 /// The sliding friction coefficient of a contact between geoms i and j, and whether it has
 /// friction (condim > 1), as MuJoCo combines them: the higher-priority geom's, else the larger of

@@ -1,7 +1,48 @@
-//! Closest points and contacts of primitive pairs in world coordinates: box–box by separating
-//! axes, a point or segment against a box, spheres, segments.
+//! Each geom as a shape in world ([`Shape`]), and closest points and contacts of primitive pairs
+//! in world coordinates: box–box by separating axes, a point or segment against a box, spheres,
+//! segments.
 
 use glam::{DMat3, DVec3};
+
+use super::data::CollisionData;
+use crate::geometry::{HField, Hull};
+use crate::model::{GeomType, Model};
+
+/// A geom posed in world, as the narrowphase tests it.
+#[derive(Clone, Copy)]
+pub(super) enum Shape<'a> {
+    Plane { p: DVec3, n: DVec3 },
+    Sphere { c: DVec3, r: f64 },
+    Segment { a: DVec3, b: DVec3, r: f64 },
+    Box { c: DVec3, rot: DMat3, half: DVec3 },
+    Hull { c: DVec3, rot: DMat3, hull: &'a Hull },
+    HField { p: DVec3, rot: DMat3, field: &'a HField },
+}
+
+/// Geom g as a shape at its pose in `cd` (a mesh or height-field geom always has its asset:
+/// the compiler resolves them; the fallbacks only keep this total).
+pub(super) fn shape<'a>(m: &'a Model, cd: &CollisionData, g: usize) -> Shape<'a> {
+    let (p, r, s) = (cd.geom_xpos[g], cd.geom_xmat[g], m.geom_size[g]);
+    match m.geom_type[g] {
+        GeomType::Plane => Shape::Plane { p, n: r.col(2) },
+        GeomType::Sphere => Shape::Sphere { c: p, r: s[0] },
+        GeomType::Ellipsoid => Shape::Sphere { c: p, r: s[0].max(s[1]).max(s[2]) },
+        GeomType::Capsule | GeomType::Cylinder => {
+            let h = r.col(2) * s[1];
+            Shape::Segment { a: p - h, b: p + h, r: s[0] }
+        }
+        GeomType::Box => Shape::Box { c: p, rot: r, half: DVec3::from_array(s) },
+        GeomType::Mesh => match m.geom_mesh[g] {
+            Some(k) => Shape::Hull { c: p, rot: r, hull: &m.meshes[k].hull },
+            None => Shape::Box { c: p, rot: r, half: DVec3::from_array(s) },
+        },
+        GeomType::Hfield => match m.geom_hfield[g] {
+            Some(k) => Shape::HField { p, rot: r, field: &m.hfields[k] },
+            None => Shape::Plane { p, n: r.col(2) },
+        },
+    }
+}
+
 
 /// Features of box–box face contacts start here (edge contacts are 32–40).
 const FACE_FEATURES: usize = 64;

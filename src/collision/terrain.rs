@@ -6,7 +6,7 @@
 use glam::{DMat3, DVec3};
 
 use super::convex::{point_polytope, polytopes, reduce, Manifold, Point, PosedBox, PosedHull, Prism, Segment, MAX_MANIFOLD};
-use super::narrowphase::Shape;
+use super::shapes::Shape;
 use crate::geometry::HField;
 
 /// Most points gathered over the prisms before reduction.

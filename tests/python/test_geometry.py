@@ -90,6 +90,7 @@ def test_bad_elevations_are_value_errors(bad, says):
         terrain().hfield_data("nope")
 
 
+@pytest.mark.filterwarnings("ignore::sinew.ModelWarning")
 def test_a_meshed_model_pickles_and_loads_from_anywhere(tmp_path, monkeypatch):
     dog = sinew.Model.from_mjcf(os.path.join(SUITE, "dog.xml"))
     monkeypatch.chdir(tmp_path)
