@@ -8,6 +8,7 @@
 
 pub mod camera;
 mod raycast;
+mod surface;
 mod shade;
 
 use glam::{DMat3, DVec3};
@@ -90,9 +91,8 @@ pub struct Renderer {
     pub center: DVec3,
     cam_anchors: camera::Anchors,
     light_anchors: camera::Anchors,
-    /// Each mesh's, then each height field's, triangles in a bounding-volume tree (None: parry
-    /// refused them; not drawn).
-    surfaces: Vec<Option<std::sync::Arc<parry3d_f64::shape::TriMesh>>>,
+    /// Each mesh's, then each height field's, triangles (None: parry refused them; not drawn).
+    surfaces: Vec<Option<std::sync::Arc<surface::Surface>>>,
 }
 
 /// What to draw into: either buffer may be empty (not wanted).
@@ -119,10 +119,10 @@ impl Renderer {
             surfaces: m
                 .meshes
                 .iter()
-                .map(|mesh| triangle_tree(&mesh.vert, &mesh.face).or_else(|| triangle_tree(&mesh.hull.vert, &mesh.hull.tris)))
+                .map(|mesh| surface::Surface::new(&mesh.vert, &mesh.face).or_else(|| surface::Surface::new(&mesh.hull.vert, &mesh.hull.tris)))
                 .chain(m.hfields.iter().map(|h| {
                     let vert: Vec<DVec3> = (0..h.nrow * h.ncol).map(|i| h.vertex(i / h.ncol, i % h.ncol)).collect();
-                    triangle_tree(&vert, &h.triangles())
+                    surface::Surface::new(&vert, &h.triangles())
                 }))
                 .map(|t| t.map(std::sync::Arc::new))
                 .collect(),
@@ -232,10 +232,4 @@ fn statistics(m: &Model, p: &Poses) -> (f64, DVec3) {
         extent = extent.max(2.0 * mean);
     }
     (extent, center)
-}
-
-/// Triangles in parry's bounding-volume tree (None if parry refuses them).
-fn triangle_tree(vert: &[DVec3], face: &[[u32; 3]]) -> Option<parry3d_f64::shape::TriMesh> {
-    use parry3d_f64::math::Vector;
-    parry3d_f64::shape::TriMesh::new(vert.iter().map(|p| Vector::new(p.x, p.y, p.z)).collect(), face.to_vec()).ok()
 }

@@ -20,23 +20,11 @@ pub fn intersect(kind: GeomType, size: &[f32; 3], o: Vec3A, d: Vec3A, t0: f32, t
         GeomType::Capsule => capsule(size[0], size[1], o, d, t0, t1),
         GeomType::Cylinder => cylinder(size[0], size[1], o, d, t0, t1),
         GeomType::Box => cuboid(Vec3A::from_array(*size), o, d, t0, t1),
-        // a mesh is cast against its triangles ([`triangles`]); without them, nothing is hit
+        // a mesh or height field is cast against its triangles (`surface.rs`); without them,
+        // nothing is hit
         GeomType::Mesh | GeomType::Hfield => None,
         GeomType::Ellipsoid => ellipsoid(Vec3A::from_array(*size), o, d, t0, t1),
     }
-}
-
-/// First hit of the ray `o + t d` with the triangles of `mesh` (its bounding-volume tree) in
-/// `[t0, t1)`, the normal facing the ray.
-pub fn triangles(mesh: &parry3d_f64::shape::TriMesh, o: Vec3A, d: Vec3A, t0: f32, t1: f32) -> Option<Hit> {
-    use parry3d_f64::math::Vector;
-    use parry3d_f64::query::{Ray, RayCast};
-    let v = |x: Vec3A| Vector::new(f64::from(x.x), f64::from(x.y), f64::from(x.z));
-    let start = o + d * t0;
-    let hit = mesh.cast_local_ray_and_get_normal(&Ray::new(v(start), v(d)), f64::from(t1 - t0), false)?;
-    let n = Vec3A::new(hit.normal.x as f32, hit.normal.y as f32, hit.normal.z as f32);
-    let t = t0 + hit.time_of_impact as f32;
-    (t < t1).then_some((t, if n.dot(d) > 0.0 { -n } else { n }))
 }
 
 /// The plane z = 0 seen from its front (+z) side, bounded by half-sizes `size[0..2]` where

@@ -15,12 +15,11 @@ mod shadow;
 use cover::{Bins, RowCover, Sphere};
 use floor::{Floor, FloorRow};
 use shadow::ShadowGrid;
-use super::raycast::{intersect, meets_sphere, plane, triangles, Hit};
+use super::raycast::{intersect, meets_sphere, plane, Hit};
+use super::surface::Surface;
 use super::{Frame, Poses, View};
 use crate::model::visual::{Builtin, TextureKind};
 use std::sync::Arc;
-
-use parry3d_f64::shape::TriMesh;
 
 use crate::model::{GeomType, Model};
 
@@ -50,7 +49,7 @@ struct Geom {
     /// Texture colours and the repeat scale of local coordinates, when textured.
     texture: Option<Tex>,
     /// A mesh's or height field's triangles.
-    mesh: Option<Arc<TriMesh>>,
+    mesh: Option<Arc<Surface>>,
 }
 
 #[derive(Clone, Copy)]
@@ -152,14 +151,14 @@ impl Geom {
     #[inline]
     fn hit(&self, o: Vec3A, d: Vec3A, t0: f32, t1: f32) -> Option<Hit> {
         match &self.mesh {
-            Some(t) => triangles(t, o, d, t0, t1),
+            Some(t) => t.hit(o, d, t0, t1),
             None => intersect(self.kind, &self.size, o, d, t0, t1),
         }
     }
 
     /// Geom g of a world at `poses`, relative to the eye of `view`, in single precision;
     /// `meshes`: the triangles of each mesh, then of each height field.
-    fn new(m: &Model, poses: &Poses, view: &View, g: usize, meshes: &[Option<Arc<TriMesh>>]) -> Geom {
+    fn new(m: &Model, poses: &Poses, view: &View, g: usize, meshes: &[Option<Arc<Surface>>]) -> Geom {
         let v = &m.vis;
         let f = |x: DVec3| x.as_vec3a();
         let rot = poses.xmat(m.geom_body[g]) * m.geom_mat[g];
@@ -242,7 +241,7 @@ impl Scene {
     /// The frame of `view` of a world at `poses`, with `lights` (index, position, direction) on.
     /// Everything is stored relative to the eye, in single precision.
     #[allow(clippy::too_many_arguments)]
-    pub(super) fn new(m: &Model, poses: &Poses, view: &View, lights: &[(usize, DVec3, DVec3)], extent: f64, width: usize, height: usize, meshes: &[Option<Arc<TriMesh>>]) -> Scene {
+    pub(super) fn new(m: &Model, poses: &Poses, view: &View, lights: &[(usize, DVec3, DVec3)], extent: f64, width: usize, height: usize, meshes: &[Option<Arc<Surface>>]) -> Scene {
         let v = &m.vis;
         let f = |x: DVec3| x.as_vec3a();
         let geoms: Vec<Geom> = (0..m.ngeom).map(|g| Geom::new(m, poses, view, g, meshes)).collect();

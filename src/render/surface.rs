@@ -1,0 +1,81 @@
+//! Triangle surfaces the renderer casts rays at (meshes and height fields): parry's
+//! bounding-volume tree over the triangles, and smooth vertex normals made as MuJoCo makes them
+//! (area-weighted face normals, a face leaving a vertex's sum where it meets the vertex normal at
+//! more than about 37°, so edges stay sharp), interpolated across each hit triangle.
+
+use glam::{DVec3, Vec3A};
+use parry3d_f64::math::Vector;
+use parry3d_f64::query::{Ray, RayCast};
+use parry3d_f64::shape::TriMesh;
+
+use super::raycast::Hit;
+
+/// A face counts toward a vertex's normal when their cosine is at least this (MuJoCo's rule).
+const SMOOTH_COS: f64 = 0.8;
+
+/// Triangles and their vertex normals, in the geom's frame.
+#[derive(Debug)]
+pub struct Surface {
+    tree: TriMesh,
+    tris: Vec<[u32; 3]>,
+    vert: Vec<Vec3A>,
+    normals: Vec<Vec3A>,
+}
+
+impl Surface {
+    /// The surface of triangles `face` over `vert`; None if parry refuses them (degenerate).
+    pub fn new(vert: &[DVec3], face: &[[u32; 3]]) -> Option<Surface> {
+        let tree = TriMesh::new(vert.iter().map(|p| Vector::new(p.x, p.y, p.z)).collect(), face.to_vec()).ok()?;
+        let area_normal = |t: &[u32; 3]| {
+            let [a, b, c] = t.map(|i| vert[i as usize]);
+            (b - a).cross(c - a)
+        };
+        let mut sum = vec![DVec3::ZERO; vert.len()];
+        for t in face {
+            let n = area_normal(t);
+            t.iter().for_each(|&i| sum[i as usize] += n);
+        }
+        let mut smooth = vec![DVec3::ZERO; vert.len()];
+        for t in face {
+            let n = area_normal(t);
+            for &i in t {
+                if n.normalize_or_zero().dot(sum[i as usize].normalize_or_zero()) >= SMOOTH_COS {
+                    smooth[i as usize] += n;
+                }
+            }
+        }
+        Some(Surface {
+            tree,
+            tris: face.to_vec(),
+            vert: vert.iter().map(|v| v.as_vec3a()).collect(),
+            normals: smooth.iter().map(|n| n.normalize_or(DVec3::Z).as_vec3a()).collect(),
+        })
+    }
+
+    /// First hit of the ray `o + t d` in `[t0, t1)`, the normal interpolated from the hit
+    /// triangle's vertex normals (the face's where they disagree with it) and facing the ray.
+    pub fn hit(&self, o: Vec3A, d: Vec3A, t0: f32, t1: f32) -> Option<Hit> {
+        let v = |x: Vec3A| Vector::new(f64::from(x.x), f64::from(x.y), f64::from(x.z));
+        let start = o + d * t0;
+        let hit = self.tree.cast_local_ray_and_get_normal(&Ray::new(v(start), v(d)), f64::from(t1 - t0), false)?;
+        let t = t0 + hit.time_of_impact as f32;
+        if t >= t1 {
+            return None;
+        }
+        let face = Vec3A::new(hit.normal.x as f32, hit.normal.y as f32, hit.normal.z as f32);
+        let n = self.tris.get(hit.subshape as usize).map_or(face, |tri| {
+            let [a, b, c] = tri.map(|i| self.vert[i as usize]);
+            let p = o + d * t;
+            // barycentric weights of p by the sub-triangles' areas
+            let full = (b - a).cross(c - a);
+            let inv = 1.0 / full.length_squared().max(f32::MIN_POSITIVE);
+            let wa = (b - p).cross(c - p).dot(full) * inv;
+            let wb = (c - p).cross(a - p).dot(full) * inv;
+            let wc = 1.0 - wa - wb;
+            let [na, nb, nc] = tri.map(|i| self.normals[i as usize]);
+            let s = (na * wa + nb * wb + nc * wc).normalize_or_zero();
+            if s.dot(face).abs() > 0.2 { s * s.dot(face).signum() } else { face }
+        });
+        Some((t, if n.dot(d) > 0.0 { -n } else { n }))
+    }
+}
