@@ -203,3 +203,29 @@ fn batched_frames_equal_single_frames() {
     }
     assert_ne!(both[..w * h * 3], both[w * h * 3..], "the box moved");
 }
+
+#[test]
+fn a_box_written_as_a_mesh_draws_as_the_primitive_box() {
+    // the same box (turned, so three faces show) as a primitive and as mesh triangles: the same
+    // pixels drawn, at the same depths, in the same colour
+    let verts = "-.25 -.125 -.0625  .25 -.125 -.0625  -.25 .125 -.0625  .25 .125 -.0625  -.25 -.125 .0625  .25 -.125 .0625  -.25 .125 .0625  .25 .125 .0625";
+    let body = |geom: &str| format!(r#"<body euler="20 30 40"><joint type="slide" limited="false"/>{geom}</body>"#);
+    let primitive = scene(&body(r#"<geom type="box" size=".25 .125 .0625" rgba="0 1 0 1"/>"#), "");
+    let mesh = scene(&body(r#"<geom type="mesh" mesh="b" rgba="0 1 0 1"/>"#), &format!(r#"<asset><mesh name="b" vertex="{verts}"/></asset>"#));
+    let (a, b) = (Shot::take(&primitive, free(DVec3::ZERO, 1.5), 101, 101), Shot::take(&mesh, free(DVec3::ZERO, 1.5), 101, 101));
+    let mut drawn = 0;
+    for y in 0..101 {
+        for x in 0..101 {
+            match (a.z(x, y), b.z(x, y)) {
+                (Some(za), Some(zb)) => {
+                    drawn += 1;
+                    assert!((za - zb).abs() < 1e-4, "pixel ({x}, {y}): depth {za} vs {zb}");
+                    assert_eq!(a.px(x, y), b.px(x, y), "pixel ({x}, {y})");
+                }
+                (None, None) => {}
+                (za, zb) => panic!("pixel ({x}, {y}) drawn in one only: {za:?} vs {zb:?}"),
+            }
+        }
+    }
+    assert!(drawn > 500, "the box covers {drawn} pixels");
+}
