@@ -8,6 +8,7 @@
 //! yields at most [`MAX_MANIFOLD`] points spanning the support polygon ([`reduce`]): more only
 //! repeat what those rows hold and make the LCP degenerate.
 
+use arrayvec::ArrayVec;
 use glam::{DMat3, DVec3};
 
 use super::shapes::closest_segments;
@@ -15,6 +16,10 @@ use crate::geometry::Hull;
 
 /// Most points a pair of polytopes (or a hull on a plane) contributes.
 pub(super) const MAX_MANIFOLD: usize = 8;
+
+/// Edges of the second polytope posed once per test when it has at most this many (a hull with
+/// more poses them as the test reads them).
+const MAX_POSED_EDGES: usize = 192;
 
 /// Largest polygon a clip keeps (an incident face's vertices plus one per reference side).
 const MAX_POLY: usize = 128;
@@ -31,19 +36,7 @@ const CUT: usize = 1 << 20;
 pub(super) type Point = (usize, DVec3, DVec3, f64);
 
 /// Up to [`MAX_MANIFOLD`] points.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Manifold {
-    pub(super) points: [Point; MAX_MANIFOLD],
-    pub(super) len: usize,
-}
-
-impl Manifold {
-    pub(super) const EMPTY: Manifold = Manifold { points: [(0, DVec3::ZERO, DVec3::ZERO, 0.0); MAX_MANIFOLD], len: 0 };
-
-    pub(super) fn iter(&self) -> impl Iterator<Item = &Point> {
-        self.points[..self.len].iter()
-    }
-}
+pub(super) type Manifold = ArrayVec<Point, MAX_MANIFOLD>;
 
 /// A convex polytope posed in world coordinates.
 pub(super) trait Polytope {
@@ -232,16 +225,35 @@ pub(super) fn polytopes(a: &impl Polytope, b: &impl Polytope, margin: f64, scale
     let fa = face_query(a, b);
     let fb = face_query(b, a);
     if fa.0 > margin || fb.0 > margin {
-        return Manifold::EMPTY;
+        return Manifold::new();
     }
+    // B's edges posed once (start, direction, face normals), not once per edge of A
+    let mut b_edges: ArrayVec<(DVec3, DVec3, Option<[DVec3; 2]>), MAX_POSED_EDGES> = ArrayVec::new();
+    let posed = b.nedge() <= MAX_POSED_EDGES;
+    if posed {
+        for eb in 0..b.nedge() {
+            let ([b0, b1], nb) = b.edge(eb);
+            let pb = b.vert(b0);
+            b_edges.push((pb, b.vert(b1) - pb, nb));
+        }
+    }
+    let b_edge = |eb: usize| {
+        if posed {
+            b_edges[eb]
+        } else {
+            let ([b0, b1], nb) = b.edge(eb);
+            let pb = b.vert(b0);
+            (pb, b.vert(b1) - pb, nb)
+        }
+    };
+    let a_centre = a.centre();
     let mut edge = (f64::NEG_INFINITY, 0, 0, DVec3::ZERO);
     for ea in 0..a.nedge() {
         let ([a0, a1], na) = a.edge(ea);
         let (pa, da) = (a.vert(a0), a.vert(a1) - a.vert(a0));
         let Some(na) = na else { continue };
         for eb in 0..b.nedge() {
-            let ([b0, b1], nb) = b.edge(eb);
-            let (pb, db) = (b.vert(b0), b.vert(b1) - b.vert(b0));
+            let (pb, db, nb) = b_edge(eb);
             if !minkowski_face(na, nb, db) {
                 continue;
             }
@@ -250,7 +262,7 @@ pub(super) fn polytopes(a: &impl Polytope, b: &impl Polytope, margin: f64, scale
             if len < 1e-6 * da.length() * db.length() {
                 continue;
             }
-            let axis = if axis.dot(pa - a.centre()) < 0.0 { -axis / len } else { axis / len };
+            let axis = if axis.dot(pa - a_centre) < 0.0 { -axis / len } else { axis / len };
             let s = axis.dot(pb - pa);
             if s > edge.0 {
                 edge = (s, ea, eb, axis);
@@ -258,7 +270,7 @@ pub(super) fn polytopes(a: &impl Polytope, b: &impl Polytope, margin: f64, scale
         }
     }
     if edge.0 > margin {
-        return Manifold::EMPTY;
+        return Manifold::new();
     }
     // touching faces (separations near zero) keep their face contact: an edge pair must be
     // better by more than round-off, or the manifold would flip between one point and a face's
@@ -268,20 +280,19 @@ pub(super) fn polytopes(a: &impl Polytope, b: &impl Polytope, margin: f64, scale
         let ([a0, a1], _) = a.edge(ea);
         let ([b0, b1], _) = b.edge(eb);
         let (q1, q2) = closest_segments(a.vert(a0), a.vert(a1), b.vert(b0), b.vert(b1));
-        let mut out = Manifold::EMPTY;
-        out.points[0] = (EDGE + ea * b.nedge() + eb, (q1 + q2) * 0.5, -axis, axis.dot(q2 - q1));
-        out.len = 1;
+        let mut out = Manifold::new();
+        out.push((EDGE + ea * b.nedge() + eb, (q1 + q2) * 0.5, -axis, axis.dot(q2 - q1)));
         return out;
     }
     if fb.0 > fa.0 + tol {
         let mut m = clip(b, fb.1, a, margin, tol);
-        for p in &mut m.points[..m.len] {
+        for p in m.iter_mut() {
             p.0 += FACE_B;
         }
         m
     } else {
         let mut m = clip(a, fa.1, b, margin, tol);
-        for p in &mut m.points[..m.len] {
+        for p in m.iter_mut() {
             p.0 += FACE_A;
             p.2 = -p.2;
         }
@@ -314,66 +325,58 @@ impl<T: Polytope> PolyRef for T {
 fn clip(r: &impl Polytope, f: usize, inc: &impl Polytope, margin: f64, tol: f64) -> Manifold {
     let (n, d) = r.plane(f);
     let fi = (0..inc.nface()).min_by(|&x, &y| inc.plane(x).0.dot(n).total_cmp(&inc.plane(y).0.dot(n)));
-    let mut poly = [(DVec3::ZERO, 0usize); MAX_POLY];
-    let mut len = 0;
+    let mut poly: ArrayVec<(DVec3, usize), MAX_POLY> = ArrayVec::new();
     let verts = fi.map_or(2, |fi| inc.face_len(fi));
     for k in 0..verts.min(MAX_POLY) {
         let v = fi.map_or(k, |fi| inc.face_vert(fi, k));
-        poly[len] = (inc.vert(v), v);
-        len += 1;
+        poly.push((inc.vert(v), v));
     }
+    let mut next: ArrayVec<(DVec3, usize), MAX_POLY> = ArrayVec::new();
     let nr = r.face_len(f);
     for k in 0..nr {
-        if len == 0 {
+        if poly.is_empty() {
             break;
         }
         let (v0, v1) = (r.vert(r.face_vert(f, k)), r.vert(r.face_vert(f, (k + 1) % nr)));
         let side = (v1 - v0).cross(n).normalize_or_zero();
-        let mut next = [(DVec3::ZERO, 0usize); MAX_POLY];
-        let mut m = 0;
+        next.clear();
+        let len = poly.len();
         // a two-vertex polygon (a segment) is one edge, not a closed loop
         let edges = if len == 2 { 1 } else { len };
-        for i in 0..edges.max(1) {
+        for i in 0..edges {
             let ((p, ip), (q, _)) = (poly[i], poly[(i + 1) % len]);
             let (sp, sq) = (side.dot(p - v0), side.dot(q - v0));
-            if sp <= tol && m < MAX_POLY {
-                next[m] = (p, ip);
-                m += 1;
+            if sp <= tol && !next.is_full() {
+                next.push((p, ip));
             }
-            if ((sp < -tol && sq > tol) || (sp > tol && sq < -tol)) && m < MAX_POLY {
-                next[m] = (p + (q - p) * (sp / (sp - sq)), CUT + (k << 12) + (ip & 0xfff));
-                m += 1;
+            if ((sp < -tol && sq > tol) || (sp > tol && sq < -tol)) && !next.is_full() {
+                next.push((p + (q - p) * (sp / (sp - sq)), CUT + (k << 12) + (ip & 0xfff)));
             }
-            if len == 2 && sq <= tol && m < MAX_POLY {
-                next[m] = poly[1];
-                m += 1;
+            if len == 2 && sq <= tol && !next.is_full() {
+                next.push(poly[1]);
             }
         }
-        poly = next;
-        len = m;
+        std::mem::swap(&mut poly, &mut next);
     }
-    let mut pts = [(0usize, DVec3::ZERO, n, f64::INFINITY); MAX_POLY];
-    let mut count = 0;
-    for &(p, id) in &poly[..len] {
+    let mut pts: ArrayVec<Point, MAX_POLY> = ArrayVec::new();
+    for &(p, id) in &poly {
         let depth = n.dot(p) - d;
         let at = p - n * (0.5 * depth);
-        if depth <= margin && !pts[..count].iter().any(|o| o.1.distance(at) <= tol) {
-            pts[count] = ((f << 24) + id, at, n, depth);
-            count += 1;
+        if depth <= margin && !pts.iter().any(|o| o.1.distance(at) <= tol) {
+            pts.push(((f << 24) + id, at, n, depth));
         }
     }
-    reduce(&pts[..count], n)
+    reduce(&pts, n)
 }
 
 /// At most [`MAX_MANIFOLD`] of `pts` around normal `n`: all when few, else the deepest, the one
 /// farthest from it, the one spanning the largest triangle with those two and the one adding the
 /// most area on the other side (the classic reduction that keeps a face's support polygon).
 pub(super) fn reduce(pts: &[Point], n: DVec3) -> Manifold {
-    let mut out = Manifold::EMPTY;
+    let mut out = Manifold::new();
     let push = |out: &mut Manifold, i: usize| {
-        if !out.points[..out.len].iter().any(|q| q.0 == pts[i].0) {
-            out.points[out.len] = pts[i];
-            out.len += 1;
+        if !out.iter().any(|q| q.0 == pts[i].0) && !out.is_full() {
+            out.push(pts[i]);
         }
     };
     if pts.len() <= MAX_MANIFOLD {
@@ -399,17 +402,15 @@ pub(super) fn reduce(pts: &[Point], n: DVec3) -> Manifold {
 /// The vertices of `p` within `margin` of the plane through `o` with unit normal `n` (points on
 /// the plane's side midway, normals `n`, features the vertex indices), at most [`MAX_MANIFOLD`].
 pub(super) fn on_plane(p: &impl Polytope, o: DVec3, n: DVec3, margin: f64) -> Manifold {
-    let mut pts = [(0usize, DVec3::ZERO, n, 0.0); MAX_POLY];
-    let mut count = 0;
+    let mut pts: ArrayVec<Point, MAX_POLY> = ArrayVec::new();
     for i in 0..p.nvert() {
         let v = p.vert(i);
         let d = (v - o).dot(n);
-        if d <= margin && count < MAX_POLY {
-            pts[count] = (i, v - n * (0.5 * d), n, d);
-            count += 1;
+        if d <= margin && !pts.is_full() {
+            pts.push((i, v - n * (0.5 * d), n, d));
         }
     }
-    reduce(&pts[..count], n)
+    reduce(&pts, n)
 }
 
 /// Signed distance of point `q` from a polytope and the unit normal from it toward `q`: the

@@ -137,20 +137,19 @@ pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, i: usize, j
 /// Contacts of a pair with a hull (normals from shape 2 to shape 1).
 fn hull_pair(s1: Shape, s2: Shape, margin: f64, scale: f64) -> Manifold {
     let flip = |mut m: Manifold| {
-        for p in &mut m.points[..m.len] {
+        for p in m.iter_mut() {
             p.2 = -p.2;
         }
         m
     };
     let one = |feature, pos, n, d| {
-        let mut m = Manifold::EMPTY;
-        m.points[0] = (feature, pos, n, d);
-        m.len = 1;
+        let mut m = Manifold::new();
+        m.push((feature, pos, n, d));
         m
     };
     // a capsule is its core segment within margin + r: its surface is r nearer the other shape
     let rounded = |mut m: Manifold, r: f64, toward_core: f64| {
-        for p in &mut m.points[..m.len] {
+        for p in m.iter_mut() {
             p.1 -= p.2 * (toward_core * 0.5 * r);
             p.3 -= r;
         }
@@ -168,7 +167,7 @@ fn hull_pair(s1: Shape, s2: Shape, margin: f64, scale: f64) -> Manifold {
         (Shape::Hull { c, rot, hull }, Shape::Box { c: bc, rot: br, half }) => polytopes(&PosedHull { hull, c, rot }, &PosedBox { c: bc, rot: br, half }, margin, scale),
         (Shape::Box { c: bc, rot: br, half }, Shape::Hull { c, rot, hull }) => polytopes(&PosedBox { c: bc, rot: br, half }, &PosedHull { hull, c, rot }, margin, scale),
         (Shape::Hull { c, rot, hull }, Shape::Hull { c: c2, rot: r2, hull: h2 }) => polytopes(&PosedHull { hull, c, rot }, &PosedHull { hull: h2, c: c2, rot: r2 }, margin, scale),
-        _ => Manifold::EMPTY,
+        _ => Manifold::new(),
     }
 }
 

@@ -40,17 +40,17 @@ impl HField {
         [[a, b, cc], [a, cc, d]]
     }
 
-    /// The cells (rows, columns) under the square of half-side `half` about (x, y) (frame
+    /// The cells (rows, columns) under the rectangle about (x, y) of half-sides `half` (frame
     /// coordinates), clamped to the grid; empty when it lies outside.
-    pub fn cells_under(&self, x: f64, y: f64, half: f64) -> (std::ops::Range<usize>, std::ops::Range<usize>) {
-        let span = |v: f64, size: f64, n: usize| {
+    pub fn cells_under(&self, x: f64, y: f64, half: [f64; 2]) -> (std::ops::Range<usize>, std::ops::Range<usize>) {
+        let span = |v: f64, half: f64, size: f64, n: usize| {
             let cell = 2.0 * size / (n - 1) as f64;
             let lo = ((v - half + size) / cell).floor().max(0.0);
             let hi = ((v + half + size) / cell).floor() + 1.0;
             let hi = hi.min((n - 1) as f64);
             if lo >= hi || !lo.is_finite() || !hi.is_finite() { 0..0 } else { lo as usize..hi as usize }
         };
-        (span(y, self.size[1], self.nrow), span(x, self.size[0], self.ncol))
+        (span(y, half[1], self.size[1], self.nrow), span(x, half[0], self.size[0], self.ncol))
     }
 
     /// Every cell's two triangles as vertex indices into the grid (r · ncol + c): the surface.
