@@ -115,21 +115,11 @@ pub fn to_mjcf(text: &str, path: Option<&Path>, opts: &UrdfOptions) -> Result<St
     for c in root.children().filter(Node::is_element) {
         match c.tag_name().name() {
             "link" => {
-                let name = c.attribute("name").ok_or_else(|| err(c, Some("name"), "a link needs a name".into()))?.to_string();
-                if links.iter().any(|l| l.name == name) {
-                    return Err(err(c, Some("name"), format!("duplicate link '{name}'")));
+                let link = read_link(c, &dir, opts, &materials, &mut meshes, &err)?;
+                if links.iter().any(|l| l.name == link.name) {
+                    return Err(err(c, Some("name"), format!("duplicate link '{}'", link.name)));
                 }
-                let inertial = c.children().find(|n| n.has_tag_name("inertial")).map(|n| inertial(n, &err)).transpose()?;
-                let mut geoms = vec![];
-                for g in c.children().filter(|n| n.has_tag_name("collision") || (opts.visual && n.has_tag_name("visual"))) {
-                    let visual = g.has_tag_name("visual");
-                    let Some(shape) = geometry(g, &dir, opts, &mut meshes, &err)? else { continue };
-                    let rgba = g.children().find(|n| n.has_tag_name("material")).and_then(|m| {
-                        rgba_of(m).or_else(|| materials.iter().find(|(n, _)| Some(n.as_str()) == m.attribute("name")).map(|x| x.1))
-                    });
-                    geoms.push(Geom { pose: origin(g, &err)?, shape, visual, rgba });
-                }
-                links.push(Link { name, inertial, geoms, joint: None, pose: Pose::IDENTITY, parent: None, children: vec![] });
+                links.push(link);
             }
             "mujoco" => {
                 for cc in c.children().filter(|n| n.has_tag_name("compiler")) {
@@ -148,56 +138,8 @@ pub fn to_mjcf(text: &str, path: Option<&Path>, opts: &UrdfOptions) -> Result<St
     }
     let mut joints: Vec<Joint> = vec![];
     for c in root.children().filter(|n| n.has_tag_name("joint")) {
-        let name = c.attribute("name").unwrap_or("").to_string();
-        let link_of = |tag: &str| -> Result<usize> {
-            let n = c.children().find(|n| n.has_tag_name(tag)).and_then(|n| n.attribute("link"));
-            let n = n.ok_or_else(|| err(c, Some(tag), format!("joint '{name}' needs a {tag} link")))?;
-            links.iter().position(|l| l.name == n).ok_or_else(|| err(c, Some(tag), format!("joint '{name}' names unknown link '{n}'")))
-        };
-        let (parent, child) = (link_of("parent")?, link_of("child")?);
-        if links[child].parent.is_some() {
-            return Err(err(c, Some("child"), format!("link '{}' is the child of two joints", links[child].name)));
-        }
-        let kind = match c.attribute("type").unwrap_or("") {
-            "revolute" | "continuous" => Some("hinge"),
-            "prismatic" => Some("slide"),
-            "floating" => Some("free"),
-            "fixed" => None,
-            t => return Err(err(c, Some("type"), format!("joint type '{t}' is not supported (revolute, continuous, prismatic, fixed, floating)"))),
-        };
-        let limit = c.children().find(|n| n.has_tag_name("limit"));
-        // equal limits (a common placeholder) leave the joint unlimited, as MuJoCo reads them;
-        // so do limits beyond any state sinew holds (±1e16 stands for none)
-        let range = match (c.attribute("type"), limit) {
-            (Some("revolute" | "prismatic"), Some(l)) => Some([num(l, "lower", 0.0, &err)?, num(l, "upper", 0.0, &err)?])
-                .filter(|r| r[0] != r[1] && r.iter().all(|x| x.abs() < crate::math::MAX_STATE)),
-            _ => None,
-        };
-        let dynamics = c.children().find(|n| n.has_tag_name("dynamics"));
-        let axis = match c.children().find(|n| n.has_tag_name("axis")) {
-            Some(a) => vec3(a, "xyz", DVec3::X, &err)?,
-            None => DVec3::X,
-        };
-        if kind.is_some_and(|k| k != "free") && axis.length() < 1e-12 {
-            return Err(err(c, Some("axis"), format!("joint '{name}' has a zero axis")));
-        }
-        let mimic = c.children().find(|n| n.has_tag_name("mimic")).map(|m| -> Result<_> {
-            Ok((m.attribute("joint").unwrap_or("").to_string(), num(m, "multiplier", 1.0, &err)?, num(m, "offset", 0.0, &err)?))
-        });
-        links[child].parent = Some(parent);
-        links[child].pose = origin(c, &err)?;
-        links[child].joint = Some(joints.len());
-        links[parent].children.push(child);
-        joints.push(Joint {
-            name,
-            kind,
-            axis,
-            range,
-            damping: dynamics.map_or(Ok(0.0), |d| num(d, "damping", 0.0, &err))?,
-            friction: dynamics.map_or(Ok(0.0), |d| num(d, "friction", 0.0, &err))?,
-            effort: limit.map_or(Ok(0.0), |l| num(l, "effort", 0.0, &err))?.abs(),
-            mimic: mimic.transpose()?,
-        });
+        let j = read_joint(c, &mut links, joints.len(), &err)?;
+        joints.push(j);
     }
     let roots: Vec<usize> = (0..links.len()).filter(|&l| links[l].parent.is_none()).collect();
     let [root_link] = roots[..] else {
@@ -222,6 +164,77 @@ pub fn to_mjcf(text: &str, path: Option<&Path>, opts: &UrdfOptions) -> Result<St
     }
     out += "</mujoco>";
     Ok(out)
+}
+
+/// A `<link>`: its inertial and the geoms it keeps (collision, and visual when asked), meshes
+/// added to `meshes`.
+fn read_link(c: Node, dir: &Path, opts: &UrdfOptions, materials: &[(String, [f64; 4])], meshes: &mut Vec<(String, PathBuf, DVec3)>, err: &ErrFn) -> Result<Link> {
+    let name = c.attribute("name").ok_or_else(|| err(c, Some("name"), "a link needs a name".into()))?.to_string();
+    let inertial = c.children().find(|n| n.has_tag_name("inertial")).map(|n| inertial(n, err)).transpose()?;
+    let mut geoms = vec![];
+    for g in c.children().filter(|n| n.has_tag_name("collision") || (opts.visual && n.has_tag_name("visual"))) {
+        let visual = g.has_tag_name("visual");
+        let Some(shape) = geometry(g, dir, opts, meshes, err)? else { continue };
+        let rgba = g.children().find(|n| n.has_tag_name("material")).and_then(|m| {
+            rgba_of(m).or_else(|| materials.iter().find(|(n, _)| Some(n.as_str()) == m.attribute("name")).map(|x| x.1))
+        });
+        geoms.push(Geom { pose: origin(g, err)?, shape, visual, rgba });
+    }
+    Ok(Link { name, inertial, geoms, joint: None, pose: Pose::IDENTITY, parent: None, children: vec![] })
+}
+
+/// A `<joint>` (number `index`), its child placed under its parent in `links`.
+fn read_joint(c: Node, links: &mut [Link], index: usize, err: &ErrFn) -> Result<Joint> {
+    let name = c.attribute("name").unwrap_or("").to_string();
+    let link_of = |tag: &str| -> Result<usize> {
+        let n = c.children().find(|n| n.has_tag_name(tag)).and_then(|n| n.attribute("link"));
+        let n = n.ok_or_else(|| err(c, Some(tag), format!("joint '{name}' needs a {tag} link")))?;
+        links.iter().position(|l| l.name == n).ok_or_else(|| err(c, Some(tag), format!("joint '{name}' names unknown link '{n}'")))
+    };
+    let (parent, child) = (link_of("parent")?, link_of("child")?);
+    if links[child].parent.is_some() {
+        return Err(err(c, Some("child"), format!("link '{}' is the child of two joints", links[child].name)));
+    }
+    let kind = match c.attribute("type").unwrap_or("") {
+        "revolute" | "continuous" => Some("hinge"),
+        "prismatic" => Some("slide"),
+        "floating" => Some("free"),
+        "fixed" => None,
+        t => return Err(err(c, Some("type"), format!("joint type '{t}' is not supported (revolute, continuous, prismatic, fixed, floating)"))),
+    };
+    let limit = c.children().find(|n| n.has_tag_name("limit"));
+    // equal limits (a common placeholder) leave the joint unlimited, as MuJoCo reads them;
+    // so do limits beyond any state sinew holds (±1e16 stands for none)
+    let range = match (c.attribute("type"), limit) {
+        (Some("revolute" | "prismatic"), Some(l)) => Some([num(l, "lower", 0.0, &err)?, num(l, "upper", 0.0, &err)?])
+            .filter(|r| r[0] != r[1] && r.iter().all(|x| x.abs() < crate::math::MAX_STATE)),
+        _ => None,
+    };
+    let dynamics = c.children().find(|n| n.has_tag_name("dynamics"));
+    let axis = match c.children().find(|n| n.has_tag_name("axis")) {
+        Some(a) => vec3(a, "xyz", DVec3::X, &err)?,
+        None => DVec3::X,
+    };
+    if kind.is_some_and(|k| k != "free") && axis.length() < 1e-12 {
+        return Err(err(c, Some("axis"), format!("joint '{name}' has a zero axis")));
+    }
+    let mimic = c.children().find(|n| n.has_tag_name("mimic")).map(|m| -> Result<_> {
+        Ok((m.attribute("joint").unwrap_or("").to_string(), num(m, "multiplier", 1.0, &err)?, num(m, "offset", 0.0, &err)?))
+    });
+    links[child].parent = Some(parent);
+    links[child].pose = origin(c, &err)?;
+    links[child].joint = Some(index);
+    links[parent].children.push(child);
+    Ok(Joint {
+        name,
+        kind,
+        axis,
+        range,
+        damping: dynamics.map_or(Ok(0.0), |d| num(d, "damping", 0.0, &err))?,
+        friction: dynamics.map_or(Ok(0.0), |d| num(d, "friction", 0.0, &err))?,
+        effort: limit.map_or(Ok(0.0), |l| num(l, "effort", 0.0, &err))?.abs(),
+        mimic: mimic.transpose()?,
+    })
 }
 
 struct Writer<'a> {

@@ -60,13 +60,9 @@ pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, i: usize, j
             }
         }
         (Shape::Box { c, rot, half }, Shape::Plane { p, n }) => {
-            for k in 0..8 {
-                let sx = if k & 1 == 0 { -1.0 } else { 1.0 };
-                let sy = if k & 2 == 0 { -1.0 } else { 1.0 };
-                let sz = if k & 4 == 0 { -1.0 } else { 1.0 };
-                let corner = c + rot * DVec3::new(sx * half.x, sy * half.y, sz * half.z);
-                let d = (corner - p).dot(n);
-                add(cd, g1, g2, k, corner - n * (0.5 * d), n, d);
+            // the corners (feature: the corner's sign bits) within the margin
+            for &(feature, pos, n, d) in on_plane(&PosedBox { c, rot, half }, p, n, margin).iter() {
+                add(cd, g1, g2, feature, pos, n, d);
             }
         }
         (Shape::Sphere { c: c1, r: r1 }, Shape::Sphere { c: c2, r: r2 }) => {
@@ -118,20 +114,22 @@ pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, i: usize, j
                 add(cd, g1, g2, feature, pos, n, d);
             }
         }
-        (_, Shape::HField { p, rot, field }) => {
-            for &(feature, pos, n, d) in hfield_contacts(field, p, rot, s1, margin, m.geom_rbound[g1]).iter() {
-                add(cd, g1, g2, feature, pos, n, d);
-            }
-        }
-        (Shape::Hull { .. }, _) | (_, Shape::Hull { .. }) => {
-            let scale = m.geom_rbound[g1] + m.geom_rbound[g2];
-            for &(feature, pos, n, d) in hull_pair(s1, s2, margin, scale).iter() {
+        (Shape::Hull { .. } | Shape::HField { .. }, _) | (_, Shape::Hull { .. } | Shape::HField { .. }) => {
+            for &(feature, pos, n, d) in convex_pair(m, (s1, g1), (s2, g2), margin).iter() {
                 add(cd, g1, g2, feature, pos, n, d);
             }
         }
         _ => {}
     }
     f64::NEG_INFINITY
+}
+
+/// Contacts of a pair with a hull or a height field (shape 2; normals from shape 2 to shape 1).
+fn convex_pair(m: &Model, (s1, g1): (Shape, usize), (s2, g2): (Shape, usize), margin: f64) -> Manifold {
+    match s2 {
+        Shape::HField { p, rot, field } => hfield_contacts(field, p, rot, s1, margin, m.geom_rbound[g1]),
+        _ => hull_pair(s1, s2, margin, m.geom_rbound[g1] + m.geom_rbound[g2]),
+    }
 }
 
 /// Contacts of a pair with a hull (normals from shape 2 to shape 1).

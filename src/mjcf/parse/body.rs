@@ -237,16 +237,7 @@ impl Parser<'_> {
             "hfield" => GeomType::Hfield,
             v => return Err(e.err("type", format!("unsupported geom type '{v}'"))),
         };
-        let hfield = e.get("hfield").map(str::to_string);
-        if (kind == GeomType::Hfield) != hfield.is_some() {
-            return Err(e.err("hfield", "a height-field geom needs an hfield, and only it takes one"));
-        }
-        let mesh = e.get("mesh").map(str::to_string);
-        match (kind, &mesh) {
-            (GeomType::Mesh, None) => return Err(e.err("mesh", "a mesh geom needs a mesh")),
-            (GeomType::Mesh, Some(_)) | (_, None) => {}
-            (_, Some(_)) => return Err(e.err("mesh", "fitting a primitive geom to a mesh is not supported; use type=\"mesh\"")),
-        }
+        let (mesh, hfield) = geom_assets(&e, kind)?;
         if kind == GeomType::Plane && body != 0 {
             return Err(e.err("type", "planes must belong to the world body"));
         }
@@ -378,4 +369,20 @@ impl Parser<'_> {
         };
         Ok(InertialSpec { mass, pos: e.vec3("pos", DVec3::ZERO)?, quat: self.orientation(&e)?, inertia })
     }
+}
+
+/// A geom's `mesh` and `hfield` assets: a mesh geom needs the one, a height-field geom the other,
+/// and no other geom takes either (fitting a primitive to a mesh is not supported).
+fn geom_assets(e: &El, kind: GeomType) -> Result<(Option<String>, Option<String>)> {
+    let mesh = e.get("mesh").map(str::to_string);
+    match (kind, &mesh) {
+        (GeomType::Mesh, None) => return Err(e.err("mesh", "a mesh geom needs a mesh")),
+        (GeomType::Mesh, Some(_)) | (_, None) => {}
+        (_, Some(_)) => return Err(e.err("mesh", "fitting a primitive geom to a mesh is not supported; use type=\"mesh\"")),
+    }
+    let hfield = e.get("hfield").map(str::to_string);
+    if (kind == GeomType::Hfield) != hfield.is_some() {
+        return Err(e.err("hfield", "a height-field geom needs an hfield, and only it takes one"));
+    }
+    Ok((mesh, hfield))
 }
