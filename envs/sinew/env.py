@@ -102,7 +102,9 @@ class BatchTask:
         cls = TASKS[task]
         frame_skip = task_kwargs.pop("frame_skip", None)
         path = _model_path(xml_file or cls.xml)
-        model = Model.from_mjcf(path).with_options(friction=friction, constraint_mode=constraint_mode)
+        # a URDF robot is driven by a motor on every joint with an effort limit
+        model = Model.from_urdf(path, motors=True) if path.lower().endswith(".urdf") else Model.from_mjcf(path)
+        model = model.with_options(friction=friction, constraint_mode=constraint_mode)
         if action_mode == "pd":
             model = model.with_options(pd_gains=tuple(pd_gains))
         elif action_mode == "trajectory":

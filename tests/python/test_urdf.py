@@ -101,3 +101,32 @@ def test_urdf_robot_steps_two_seconds(rel, legged):
     if legged:
         # it landed: something touches the floor and the base stays above it
         assert 0.0 < sim.qpos[2] < 0.6
+
+
+CARTPOLE = """<robot name="cartpole">
+  <link name="rail"/>
+  <joint name="slider" type="prismatic"><parent link="rail"/><child link="cart"/><axis xyz="1 0 0"/>
+    <limit lower="-1" upper="1" effort="3"/></joint>
+  <link name="cart"><inertial><mass value="10"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>
+    <collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision></link>
+  <joint name="hinge" type="continuous"><parent link="cart"/><child link="pole"/><axis xyz="0 1 0"/></joint>
+  <link name="pole"><inertial><origin xyz="0 0 0.3"/><mass value="5"/><inertia ixx="0.15" ixy="0" ixz="0" iyy="0.15" iyz="0" izz="0.001"/></inertial>
+    <collision><origin xyz="0 0 0.3"/><geometry><capsule radius="0.049" length="0.6"/></geometry></collision></link>
+</robot>"""
+
+
+def test_an_env_takes_a_urdf_as_its_xml_file(tmp_path):
+    """gym.make(..., xml_file=robot.urdf): the robot with a motor on each joint with an effort limit."""
+    import gymnasium as gym
+
+    path = tmp_path / "cartpole.urdf"
+    path.write_text(CARTPOLE)
+    env = gym.make("sinew/InvertedPendulum-v0", xml_file=str(path))
+    assert env.action_space.shape == (1,) and env.action_space.high[0] == 3.0
+    obs, _ = env.reset(seed=0)
+    assert obs.shape == (4,)
+    for _ in range(50):
+        obs, reward, terminated, truncated, _ = env.step(env.action_space.sample())
+        assert np.isfinite(obs).all()
+        if terminated:
+            break
