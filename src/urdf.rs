@@ -145,6 +145,17 @@ pub fn to_mjcf(text: &str, path: Option<&Path>, opts: &UrdfOptions) -> Result<St
     let [root_link] = roots[..] else {
         return Err(err(root, None, format!("a robot needs exactly one root link, found {}", roots.len())));
     };
+    // every link hangs from the root: joints that close a loop leave some links unreachable
+    let mut reached = vec![false; links.len()];
+    let mut stack = vec![root_link];
+    while let Some(l) = stack.pop() {
+        if !std::mem::replace(&mut reached[l], true) {
+            stack.extend(&links[l].children);
+        }
+    }
+    if let Some(l) = reached.iter().position(|r| !r) {
+        return Err(err(root, None, format!("link '{}' is not reachable from the root link: its joints form a loop", links[l].name)));
+    }
     let mut out = format!("<mujoco model=\"{}\"><compiler angle=\"radian\"{compiler}/><asset>", xml_escape(root.attribute("name").unwrap_or("robot")));
     for (name, file, scale) in &meshes {
         write!(out, "<mesh name=\"{name}\" file=\"{}\" scale=\"{} {} {}\"/>", xml_escape(&file.to_string_lossy()), scale.x, scale.y, scale.z).unwrap_or(());

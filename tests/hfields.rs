@@ -111,6 +111,14 @@ fn elevations_load_from_png_and_binary_files_as_mujoco_reads_them() {
     assert!(h.data.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-12), "{:?}", h.data);
     let b = &m.hfields[1];
     assert_eq!(b.data, vec![0.0, 0.5, 0.25, 1.0]);
+    // a file that is not an image, or whose grid does not match its size, is an error
+    for (name, bytes) in [("bad.png", b"not a png".to_vec()), ("bad.bin", [3i32, 3].iter().flat_map(|x| x.to_le_bytes()).collect())] {
+        std::fs::write(dir.join(name), bytes).unwrap();
+        let xml = format!(r#"<mujoco><asset><hfield name="h" file="{name}" size="1 1 1 0.1"/></asset></mujoco>"#);
+        std::fs::write(dir.join("bad.xml"), xml).unwrap();
+        let e = Model::from_mjcf_file(&dir.join("bad.xml")).expect_err(name).to_string();
+        assert!(e.contains("hfield") && e.contains(name), "{name}: {e}");
+    }
     std::fs::remove_dir_all(&dir).ok();
 }
 

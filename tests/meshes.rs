@@ -264,3 +264,28 @@ fn bad_meshes_are_clear_errors() {
     let e = Model::from_mjcf(r#"<mujoco><worldbody><geom type="mesh" mesh="none"/></worldbody></mujoco>"#).unwrap_err().to_string();
     assert!(e.contains("unknown mesh 'none'"), "{e}");
 }
+
+#[test]
+fn malformed_mesh_files_are_errors_not_crashes() {
+    let dir = std::env::temp_dir().join(format!("sinew-badmesh-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut stl = vec![0u8; 80];
+    stl.extend(1_000_000u32.to_le_bytes());
+    let cases: Vec<(&str, Vec<u8>)> = vec![
+        ("short.stl", vec![1, 2, 3]),
+        ("count.stl", stl),
+        ("garbage.obj", b"v 1 2\nf 1 2 3 4 5\nv nan 0 0\n".to_vec()),
+        ("faces.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 9\n".to_vec()),
+        ("sizes.msh", [-4i32, 0, 0, 0].iter().flat_map(|x| x.to_le_bytes()).collect()),
+        ("huge.msh", [i32::MAX, 0, 0, 1].iter().flat_map(|x| x.to_le_bytes()).collect()),
+        ("empty.obj", vec![]),
+    ];
+    for (name, bytes) in cases {
+        std::fs::write(dir.join(name), bytes).unwrap();
+        let xml = format!(r#"<mujoco><asset><mesh name="m" file="{name}"/></asset><worldbody><body><freejoint/><geom type="mesh" mesh="m"/></body></worldbody></mujoco>"#);
+        std::fs::write(dir.join("model.xml"), xml).unwrap();
+        let e = Model::from_mjcf_file(&dir.join("model.xml")).expect_err(name).to_string();
+        assert!(e.contains("mesh"), "{name}: {e}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -126,6 +126,12 @@ fn bad_urdf_is_a_clear_error() {
         (r#"<robot name="r"><link name="a"><collision><geometry><box size="1 0 1"/></geometry></collision></link></robot>"#, "positive"),
         (r#"<robot name="r"><link name="a"><inertial><mass value="-1"/></inertial></link></robot>"#, "negative mass"),
         (r#"<robot name="r"><link name="a"/><link name="a"/></robot>"#, "duplicate link"),
+        (
+            r#"<robot name="r"><link name="a"/><link name="b"/><link name="c"/>
+            <joint name="j1" type="fixed"><parent link="b"/><child link="c"/></joint>
+            <joint name="j2" type="fixed"><parent link="c"/><child link="b"/></joint></robot>"#,
+            "loop",
+        ),
     ];
     for (text, says) in cases {
         let e = to_mjcf(text, None, &UrdfOptions::default()).map(|x| Model::from_mjcf(&x).map(|_| ())).and_then(|r| r).unwrap_err().to_string();
