@@ -289,3 +289,32 @@ fn malformed_mesh_files_are_errors_not_crashes() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_files_normals_follow_its_mesh_into_the_mesh_frame() {
+    // a box whose OBJ gives one normal per face; placed by a reference frame and mirrored, each
+    // triangle's corner normals stay its outward face normal
+    let dir = std::env::temp_dir().join(format!("sinew-normals-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (v, _) = box_triangles();
+    let mut obj: String = v.iter().map(|p| format!("v {} {} {}\n", p[0], p[1], p[2])).collect();
+    obj += "vn 1 0 0\nvn -1 0 0\nvn 0 1 0\nvn 0 -1 0\nvn 0 0 1\nvn 0 0 -1\n";
+    for (k, q) in [[1, 3, 7, 5], [0, 4, 6, 2], [2, 6, 7, 3], [0, 1, 5, 4], [4, 5, 7, 6], [0, 2, 3, 1]].iter().enumerate() {
+        obj += &format!("f {}//{n} {}//{n} {}//{n} {}//{n}\n", q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1, n = k + 1);
+    }
+    std::fs::write(dir.join("box.obj"), obj).unwrap();
+    let xml = r#"<mujoco><asset><mesh file="box.obj" refquat="0.9 0.1 0.3 0.2" scale="-1 2 1"/></asset><worldbody>
+        <body><freejoint/><geom type="mesh" mesh="box"/></body></worldbody></mujoco>"#;
+    std::fs::write(dir.join("model.xml"), xml).unwrap();
+    let m = Model::from_mjcf_file(&dir.join("model.xml")).unwrap();
+    let mesh = &m.meshes[0];
+    assert_eq!(mesh.corner_normal.len(), mesh.face.len());
+    for (f, corners) in mesh.face.iter().zip(&mesh.corner_normal) {
+        let [a, b, c] = f.map(|i| mesh.vert[i as usize]);
+        let outward = (b - a).cross(c - a).normalize();
+        for n in corners {
+            assert!(n.dot(outward) > 1.0 - 1e-6, "corner normal {n} against face normal {outward}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -45,7 +45,7 @@ pub(super) fn load_meshes(spec: &ModelSpec, dir: &Path) -> Result<Vec<Mesh>> {
             let raw = match &ms.file {
                 Some(f) => read_mesh(&asset_path(spec, dir, f)).map_err(|e| in_element(e, "mesh", ms.line))?,
                 None => {
-                    let raw = RawMesh { vert: ms.vertex.clone(), face: ms.face.clone() };
+                    let raw = RawMesh { vert: ms.vertex.clone(), face: ms.face.clone(), ..RawMesh::default() };
                     crate::geometry::read::check(&raw).map_err(|m| Error::model("mesh", Some("vertex"), ms.line, m))?;
                     raw
                 }

@@ -35,6 +35,8 @@ pub struct Mesh {
     pub vert: Vec<DVec3>,
     /// Triangles (of the hull when the file gives no faces).
     pub face: Vec<[u32; 3]>,
+    /// Each triangle's corner normals in the mesh frame, when the file gives normals.
+    pub corner_normal: Vec<[DVec3; 3]>,
     /// Convex hull in the mesh frame: the collision shape.
     pub hull: Hull,
     /// Mass properties, and where the mesh frame lies in the file's.
@@ -73,6 +75,15 @@ impl Mesh {
             f.normal = rot * f.normal;
         }
         let rbound = vert.iter().map(|v| v.length()).fold(0.0, f64::max);
-        Ok(Mesh { name: name.to_string(), vert, face, hull, frame, rbound })
+        // the file's normals through the same placement (the inverse-transpose of the scale, so
+        // they stay perpendicular to the scaled faces; MuJoCo multiplies, which differs only for
+        // unequal scales), normalized
+        let normal: Vec<DVec3> = raw.normal.iter().map(|n| (rot * (turn * DVec3::from_array(n.map(f64::from)) / p.scale)).normalize_or(DVec3::Z)).collect();
+        let corner_normal = if normal.is_empty() || raw.face.is_empty() {
+            vec![]
+        } else {
+            raw.face_normal.iter().map(|&[a, b, c]| if mirrored { [a, c, b] } else { [a, b, c] }.map(|i| normal[i as usize])).collect()
+        };
+        Ok(Mesh { name: name.to_string(), vert, face, corner_normal, hull, frame, rbound })
     }
 }

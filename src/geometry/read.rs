@@ -13,6 +13,10 @@ pub struct RawMesh {
     pub vert: Vec<[f32; 3]>,
     /// Triangles, counter-clockwise seen from outside.
     pub face: Vec<[u32; 3]>,
+    /// Normals the file gives (OBJ `vn`, `.msh`), or none.
+    pub normal: Vec<[f32; 3]>,
+    /// Each triangle's corners' normals (indices into `normal`), when `normal` is given.
+    pub face_normal: Vec<[u32; 3]>,
 }
 
 /// Reads the mesh file at `path` by its extension (`.stl`, `.obj` or `.msh`, any case).
@@ -32,8 +36,13 @@ pub fn read_mesh(path: &Path) -> Result<RawMesh> {
 }
 
 /// Every face names an existing vertex and every coordinate is finite and within 2³⁰ (MuJoCo's
-/// bound).
+/// bound); normals, when given, are finite and named by every face.
 pub fn check(m: &RawMesh) -> std::result::Result<(), String> {
+    if !m.normal.is_empty()
+        && (m.face_normal.len() != m.face.len() || m.face_normal.iter().flatten().any(|&i| i as usize >= m.normal.len()) || m.normal.iter().flatten().any(|x| !x.is_finite()))
+    {
+        return Err("its normals do not match its faces or are not finite".into());
+    }
     if let Some(f) = m.face.iter().position(|f| f.iter().any(|&i| i as usize >= m.vert.len())) {
         return Err(format!("face {f} names a vertex beyond the {} given", m.vert.len()));
     }
@@ -48,9 +57,11 @@ fn stl(bytes: &[u8]) -> std::result::Result<RawMesh, String> {
     if mesh.faces.is_empty() {
         return Err("no triangles".into());
     }
+    // STL's facet normals are not read (MuJoCo computes a mesh's normals)
     Ok(RawMesh {
         vert: mesh.vertices.iter().map(|v| v.0).collect(),
         face: mesh.faces.iter().map(|f| f.vertices.map(|i| i as u32)).collect(),
+        ..RawMesh::default()
     })
 }
 
@@ -60,9 +71,14 @@ fn obj(bytes: &[u8]) -> std::result::Result<RawMesh, String> {
         .map_err(|e| format!("not a valid OBJ file: {e}"))?;
     let Some(first) = models.first() else { return Err("no object".into()) };
     let m = &first.mesh;
+    let normal: Vec<[f32; 3]> = m.normals.chunks_exact(3).map(|n| [n[0], n[1], n[2]]).collect();
+    let face_normal: Vec<[u32; 3]> = m.normal_indices.chunks_exact(3).map(|f| [f[0], f[1], f[2]]).collect();
+    let usable = face_normal.len() == m.indices.len() / 3 && face_normal.iter().flatten().all(|&i| (i as usize) < normal.len());
     Ok(RawMesh {
         vert: m.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect(),
         face: m.indices.chunks_exact(3).map(|f| [f[0], f[1], f[2]]).collect(),
+        normal: if usable { normal } else { vec![] },
+        face_normal: if usable { face_normal } else { vec![] },
     })
 }
 
@@ -84,8 +100,11 @@ fn msh(bytes: &[u8]) -> std::result::Result<RawMesh, String> {
     }
     let float = |k| word(k).map(f32::from_le_bytes);
     let vert = (0..nv).map(|i| Ok([float(4 + 3 * i)?, float(5 + 3 * i)?, float(6 + 3 * i)?])).collect::<std::result::Result<_, String>>()?;
+    let normal = (0..nn).map(|i| Ok([float(4 + 3 * nv + 3 * i)?, float(5 + 3 * nv + 3 * i)?, float(6 + 3 * nv + 3 * i)?])).collect::<std::result::Result<Vec<_>, String>>()?;
     let f0 = 4 + 3 * nv + 3 * nn + 2 * nt;
     let index = |k| count(k).and_then(|i| u32::try_from(i).map_err(|_| "negative face index".to_string()));
-    let face = (0..nf).map(|i| Ok([index(f0 + 3 * i)?, index(f0 + 3 * i + 1)?, index(f0 + 3 * i + 2)?])).collect::<std::result::Result<_, String>>()?;
-    Ok(RawMesh { vert, face })
+    let face: Vec<[u32; 3]> = (0..nf).map(|i| Ok([index(f0 + 3 * i)?, index(f0 + 3 * i + 1)?, index(f0 + 3 * i + 2)?])).collect::<std::result::Result<_, String>>()?;
+    // per-vertex normals: each corner's is its vertex's
+    let face_normal = if normal.is_empty() { vec![] } else { face.clone() };
+    Ok(RawMesh { vert, face, normal, face_normal })
 }

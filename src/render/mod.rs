@@ -119,10 +119,10 @@ impl Renderer {
             surfaces: m
                 .meshes
                 .iter()
-                .map(|mesh| surface::Surface::new(&mesh.vert, &mesh.face).or_else(|| surface::Surface::new(&mesh.hull.vert, &mesh.hull.tris)))
+                .map(|mesh| surface::Surface::new(&mesh.vert, &mesh.face, &mesh.corner_normal).or_else(|| surface::Surface::new(&mesh.hull.vert, &mesh.hull.tris, &[])))
                 .chain(m.hfields.iter().map(|h| {
                     let vert: Vec<DVec3> = (0..h.nrow * h.ncol).map(|i| h.vertex(i / h.ncol, i % h.ncol)).collect();
-                    surface::Surface::new(&vert, &h.triangles())
+                    surface::Surface::new(&vert, &h.triangles(), &[])
                 }))
                 .map(|t| t.map(std::sync::Arc::new))
                 .collect(),

@@ -1,7 +1,8 @@
 //! Triangle surfaces the renderer casts rays at (meshes and height fields): parry's
-//! bounding-volume tree over the triangles, and smooth vertex normals made as MuJoCo makes them
-//! (area-weighted face normals, a face leaving a vertex's sum where it meets the vertex normal at
-//! more than about 37°, so edges stay sharp), interpolated across each hit triangle.
+//! bounding-volume tree over the triangles, and each triangle's corner normals — the file's, or
+//! smooth vertex normals made as MuJoCo makes them (area-weighted face normals, a face leaving a
+//! vertex's sum where it meets the vertex normal at more than about 37°, so edges stay sharp) —
+//! interpolated across each hit triangle.
 
 use glam::{DVec3, Vec3A};
 use parry3d_f64::math::Vector;
@@ -19,12 +20,14 @@ pub struct Surface {
     tree: TriMesh,
     tris: Vec<[u32; 3]>,
     vert: Vec<Vec3A>,
-    normals: Vec<Vec3A>,
+    /// Each triangle's corner normals.
+    corners: Vec<[Vec3A; 3]>,
 }
 
 impl Surface {
-    /// The surface of triangles `face` over `vert`; None if parry refuses them (degenerate).
-    pub fn new(vert: &[DVec3], face: &[[u32; 3]]) -> Option<Surface> {
+    /// The surface of triangles `face` over `vert`, with the file's corner normals when given
+    /// (one triple per face); None if parry refuses the triangles (degenerate).
+    pub fn new(vert: &[DVec3], face: &[[u32; 3]], given: &[[DVec3; 3]]) -> Option<Surface> {
         let tree = TriMesh::new(vert.iter().map(|p| Vector::new(p.x, p.y, p.z)).collect(), face.to_vec()).ok()?;
         let area_normal = |t: &[u32; 3]| {
             let [a, b, c] = t.map(|i| vert[i as usize]);
@@ -44,12 +47,12 @@ impl Surface {
                 }
             }
         }
-        Some(Surface {
-            tree,
-            tris: face.to_vec(),
-            vert: vert.iter().map(|v| v.as_vec3a()).collect(),
-            normals: smooth.iter().map(|n| n.normalize_or(DVec3::Z).as_vec3a()).collect(),
-        })
+        let corners = if given.len() == face.len() {
+            given.iter().map(|c| c.map(|n| n.as_vec3a())).collect()
+        } else {
+            face.iter().map(|t| t.map(|i| smooth[i as usize].normalize_or(DVec3::Z).as_vec3a())).collect()
+        };
+        Some(Surface { tree, tris: face.to_vec(), vert: vert.iter().map(|v| v.as_vec3a()).collect(), corners })
     }
 
     /// First hit of the ray `o + t d` in `[t0, t1)`, the normal interpolated from the hit
@@ -63,7 +66,8 @@ impl Surface {
             return None;
         }
         let face = Vec3A::new(hit.normal.x as f32, hit.normal.y as f32, hit.normal.z as f32);
-        let n = self.tris.get(hit.subshape as usize).map_or(face, |tri| {
+        let k = hit.subshape as usize;
+        let n = self.tris.get(k).map_or(face, |tri| {
             let [a, b, c] = tri.map(|i| self.vert[i as usize]);
             let p = o + d * t;
             // barycentric weights of p by the sub-triangles' areas
@@ -72,7 +76,7 @@ impl Surface {
             let wa = (b - p).cross(c - p).dot(full) * inv;
             let wb = (c - p).cross(a - p).dot(full) * inv;
             let wc = 1.0 - wa - wb;
-            let [na, nb, nc] = tri.map(|i| self.normals[i as usize]);
+            let [na, nb, nc] = self.corners[k];
             let s = (na * wa + nb * wb + nc * wc).normalize_or_zero();
             if s.dot(face).abs() > 0.2 { s * s.dot(face).signum() } else { face }
         });
