@@ -107,7 +107,8 @@ impl Batch {
                 d
             })
             .collect();
-        let threads = num_threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
+        // no more threads than worlds: a thread with no world would only wake and linger
+        let threads = num_threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).clamp(1, seeds.len().max(1));
         // the calling thread steps worlds too: a pool of one fewer, none for one thread (waking a
         // worker costs each call tens of microseconds on a loaded machine)
         let pool = if threads == 1 {
@@ -132,7 +133,8 @@ impl Batch {
         self.data.is_empty()
     }
 
-    /// Threads that step worlds (the calling thread and the pool's workers).
+    /// Threads that step worlds (the calling thread and the pool's workers): the number asked
+    /// for, or every core, but never more than there are worlds.
     pub fn num_threads(&self) -> usize {
         self.threads
     }

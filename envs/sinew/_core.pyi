@@ -246,7 +246,8 @@ class Sim:
 
 class Batch:
     """N worlds of one model stepped in parallel; state arrays are (N, ·) float64, stepped in place.
-    At most 2**20 worlds and 1024 threads; num_threads=None uses all cores."""
+    At most 2**20 worlds and 1024 threads; num_threads=None uses all cores, never more than
+    there are worlds."""
 
     def __init__(self, model: Model, num_envs: int, seed: int = 0, num_threads: Optional[int] = None) -> None: ...
     @property

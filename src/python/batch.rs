@@ -17,7 +17,7 @@ use crate::sensors::Sensors;
 use crate::tasks::Task;
 
 /// N simulated worlds of one model, stepped in parallel (at most 2**20 worlds and 1024 threads;
-/// num_threads=None uses all cores).
+/// num_threads=None uses all cores; never more threads than worlds).
 #[pyclass(name = "Batch", module = "sinew._core")]
 pub struct PyBatch {
     inner: Batch,
@@ -54,7 +54,7 @@ struct TaskArrays {
 #[pymethods]
 impl PyBatch {
     /// `num_envs` worlds at qpos0; world i's random stream is seeded from `seed + i`.
-    /// `num_threads=None` uses every core.
+    /// `num_threads=None` uses every core; never more threads than worlds.
     #[new]
     #[pyo3(signature = (model, num_envs, seed=0, num_threads=None))]
     fn new(py: Python<'_>, model: Bound<'_, PyModel>, num_envs: usize, seed: u64, num_threads: Option<usize>) -> PyResult<Self> {
