@@ -127,6 +127,9 @@ fn binary_grid(bytes: &[u8]) -> std::result::Result<(usize, usize, Vec<f64>), St
     if bytes.len() != 8 + 4 * nrow * ncol {
         return Err(format!("size {} bytes, expected {} for a {nrow} × {ncol} grid", bytes.len(), 8 + 4 * nrow * ncol));
     }
-    let data = bytes[8..].chunks_exact(4).map(|w| f64::from(f32::from_le_bytes([w[0], w[1], w[2], w[3]]))).collect();
+    let data: Vec<f64> = bytes[8..].chunks_exact(4).map(|w| f64::from(f32::from_le_bytes([w[0], w[1], w[2], w[3]]))).collect();
+    if data.iter().any(|x| !x.is_finite()) {
+        return Err("an elevation is not finite".into());
+    }
     Ok((nrow, ncol, data))
 }

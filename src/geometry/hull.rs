@@ -51,8 +51,7 @@ impl Hull {
         }
         let vert: Vec<DVec3> = v.iter().map(|p| DVec3::new(p.x, p.y, p.z)).collect();
         let mut h = Hull { vert, tris, ..Hull::default() };
-        h.merge_faces();
-        Some(h)
+        h.merge_faces().then_some(h)
     }
 
     /// The vertex farthest along `d` and its projection on `d`.
@@ -68,7 +67,8 @@ impl Hull {
     }
 
     /// Groups adjacent triangles with one normal into faces; lists the edges between faces.
-    fn merge_faces(&mut self) {
+    /// False when a face has no boundary (a degenerate hull).
+    fn merge_faces(&mut self) -> bool {
         let normal = |t: &[u32; 3]| {
             let [a, b, c] = t.map(|i| self.vert[i as usize]);
             (b - a).cross(c - a).normalize_or_zero()
@@ -128,16 +128,18 @@ impl Hull {
         }
         for (f, face) in self.faces.iter_mut().enumerate() {
             face.normal = face.normal.normalize();
-            let start = *next[f].keys().min().expect("a face has a boundary");
+            let Some(&start) = next[f].keys().min() else { return false };
             let mut v = start;
             loop {
                 face.verts.push(v);
-                v = next[f][&v];
+                let Some(&to) = next[f].get(&v) else { return false };
+                v = to;
                 if v == start || face.verts.len() > next[f].len() {
                     break;
                 }
             }
             face.offset = face.verts.iter().map(|&i| face.normal.dot(self.vert[i as usize])).sum::<f64>() / face.verts.len() as f64;
         }
+        true
     }
 }
