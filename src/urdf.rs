@@ -13,6 +13,7 @@ use glam::{DMat3, DQuat, DVec3};
 use roxmltree::{Document, Node};
 
 use crate::error::{Error, Result};
+use crate::math::SpatialInertia;
 
 /// How a URDF file becomes a model.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -57,19 +58,11 @@ struct Geom {
     rgba: Option<[f64; 4]>,
 }
 
-/// A link's mass properties: mass, centre and full inertia (xx, yy, zz, xy, xz, yz) in the
-/// link frame.
-#[derive(Clone, Copy, Debug)]
-struct Inertial {
-    mass: f64,
-    com: DVec3,
-    inertia: DMat3,
-}
-
 #[derive(Clone, Debug)]
 struct Link {
     name: String,
-    inertial: Option<Inertial>,
+    /// Mass properties in the link frame.
+    inertial: Option<SpatialInertia>,
     geoms: Vec<Geom>,
     /// Joint from the parent (None: the root, or fused away).
     joint: Option<usize>,
@@ -323,34 +316,17 @@ impl Writer<'_> {
     /// The combined mass properties of link `l` at `pose` and of the descendants fused into it
     /// (children without joints; a massless one adds nothing, as in MuJoCo), in the enclosing
     /// body's frame; `top`: `l` is the body's own link.
-    fn fused_inertia(&self, l: usize, pose: &Pose, top: bool) -> Option<Inertial> {
+    fn fused_inertia(&self, l: usize, pose: &Pose, top: bool) -> Option<SpatialInertia> {
         let link = &self.links[l];
-        let own = link.inertial.filter(|i| top || i.mass > 0.0).map(|i| {
-            let rot = DMat3::from_quat(pose.rot);
-            Inertial { mass: i.mass, com: pose.pos + rot * i.com, inertia: rot * i.inertia * rot.transpose() }
-        });
+        let own = link.inertial.filter(|i| top || i.mass > 0.0).map(|i| i.to_parent(DMat3::from_quat(pose.rot), pose.pos));
         let fused = link.children.iter().filter(|&&c| self.links[c].joint.is_none_or(|j| self.joints[j].kind.is_none()));
-        fused.filter_map(|&c| self.fused_inertia(c, &pose.then(&self.links[c].pose), false)).chain(own).reduce(combine)
+        fused.filter_map(|&c| self.fused_inertia(c, &pose.then(&self.links[c].pose), false)).chain(own).reduce(|a, b| a.combine(&b))
     }
-}
-
-/// Two mass properties as one (parallel-axis theorem).
-fn combine(a: Inertial, b: Inertial) -> Inertial {
-    let mass = a.mass + b.mass;
-    if mass <= 0.0 {
-        return Inertial { mass: 0.0, com: a.com, inertia: a.inertia + b.inertia };
-    }
-    let com = (a.com * a.mass + b.com * b.mass) / mass;
-    let shift = |i: &Inertial| {
-        let d = i.com - com;
-        i.inertia + (DMat3::from_diagonal(DVec3::splat(d.length_squared())) - DMat3::from_cols(d * d.x, d * d.y, d * d.z)) * i.mass
-    };
-    Inertial { mass, com, inertia: shift(&a) + shift(&b) }
 }
 
 /// `<inertial>` of mass properties in the body frame.
-fn write_inertial(out: &mut String, i: &Inertial) {
-    let (c, f) = (i.com, i.inertia);
+fn write_inertial(out: &mut String, i: &SpatialInertia) {
+    let (c, f) = (i.com, i.ic);
     write!(
         out,
         "<inertial pos=\"{} {} {}\" mass=\"{}\" fullinertia=\"{} {} {} {} {} {}\"/>",
@@ -394,7 +370,7 @@ fn origin(n: Node, err: &ErrFn) -> Result<Pose> {
     Ok(Pose { rot, pos: xyz })
 }
 
-fn inertial(n: Node, err: &ErrFn) -> Result<Inertial> {
+fn inertial(n: Node, err: &ErrFn) -> Result<SpatialInertia> {
     let o = origin(n, err)?;
     let mass = n.children().find(|c| c.has_tag_name("mass")).map_or(Ok(0.0), |m| num(m, "value", 0.0, err))?;
     if mass < 0.0 {
@@ -405,7 +381,7 @@ fn inertial(n: Node, err: &ErrFn) -> Result<Inertial> {
     let (xx, yy, zz, xy, xz, yz) = (get("ixx")?, get("iyy")?, get("izz")?, get("ixy")?, get("ixz")?, get("iyz")?);
     let local = DMat3::from_cols(DVec3::new(xx, xy, xz), DVec3::new(xy, yy, yz), DVec3::new(xz, yz, zz));
     let rot = DMat3::from_quat(o.rot);
-    Ok(Inertial { mass, com: o.pos, inertia: rot * local * rot.transpose() })
+    Ok(SpatialInertia::new(mass, o.pos, rot * local * rot.transpose()))
 }
 
 fn rgba_of(material: Node) -> Option<[f64; 4]> {

@@ -210,20 +210,8 @@ fn minkowski_face(na: [DVec3; 2], nb: Option<[DVec3; 2]>, db: DVec3) -> bool {
 /// Contacts of polytopes A and B within `margin` (points midway, normals from B to A).
 pub(super) fn polytopes(a: &impl Polytope, b: &impl Polytope, margin: f64, scale: f64) -> Manifold {
     let tol = 1e-9 * scale;
-    // the deepest-separating face of each: (separation, face)
-    let face_query = |p: &dyn PolyRef, q: &dyn PolyRef| {
-        let mut best = (f64::NEG_INFINITY, 0);
-        for f in 0..p.nface_() {
-            let (n, d) = p.plane_(f);
-            let s = -q.support_(-n) - d;
-            if s > best.0 + tol {
-                best = (s, f);
-            }
-        }
-        best
-    };
-    let fa = face_query(a, b);
-    let fb = face_query(b, a);
+    let fa = best_face(a, b, tol);
+    let fb = best_face(b, a, tol);
     if fa.0 > margin || fb.0 > margin {
         return Manifold::new();
     }
@@ -300,23 +288,18 @@ pub(super) fn polytopes(a: &impl Polytope, b: &impl Polytope, margin: f64, scale
     }
 }
 
-/// Object-safe views of a polytope for the face query.
-trait PolyRef {
-    fn nface_(&self) -> usize;
-    fn plane_(&self, f: usize) -> (DVec3, f64);
-    fn support_(&self, d: DVec3) -> f64;
-}
-
-impl<T: Polytope> PolyRef for T {
-    fn nface_(&self) -> usize {
-        self.nface()
+/// The face of `p` that separates `q` most: (separation, face); a later face must be better by
+/// more than `tol`, so that faces tied by round-off keep the first.
+fn best_face(p: &impl Polytope, q: &impl Polytope, tol: f64) -> (f64, usize) {
+    let mut best = (f64::NEG_INFINITY, 0);
+    for f in 0..p.nface() {
+        let (n, d) = p.plane(f);
+        let s = -q.support(-n) - d;
+        if s > best.0 + tol {
+            best = (s, f);
+        }
     }
-    fn plane_(&self, f: usize) -> (DVec3, f64) {
-        self.plane(f)
-    }
-    fn support_(&self, d: DVec3) -> f64 {
-        self.support(d)
-    }
+    best
 }
 
 /// Face contact: the incident face of `inc` (the one most opposed to reference face `f` of `r`)

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 import sinew
+from twins import assert_inertias_equal, forward_both, near_qpos0
 
 SUITE = os.path.join(importlib.util.find_spec("dm_control").submodule_search_locations[0], "suite")
 LOADED = ["acrobot", "ball_in_cup", "cartpole", "cheetah", "dog", "finger", "fish", "hopper", "humanoid", "humanoid_CMU", "lqr",
@@ -43,29 +44,20 @@ def test_suite_model_equals_mujocos(name):
     np.testing.assert_array_equal(m.qpos0, mj.qpos0)
     np.testing.assert_allclose(m.body_mass, mj.body_mass, rtol=1e-12)
     ours = np.array(m.body_inertia_tensor)
-    for b in range(1, mj.nbody):
-        rot = np.zeros(9)
-        mujoco.mju_quat2Mat(rot, mj.body_iquat[b])
-        rot = rot.reshape(3, 3)
-        theirs = rot @ np.diag(mj.body_inertia[b]) @ rot.T
-        np.testing.assert_allclose(ours[b], theirs, rtol=0, atol=MESH_INERTIA.get(name, 1e-12) * np.abs(theirs).max())
-        if name in MESH_INERTIA:
-            moments, axes = np.linalg.eigh(ours[b])
-            axes[:, 0] *= np.sign(np.linalg.det(axes))
-            mj.body_inertia[b] = moments
-            mujoco.mju_mat2Quat(mj.body_iquat[b], axes.flatten())
+    assert_inertias_equal(ours, mj, MESH_INERTIA.get(name, 1e-12))
+    for b in range(1, mj.nbody) if name in MESH_INERTIA else ():
+        moments, axes = np.linalg.eigh(ours[b])
+        axes[:, 0] *= np.sign(np.linalg.det(axes))
+        mj.body_inertia[b] = moments
+        mujoco.mju_mat2Quat(mj.body_iquat[b], axes.flatten())
     mj.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
     d = mujoco.MjData(mj)
     rng = np.random.default_rng(1)
     for _ in range(5):
-        q = mj.qpos0.copy()
-        mujoco.mj_integratePos(mj, q, rng.normal(0.0, 0.3, mj.nv), 1.0)
+        q = near_qpos0(mj, rng, 0.3)
         v, u = rng.normal(0.0, 1.0, mj.nv), rng.uniform(-1.0, 1.0, mj.nu)
-        d.qpos[:], d.qvel[:], d.ctrl[:] = q, v, u
-        mujoco.mj_forward(mj, d)
         sim = sinew.Sim(m)
-        sim.qpos[:], sim.qvel[:], sim.ctrl[:] = q, v, u
-        sim.forward()
+        forward_both(mj, d, sim, q, v, u)
         np.testing.assert_allclose(sim.qacc, d.qacc, rtol=1e-10, atol=1e-10)
         np.testing.assert_allclose(sim.ten_length, d.ten_length, rtol=1e-12, atol=1e-12)
         np.testing.assert_allclose(sim.ten_J, dense_ten_j(mj, d), rtol=1e-12, atol=1e-12)

@@ -9,6 +9,7 @@ import mujoco
 import numpy as np
 
 import sinew
+from twins import forward_both, near_qpos0
 from conftest import gym_model_path
 
 XML = """<mujoco><option density="1200" viscosity="0.02" wind="0.3 -0.2 0.1" gravity="0 0 -3">
@@ -32,13 +33,8 @@ def test_fluid_forces_equal_mujocos():
     rng = np.random.default_rng(0)
     moved = 0.0
     for _ in range(50):
-        q = mj.qpos0.copy()
-        mujoco.mj_integratePos(mj, q, rng.normal(0.0, 0.5, mj.nv), 1.0)
-        v = rng.normal(0.0, 2.0, mj.nv)
-        d.qpos[:], d.qvel[:] = q, v
-        mujoco.mj_forward(mj, d)
-        sim.qpos[:], sim.qvel[:] = q, v
-        sim.forward()
+        q = near_qpos0(mj, rng, 0.5)
+        forward_both(mj, d, sim, q, rng.normal(0.0, 2.0, mj.nv))
         np.testing.assert_allclose(sim.qacc, d.qacc, rtol=1e-10, atol=1e-10)
         moved = max(moved, np.abs(d.qfrc_passive).max())
     # the fluid's forces were far from negligible

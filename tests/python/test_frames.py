@@ -6,6 +6,7 @@ import mujoco
 import numpy as np
 
 import sinew
+from twins import forward_both
 
 XML = """<mujoco><default><default class="thin"><geom size="0.02"/></default></default>
   <worldbody>
@@ -36,10 +37,7 @@ def test_frames_pose_their_children_as_mujocos():
     rng = np.random.default_rng(0)
     for _ in range(5):
         q, v = rng.normal(0.0, 0.5, mj.nq), rng.normal(0.0, 1.0, mj.nv)
-        d.qpos[:], d.qvel[:] = q, v
-        mujoco.mj_forward(mj, d)
-        sim.qpos[:], sim.qvel[:] = q, v
-        sim.forward()
+        forward_both(mj, d, sim, q, v)
         np.testing.assert_allclose(sim.xpos, d.xpos, atol=1e-12)
         np.testing.assert_allclose(sim.xmat.reshape(-1, 9), d.xmat, atol=1e-12)
         np.testing.assert_allclose(sim.sensordata, d.sensordata, atol=1e-12)

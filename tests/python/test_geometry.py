@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import sinew
+from twins import assert_inertias_equal
 
 SUITE = os.path.join(importlib.util.find_spec("dm_control").submodule_search_locations[0], "suite")
 FRUSTUM = ("0.1 0 -0.04  0.05 0.08660254 -0.04  -0.05 0.08660254 -0.04  -0.1 0 -0.04  -0.05 -0.08660254 -0.04  "
@@ -37,13 +38,7 @@ def test_every_mesh_option_weighs_as_in_mujoco(tmp_path):
     m, mj = sinew.Model.from_mjcf(path), mujoco.MjModel.from_xml_path(str(path))
     np.testing.assert_allclose(m.body_mass, mj.body_mass, rtol=1e-12)
     np.testing.assert_allclose(m.body_ipos, mj.body_ipos, atol=1e-12)
-    tensors = np.array(m.body_inertia_tensor)
-    for b in range(1, mj.nbody):
-        rot = np.zeros(9)
-        mujoco.mju_quat2Mat(rot, mj.body_iquat[b])
-        rot = rot.reshape(3, 3)
-        theirs = rot @ np.diag(mj.body_inertia[b]) @ rot.T
-        np.testing.assert_allclose(tensors[b], theirs, rtol=0, atol=1e-9 * np.abs(theirs).max())
+    assert_inertias_equal(np.array(m.body_inertia_tensor), mj, 1e-9)
 
 
 def terrain():

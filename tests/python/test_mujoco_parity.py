@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import sinew
+from twins import forward_both, mujoco_inertia_tensors
 
 
 def load_both(path):
@@ -16,16 +17,6 @@ def load_both(path):
         mj = mujoco.MjModel.from_xml_path(path)
         sm = sinew.Model.from_mjcf(path)
     return mj, sm
-
-
-def mujoco_inertia_tensors(mj):
-    out = np.zeros((mj.nbody, 3, 3))
-    for b in range(mj.nbody):
-        r = np.zeros(9)
-        mujoco.mju_quat2Mat(r, mj.body_iquat[b])
-        r = r.reshape(3, 3)
-        out[b] = r @ np.diag(mj.body_inertia[b]) @ r.T
-    return out
 
 
 def same_rotation(q1, q2):
@@ -73,10 +64,7 @@ def test_accelerations_match_mj_forward_without_constraints(gym_model):
     rng = np.random.default_rng(0)
     for _ in range(25):
         q, v, u = random_state(mj, rng)
-        d.qpos[:], d.qvel[:], d.ctrl[:] = q, v, u
-        mujoco.mj_forward(mj, d)
-        sim.qpos[:], sim.qvel[:], sim.ctrl[:] = q, v, u
-        sim.forward()
+        forward_both(mj, d, sim, q, v, u)
         scale = max(1.0, np.abs(d.qacc).max())
         assert np.abs(sim.qacc - d.qacc).max() / scale <= 1e-8
         np.testing.assert_allclose(sim.xpos, d.xpos, atol=1e-9)
@@ -167,8 +155,5 @@ def test_springdamper_sets_stiffness_and_damping_as_mujocos():
     rng = np.random.default_rng(3)
     for _ in range(10):
         q, v = rng.normal(0.0, 0.5, mj.nq), rng.normal(0.0, 1.0, mj.nv)
-        d.qpos[:], d.qvel[:] = q, v
-        mujoco.mj_forward(mj, d)
-        sim.qpos[:], sim.qvel[:] = q, v
-        sim.forward()
+        forward_both(mj, d, sim, q, v)
         np.testing.assert_allclose(sim.qacc, d.qacc, rtol=1e-10, atol=1e-10)

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import sinew
+from twins import forward_both, near_qpos0
 
 SUITE = os.path.join(importlib.util.find_spec("dm_control").submodule_search_locations[0], "suite")
 #: suite files whose sensors include position and velocity kinds
@@ -33,12 +34,8 @@ def test_position_and_velocity_sensors_equal_mujocos(name):
     assert checked
     rng = np.random.default_rng(2)
     for _ in range(10):
-        q = mj.qpos0.copy()
-        mujoco.mj_integratePos(mj, q, rng.normal(0.0, 0.5, mj.nv), 1.0)
-        v = rng.normal(0.0, 1.0, mj.nv)
-        d.qpos[:], d.qvel[:] = q, v
-        mujoco.mj_forward(mj, d)
-        sim.qpos[:], sim.qvel[:] = q, v
+        q = near_qpos0(mj, rng, 0.5)
+        forward_both(mj, d, sim, q, rng.normal(0.0, 1.0, mj.nv))
         data = sim.sensordata
         for n, adr, dim in zip(m.sensor_names, m.sensor_adr, m.sensor_dim):
             if n in checked:

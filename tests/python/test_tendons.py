@@ -9,6 +9,7 @@ import mujoco
 import numpy as np
 
 import sinew
+from twins import forward_both, near_qpos0
 
 from test_dm_control_models import dense_ten_j
 
@@ -68,13 +69,9 @@ def test_spatial_tendons_equal_mujocos():
     rng = np.random.default_rng(0)
     wrapped = 0
     for _ in range(200):
-        q = mj.qpos0.copy()
-        mujoco.mj_integratePos(mj, q, rng.normal(0.0, 0.6, mj.nv), 1.0)
+        q = near_qpos0(mj, rng, 0.6)
         v, u = rng.normal(0.0, 1.0, mj.nv), rng.uniform(-1.0, 1.0, mj.nu)
-        d.qpos[:], d.qvel[:], d.ctrl[:] = q, v, u
-        mujoco.mj_forward(mj, d)
-        sim.qpos[:], sim.qvel[:], sim.ctrl[:] = q, v, u
-        sim.forward()
+        forward_both(mj, d, sim, q, v, u)
         np.testing.assert_allclose(sim.ten_length, d.ten_length, rtol=1e-12, atol=1e-12)
         np.testing.assert_allclose(sim.ten_J, dense_ten_j(mj, d), rtol=1e-10, atol=1e-12)
         np.testing.assert_allclose(sim.ten_velocity, d.ten_velocity, rtol=1e-10, atol=1e-12)

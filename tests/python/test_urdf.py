@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 import sinew
+from twins import assert_inertias_equal, forward_both, near_qpos0
 
 SHARE = str(importlib.metadata.distribution("example-robot-data").locate_file("cmeel.prefix/share"))
 ROBOTS = os.path.join(SHARE, "example-robot-data", "robots")
@@ -51,24 +52,14 @@ def test_urdf_robot_equals_mujocos(rel, tmp_path):
     m, mj = ours(rel), mujocos(rel, tmp_path)
     assert (m.nq, m.nv, m.nbody, m.ngeom) == (mj.nq, mj.nv, mj.nbody, mj.ngeom)
     np.testing.assert_allclose(m.body_mass, mj.body_mass, rtol=1e-9)
-    tensors = np.array(m.body_inertia_tensor)
-    for b in range(1, mj.nbody):
-        rot = np.zeros(9)
-        mujoco.mju_quat2Mat(rot, mj.body_iquat[b])
-        rot = rot.reshape(3, 3)
-        theirs = rot @ np.diag(mj.body_inertia[b]) @ rot.T
-        np.testing.assert_allclose(tensors[b], theirs, rtol=0, atol=1e-9 * np.abs(theirs).max())
+    assert_inertias_equal(np.array(m.body_inertia_tensor), mj, 1e-9)
     mj.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
     d = mujoco.MjData(mj)
     rng = np.random.default_rng(1)
     for _ in range(3):
-        q = mj.qpos0.copy()
-        mujoco.mj_integratePos(mj, q, rng.normal(0.0, 0.3, mj.nv), 1.0)
-        d.qpos[:], d.qvel[:] = q, rng.normal(0.0, 1.0, mj.nv)
-        mujoco.mj_forward(mj, d)
+        q = near_qpos0(mj, rng, 0.3)
         sim = sinew.Sim(m)
-        sim.qpos[:], sim.qvel[:] = d.qpos, d.qvel
-        sim.forward()
+        forward_both(mj, d, sim, q, rng.normal(0.0, 1.0, mj.nv))
         np.testing.assert_allclose(sim.qacc, d.qacc, rtol=1e-8, atol=1e-8)
 
 

@@ -4,6 +4,7 @@
 use glam::{DQuat, DVec3};
 use roxmltree::Node;
 
+use super::element::El;
 use super::Parser;
 use crate::error::Result;
 use crate::geometry::{MeshInertia, MeshPlacement};
@@ -20,12 +21,7 @@ impl Parser<'_> {
     pub(super) fn hfield(&mut self, n: Node) -> Result<HFieldSpec> {
         let e = self.el(n, None)?;
         e.check(HFIELD_ATTRS, &self.warnings)?;
-        let file = e.get("file").map(str::to_string);
-        let name = match (e.get("name"), &file) {
-            (Some(s), _) => s.to_string(),
-            (None, Some(f)) => std::path::Path::new(f).file_stem().and_then(|s| s.to_str()).unwrap_or(f).to_string(),
-            (None, None) => return Err(e.err("name", "a height field without a file needs a name")),
-        };
+        let (file, name) = file_and_name(&e, "height field")?;
         let size = e.arr::<4>("size")?.ok_or_else(|| e.err("size", "a height field needs a size (x y z base)"))?;
         if size.iter().any(|&s| s <= 0.0) {
             return Err(e.err("size", format!("sizes must be positive, got {size:?}")));
@@ -50,12 +46,7 @@ impl Parser<'_> {
     pub(super) fn mesh(&mut self, n: Node) -> Result<MeshSpec> {
         let e = self.el(n, None)?;
         e.check(MESH_ATTRS, &self.warnings)?;
-        let file = e.get("file").map(str::to_string);
-        let name = match (e.get("name"), &file) {
-            (Some(s), _) => s.to_string(),
-            (None, Some(f)) => std::path::Path::new(f).file_stem().and_then(|s| s.to_str()).unwrap_or(f).to_string(),
-            (None, None) => return Err(e.err("name", "a mesh without a file needs a name")),
-        };
+        let (file, name) = file_and_name(&e, "mesh")?;
         let vertex = e.nums("vertex")?.unwrap_or_default();
         if vertex.len() % 3 != 0 {
             return Err(e.err("vertex", format!("expected x y z triples, got {} numbers", vertex.len())));
@@ -94,4 +85,16 @@ impl Parser<'_> {
             line: e.line,
         })
     }
+}
+
+/// An asset's `file` and its name: `name`, else the file's stem (MuJoCo's rule); an asset with
+/// neither is an error.
+fn file_and_name(e: &El, what: &str) -> Result<(Option<String>, String)> {
+    let file = e.get("file").map(str::to_string);
+    let name = match (e.get("name"), &file) {
+        (Some(s), _) => s.to_string(),
+        (None, Some(f)) => std::path::Path::new(f).file_stem().and_then(|s| s.to_str()).unwrap_or(f).to_string(),
+        (None, None) => return Err(e.err("name", format!("a {what} without a file needs a name"))),
+    };
+    Ok((file, name))
 }
