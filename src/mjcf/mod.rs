@@ -511,7 +511,7 @@ pub struct ModelSpec {
     pub warnings: Vec<String>,
 }
 
-/// The text of an MJCF file: an `Io` error when it cannot be read, an `Xml` error naming the line
+/// The text of a model file (MJCF or URDF): an `Io` error when it cannot be read, an `Xml` error naming the line
 /// when it is not UTF-8.
 pub fn read_file(path: &std::path::Path) -> crate::error::Result<String> {
     let bytes = std::fs::read(path).map_err(|e| crate::error::Error::Io(format!("cannot read model file '{}': {e}", path.display())))?;
