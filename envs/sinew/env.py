@@ -48,12 +48,10 @@ from gymnasium import spaces
 from gymnasium.utils import EzPickle, seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 
-from sinew._core import MAX_STATE, Batch, Model
+from sinew._core import Model
+from sinew.core import MAX_ACTION, Worlds
 from sinew.rendering import RENDER_MODES, Viewer
 from sinew.tasks import ASSETS, TASKS
-
-#: Largest accepted action magnitude: the divergence bound on states.
-MAX_ACTION = MAX_STATE
 
 
 def _model_path(xml_file: str) -> str:
@@ -91,8 +89,12 @@ class WorldData:
         self._b.forward_kinematics(mask)
 
 
-class BatchTask:
-    """A task over N worlds: reset with per-world generators, step with a batch of actions."""
+class BatchTask(Worlds):
+    """A gymnasium task over N worlds: reset with per-world generators, step with a batch of
+    actions."""
+
+    #: The camera ``render`` uses by default (None: the free camera with the task's config).
+    camera_id = None
 
     def __init__(self, task: str, num_envs: int, num_threads: int | None = None, xml_file: str | None = None,
                  friction: str = "pyramid", constraint_mode: str = "acceleration", action_mode: str = "torque",
@@ -111,16 +113,12 @@ class BatchTask:
             model = model.with_options(trajectory_gains=tuple(trajectory_gains))
         elif action_mode != "torque":
             raise ValueError(f"action_mode must be 'torque', 'pd' or 'trajectory', got {action_mode!r}")
-        self.model = model
+        super().__init__(model, num_envs, num_threads)
         self.task = cls(self.model, **task_kwargs)
         if frame_skip is not None:
             if isinstance(frame_skip, bool) or not isinstance(frame_skip, (int, np.integer)) or frame_skip < 1:
                 raise ValueError(f"frame_skip must be a positive integer, got {frame_skip!r}")
             self.task.frame_skip = int(frame_skip)
-        self.num_envs = num_envs
-        self.batch = Batch(self.model, num_envs, seed=0, num_threads=num_threads)
-        # the generator that last seeded each world's physics stream
-        self._seeded_by: list = [None] * num_envs
         # observation, reward terms and termination: computed in Rust with every step
         self.batch.set_task(self.task.kind, **self.task.params())
         self.info_names = self.batch.info_names
@@ -135,48 +133,15 @@ class BatchTask:
         self.action_space = spaces.Box(low=lo.astype(np.float32), high=hi.astype(np.float32), dtype=np.float32)
         self.observation_space = spaces.Box(-np.inf, np.inf, shape=self.batch.obs.shape[1:], dtype=np.float64)
 
-    def check_actions(self, actions) -> np.ndarray:
-        a = np.asarray(actions, dtype=np.float64)
-        shape = (self.num_envs, self.model.nu)
-        if a.shape != shape:
-            if self.num_envs == 1 and a.shape == shape[1:]:
-                a = a[None]
-            else:
-                raise ValueError(f"action shape mismatch: expected {shape[1:] if self.num_envs == 1 else shape}, got {a.shape}")
-        # beyond the divergence bound an action's control cost alone can overflow the reward
-        within = np.abs(a) <= MAX_ACTION
-        if not within.all():
-            bad = ~within.all(axis=1)
-            which = "" if self.num_envs == 1 else f" for env indices {np.flatnonzero(bad).tolist()}"
-            raise ValueError(f"actions are not finite (NaN or inf) or beyond ±{MAX_ACTION:g}{which}")
-        return a
-
     def reset_worlds(self, idx: np.ndarray, rngs: list, keyframe=None) -> None:
         """Resets the worlds `idx` (ascending), drawing their noise from `rngs` (one per world, in
-        the same order) as the twin does, or to the model's `keyframe` (a name or index; no noise).
-        A world's physics stream (its random friction tangents) is seeded from its generator the
-        first time that generator resets it, and continues through the episodes that follow."""
+        the same order) as the twin does, or to the model's `keyframe` (a name or index; no noise)."""
         if keyframe is None:
             qpos, qvel = self.task.reset_state(rngs)
         else:
             key = self.model.keyframe(keyframe)
             qpos, qvel = np.tile(key["qpos"], (len(idx), 1)), np.tile(key["qvel"], (len(idx), 1))
-        fresh = [k for k, (i, r) in enumerate(zip(idx, rngs)) if self._seeded_by[i] is not r]
-        seeds = [int(rngs[k].integers(2**63)) for k in fresh]
-        for k in fresh:
-            self._seeded_by[idx[k]] = rngs[k]
-        if len(fresh) in (0, len(idx)):
-            mask = np.zeros(self.num_envs, dtype=bool)
-            mask[idx] = True
-            self.batch.reset(mask, seeds or None, qpos, qvel)
-            return
-        # some worlds re-seeded, some continuing: one call each
-        rows = np.zeros(len(idx), dtype=bool)
-        rows[fresh] = True
-        for part, part_seeds in ((rows, seeds), (~rows, None)):
-            mask = np.zeros(self.num_envs, dtype=bool)
-            mask[idx[part]] = True
-            self.batch.reset(mask, part_seeds, qpos[part], qvel[part])
+        self.reset_batch(idx, rngs, qpos, qvel)
 
     def observe(self) -> np.ndarray:
         return self.batch.obs.copy()

@@ -11,6 +11,7 @@ use super::arrays::{as_f64, checked_values};
 use super::model::PyModel;
 use crate::batch::{Batch, BatchState, TaskRun};
 use crate::step::state::FlatState;
+use crate::collision::{self, CollisionData};
 use crate::dynamics::{kinematics, tendon};
 use crate::sensordata;
 use crate::sensors::Sensors;
@@ -161,6 +162,24 @@ impl PyBatch {
             sensordata::compute(&m, &dy.kin, &dy.ten, q, v, (&d.constraints, &d.coll.contacts), &mut out[i * ns..(i + 1) * ns]);
         }
         PyArray1::from_vec(py, out).reshape([n, ns])
+    }
+    /// How many contacts penetrate (distance < 0) in each world's current configuration (N,):
+    /// MuJoCo's `ncon` after `mj_forward` where margins are zero, which a task's reset reads to
+    /// turn down a drawn state whose bodies overlap.
+    fn penetrations<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<usize>>> {
+        let m = self.inner.model.clone();
+        let (qpos, qvel) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly());
+        let (qp, qv) = (qpos.as_slice()?, qvel.as_slice()?);
+        let mut coll = CollisionData::new(&m);
+        let counts: Vec<usize> = (self.inner.data.iter_mut().enumerate())
+            .map(|(i, d)| {
+                let kin = &mut d.dynamics.kin;
+                kinematics::forward(&m, &qp[i * m.nq..(i + 1) * m.nq], &qv[i * m.nv..(i + 1) * m.nv], kin);
+                collision::penetrations(&m, kin, &mut coll);
+                coll.contacts.len()
+            })
+            .collect();
+        Ok(PyArray1::from_vec(py, counts))
     }
     /// Body positions (N, nbody, 3) for the current state.
     #[getter]

@@ -371,13 +371,7 @@ impl PyModel {
     /// Rotational inertia about the centre of mass, body axes (nbody, 3, 3).
     #[getter]
     fn body_inertia_tensor<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray3<f64>>> {
-        let rows: Vec<Vec<Vec<f64>>> = self
-            .inner
-            .body_inertia
-            .iter()
-            .map(|m| (0..3).map(|r| (0..3).map(|c| m.col(c)[r]).collect()).collect())
-            .collect();
-        Ok(numpy::PyArray3::from_vec3(py, &rows)?)
+        mats(py, &self.inner.body_inertia)
     }
     /// Body positions relative to their parents (nbody, 3).
     #[getter]
@@ -513,6 +507,36 @@ impl PyModel {
     fn site_body(&self) -> Vec<usize> {
         self.inner.site_body.clone()
     }
+    /// Site orientations in their bodies' frames (nsite, 3, 3).
+    #[getter]
+    fn site_mat<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray3<f64>>> {
+        mats(py, &self.inner.site_mat)
+    }
+    /// Site sizes (nsite, 3), as a geom's of the site's shape.
+    #[getter]
+    fn site_size<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        rows3(py, self.inner.site_size.iter().copied())
+    }
+    /// Body of each geom.
+    #[getter]
+    fn geom_body(&self) -> Vec<usize> {
+        self.inner.geom_body.clone()
+    }
+    /// Geom positions in their bodies' frames (ngeom, 3); a mesh geom's is its mesh's centre.
+    #[getter]
+    fn geom_pos<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        rows3(py, self.inner.geom_pos.iter().map(|v| v.to_array()))
+    }
+    /// Geom orientations in their bodies' frames (ngeom, 3, 3).
+    #[getter]
+    fn geom_mat<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray3<f64>>> {
+        mats(py, &self.inner.geom_mat)
+    }
+    /// Geom size parameters (ngeom, 3), MuJoCo's `geom_size`.
+    #[getter]
+    fn geom_size<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        rows3(py, self.inner.geom_size.iter().copied())
+    }
     /// Actuator gear ratios (nu,).
     #[getter]
     fn actuator_gear<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
@@ -620,6 +644,12 @@ impl PyModel {
             integrator_name(m.opt.integrator)
         )
     }
+}
+
+/// Rotation matrices as an (n, 3, 3) array, row-major.
+fn mats<'py>(py: Python<'py>, m: &[glam::DMat3]) -> PyResult<Bound<'py, numpy::PyArray3<f64>>> {
+    let flat: Vec<f64> = m.iter().flat_map(|r| r.transpose().to_cols_array()).collect();
+    numpy::PyArray1::from_vec(py, flat).reshape([m.len(), 3, 3])
 }
 
 fn rows3<'py>(py: Python<'py>, it: impl Iterator<Item = [f64; 3]>) -> Bound<'py, PyArray2<f64>> {

@@ -1,0 +1,43 @@
+"""dm_control's own observations and rewards at given states, for tests/python/test_dmc.py.
+
+Run as ``python dmc_reference.py IN.npz OUT.npz`` with a MuJoCo dm_control can load (3.17:
+dm-control 1.0.50 reads model fields MuJoCo 4 no longer has). IN holds, per task key
+``<domain>-<task>``, arrays ``<key>/qpos``, ``/qvel``, ``/ctrl`` (one row per state); OUT gets
+``<key>/obs`` (dm_control's observation flattened in its key order), ``<key>/reward`` and
+``<key>/keys`` (each observation key repeated over its entries), and ``<key>/reset`` (initial
+qpos of episodes seeded 0, 1, ...: as many as IN's ``<key>/episodes``).
+"""
+
+import sys
+
+import numpy as np
+from dm_control import suite
+
+
+def main(src: str, dst: str) -> None:
+    data = dict(np.load(src))
+    out = {}
+    for key in sorted({k.split("/")[0] for k in data}):
+        domain, task = key.split("-", 1)
+        env = suite.load(domain, task, task_kwargs={"random": 0})
+        phys, t = env.physics, env.task
+        obs, rewards, names = [], [], []
+        for q, v, u in zip(data[f"{key}/qpos"], data[f"{key}/qvel"], data[f"{key}/ctrl"]):
+            with phys.reset_context():
+                phys.data.qpos[:], phys.data.qvel[:], phys.data.ctrl[:] = q, v, u
+            o = t.get_observation(phys)
+            obs.append(np.concatenate([np.asarray(x, dtype=np.float64).ravel() for x in o.values()]))
+            names = [k for k, x in o.items() for _ in range(np.asarray(x).size)]
+            rewards.append(t.get_reward(phys))
+        out[f"{key}/obs"], out[f"{key}/reward"], out[f"{key}/keys"] = np.array(obs), np.array(rewards), np.array(names)
+        starts = []
+        for seed in range(int(data.get(f"{key}/episodes", 0))):
+            env = suite.load(domain, task, task_kwargs={"random": seed})
+            env.reset()
+            starts.append(np.concatenate([env.physics.data.qpos, env.physics.data.qvel]))
+        out[f"{key}/reset"] = np.array(starts)
+    np.savez(dst, **out)
+
+
+if __name__ == "__main__":
+    main(*sys.argv[1:])
