@@ -60,3 +60,10 @@ class Worlds:
             mask = np.zeros(self.num_envs, dtype=bool)
             mask[idx[part]] = True
             self.batch.reset(mask, part_seeds, qpos[part], qvel[part])
+
+    def obs_cache(self):
+        """What the observation keeps beyond the worlds' states (for pickling); None here."""
+        return None
+
+    def restore_obs(self, cache) -> None:
+        """Takes back what ``obs_cache`` gave."""

@@ -50,6 +50,8 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 
 from sinew._core import Model
 from sinew.core import MAX_ACTION, Worlds
+from sinew.dmc import TASKS as DMC_TASKS
+from sinew.dmc.core import DmcCore
 from sinew.rendering import RENDER_MODES, Viewer
 from sinew.tasks import ASSETS, TASKS
 
@@ -164,6 +166,22 @@ class BatchTask(Worlds):
         return self.observe(), b.reward.copy(), b.terminated.copy(), info
 
 
+def make_core(task: str, num_envs: int, num_threads: int | None = None, width: int | None = None,
+              height: int | None = None, camera_id: int | None = None, camera_name: str | None = None, **kwargs):
+    """The worlds of `task`: a gymnasium task's ``BatchTask`` or a dm_control task's ``DmcCore``
+    (whose pixel observations take the render size and camera); the render size it implies."""
+    if task in DMC_TASKS:
+        size = (84 if width is None else width, 84 if height is None else height)
+        camera = camera_name if camera_id is None else camera_id
+        return DmcCore(task, num_envs, num_threads, width=size[0], height=size[1], camera_id=camera, **kwargs), size
+    return BatchTask(task, num_envs, num_threads=num_threads, **kwargs), (width or 480, height or 480)
+
+
+def row(obs, i: int):
+    """World `i`'s observation (a row, or a dict of rows)."""
+    return {k: np.asarray(v[i]) for k, v in obs.items()} if isinstance(obs, dict) else obs[i]
+
+
 class SinewEnv(gymnasium.Env, EzPickle):
     """One sinew world with a gymnasium MuJoCo v5 task (see module docstring). Pickles (and
     deep-copies) as its constructor arguments plus its world's full state and random generator:
@@ -174,12 +192,14 @@ class SinewEnv(gymnasium.Env, EzPickle):
 
     metadata = {"render_modes": RENDER_MODES}
 
-    def __init__(self, task: str, render_mode: str | None = None, width: int = 480, height: int = 480,
+    def __init__(self, task: str, render_mode: str | None = None, width: int | None = None, height: int | None = None,
                  camera_id: int | None = None, camera_name: str | None = None,
                  default_camera_config: dict | None = None, visual_options: dict | None = None, **kwargs):
         EzPickle.__init__(self, task, render_mode, width, height, camera_id, camera_name, default_camera_config,
                           visual_options, **kwargs)
-        self._core = BatchTask(task, 1, num_threads=1, **kwargs)
+        self._core, (width, height) = make_core(task, 1, 1, width, height, camera_id, camera_name, **kwargs)
+        if self._core.camera_id is not None:
+            camera_id, camera_name = self._core.camera_id, None
         if default_camera_config is None:
             default_camera_config = self._core.task.camera
         self.viewer = Viewer(self._core.model, render_mode, width, height, camera_id, camera_name,
@@ -196,13 +216,18 @@ class SinewEnv(gymnasium.Env, EzPickle):
         self.dt = self._core.task.dt
         self.metadata = {"render_modes": RENDER_MODES, "render_fps": int(np.round(1.0 / self.dt))}
         self._needs_reset = True
+        # a dm_control task counts its own steps (its length depends on action_repeat); a
+        # gymnasium task's TimeLimit wrapper counts them
+        self._limit = self._core.task.max_episode_steps if task in DMC_TASKS else None
+        self._elapsed = 0
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
         super().reset(seed=seed)
         self._core.reset_worlds(np.array([0]), [self.np_random], (options or {}).get("keyframe"))
         self._needs_reset = False
+        self._elapsed = 0
         info = {k: v[0] for k, v in self._core.reset_info().items()}
-        return self._core.observe()[0], info
+        return row(self._core.observe(), 0), info
 
     def step(self, action):
         if self._needs_reset:
@@ -211,20 +236,23 @@ class SinewEnv(gymnasium.Env, EzPickle):
         obs, reward, terminated, info = self._core.step(a)
         if self.render_mode == "human":
             self.render()
-        return obs[0], float(reward[0]), bool(terminated[0]), False, {k: v[0] for k, v in info.items()}
+        self._elapsed += 1
+        truncated = self._limit is not None and self._elapsed >= self._limit
+        return row(obs, 0), float(reward[0]), bool(terminated[0]), truncated, {k: v[0] for k, v in info.items()}
 
     def __getstate__(self):
         state = EzPickle.__getstate__(self)
         core = self._core
         seeded = self._np_random is not None and core._seeded_by[0] is self._np_random
         state["_sinew"] = (core.batch.get_state(0, full=True), self._np_random, self._np_random_seed, seeded,
-                           self._needs_reset, dict(self.viewer._free))
+                           self._needs_reset, dict(self.viewer._free), self._elapsed, core.obs_cache())
         return state
 
     def __setstate__(self, state):
-        world, rng, rng_seed, seeded, needs_reset, free = state.pop("_sinew")
+        world, rng, rng_seed, seeded, needs_reset, free, self._elapsed, obs = state.pop("_sinew")
         EzPickle.__setstate__(self, state)
         self._core.batch.set_state(world, 0)
+        self._core.restore_obs(obs)
         self._np_random, self._np_random_seed = rng, rng_seed
         self._core._seeded_by[0] = rng if seeded else None
         self._needs_reset = needs_reset
@@ -326,8 +354,8 @@ class SinewVectorEnv(VectorEnv):
     ``SyncVectorEnv`` in that mode over single sinew envs."""
 
     def __init__(self, task: str, num_envs: int = 1, max_episode_steps: int | None = None,
-                 num_threads: int | None = None, render_mode: str | None = None, width: int = 480,
-                 height: int = 480, camera_id: int | None = None, camera_name: str | None = None,
+                 num_threads: int | None = None, render_mode: str | None = None, width: int | None = None,
+                 height: int | None = None, camera_id: int | None = None, camera_name: str | None = None,
                  default_camera_config: dict | None = None, visual_options: dict | None = None,
                  autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP, **kwargs):
         self._args = dict(task=task, num_envs=num_envs, max_episode_steps=max_episode_steps, num_threads=num_threads,
@@ -339,7 +367,9 @@ class SinewVectorEnv(VectorEnv):
         except ValueError:
             raise ValueError(f"autoreset_mode must be one of {[m.value for m in AutoresetMode]} (or AutoresetMode), "
                              f"got {autoreset_mode!r}") from None
-        self._core = BatchTask(task, num_envs, num_threads=num_threads, **kwargs)
+        self._core, (width, height) = make_core(task, num_envs, num_threads, width, height, camera_id, camera_name, **kwargs)
+        if self._core.camera_id is not None:
+            camera_id, camera_name = self._core.camera_id, None
         if default_camera_config is None:
             default_camera_config = self._core.task.camera
         self.viewer = Viewer(self._core.model, render_mode, width, height, camera_id, camera_name,
@@ -425,12 +455,14 @@ class SinewVectorEnv(VectorEnv):
         core = self._core
         seeded = [s is r for s, r in zip(core._seeded_by, self._rngs)]
         return {"args": self._args, "worlds": core.batch.get_state(full=True), "rngs": self._rngs, "seeded": seeded,
-                "steps": self._steps, "autoreset": self._autoreset, "free": dict(self.viewer._free)}
+                "steps": self._steps, "autoreset": self._autoreset, "free": dict(self.viewer._free),
+                "obs": core.obs_cache()}
 
     def __setstate__(self, state):
         """A copy: the same construction, then every world's full state, generator and counters."""
         self.__init__(**state["args"])
         self._core.batch.set_state(state["worlds"])
+        self._core.restore_obs(state["obs"])
         self._rngs = state["rngs"]
         self._core._seeded_by = [r if s else None for r, s in zip(self._rngs, state["seeded"])]
         self._steps, self._autoreset = state["steps"].copy(), state["autoreset"].copy()
@@ -445,7 +477,7 @@ class SinewVectorEnv(VectorEnv):
         infos = self._info(info, self._all)
         ended = np.flatnonzero(terminated | truncated)
         if len(ended):
-            final = [(i, obs[i].copy(), {k: v[i] for k, v in info.items()}) for i in ended]
+            final = [(i, row(obs, i), {k: v[i] for k, v in info.items()}) for i in ended]
             self._core.reset_worlds(ended, [self._rngs[i] for i in ended])
             obs = self._core.observe()
             self._steps[ended] = 0
@@ -481,11 +513,17 @@ class SinewVectorEnv(VectorEnv):
         return out
 
 
+def class_name(task: str) -> str:
+    """The env classes' stem of a task: ``Hopper``, ``DmcWalkerWalk`` for ``dmc-walker-walk``."""
+    return task if task in TASKS else "".join(p[:1].upper() + p[1:].lower() for p in task.replace("-", "_").split("_"))
+
+
 def _task_classes(name: str) -> tuple[type, type]:
     """The single and vector env classes of one task (``sinew.env.HopperEnv``,
-    ``sinew.env.HopperVectorEnv``): gymnasium's entry points, so that ``make`` passes only the
-    caller's keywords."""
+    ``sinew.env.HopperVectorEnv``, ``sinew.env.DmcWalkerWalkEnv``): gymnasium's entry points, so
+    that ``make`` passes only the caller's keywords."""
     doc = f"``sinew/{name}-v0``: see :class:`SinewEnv` and :class:`SinewVectorEnv`."
+    stem = class_name(name)
 
     def single_init(self, task: str = name, *args, **kwargs):
         SinewEnv.__init__(self, task, *args, **kwargs)
@@ -493,10 +531,10 @@ def _task_classes(name: str) -> tuple[type, type]:
     def vector_init(self, task: str = name, *args, **kwargs):
         SinewVectorEnv.__init__(self, task, *args, **kwargs)
 
-    single = type(f"{name}Env", (SinewEnv,), {"__init__": single_init, "__module__": __name__, "__doc__": doc})
-    vector = type(f"{name}VectorEnv", (SinewVectorEnv,), {"__init__": vector_init, "__module__": __name__, "__doc__": doc})
+    single = type(f"{stem}Env", (SinewEnv,), {"__init__": single_init, "__module__": __name__, "__doc__": doc})
+    vector = type(f"{stem}VectorEnv", (SinewVectorEnv,), {"__init__": vector_init, "__module__": __name__, "__doc__": doc})
     return single, vector
 
 
-for _name in TASKS:
-    globals()[f"{_name}Env"], globals()[f"{_name}VectorEnv"] = _task_classes(_name)
+for _name in [*TASKS, *DMC_TASKS]:
+    globals()[f"{class_name(_name)}Env"], globals()[f"{class_name(_name)}VectorEnv"] = _task_classes(_name)

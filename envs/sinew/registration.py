@@ -2,21 +2,26 @@
 
 import gymnasium
 
+from sinew.dmc import TASKS as DMC_TASKS
+from sinew.env import class_name
 from sinew.tasks import TASKS
 
 #: The task of each env entry point (``sinew.env:HopperEnv`` → ``Hopper``), whatever id it is
 #: registered under.
-ENTRY_TASKS: dict[str, str] = {f"sinew.env:{name}Env": name for name in TASKS}
+ENTRY_TASKS: dict[str, str] = {f"sinew.env:{class_name(name)}Env": name for name in [*TASKS, *DMC_TASKS]}
 
 
 def register_envs() -> None:
-    for name, cls in TASKS.items():
+    """gymnasium's MuJoCo tasks as ``sinew/<Name>-v0``, dm_control's as ``sinew/dmc-<domain>-<task>-v0``."""
+    for name in [*TASKS, *DMC_TASKS]:
         env_id = f"sinew/{name}-v0"
         if env_id in gymnasium.registry:
             continue
+        # a dm_control task's length depends on its action_repeat: its env counts it
+        steps = TASKS[name].max_episode_steps if name in TASKS else None
         gymnasium.register(
             id=env_id,
-            entry_point=f"sinew.env:{name}Env",
-            vector_entry_point=f"sinew.env:{name}VectorEnv",
-            max_episode_steps=cls.max_episode_steps,
+            entry_point=f"sinew.env:{class_name(name)}Env",
+            vector_entry_point=f"sinew.env:{class_name(name)}VectorEnv",
+            max_episode_steps=steps,
         )

@@ -15,7 +15,7 @@ from gymnasium.utils import seeding
 from stable_baselines3.common.monitor import Monitor
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv
 
-from sinew.env import BatchTask
+from sinew.env import make_core, row
 from sinew.rendering import Viewer
 from sinew.registration import ENTRY_TASKS
 
@@ -23,18 +23,20 @@ from sinew.registration import ENTRY_TASKS
 class SinewVecEnv(VecEnv):
     """N sinew worlds of one task as an SB3 VecEnv."""
 
-    def __init__(self, task: str, n_envs: int, max_episode_steps: int, seed: int | None = None,
-                 num_threads: int | None = None, render_mode: str | None = None, width: int = 480, height: int = 480,
-                 camera_id: int | None = None, camera_name: str | None = None,
+    def __init__(self, task: str, n_envs: int, max_episode_steps: int | None = None, seed: int | None = None,
+                 num_threads: int | None = None, render_mode: str | None = None, width: int | None = None,
+                 height: int | None = None, camera_id: int | None = None, camera_name: str | None = None,
                  default_camera_config: dict | None = None, **kwargs):
-        self._core = BatchTask(task, n_envs, num_threads=num_threads, **kwargs)
+        self._core, (width, height) = make_core(task, n_envs, num_threads, width, height, camera_id, camera_name, **kwargs)
+        if self._core.camera_id is not None:
+            camera_id, camera_name = self._core.camera_id, None
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f'the SB3 VecEnv renders render_mode="rgb_array" (or None), got {render_mode!r}')
         self.render_mode = render_mode
         self._viewer = Viewer(self._core.model, "rgb_array", width, height, camera_id, camera_name,
                               self._core.task.camera if default_camera_config is None else default_camera_config)
         super().__init__(n_envs, self._core.observation_space, self._core.action_space)
-        self.max_episode_steps = max_episode_steps
+        self.max_episode_steps = max_episode_steps or self._core.task.max_episode_steps
         self._base_seed = seed
         self._rngs = [seeding.np_random(None if seed is None else seed + i)[0] for i in range(n_envs)]
         self._steps = np.zeros(n_envs, dtype=np.int64)
@@ -67,7 +69,7 @@ class SinewVecEnv(VecEnv):
         ended = np.flatnonzero(dones)
         if len(ended):
             for i in ended:
-                infos[i]["terminal_observation"] = obs[i].copy()
+                infos[i]["terminal_observation"] = row(obs, i)
                 infos[i]["TimeLimit.truncated"] = bool(truncated[i])
                 infos[i]["episode"] = {"r": float(self._returns[i]), "l": int(self._steps[i]),
                                        "t": round(time.perf_counter() - self._t0, 6)}

@@ -5,7 +5,7 @@ dm-control 1.0.50 reads model fields MuJoCo 4 no longer has). IN holds, per task
 ``<domain>-<task>``, arrays ``<key>/qpos``, ``/qvel``, ``/ctrl`` (one row per state); OUT gets
 ``<key>/obs`` (dm_control's observation flattened in its key order), ``<key>/reward`` and
 ``<key>/keys`` (each observation key repeated over its entries), and ``<key>/reset`` (initial
-qpos of episodes seeded 0, 1, ...: as many as IN's ``<key>/episodes``).
+(qpos, qvel) of as many episodes as IN's ``<key>/episodes``, one generator seeded 0).
 """
 
 import sys
@@ -31,10 +31,9 @@ def main(src: str, dst: str) -> None:
             rewards.append(t.get_reward(phys))
         out[f"{key}/obs"], out[f"{key}/reward"], out[f"{key}/keys"] = np.array(obs), np.array(rewards), np.array(names)
         starts = []
-        for seed in range(int(data.get(f"{key}/episodes", 0))):
-            env = suite.load(domain, task, task_kwargs={"random": seed})
+        for _ in range(int(data.get(f"{key}/episodes", 0))):
             env.reset()
-            starts.append(np.concatenate([env.physics.data.qpos, env.physics.data.qvel]))
+            starts.append(np.concatenate([phys.data.qpos, phys.data.qvel]))
         out[f"{key}/reset"] = np.array(starts)
     np.savez(dst, **out)
 

@@ -6,12 +6,13 @@ from __future__ import annotations
 
 import math
 import os
+import warnings
 from collections import OrderedDict
 
 import numpy as np
 from gymnasium import spaces
 
-from sinew._core import Model
+from sinew._core import Model, ModelWarning
 from sinew.core import Worlds
 from sinew.dmc.physics import Names, Physics
 
@@ -51,7 +52,10 @@ class DmcCore(Worlds):
         self.task = TASKS[task]()
         xml = self.task.model_xml()
         path = os.path.join(suite_dir(), self.task.xml)
-        model = Model.from_mjcf(path) if xml is None else Model.from_mjcf_string(xml, path)
+        with warnings.catch_warnings():
+            # the suite's files declare accelerometers and force sensors no task reads
+            warnings.filterwarnings("ignore", message=".*not computed by sinew.*", category=ModelWarning)
+            model = Model.from_mjcf(path) if xml is None else Model.from_mjcf_string(xml, path)
         super().__init__(model.with_options(friction=friction, constraint_mode=constraint_mode), num_envs, num_threads)
         self.names = Names(self.model)
         self.n_sub_steps = n_sub_steps(self.task.control_timestep, self.model.timestep)
@@ -127,6 +131,17 @@ class DmcCore(Worlds):
         if self.flat:
             return np.concatenate([v.reshape(self.num_envs, -1) for v in self._state.values()], axis=1)
         return OrderedDict((k, v.copy()) for k, v in self._state.items())
+
+    def obs_cache(self):
+        """The observation's rows and frame stacks (a frame stack holds earlier states' frames)."""
+        return ({k: v.copy() for k, v in self._state.items()}, None if self._frames is None else self._frames.copy())
+
+    def restore_obs(self, cache) -> None:
+        state, frames = cache
+        for k, v in state.items():
+            self._state[k][:] = v
+        if frames is not None:
+            self._frames[:] = frames
 
     def reset_info(self) -> dict:
         return {}
