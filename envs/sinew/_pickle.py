@@ -19,13 +19,16 @@ def sim(m: Model, state) -> Sim:
     return s
 
 
-def batch(m: Model, num_envs: int, num_threads: int, task, states, outputs: dict) -> Batch:
-    """A batch of ``m`` with ``task`` (kind, parameters) set, every world in its full state and
-    the output arrays as the last step left them."""
+def batch(m: Model, num_envs: int, num_threads: int, task, states, outputs: dict, moved=()) -> Batch:
+    """A batch of ``m`` with ``task`` (kind, parameters) set, every world in its full state, the
+    output arrays as the last step left them and the geoms and sites placed per world
+    ("geom" or "site", index, positions)."""
     b = Batch(m, num_envs, num_threads=num_threads)
     if task is not None:
         b.set_task(task[0], **task[1])
     b.set_state(states)
     for name, values in outputs.items():
         getattr(b, name)[...] = values
+    for kind, i, pos in moved:
+        getattr(b, f"set_{kind}_pos")(i, pos)
     return b

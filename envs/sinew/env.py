@@ -174,7 +174,7 @@ def make_core(task: str, num_envs: int, num_threads: int | None = None, width: i
         size = (84 if width is None else width, 84 if height is None else height)
         camera = camera_name if camera_id is None else camera_id
         return DmcCore(task, num_envs, num_threads, width=size[0], height=size[1], camera_id=camera, **kwargs), size
-    return BatchTask(task, num_envs, num_threads=num_threads, **kwargs), (width or 480, height or 480)
+    return BatchTask(task, num_envs, num_threads=num_threads, **kwargs), (480 if width is None else width, 480 if height is None else height)
 
 
 def row(obs, i: int):

@@ -82,7 +82,6 @@ pub(super) fn fit_geoms(spec: &mut ModelSpec, meshes: &[Mesh], hfields: &[HField
         let f = &mesh.frame;
         g.pos += DMat3::from_quat(g.quat) * f.pos;
         g.quat = (g.quat * f.quat).normalize();
-        g.inertia_quat = g.quat;
         g.size = f.boxsz.to_array();
         // the inertia box of this mass has the mesh's moments (box moments m/3 (b² + c²))
         g.mass = Some(g.mass.unwrap_or(g.density * f.volume));

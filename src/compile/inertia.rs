@@ -69,7 +69,7 @@ pub fn geom_inertia(g: &GeomSpec) -> SpatialInertia {
 /// about such axes).
 pub(super) fn inertia_axes(spec: &ModelSpec, b: &BodySpec, i: &SpatialInertia) -> DMat3 {
     match (b.geoms.as_slice(), &b.inertial) {
-        ([g], _) if from_geoms(spec, b) => DMat3::from_quat(g.inertia_quat),
+        ([g], _) if from_geoms(spec, b) => DMat3::from_quat(g.quat),
         // a diagonal `<inertial>`: its own frame
         (_, Some(inertial)) if !from_geoms(spec, b) && inertial.inertia[3..] == [0.0; 3] => DMat3::from_quat(inertial.quat),
         _ => principal_axes(i.ic).1,

@@ -3,7 +3,7 @@
 use glam::{DMat3, DVec3};
 
 use crate::error::{Error, Result};
-use crate::mjcf::{ModelSpec, TextureKind, DEFAULT_GEOM_RGBA};
+use crate::mjcf::{ModelSpec, TextureKind, DEFAULT_GEOM_RGBA, DEFAULT_SITE_RGBA};
 use crate::model::visual::{Camera, Light, Material, Texture, Visual};
 
 /// The materials, each texture name resolved.
@@ -46,21 +46,28 @@ pub(super) fn compile(spec: &ModelSpec, body_id: impl Fn(&str) -> Option<usize>)
             .transpose()
     };
     let (mut geom_rgba, mut geom_material, mut lights, mut cameras) = (vec![], vec![], vec![], vec![]);
-    let geom_drawn = spec.bodies.iter().flat_map(|b| &b.geoms).map(|g| (0..3).contains(&g.group)).collect();
+    let (mut site_rgba, mut site_material) = (vec![], vec![]);
+    // MuJoCo: an element with a material and the default colour takes the material's
+    let look = |tag: &str, material: &Option<String>, rgba: [f64; 4], default: [f64; 4], line: u32| -> Result<(Option<usize>, [f64; 4])> {
+        let mat = material
+            .as_deref()
+            .map(|name| v.materials.iter().position(|m| m.name == name).ok_or_else(|| Error::model(tag, Some("material"), line, format!("unknown material '{name}'"))))
+            .transpose()?;
+        Ok((mat, match mat {
+            Some(i) if rgba == default => v.materials[i].rgba,
+            _ => rgba,
+        }))
+    };
     for (b, body) in spec.bodies.iter().enumerate() {
         for g in &body.geoms {
-            let mat = match &g.material {
-                None => None,
-                Some(name) => Some(v.materials.iter().position(|m| &m.name == name).ok_or_else(|| {
-                    Error::model("geom", Some("material"), g.line, format!("unknown material '{name}'"))
-                })?),
-            };
-            // MuJoCo: a geom with a material and the default colour takes the material's
-            geom_rgba.push(match mat {
-                Some(i) if g.rgba == DEFAULT_GEOM_RGBA => v.materials[i].rgba,
-                _ => g.rgba,
-            });
+            let (mat, rgba) = look("geom", &g.material, g.rgba, DEFAULT_GEOM_RGBA, g.line)?;
+            geom_rgba.push(rgba);
             geom_material.push(mat);
+        }
+        for s in &body.sites {
+            let (mat, rgba) = look("site", &s.material, s.rgba, DEFAULT_SITE_RGBA, s.line)?;
+            site_rgba.push(rgba);
+            site_material.push(mat);
         }
         for l in &body.lights {
             lights.push(Light {
@@ -97,10 +104,17 @@ pub(super) fn compile(spec: &ModelSpec, body_id: impl Fn(&str) -> Option<usize>)
             return Err(Error::Compile(format!("duplicate camera name '{}'", c.name)));
         }
     }
+    // MuJoCo's viewer shows groups 0–2; a fully transparent element shows nothing
+    let shown = |group: i32, rgba: &[f64; 4]| (0..3).contains(&group) && rgba[3] > 0.0;
+    let geom_drawn = spec.bodies.iter().flat_map(|b| &b.geoms).zip(&geom_rgba).map(|(g, c)| shown(g.group, c)).collect();
+    let site_drawn = spec.bodies.iter().flat_map(|b| &b.sites).zip(&site_rgba).map(|(s, c)| shown(s.group, c)).collect();
     Ok(Visual {
         geom_rgba,
         geom_material,
         geom_drawn,
+        site_rgba,
+        site_material,
+        site_drawn,
         materials,
         skybox: textures.iter().position(|t| t.kind == TextureKind::Skybox),
         textures,

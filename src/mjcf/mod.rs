@@ -15,7 +15,7 @@ mod visual;
 use glam::{DQuat, DVec3};
 
 pub use parse::parse;
-pub use visual::{Builtin, CameraSpec, LightSpec, MaterialSpec, TextureKind, TextureSpec, TrackMode, VisualSpec, DEFAULT_GEOM_RGBA};
+pub use visual::{Builtin, CameraSpec, LightSpec, MaterialSpec, TextureKind, TextureSpec, TrackMode, VisualSpec, DEFAULT_GEOM_RGBA, DEFAULT_SITE_RGBA};
 
 /// Integration scheme for the constraint-free dynamics.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -156,10 +156,6 @@ pub struct GeomSpec {
     pub pos: DVec3,
     /// Orientation in the body frame.
     pub quat: DQuat,
-    /// MuJoCo's orientation of the geom's frame, which the principal axes of a body of this one
-    /// geom take: `quat`, but for a `fromto` geom the shortest rotation of +z onto from − to
-    /// (sinew's own frame points z from `from` to `to`; the shape is the same).
-    pub inertia_quat: DQuat,
     /// Density for mass-from-volume.
     pub density: f64,
     /// Explicit mass, overriding density.
@@ -239,6 +235,14 @@ pub struct SiteSpec {
     pub kind: GeomType,
     /// Size parameters, as a geom's of that shape.
     pub size: [f64; 3],
+    /// Colour (MuJoCo's default [`DEFAULT_SITE_RGBA`] unless given).
+    pub rgba: [f64; 4],
+    /// Material name.
+    pub material: Option<String>,
+    /// Visual group (MuJoCo draws groups 0–2).
+    pub group: i32,
+    /// Line in the file.
+    pub line: u32,
 }
 
 /// Explicit `<inertial>`.

@@ -267,6 +267,8 @@ impl<'d> Parser<'d> {
                 match a.name() {
                     "contact" => self.spec.option.contact = !off,
                     "limit" => self.spec.option.limit = !off,
+                    // every constraint off: contacts and limits (MuJoCo's mjDSBL_CONSTRAINT)
+                    "constraint" if off => (self.spec.option.contact, self.spec.option.limit) = (false, false),
                     "gravity" if off => self.spec.option.gravity = DVec3::ZERO,
                     _ => {}
                 }

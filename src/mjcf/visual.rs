@@ -187,3 +187,5 @@ impl Default for VisualSpec {
 
 /// MuJoCo's default geom colour: a geom with a material and this colour takes the material's.
 pub const DEFAULT_GEOM_RGBA: [f64; 4] = [0.5, 0.5, 0.5, 1.0];
+/// MuJoCo's default site colour.
+pub const DEFAULT_SITE_RGBA: [f64; 4] = [0.5, 0.5, 0.5, 1.0];

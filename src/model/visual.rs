@@ -98,8 +98,14 @@ pub struct Visual {
     /// Material of each geom (ngeom).
     pub geom_material: Vec<Option<usize>>,
     /// Whether each geom is drawn: its `group` is 0, 1 or 2, the groups MuJoCo's viewer shows
-    /// by default (ngeom).
+    /// by default, and it is not fully transparent (ngeom).
     pub geom_drawn: Vec<bool>,
+    /// Colour of each site, the material's where the site keeps the default (nsite).
+    pub site_rgba: Vec<[f64; 4]>,
+    /// Material of each site (nsite).
+    pub site_material: Vec<Option<usize>>,
+    /// Whether each site is drawn, as for geoms (nsite).
+    pub site_drawn: Vec<bool>,
     /// Materials.
     pub materials: Vec<Material>,
     /// Textures.

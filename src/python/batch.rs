@@ -5,6 +5,7 @@ use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadwriteArray2, PyR
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
+use glam::DVec3;
 use pyo3::types::PyDict;
 
 use super::arrays::{as_f64, checked_values};
@@ -13,6 +14,7 @@ use crate::batch::{Batch, BatchState, TaskRun};
 use crate::step::state::FlatState;
 use crate::collision::{self, CollisionData};
 use crate::dynamics::{kinematics, tendon};
+use crate::render::Placed;
 use crate::sensordata;
 use crate::sensors::Sensors;
 use crate::tasks::Task;
@@ -40,6 +42,9 @@ pub struct PyBatch {
     task: Option<TaskArrays>,
     /// The task's kind and parameters as given to `set_task` (for pickling).
     task_args: Option<(String, Py<PyDict>)>,
+    /// Geoms and sites placed per world (`set_geom_pos`, `set_site_pos`): each with its position
+    /// in its body's frame in every world.
+    moved: Vec<(Placed, Vec<DVec3>)>,
 }
 
 /// A task set on a batch and its output arrays.
@@ -95,6 +100,7 @@ impl PyBatch {
             cvel: PyArray3::zeros(py, [num_envs, m.nbody, 6], false).unbind(),
             task: None,
             task_args: None,
+            moved: vec![],
         };
         b.refresh_poses(py)?;
         Ok(b)
@@ -515,8 +521,54 @@ impl PyBatch {
         // what the last step left in the output arrays (contact forces among them), which a
         // state alone does not give back
         let outputs = self.clone_outputs(py)?;
-        let args = (self.py_model.clone_ref(py), self.inner.len(), self.inner.num_threads(), task, states, outputs).into_pyobject(py)?;
+        // each placed geom and site as ("geom" or "site", index, positions)
+        let moved: Vec<(&str, usize, Bound<'py, PyArray2<f64>>)> = self
+            .moved
+            .iter()
+            .map(|(k, _)| match *k {
+                Placed::Geom(g) => Ok(("geom", g, self.placed(py, *k)?)),
+                Placed::Site(s) => Ok(("site", s, self.placed(py, *k)?)),
+            })
+            .collect::<PyResult<_>>()?;
+        let args = (self.py_model.clone_ref(py), self.inner.len(), self.inner.num_threads(), task, states, outputs, moved).into_pyobject(py)?;
         Ok((py.import("sinew._pickle")?.getattr("batch")?, args))
+    }
+
+    /// Places geom `geom` (an index) at `pos` in its body's frame, in the worlds `worlds` (all
+    /// when None; a mask or indices): (3,) for all of them or one row each. Only a geom that
+    /// touches nothing (a target, a marker; any geom when contacts are off) may differ between
+    /// worlds: the renderer and `geom_pos` read it, collisions never meet it.
+    #[pyo3(signature = (geom, pos, worlds=None))]
+    fn set_geom_pos(&mut self, geom: usize, pos: Bound<'_, PyAny>, worlds: Option<Bound<'_, PyAny>>) -> PyResult<()> {
+        let m = self.inner.model.clone();
+        self.check_placed(Placed::Geom(geom))?;
+        if m.opt.contact && m.collision_pairs.iter().any(|p| p.g1 == geom || p.g2 == geom) {
+            return Err(PyValueError::new_err(format!(
+                "geom '{}' can touch other geoms: only a geom without contacts may be placed per world", m.geom_name[geom]
+            )));
+        }
+        self.place(Placed::Geom(geom), pos, worlds)
+    }
+
+    /// Places site `site` (an index) at `pos` in its body's frame in the worlds `worlds`, as
+    /// `set_geom_pos`: the renderer and `site_pos` read it (the file's sensors do not).
+    #[pyo3(signature = (site, pos, worlds=None))]
+    fn set_site_pos(&mut self, site: usize, pos: Bound<'_, PyAny>, worlds: Option<Bound<'_, PyAny>>) -> PyResult<()> {
+        self.check_placed(Placed::Site(site))?;
+        self.place(Placed::Site(site), pos, worlds)
+    }
+
+    /// Geom `geom`'s position in its body's frame in every world (N, 3): the model's unless
+    /// `set_geom_pos` placed it.
+    fn geom_pos<'py>(&self, py: Python<'py>, geom: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.check_placed(Placed::Geom(geom))?;
+        self.placed(py, Placed::Geom(geom))
+    }
+
+    /// Site `site`'s position in its body's frame in every world (N, 3), as `geom_pos`.
+    fn site_pos<'py>(&self, py: Python<'py>, site: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.check_placed(Placed::Site(site))?;
+        self.placed(py, Placed::Site(site))
     }
 
     /// Draws worlds in parallel: rgb (n, H, W, 3) uint8 and/or depth (n, H, W) float32, a tuple
@@ -540,7 +592,8 @@ impl PyBatch {
         if let Some((k, v)) = rows.iter().enumerate().find_map(|(k, q)| q.iter().find(|x| crate::math::out_of_range(**x)).map(|v| (k, *v))) {
             return Err(PyValueError::new_err(format!("cannot render world {}: its qpos holds {v}", which[k])));
         }
-        super::render::draw(py, &m, &r, &rows, &cams, super::render::Frames { width: w, height: h, rgb, depth, single: false })
+        let moved: Vec<Vec<(Placed, DVec3)>> = which.iter().map(|&i| self.moved.iter().map(|(k, p)| (*k, p[i])).collect()).collect();
+        super::render::draw(py, &m, &r, &rows, &moved, &cams, super::render::Frames { width: w, height: h, rgb, depth, single: false })
     }
 
     fn __repr__(&self) -> String {
@@ -669,6 +722,52 @@ impl PyBatch {
             self.inner.sense(i, q, v, u, out.world(i, m.nbody, m.nv), obs);
         }
         Ok(())
+    }
+}
+
+impl PyBatch {
+    /// A `ValueError` unless `what` is a geom or site of the model.
+    fn check_placed(&self, what: Placed) -> PyResult<()> {
+        let m = &self.inner.model;
+        let (i, n, kind) = match what {
+            Placed::Geom(g) => (g, m.ngeom, "geom"),
+            Placed::Site(s) => (s, m.site_body.len(), "site"),
+        };
+        if i >= n {
+            return Err(PyValueError::new_err(format!("{kind} {i} out of range for {n} {kind}s")));
+        }
+        Ok(())
+    }
+
+    /// Puts `what` at `pos` (one row, or one per chosen world) in the worlds `worlds`.
+    fn place(&mut self, what: Placed, pos: Bound<'_, PyAny>, worlds: Option<Bound<'_, PyAny>>) -> PyResult<()> {
+        let which = self.worlds(worlds)?;
+        let rows = match checked_values(&pos, "pos", &[3]) {
+            Ok(p) => vec![p; which.len()].concat(),
+            Err(_) => checked_values(&pos, "pos", &[which.len(), 3])?,
+        };
+        let n = self.inner.len();
+        let at = match self.moved.iter().position(|(k, _)| *k == what) {
+            Some(k) => k,
+            None => {
+                self.moved.push((what, vec![what.model_pos(&self.inner.model); n]));
+                self.moved.len() - 1
+            }
+        };
+        for (k, &i) in which.iter().enumerate() {
+            self.moved[at].1[i] = DVec3::from_slice(&rows[3 * k..3 * k + 3]);
+        }
+        Ok(())
+    }
+
+    /// Where `what` sits in its body's frame in every world (N, 3).
+    fn placed<'py>(&self, py: Python<'py>, what: Placed) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let n = self.inner.len();
+        let rows: Vec<f64> = match self.moved.iter().find(|(k, _)| *k == what) {
+            Some((_, p)) => p.iter().flat_map(|v| v.to_array()).collect(),
+            None => (0..n).flat_map(|_| what.model_pos(&self.inner.model).to_array()).collect(),
+        };
+        PyArray1::from_vec(py, rows).reshape([n, 3])
     }
 }
 

@@ -33,12 +33,15 @@ pub struct Poses {
     qvel: Vec<f64>,
     /// Subtree centre of mass of each body (nbody), MuJoCo's `subtree_com`.
     pub com: Vec<DVec3>,
+    /// Geoms and sites of this world away from the model's place, each with its position in its
+    /// body's frame.
+    moved: Vec<(Placed, DVec3)>,
 }
 
 impl Poses {
     /// Poses at `qpos`.
     pub fn new(m: &Model, qpos: &[f64]) -> Poses {
-        let mut p = Poses { kin: KinData::new(m), qvel: vec![0.0; m.nv], com: vec![DVec3::ZERO; m.nbody] };
+        let mut p = Poses { kin: KinData::new(m), qvel: vec![0.0; m.nv], com: vec![DVec3::ZERO; m.nbody], moved: vec![] };
         p.update(m, qpos);
         p
     }
@@ -74,10 +77,46 @@ impl Poses {
         self.kin.xmat[b]
     }
 
+    /// The same poses with geoms and sites placed in their bodies' frames as given.
+    pub fn with_placed(mut self, moved: &[(Placed, DVec3)]) -> Poses {
+        self.moved = moved.to_vec();
+        self
+    }
+
+    /// Where `what` sits in its body's frame in this world.
+    fn local(&self, what: Placed, model: DVec3) -> DVec3 {
+        self.moved.iter().find(|(k, _)| *k == what).map_or(model, |(_, p)| *p)
+    }
+
     /// Geom centre in world.
     pub fn geom_xpos(&self, m: &Model, g: usize) -> DVec3 {
         let b = m.geom_body[g];
-        self.kin.xpos[b] + self.kin.xmat[b] * m.geom_pos[g]
+        self.kin.xpos[b] + self.kin.xmat[b] * self.local(Placed::Geom(g), m.geom_pos[g])
+    }
+
+    /// Site position in world.
+    pub fn site_xpos(&self, m: &Model, s: usize) -> DVec3 {
+        let b = m.site_body[s];
+        self.kin.xpos[b] + self.kin.xmat[b] * self.local(Placed::Site(s), m.site_pos[s])
+    }
+}
+
+/// A geom or a site, placed in its body per world (a target, a marker).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Placed {
+    /// Geom index.
+    Geom(usize),
+    /// Site index.
+    Site(usize),
+}
+
+impl Placed {
+    /// Its position in its body's frame in the model.
+    pub fn model_pos(self, m: &Model) -> DVec3 {
+        match self {
+            Placed::Geom(g) => m.geom_pos[g],
+            Placed::Site(s) => m.site_pos[s],
+        }
     }
 }
 

@@ -6,7 +6,7 @@
 //! a floor is drawn by rows (`floor`); shadows of directional lights are looked up by outline
 //! (`shadow`).
 
-use glam::{DVec3, Mat3A, Vec3A};
+use glam::{DMat3, DVec3, Mat3A, Vec3A};
 
 mod cover;
 mod floor;
@@ -156,20 +156,18 @@ impl Geom {
         }
     }
 
-    /// Geom g of a world at `poses`, relative to the eye of `view`, in single precision;
-    /// `meshes`: the triangles of each mesh, then of each height field.
-    fn new(m: &Model, poses: &Poses, view: &View, g: usize, meshes: &[Option<Arc<Surface>>]) -> Geom {
+    /// What `look` shows, relative to the eye of `view`, in single precision; `meshes`: the
+    /// triangles of each mesh, then of each height field.
+    fn new(m: &Model, view: &View, look: Look, meshes: &[Option<Arc<Surface>>]) -> Geom {
         let v = &m.vis;
         let f = |x: DVec3| x.as_vec3a();
-        let rot = poses.xmat(m.geom_body[g]) * m.geom_mat[g];
-        let rgba = v.geom_rgba[g];
-        let mat = v.geom_material[g].map(|i| &v.materials[i]);
+        let Look { kind, size, pos, rot, rgba, material, rbound, surface } = look;
+        let mat = material.map(|i| &v.materials[i]);
         let exponent = 128.0 * mat.map_or(0.5, |mt| mt.shininess) as f32;
         let texture = mat.and_then(|mt| {
             let t = &v.textures[mt.texture?];
             // MuJoCo: a 2D texture spans a plane's extent texrepeat times (per metre when
             // texuniform); a cube texture wraps the geom once (per metre when texuniform)
-            let size = m.geom_size[g];
             let span = |k: usize| if mt.texuniform || size[k] <= 0.0 { 1.0 } else { 2.0 * size[k] };
             let scale = match t.kind {
                 TextureKind::TwoD => [mt.texrepeat[0] / span(0), mt.texrepeat[1] / span(1)],
@@ -179,12 +177,12 @@ impl Geom {
             Some(Tex { kind: t.kind, builtin: t.builtin, rgb1: f(t.rgb1), rgb2: f(t.rgb2), scale: scale.map(|x| x as f32), axes })
         });
         Geom {
-            kind: m.geom_type[g],
-            size: m.geom_size[g].map(|x| x as f32),
-            pos: f(poses.geom_xpos(m, g) - view.pos),
+            kind,
+            size: size.map(|x| x as f32),
+            pos: f(pos - view.pos),
             rot_t: rot.transpose().as_mat3().into(),
             rot: rot.as_mat3().into(),
-            rbound: m.geom_rbound[g] as f32,
+            rbound: rbound as f32,
             rgb: Vec3A::new(rgba[0] as f32, rgba[1] as f32, rgba[2] as f32),
             emission: mat.map_or(0.0, |mt| mt.emission) as f32,
             specular: mat.map_or(0.5, |mt| mt.specular) as f32,
@@ -194,11 +192,62 @@ impl Geom {
             reflectance: mat.map_or(0.0, |mt| mt.reflectance) as f32,
             mirror: None,
             texture,
-            mesh: match (m.geom_mesh[g], m.geom_hfield[g]) {
-                (Some(k), _) => meshes[k].clone(),
-                (_, Some(k)) => meshes[m.meshes.len() + k].clone(),
+            mesh: surface.and_then(|k| meshes[k].clone()),
+        }
+    }
+}
+
+/// What is drawn of a geom or a site of one world: its shape, pose, colour and material.
+struct Look {
+    kind: GeomType,
+    size: [f64; 3],
+    pos: DVec3,
+    rot: DMat3,
+    rgba: [f64; 4],
+    material: Option<usize>,
+    rbound: f64,
+    /// Index of its triangles (a mesh's, then a height field's).
+    surface: Option<usize>,
+}
+
+impl Look {
+    /// Geom g at `poses`.
+    fn geom(m: &Model, poses: &Poses, g: usize) -> Look {
+        Look {
+            kind: m.geom_type[g],
+            size: m.geom_size[g],
+            pos: poses.geom_xpos(m, g),
+            rot: poses.xmat(m.geom_body[g]) * m.geom_mat[g],
+            rgba: m.vis.geom_rgba[g],
+            material: m.vis.geom_material[g],
+            rbound: m.geom_rbound[g],
+            surface: match (m.geom_mesh[g], m.geom_hfield[g]) {
+                (Some(k), _) => Some(k),
+                (_, Some(k)) => Some(m.meshes.len() + k),
                 _ => None,
             },
+        }
+    }
+
+    /// Site s at `poses`, drawn as a geom of its shape.
+    fn site(m: &Model, poses: &Poses, s: usize) -> Look {
+        let size = m.site_size[s];
+        let rbound = match m.site_type[s] {
+            GeomType::Capsule => size[0] + size[1],
+            GeomType::Cylinder => size[0].hypot(size[1]),
+            GeomType::Box => DVec3::from_array(size).length(),
+            GeomType::Ellipsoid => size[0].max(size[1]).max(size[2]),
+            _ => size[0],
+        };
+        Look {
+            kind: m.site_type[s],
+            size,
+            pos: poses.site_xpos(m, s),
+            rot: poses.xmat(m.site_body[s]) * m.site_mat[s],
+            rgba: m.vis.site_rgba[s],
+            material: m.vis.site_material[s],
+            rbound,
+            surface: None,
         }
     }
 }
@@ -244,10 +293,14 @@ impl Scene {
     pub(super) fn new(m: &Model, poses: &Poses, view: &View, lights: &[(usize, DVec3, DVec3)], extent: f64, width: usize, height: usize, meshes: &[Option<Arc<Surface>>]) -> Scene {
         let v = &m.vis;
         let f = |x: DVec3| x.as_vec3a();
-        let geoms: Vec<Geom> = (0..m.ngeom).map(|g| Geom::new(m, poses, view, g, meshes)).collect();
+        // the geoms, then the sites
+        let nsite = m.site_body.len();
+        let looks = (0..m.ngeom).map(|g| Look::geom(m, poses, g)).chain((0..nsite).map(|s| Look::site(m, poses, s)));
+        let geoms: Vec<Geom> = looks.map(|look| Geom::new(m, view, look, meshes)).collect();
         let axes = Axes { forward: f(view.forward), up: f(view.up), right: f(view.right) };
-        let drawn = |g: u32| m.vis.geom_drawn.get(g as usize).copied().unwrap_or(true);
-        let solids: Vec<u32> = (0..m.ngeom as u32).filter(|&g| drawn(g) && geoms[g as usize].rbound.is_finite()).collect();
+        let shown = |g: usize| if g < m.ngeom { m.vis.geom_drawn.get(g) } else { m.vis.site_drawn.get(g - m.ngeom) };
+        let drawn = |g: u32| shown(g as usize).copied().unwrap_or(true);
+        let solids: Vec<u32> = (0..geoms.len() as u32).filter(|&g| drawn(g) && geoms[g as usize].rbound.is_finite()).collect();
         let (ambient, directional, spots) = light_sources(m, view, lights, &geoms, &solids, axes.forward);
         let sky = v.skybox.map(|i| {
             let t = &v.textures[i];

@@ -2,7 +2,8 @@
 
 Run as ``python dmc_reference.py IN.npz OUT.npz`` with a MuJoCo dm_control can load (3.17:
 dm-control 1.0.50 reads model fields MuJoCo 4 no longer has). IN holds, per task key
-``<domain>-<task>``, arrays ``<key>/qpos``, ``/qvel``, ``/ctrl`` (one row per state); OUT gets
+``<domain>-<task>``, arrays ``<key>/qpos``, ``/qvel``, ``/ctrl`` (one row per state) and ``<key>/geom/<name>``,
+``<key>/site/<name>`` (where each state places a geom or site, a target); OUT gets
 ``<key>/obs`` (dm_control's observation flattened in its key order), ``<key>/reward`` and
 ``<key>/keys`` (each observation key repeated over its entries), and ``<key>/reset`` (initial
 (qpos, qvel) of as many episodes as IN's ``<key>/episodes``, one generator seeded 0).
@@ -20,9 +21,13 @@ def main(src: str, dst: str) -> None:
     for key in sorted({k.split("/")[0] for k in data}):
         domain, task = key.split("-", 1)
         env = suite.load(domain, task, task_kwargs={"random": 0})
+        env.reset()  # a task's changes to the model (target sizes) are made at the reset
         phys, t = env.physics, env.task
         obs, rewards, names = [], [], []
-        for q, v, u in zip(data[f"{key}/qpos"], data[f"{key}/qvel"], data[f"{key}/ctrl"]):
+        placed = [(k.split("/")[1], k.split("/")[2], v) for k, v in data.items() if k.startswith((f"{key}/geom/", f"{key}/site/"))]
+        for i, (q, v, u) in enumerate(zip(data[f"{key}/qpos"], data[f"{key}/qvel"], data[f"{key}/ctrl"])):
+            for kind, name, pos in placed:
+                getattr(phys.named.model, f"{kind}_pos")[name] = pos[i]
             with phys.reset_context():
                 phys.data.qpos[:], phys.data.qvel[:], phys.data.ctrl[:] = q, v, u
             o = t.get_observation(phys)

@@ -3,9 +3,10 @@ dm_control's at the same states, its initial states come from the same distribut
 envs behave as gymnasium envs (spaces, truncation, pixels, determinism, pickling).
 
 dm_control itself runs in a subprocess (tests/python/dmc_reference.py) on MuJoCo 3.17, installed
-once into pytest's cache: dm-control 1.0.50 cannot load its tasks under MuJoCo 4."""
+once into ~/.cache/sinew-tests: dm-control 1.0.50 cannot load its tasks under MuJoCo 4."""
 
 import os
+import pathlib
 import pickle
 import subprocess
 import sys
@@ -30,10 +31,11 @@ SETTLED = {"cheetah-run"}
 
 
 @pytest.fixture(scope="session")
-def reference(request, tmp_path_factory):
+def reference(tmp_path_factory):
     """dm_control's observations and rewards at the states sinew's random rollouts reach, and its
     initial states of STARTS episodes per task; with sinew's own."""
-    target = request.config.cache.mkdir("mujoco-3.17.0")
+    cache = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    target = pathlib.Path(cache) / "sinew-tests" / "mujoco-3.17.0"
     if not (target / "mujoco" / "__init__.py").exists():
         subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--target", str(target),
                         "mujoco==3.17.0"], check=True)
@@ -43,6 +45,12 @@ def reference(request, tmp_path_factory):
         core = DmcCore(name, WORLDS)
         core.reset_worlds(np.arange(WORLDS), [np.random.default_rng(i) for i in range(WORLDS)])
         rng = np.random.default_rng(7)
+        # geoms and sites each world placed (targets), sent with every state
+        for kind, names in (("geom", core.model.geom_names), ("site", core.model.site_names)):
+            for i, element in enumerate(names):
+                pos = getattr(core.batch, f"{kind}_pos")(i)
+                if np.ptp(pos, axis=0).any():
+                    data[f"{key}/{kind}/{element}"] = np.tile(pos, (STEPS // EVERY + 1, 1))
         # the initial states, then the states of a random rollout
         states = [(core.batch.qpos.copy(), core.batch.qvel.copy(), core.batch.ctrl.copy())]
         obs, rewards = [core.observe()], [core.task.reward(Physics(core.batch, core.names))]

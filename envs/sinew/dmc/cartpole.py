@@ -23,20 +23,19 @@ class Balance(Task):
         ``_make_model``)."""
         if self.poles == 1:
             return None
-        from sinew.dmc import suite_dir
-        with open(f"{suite_dir()}/{self.xml}") as f:
-            root = ET.fromstring(f.read())
-        parent = root.find("./worldbody/body/body")
-        for k in range(2, self.poles + 1):
-            child = ET.SubElement(parent, "body", name=f"pole_{k}", pos="0 0 1", childclass="pole")
-            ET.SubElement(child, "joint", name=f"hinge_{k}")
-            ET.SubElement(child, "geom", name=f"pole_{k}")
-            parent = child
-        root.find("./worldbody/geom").set("pos", f"0 0 {1 - self.poles - .05}")
-        cameras = root.findall("./worldbody/camera")
-        cameras[0].set("pos", f"0 {-1 - 2 * self.poles} 1")
-        cameras[1].set("pos", f"0 {-2 * self.poles} 2")
-        return ET.tostring(root, encoding="unicode")
+
+        def add_poles(root):
+            parent = root.find("./worldbody/body/body")
+            for k in range(2, self.poles + 1):
+                child = ET.SubElement(parent, "body", name=f"pole_{k}", pos="0 0 1", childclass="pole")
+                ET.SubElement(child, "joint", name=f"hinge_{k}")
+                ET.SubElement(child, "geom", name=f"pole_{k}")
+                parent = child
+            root.find("./worldbody/geom").set("pos", f"0 0 {1 - self.poles - .05}")
+            cameras = root.findall("./worldbody/camera")
+            cameras[0].set("pos", f"0 {-1 - 2 * self.poles} 1")
+            cameras[1].set("pos", f"0 {-2 * self.poles} 2")
+        return self.edited_model(add_poles)
 
     def initialize_episode(self, phys, rngs):
         nv = len(phys.velocity()[0])

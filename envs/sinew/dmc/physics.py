@@ -26,6 +26,7 @@ class Names:
         self.sensor = {n: (adr[i], dim[i]) for i, n in enumerate(model.sensor_names)}
         self.site_body, self.site_pos, self.site_size = model.site_body, model.site_pos, model.site_size
         self.geom_body, self.geom_pos, self.geom_size = model.geom_body, model.geom_pos, model.geom_size
+        self.geom_mat = model.geom_mat
         self.body_parent, self.body_mass = model.body_parent, model.body_mass
         self.jnt_qposadr, self.jnt_dofadr = model.jnt_qposadr, model.jnt_dofadr
         self.joint_types, self.jnt_limited, self.jnt_range = model.joint_types, model.jnt_limited, model.jnt_range
@@ -106,17 +107,33 @@ class Physics:
         return self.batch.xipos[self.rows, self.names.index("body", body)]
 
     def site_xpos(self, site: str) -> np.ndarray:
+        """The site's position (n, 3), where each world placed it (``set_site_pos``)."""
         s = self.names.index("site", site)
-        return self._point(self.names.site_body[s], self.names.site_pos[s])
+        return self._point(self.names.site_body[s], self.batch.site_pos(s)[self.rows])
 
     def geom_xpos(self, geom: str) -> np.ndarray:
+        """The geom's centre (n, 3), where each world placed it (``set_geom_pos``)."""
         g = self.names.index("geom", geom)
-        return self._point(self.names.geom_body[g], self.names.geom_pos[g])
+        return self._point(self.names.geom_body[g], self.batch.geom_pos(g)[self.rows])
+
+    def geom_xmat(self, geom: str) -> np.ndarray:
+        """The geom's rotation (n, 3, 3)."""
+        g = self.names.index("geom", geom)
+        return self.batch.xmat[self.rows, self.names.geom_body[g]].reshape(-1, 3, 3) @ self.names.geom_mat[g]
+
+    def set_geom_pos(self, geom: str, pos: np.ndarray) -> None:
+        """Places a geom without contacts (a target) in each world: (n, 3) in its body's frame."""
+        self.batch.set_geom_pos(self.names.index("geom", geom), pos, self._mask())
+
+    def set_site_pos(self, site: str, pos: np.ndarray) -> None:
+        """Places a site in each world: (n, 3) in its body's frame."""
+        self.batch.set_site_pos(self.names.index("site", site), pos, self._mask())
 
     def _point(self, body: int, local: np.ndarray) -> np.ndarray:
-        """The world position of `local`, a point in `body`'s frame, as MuJoCo computes it."""
+        """The world position of `local` (3,) or one per world (n, 3), points in `body`'s frame,
+        as MuJoCo computes it."""
         xmat = self.batch.xmat[self.rows, body].reshape(-1, 3, 3)
-        return self.batch.xpos[self.rows, body] + xmat @ local
+        return self.batch.xpos[self.rows, body] + np.einsum("nij,nj->ni", xmat, np.broadcast_to(local, (len(xmat), 3)))
 
     def subtree_com(self, body: str) -> np.ndarray:
         """Centre of mass of the body's subtree (MuJoCo's ``subtree_com``) (n, 3)."""

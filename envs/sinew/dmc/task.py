@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+import xml.etree.ElementTree as ET
 from collections import OrderedDict
 
 import numpy as np
@@ -31,6 +33,13 @@ class Task:
     def model_xml(self) -> str | None:
         """The model's MJCF text when the task builds it (None: the file as it is)."""
         return None
+
+    def edited_model(self, edit) -> str:
+        """The model file's text after ``edit(root)`` changed its XML tree."""
+        from sinew.dmc import suite_dir
+        root = ET.parse(os.path.join(suite_dir(), self.xml)).getroot()
+        edit(root)
+        return ET.tostring(root, encoding="unicode")
 
     def initialize_episode(self, phys: Physics, rngs: list) -> None:
         """Draws the initial state of the worlds of ``phys`` (reset to qpos0 at rest)."""
@@ -68,3 +77,9 @@ def draw_until_apart(phys: Physics, rngs: list, draw) -> None:
             draw(qpos[k], rngs[k])
         phys.set_state(qpos)
         pending = pending[phys.penetrations()[pending] > 0]
+
+
+def set_size(node, first: float) -> None:
+    """Sets the first number of an element's ``size`` (a geom's or site's radius)."""
+    size = node.get("size").split()
+    node.set("size", " ".join([repr(first), *size[1:]]))

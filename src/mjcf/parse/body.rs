@@ -8,7 +8,7 @@ use super::element::{line, El};
 use super::Parser;
 use crate::error::Result;
 use super::orientation::quat_z_to;
-use crate::mjcf::{BodySpec, GeomSpec, GeomType, InertialSpec, JointSpec, JointType, SiteSpec, DEFAULT_GEOM_RGBA};
+use crate::mjcf::{BodySpec, GeomSpec, GeomType, InertialSpec, JointSpec, JointType, SiteSpec, DEFAULT_GEOM_RGBA, DEFAULT_SITE_RGBA};
 
 pub(super) const JOINT_ATTRS: &[&str] = &[
     "name", "class", "type", "pos", "axis", "ref", "range", "limited", "margin", "armature", "damping", "stiffness",
@@ -94,7 +94,7 @@ impl Parser<'_> {
             (j.pos, j.axis) = (place(j.pos), q * j.axis);
         }
         for g in &mut b.geoms[before.2..] {
-            (g.pos, g.quat, g.inertia_quat) = (place(g.pos), turn(g.quat), turn(g.inertia_quat));
+            (g.pos, g.quat) = (place(g.pos), turn(g.quat));
         }
         for s in &mut b.sites[before.3..] {
             (s.pos, s.quat) = (place(s.pos), turn(s.quat));
@@ -259,7 +259,6 @@ impl Parser<'_> {
             return Err(e.err("size", format!("sizes must be positive, got {given:?}")));
         }
         let (mut pos, mut quat) = (e.vec3("pos", DVec3::ZERO)?, self.orientation(&e)?);
-        let mut inertia_quat = quat;
         if let Some(ft) = e.arr::<6>("fromto")? {
             if matches!(kind, GeomType::Plane | GeomType::Sphere | GeomType::Mesh | GeomType::Hfield) {
                 return Err(e.err("fromto", "fromto needs a capsule, cylinder, box or ellipsoid"));
@@ -270,8 +269,8 @@ impl Parser<'_> {
                 return Err(e.err("fromto", "zero length"));
             }
             pos = (a + b) * 0.5;
-            quat = quat_z_to(d.normalize());
-            inertia_quat = quat_z_to(-d.normalize());
+            // MuJoCo's frame: +z turned onto from − to by the shortest rotation
+            quat = quat_z_to(-d.normalize());
             let half = d.length() * 0.5;
             match kind {
                 GeomType::Capsule | GeomType::Cylinder => size[1] = half,
@@ -305,7 +304,6 @@ impl Parser<'_> {
             size,
             pos,
             quat,
-            inertia_quat,
             density: e.nonneg("density", 1000.0)?,
             mass,
             friction: fr,
@@ -331,7 +329,8 @@ impl Parser<'_> {
             let (a, b) = (DVec3::new(ft[0], ft[1], ft[2]), DVec3::new(ft[3], ft[4], ft[5]));
             pos = (a + b) * 0.5;
             if (b - a).length() > 1e-12 {
-                quat = quat_z_to((b - a).normalize());
+                // MuJoCo's frame: +z turned onto from − to
+                quat = quat_z_to((a - b).normalize());
             }
         }
         let kind = match e.get("type").unwrap_or("sphere") {
@@ -351,7 +350,8 @@ impl Parser<'_> {
             let half = 0.5 * (DVec3::from_slice(&ft[3..]) - DVec3::from_slice(&ft[..3])).length();
             size[if matches!(kind, GeomType::Box | GeomType::Ellipsoid) { 2 } else { 1 }] = half;
         }
-        Ok(SiteSpec { name: e.str("name").to_string(), pos, quat, kind, size })
+        let (rgba, material, group) = (e.rgba("rgba", DEFAULT_SITE_RGBA)?, e.get("material").map(str::to_string), e.int("group", 0)?);
+        Ok(SiteSpec { name: e.str("name").to_string(), pos, quat, kind, size, rgba, material, group, line: e.line })
     }
 
     pub(super) fn inertial(&mut self, n: Node) -> Result<InertialSpec> {
