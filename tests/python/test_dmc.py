@@ -105,3 +105,139 @@ def test_initial_states_drawn_as_dm_control_draws_them(reference, name):
             assert abs(np.median(ours[:, k]) - np.median(theirs[:, k])) < 0.02 + 0.2 * np.std(theirs[:, k]), k
         else:
             assert stats.ks_2samp(ours[:, k], theirs[:, k]).pvalue > 1e-3, f"coordinate {k}"
+
+
+def test_every_task_is_registered_with_its_spaces():
+    for name in TASKS:
+        env = gym.make(f"sinew/{name}-v0")
+        obs, _ = env.reset(seed=0)
+        assert env.observation_space.contains(obs), name
+        assert env.action_space.shape == (env.unwrapped.model.nu,)
+        env.close()
+
+
+@pytest.mark.parametrize("kwargs", [{}, {"from_pixels": True, "frame_stack": 3, "action_repeat": 2},
+                                    {"flat_observation": False}, {"from_pixels": True, "pixels_only": False}])
+def test_gymnasium_env_checker_passes(kwargs):
+    from gymnasium.utils.env_checker import check_env
+    check_env(gym.make("sinew/dmc-walker-walk-v0", **kwargs).unwrapped, skip_render_check=True)
+
+
+def test_episode_ends_at_the_time_limit_truncated_and_action_repeat_shortens_it():
+    for repeat, steps in ((1, 1000), (8, 125), (3, 334)):
+        env = gym.make("sinew/dmc-cartpole-balance-v0", action_repeat=repeat)
+        env.reset(seed=0)
+        for k in range(1, steps + 1):
+            _, _, terminated, truncated, _ = env.step(np.zeros(1))
+            assert not terminated
+            assert truncated == (k == steps), (repeat, k)
+
+
+def test_action_repeat_sums_the_rewards_of_its_control_steps():
+    a = gym.make("sinew/dmc-cheetah-run-v0", action_repeat=2)
+    b = gym.make("sinew/dmc-cheetah-run-v0")
+    oa, _ = a.reset(seed=3)
+    ob, _ = b.reset(seed=3)
+    np.testing.assert_array_equal(oa, ob)
+    rng = np.random.default_rng(0)
+    for _ in range(20):
+        u = rng.uniform(-1, 1, 6)
+        oa, ra, *_ = a.step(u)
+        ob, r1, *_ = b.step(u)
+        ob, r2, *_ = b.step(u)
+        np.testing.assert_array_equal(oa, ob)
+        assert ra == r1 + r2
+
+
+def rollout(env, steps, seed=0):
+    obs, _ = env.reset(seed=seed)
+    rng = np.random.default_rng(1)
+    out = [obs]
+    for _ in range(steps):
+        obs, *_ = env.step(rng.uniform(-1, 1, env.action_space.shape))
+        out.append(obs)
+    return np.stack(out)
+
+
+@pytest.mark.parametrize("task", ["dmc-walker-walk", "dmc-humanoid-stand", "dmc-finger-turn_hard"])
+def test_vector_env_equals_single_envs_for_any_thread_count(task):
+    singles = [gym.make(f"sinew/{task}-v0") for _ in range(3)]
+    obs = [s.reset(seed=10 + i)[0] for i, s in enumerate(singles)]
+    for threads in (1, 2):
+        venv = gym.make_vec(f"sinew/{task}-v0", num_envs=3, vectorization_mode="vector_entry_point",
+                            num_threads=threads)
+        vobs, _ = venv.reset(seed=10)
+        np.testing.assert_array_equal(vobs, np.stack(obs))
+    rng = np.random.default_rng(2)
+    for _ in range(30):
+        u = rng.uniform(-1, 1, (3, *singles[0].action_space.shape))
+        vobs, vrew, *_ = venv.step(u)
+        for i, s in enumerate(singles):
+            o, r, *_ = s.step(u[i])
+            np.testing.assert_array_equal(vobs[i], o)
+            assert vrew[i] == r
+
+
+def test_pixels_are_frames_of_the_domain_camera_stacked_oldest_first():
+    env = gym.make("sinew/dmc-cartpole-swingup-v0", from_pixels=True, frame_stack=3, width=64, height=48)
+    obs, _ = env.reset(seed=0)
+    assert obs.shape == (48, 64, 9) and obs.dtype == np.uint8
+    # a fresh stack holds the reset frame three times
+    np.testing.assert_array_equal(obs[..., :3], obs[..., 6:])
+    frames = [obs[..., 6:]]
+    for _ in range(2):
+        obs, *_ = env.step(np.ones(1))
+        np.testing.assert_array_equal(obs[..., :6], np.concatenate(frames[-2:] if len(frames) > 1 else frames * 2, axis=-1))
+        frames.append(obs[..., 6:])
+    assert not np.array_equal(frames[0], frames[-1]), "the cart moved: the frames differ"
+    both = gym.make("sinew/dmc-cartpole-swingup-v0", from_pixels=True, pixels_only=False)
+    obs, _ = both.reset(seed=0)
+    assert list(obs) == ["pixels", "position", "velocity"] and obs["pixels"].shape == (84, 84, 3)
+
+
+def test_targets_are_drawn_where_each_world_placed_them():
+    venv = gym.make_vec("sinew/dmc-reacher-easy-v0", num_envs=2, vectorization_mode="vector_entry_point",
+                        from_pixels=True, pixels_only=False, flat_observation=False)
+    obs, _ = venv.reset(seed=0)
+    assert not np.allclose(obs["to_target"][0], obs["to_target"][1])
+    # the same arm pose in both worlds, the targets where each world put them: different frames
+    core = venv.unwrapped._core
+    core.batch.qpos[1] = core.batch.qpos[0]
+    core.batch.forward_kinematics()
+    frames = core.batch.render(84, 84, core.camera_id)
+    assert not np.array_equal(frames[0], frames[1])
+
+
+def test_copies_step_on_bit_identically():
+    venv = gym.make_vec("sinew/dmc-fish-swim-v0", num_envs=2, vectorization_mode="vector_entry_point",
+                        from_pixels=True, frame_stack=2, pixels_only=False)
+    venv.reset(seed=4)
+    u = np.full((2, venv.unwrapped._core.model.nu), 0.3)
+    venv.step(u)
+    copy = pickle.loads(pickle.dumps(venv))
+    for _ in range(3):
+        a, b = venv.step(u)[0], copy.step(u)[0]
+        for k in a:
+            np.testing.assert_array_equal(a[k], b[k])
+
+
+def test_bad_actions_and_arguments_raise_value_errors():
+    env = gym.make("sinew/dmc-walker-walk-v0")
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match="not finite"):
+        env.step(np.full(6, np.nan))
+    with pytest.raises(ValueError, match="shape"):
+        env.step(np.zeros(5))
+    for kwargs, words in (({"action_repeat": 0}, "action_repeat"), ({"camera_id": 9}, "camera_id"),
+                          ({"camera_id": "nope"}, "no camera")):
+        with pytest.raises(ValueError, match=words):
+            gym.make("sinew/dmc-walker-walk-v0", **kwargs)
+
+
+def test_sb3_vec_env_runs_a_dmc_task():
+    import sinew.sb3
+    venv = sinew.sb3.make_vec_env("sinew/dmc-walker-walk-v0", n_envs=4, seed=0, action_repeat=4)
+    obs = venv.reset()
+    assert obs.shape == (4, 24) and venv.max_episode_steps == 250
+    obs, reward, done, info = venv.step(np.zeros((4, 6)))
+    assert obs.shape == (4, 24) and reward.shape == (4,) and not done.any()

@@ -133,15 +133,21 @@ class DmcCore(Worlds):
         return OrderedDict((k, v.copy()) for k, v in self._state.items())
 
     def obs_cache(self):
-        """The observation's rows and frame stacks (a frame stack holds earlier states' frames)."""
-        return ({k: v.copy() for k, v in self._state.items()}, None if self._frames is None else self._frames.copy())
+        """The observation's rows, frame stacks (a frame stack holds earlier states' frames) and
+        the geoms and sites each world placed (targets)."""
+        placed = [(kind, i, getattr(self.batch, f"{kind}_pos")(i)) for kind, model in
+                  (("geom", self.model.geom_pos), ("site", self.model.site_pos)) for i in range(len(model))]
+        placed = [(kind, i, pos) for kind, i, pos in placed if (pos != getattr(self.model, f"{kind}_pos")[i]).any()]
+        return ({k: v.copy() for k, v in self._state.items()}, None if self._frames is None else self._frames.copy(), placed)
 
     def restore_obs(self, cache) -> None:
-        state, frames = cache
+        state, frames, placed = cache
         for k, v in state.items():
             self._state[k][:] = v
         if frames is not None:
             self._frames[:] = frames
+        for kind, i, pos in placed:
+            getattr(self.batch, f"set_{kind}_pos")(i, pos)
 
     def reset_info(self) -> dict:
         return {}

@@ -1,0 +1,126 @@
+"""dm_control's suite as sinew envs beside dm_control itself: env-steps/s from state and from
+84 × 84 pixels, and a uniform random policy's episode return.
+
+sinew: the native vector env (``gym.make_vec(..., vectorization_mode="vector_entry_point")``),
+64 worlds from state and 16 from pixels, all cores; dm_control: its own ``env.step`` loop, one
+env (MuJoCo 3.17, which dm-control 1.0.50 needs, run in a subprocess; pixels by
+``physics.render`` through mesa's EGL). Returns: mean ± sd over 16 sinew episodes and 4
+dm_control episodes, actions uniform in the action box.
+
+    MUJOCO_GL=egl python benches/dmc.py --out results/dmc.md [--tasks dmc-walker-walk ...]
+"""
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+MUJOCO_317 = os.path.join(os.path.expanduser("~"), ".cache", "sinew-tests", "mujoco-3.17.0")
+
+
+def sinew_rate(name: str, pixels: bool, seconds: float = 1.5) -> float:
+    import gymnasium as gym
+    import sinew  # noqa: F401
+    n = 16 if pixels else 64
+    env = gym.make_vec(f"sinew/{name}-v0", num_envs=n, vectorization_mode="vector_entry_point", from_pixels=pixels)
+    env.reset(seed=0)
+    rng = np.random.default_rng(0)
+    lo, hi = env.single_action_space.low, env.single_action_space.high
+    steps, t0 = 0, time.perf_counter()
+    while time.perf_counter() - t0 < seconds:
+        for _ in range(10):
+            env.step(rng.uniform(lo, hi, (n, len(lo))))
+        steps += 10 * n
+    return steps / (time.perf_counter() - t0)
+
+
+def sinew_returns(name: str, episodes: int = 16) -> list:
+    import gymnasium as gym
+    env = gym.make_vec(f"sinew/{name}-v0", num_envs=episodes, vectorization_mode="vector_entry_point")
+    env.reset(seed=0)
+    rng = np.random.default_rng(1)
+    lo, hi = env.single_action_space.low, env.single_action_space.high
+    total, done = np.zeros(episodes), np.zeros(episodes, dtype=bool)
+    while not done.all():
+        _, r, term, trunc, _ = env.step(rng.uniform(lo, hi, (episodes, len(lo))))
+        total += np.where(done, 0.0, r)
+        done |= term | trunc
+    return total.tolist()
+
+
+def reference(names: list) -> dict:
+    """dm_control's numbers, measured in this script run under MuJoCo 3.17 (``--reference``)."""
+    if not os.path.exists(os.path.join(MUJOCO_317, "mujoco")):
+        subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--target", MUJOCO_317,
+                        "mujoco==3.17.0"], check=True)
+    env = dict(os.environ, PYTHONPATH=MUJOCO_317, MUJOCO_GL=os.environ.get("MUJOCO_GL", "egl"))
+    out = subprocess.run([sys.executable, __file__, "--reference", *names], check=True, env=env, capture_output=True, text=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def measure_dm_control(names: list, seconds: float = 1.5) -> None:
+    from dm_control import suite
+    rows = {}
+    for name in names:
+        domain, task = name[4:].split("-", 1)
+        env = suite.load(domain, task, task_kwargs={"random": 0})
+        spec = env.action_spec()
+        rng = np.random.default_rng(0)
+        rates = []
+        for pixels in (False, True):
+            env.reset()
+            camera = 2 if domain == "quadruped" else 0
+            steps, t0 = 0, time.perf_counter()
+            while time.perf_counter() - t0 < seconds:
+                ts = env.step(rng.uniform(spec.minimum, spec.maximum))
+                if pixels:
+                    env.physics.render(84, 84, camera_id=camera)
+                if ts.last():
+                    env.reset()
+                steps += 1
+            rates.append(steps / (time.perf_counter() - t0))
+        returns = []
+        for _ in range(4):
+            ts, total = env.reset(), 0.0
+            while not ts.last():
+                ts = env.step(rng.uniform(spec.minimum, spec.maximum))
+                total += ts.reward
+            returns.append(total)
+        rows[name] = {"state": rates[0], "pixels": rates[1], "returns": returns}
+    print(json.dumps(rows))
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--out", default="results/dmc.md")
+    p.add_argument("--tasks", nargs="*")
+    p.add_argument("--reference", nargs="*")
+    a = p.parse_args()
+    if a.reference is not None:
+        return measure_dm_control(a.reference)
+    from sinew.dmc import TASKS
+    names = a.tasks or list(TASKS)
+    ref = reference(names)
+    lines = ["# dm_control's suite: sinew beside dm_control", "",
+             "`MUJOCO_GL=egl python benches/dmc.py --out results/dmc.md` (2 cores; sinew's native vector env, 64 "
+             "worlds from state, 16 from 84 × 84 pixels; dm_control's own loop, one env, MuJoCo 3.17, pixels by "
+             "mesa's EGL; random-policy returns over 16 sinew and 4 dm_control episodes)", "",
+             "| task | state steps/s sinew | dm_control | × | pixels steps/s sinew | dm_control | × | random return sinew | dm_control |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for name in names:
+        s, px = sinew_rate(name, False), sinew_rate(name, True)
+        ours, theirs = sinew_returns(name), ref[name]["returns"]
+        r = ref[name]
+        lines.append(f"| {name[4:]} | {s:,.0f} | {r['state']:,.0f} | {s / r['state']:.1f} | {px:,.0f} | {r['pixels']:,.0f} | "
+                     f"{px / r['pixels']:.1f} | {np.mean(ours):.1f} ± {np.std(ours):.1f} | {np.mean(theirs):.1f} ± {np.std(theirs):.1f} |")
+        print(lines[-1], flush=True)
+    with open(a.out, "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+if __name__ == "__main__":
+    main()
