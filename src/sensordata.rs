@@ -2,19 +2,93 @@
 //! kinematics and tendons and, for touch, the last step's contact forces. Positions, axes and
 //! velocities are MuJoCo's to round-off; a touch sensor sums the normal forces of the contacts on
 //! its site's body whose point lies within the site's volume (MuJoCo also counts a contact whose
-//! normal ray from its point crosses the volume).
+//! normal ray from its point crosses the volume). Accelerometers, force and torque sensors read
+//! the state's accelerations under its controls and the last step's constraint forces, and the
+//! interaction forces between bodies they imply (MuJoCo's `cacc` and `cfrc_int`, from
+//! `mj_rnePostConstraint`): without constraints, MuJoCo's to round-off.
 
 use glam::{DMat3, DVec3};
 
 use crate::collision::Contact;
 use crate::constraint::{Constraints, RowKind};
-use crate::dynamics::kinematics::KinData;
-use crate::dynamics::tendon::{geom_pose, TendonData};
+use crate::dynamics::kinematics::{self, point_accel, KinData};
+use crate::dynamics::tendon::{self, geom_pose, TendonData};
+use crate::dynamics::{self, aba};
+use crate::math::{Force, Motion, SpatialInertia};
+use crate::step::data::Data;
 use crate::model::{ConstraintMode, GeomType, Model, SensorFrame, SensorKind, Transmission, WORLD};
 
-/// Writes every sensor of the state (`qpos`, `qvel`) with kinematics `kin` and tendons `ten`
-/// into `out` (nsensordata), touch from the last step's contacts and constraint forces.
-pub fn compute(m: &Model, kin: &KinData, ten: &TendonData, qpos: &[f64], qvel: &[f64], last: (&Constraints, &[Contact]), out: &mut [f64]) {
+/// Writes every sensor of world state `s` into `out` (nsensordata): kinematics, tendons and, for
+/// the sensors that read them, accelerations are computed into `d`; touch, force and torque read
+/// the last step's constraint forces there.
+pub fn read(m: &Model, d: &mut Data, s: State<'_>, out: &mut [f64]) {
+    let dy = &mut d.dynamics;
+    kinematics::forward(m, s.qpos, s.qvel, &mut dy.kin);
+    tendon::compute(m, &dy.kin, s.qpos, &mut dy.ten);
+    let acc = m.sensor_kind.iter().any(SensorKind::reads_accelerations).then(|| accelerations(m, d, s));
+    let dy = &d.dynamics;
+    compute(m, &dy.kin, &dy.ten, s.qpos, s.qvel, (&d.constraints, &d.coll.contacts), acc.as_ref(), out);
+}
+
+/// A world's state as the sensors read it.
+#[derive(Clone, Copy)]
+pub struct State<'a> {
+    /// Positions (nq).
+    pub qpos: &'a [f64],
+    /// Velocities (nv).
+    pub qvel: &'a [f64],
+    /// Controls (nu).
+    pub ctrl: &'a [f64],
+    /// Activations (na).
+    pub act: &'a [f64],
+}
+
+/// Each node's spatial acceleration (about the kinematics' origin, with the base's fictitious −g:
+/// MuJoCo's `cacc`) and the force each body's parent exerts on its subtree (about the origin:
+/// MuJoCo's `cfrc_int`).
+struct Accelerations {
+    a: Vec<Motion>,
+    f_int: Vec<Force>,
+}
+
+/// The accelerations of state `s` under its applied forces and the last step's constraint forces,
+/// and the interaction forces they imply (RNEA's two passes over bodies, Featherstone 2008,
+/// Table 5.1, with the contact forces as external forces).
+fn accelerations(m: &Model, d: &mut Data, s: State<'_>) -> Accelerations {
+    let dy = &mut d.dynamics;
+    dynamics::forward(m, dy, s.qpos, s.qvel, s.ctrl, s.act);
+    let (origin, mut qfrc_c) = (dy.kin.origin, vec![0.0; m.nv]);
+    let mut f_ext = vec![Force::ZERO; m.nbody];
+    let mut node_f = vec![Force::ZERO; m.nnode];
+    let last = (&d.constraints, &d.coll.contacts[..]);
+    generalized_constraint_force(m, &dy.kin, last, &mut node_f, &mut qfrc_c, |b, at, f| f_ext[b] += Force::at_point(at - origin, f));
+    let tau: Vec<f64> = dy.qfrc_applied.iter().zip(&qfrc_c).map(|(a, c)| a + c).collect();
+    aba::backward(m, &dy.kin, &tau, 0.0, &mut dy.aba);
+    aba::forward(m, &dy.kin, &mut dy.aba, &mut dy.qacc);
+    let (kin, a) = (&dy.kin, dy.aba.a.clone());
+    let mut f_int = vec![Force::ZERO; m.nbody];
+    for b in 1..m.nbody {
+        let n = m.body_node[b];
+        let (an, vn) = if n == WORLD { (Motion::new(DVec3::ZERO, -m.opt.gravity), Motion::ZERO) } else { (a[n], kin.v[n]) };
+        let inertia = SpatialInertia::new(m.body_mass[b], m.body_ipos[b], m.body_inertia[b]).to_parent(kin.xmat[b], kin.xpos[b] - origin);
+        f_int[b] = inertia.mul_motion(&an) + vn.cross_force(&inertia.mul_motion(&vn)) - f_ext[b];
+    }
+    // leaves to root: each subtree's force (bodies are numbered parents first)
+    for b in (1..m.nbody).rev() {
+        let p = m.body_parent[b];
+        if p != WORLD {
+            let f = f_int[b];
+            f_int[p] += f;
+        }
+    }
+    Accelerations { a, f_int }
+}
+
+/// Writes every sensor of the state (`qpos`, `qvel`) with kinematics `kin`, tendons `ten` and,
+/// for the sensors that read them, accelerations `acc` into `out` (nsensordata), touch from the
+/// last step's contacts and constraint forces.
+#[allow(clippy::too_many_arguments)]
+fn compute(m: &Model, kin: &KinData, ten: &TendonData, qpos: &[f64], qvel: &[f64], last: (&Constraints, &[Contact]), acc: Option<&Accelerations>, out: &mut [f64]) {
     for (s, kind) in m.sensor_kind.iter().enumerate() {
         let at = m.sensor_adr[s];
         let value = match *kind {
@@ -49,12 +123,33 @@ pub fn compute(m: &Model, kin: &KinData, ten: &TendonData, qpos: &[f64], qvel: &
                 Value::Vector(pose(m, kin, SensorFrame::Site(site)).0.transpose() * v)
             }
             SensorKind::Touch(site) => Value::Scalar(touch(m, kin, site, last)),
+            SensorKind::Accelerometer(site) | SensorKind::Force(site) | SensorKind::Torque(site) => {
+                let Some(acc) = acc else { continue };
+                Value::Vector(interaction(m, kin, acc, *kind, site))
+            }
         };
         match value {
             Value::Scalar(x) => out[at] = x,
             Value::Vector(v) => out[at..at + 3].copy_from_slice(&v.to_array()),
         }
     }
+}
+
+/// An accelerometer's, force sensor's or torque sensor's reading at `site`, in its frame.
+fn interaction(m: &Model, kin: &KinData, acc: &Accelerations, kind: SensorKind, site: usize) -> DVec3 {
+    let (rot, p) = pose(m, kin, SensorFrame::Site(site));
+    let b = m.site_body[site];
+    let r = p - kin.origin;
+    let world = match kind {
+        SensorKind::Accelerometer(_) => match m.body_node[b] {
+            WORLD => -m.opt.gravity,
+            n => point_accel(kin, &acc.a, DVec3::ZERO, n, r),
+        },
+        SensorKind::Force(_) => acc.f_int[b].lin,
+        // the torque about the site
+        _ => acc.f_int[b].ang - r.cross(acc.f_int[b].lin),
+    };
+    rot.transpose() * world
 }
 
 /// One sensor's reading.
@@ -175,5 +270,73 @@ fn inside(kind: GeomType, size: [f64; 3], p: DVec3) -> bool {
         GeomType::Box => p.x.abs() <= a && p.y.abs() <= b && p.z.abs() <= c,
         GeomType::Ellipsoid => (p / DVec3::new(a, b, c)).length_squared() <= 1.0,
         GeomType::Plane | GeomType::Mesh | GeomType::Hfield => false,
+    }
+}
+
+/// The last step's constraint forces (`last`: its constraints and contacts) as generalised forces
+/// `qfrc` (Jᵀ f, nv), with each contact force on a body passed to `on_body(body, point, force)`;
+/// `node_f` (nnode) is scratch.
+pub fn generalized_constraint_force(
+    m: &Model, kin: &KinData, (c, contacts): (&Constraints, &[Contact]), node_f: &mut [Force], qfrc: &mut [f64], mut on_body: impl FnMut(usize, DVec3, DVec3),
+) {
+    let (con, force) = (&c.con, &c.solve.force);
+    qfrc.fill(0.0);
+    if con.is_empty() || force.len() < con.len() {
+        return;
+    }
+    // velocity-level time stepping solves for impulses over the step
+    let per_force = if m.opt.constraint_mode == ConstraintMode::Velocity { 1.0 / m.opt.timestep } else { 1.0 };
+    // spatial constraint forces per node (world coordinates about the kinematics' origin), for Jᵀ f
+    node_f.fill(Force::ZERO);
+    for (ci, c) in contacts.iter().enumerate() {
+        let mut f_c = DVec3::ZERO;
+        for j in 0..con.len() {
+            if con.source[j] == ci && con.kind[j].is_contact() {
+                f_c += con.dir[j] * force[j] * per_force;
+            }
+        }
+        if f_c == DVec3::ZERO {
+            continue;
+        }
+        for (g, sign) in [(c.geom1, 1.0), (c.geom2, -1.0)] {
+            let b = m.geom_body[g];
+            let fs = f_c * sign;
+            on_body(b, c.pos, fs);
+            let n = m.body_node[b];
+            if n != WORLD {
+                node_f[n] += Force::at_point(c.pos - kin.origin, fs);
+            }
+        }
+    }
+    // connects pull their two points together
+    for j in 0..con.len() {
+        let RowKind::Connect { angular } = con.kind[j] else { continue };
+        let fs = con.dir[j] * (force[j] * per_force);
+        let [n0, n1] = con.node[j];
+        let at = |r: DVec3| if angular { Force { ang: fs, lin: DVec3::ZERO } } else { Force::at_point(r, fs) };
+        if n0 != WORLD {
+            node_f[n0] += at(con.arm[j]);
+        }
+        if n1 != WORLD {
+            node_f[n1] -= at(con.arm2[j]);
+        }
+    }
+    // τ = Jᵀ f: leaves to root, as RNEA's second pass (Featherstone 2008, Table 5.1)
+    for i in (0..m.nnode).rev() {
+        for r in 0..m.node_nv[i] {
+            qfrc[m.node_dofadr[i] + r] += kin.s[i][r].dot(&node_f[i]);
+        }
+        let p = m.node_parent[i];
+        if p != WORLD {
+            let fp = node_f[i];
+            node_f[p] += fp;
+        }
+    }
+    for j in 0..con.len() {
+        if !con.kind[j].is_point() {
+            for &(dof, c) in con.joint_terms(j) {
+                qfrc[dof] += c * force[j] * per_force;
+            }
+        }
     }
 }

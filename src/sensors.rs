@@ -6,12 +6,12 @@
 use glam::DVec3;
 
 use crate::collision::Contact;
-use crate::constraint::RowKind;
 use crate::constraint::Constraints;
 use crate::step::data::{Data, SensorScratch};
 use crate::dynamics::kinematics::KinData;
 use crate::math::{Force, SpatialInertia};
-use crate::model::{ConstraintMode, Model, WORLD};
+use crate::model::{Model, WORLD};
+use crate::sensordata::generalized_constraint_force;
 use crate::tasks::World;
 
 /// Output rows of one world.
@@ -182,69 +182,13 @@ fn com_based(f: &Frame<'_>, out: &mut Sensors<'_>) {
 /// cfrc_ext (each contact's force on its two bodies, about their root subtree's centre of mass)
 /// and qfrc_constraint (Jᵀ f) from the last step's constraint forces.
 fn constraint_forces(f: &Frame<'_>, c: &Constraints, contacts: &[Contact], node_f: &mut [Force], out: &mut Sensors<'_>) {
-    let (m, kin, con, force) = (f.m, f.kin, &c.con, &c.solve.force);
     out.cfrc_ext.fill(0.0);
-    out.qfrc_constraint.fill(0.0);
-    if con.is_empty() || force.len() < con.len() {
-        return;
-    }
-    // velocity-level time stepping solves for impulses over the step
-    let per_force = if m.opt.constraint_mode == ConstraintMode::Velocity { 1.0 / m.opt.timestep } else { 1.0 };
-    // spatial constraint forces per node (world coordinates about the kinematics' origin), for Jᵀ f
-    node_f.fill(Force::ZERO);
-    for (ci, c) in contacts.iter().enumerate() {
-        let mut f_c = DVec3::ZERO;
-        for j in 0..con.len() {
-            if con.source[j] == ci && con.kind[j].is_contact() {
-                f_c += con.dir[j] * force[j] * per_force;
-            }
+    let cfrc_ext = &mut *out.cfrc_ext;
+    generalized_constraint_force(f.m, f.kin, (c, contacts), node_f, out.qfrc_constraint, |b, at, fs| {
+        let torque = (at - f.com_of_root(b)).cross(fs);
+        for k in 0..3 {
+            cfrc_ext[6 * b + k] += torque[k];
+            cfrc_ext[6 * b + 3 + k] += fs[k];
         }
-        if f_c == DVec3::ZERO {
-            continue;
-        }
-        for (g, sign) in [(c.geom1, 1.0), (c.geom2, -1.0)] {
-            let b = m.geom_body[g];
-            let fs = f_c * sign;
-            let torque = (c.pos - f.com_of_root(b)).cross(fs);
-            for k in 0..3 {
-                out.cfrc_ext[6 * b + k] += torque[k];
-                out.cfrc_ext[6 * b + 3 + k] += fs[k];
-            }
-            let n = m.body_node[b];
-            if n != WORLD {
-                node_f[n] += Force::at_point(c.pos - kin.origin, fs);
-            }
-        }
-    }
-    // connects pull their two points together
-    for j in 0..con.len() {
-        let RowKind::Connect { angular } = con.kind[j] else { continue };
-        let fs = con.dir[j] * (force[j] * per_force);
-        let [n0, n1] = con.node[j];
-        let at = |r: DVec3| if angular { Force { ang: fs, lin: DVec3::ZERO } } else { Force::at_point(r, fs) };
-        if n0 != WORLD {
-            node_f[n0] += at(con.arm[j]);
-        }
-        if n1 != WORLD {
-            node_f[n1] -= at(con.arm2[j]);
-        }
-    }
-    // τ = Jᵀ f: leaves to root, as RNEA's second pass (Featherstone 2008, Table 5.1)
-    for i in (0..m.nnode).rev() {
-        for r in 0..m.node_nv[i] {
-            out.qfrc_constraint[m.node_dofadr[i] + r] += kin.s[i][r].dot(&node_f[i]);
-        }
-        let p = m.node_parent[i];
-        if p != WORLD {
-            let fp = node_f[i];
-            node_f[p] += fp;
-        }
-    }
-    for j in 0..con.len() {
-        if !con.kind[j].is_point() {
-            for &(dof, c) in con.joint_terms(j) {
-                out.qfrc_constraint[dof] += c * force[j] * per_force;
-            }
-        }
-    }
+    });
 }

@@ -52,6 +52,9 @@ pub(super) fn sensors(m: &mut Model, spec: &ModelSpec) -> Result<()> {
             "gyro" => SensorKind::Gyro(find(&m.site_name, "site")?),
             "velocimeter" => SensorKind::Velocimeter(find(&m.site_name, "site")?),
             "touch" => SensorKind::Touch(find(&m.site_name, "site")?),
+            "accelerometer" => SensorKind::Accelerometer(find(&m.site_name, "site")?),
+            "force" => SensorKind::Force(find(&m.site_name, "site")?),
+            "torque" => SensorKind::Torque(find(&m.site_name, "site")?),
             other => {
                 m.warnings.push(format!("<{other}> sensor '{}' at line {}: not computed by sinew, left out of sensordata", sp.name, sp.line));
                 continue;

@@ -35,6 +35,12 @@ pub enum SensorKind {
     Velocimeter(usize),
     /// The normal force of the last step's contacts on the site's body within the site's volume.
     Touch(usize),
+    /// A site's proper acceleration (its classical acceleration less gravity), in its frame.
+    Accelerometer(usize),
+    /// The force the site's body's parent exerts on the body's subtree, in the site's frame.
+    Force(usize),
+    /// That interaction's torque about the site, in the site's frame.
+    Torque(usize),
 }
 
 impl SensorKind {
@@ -50,6 +56,13 @@ impl SensorKind {
             | SensorKind::Touch(_) => 1,
             _ => 3,
         }
+    }
+}
+
+impl SensorKind {
+    /// Whether it reads accelerations or interaction forces, which take a forward-dynamics pass.
+    pub fn reads_accelerations(&self) -> bool {
+        matches!(self, SensorKind::Accelerometer(_) | SensorKind::Force(_) | SensorKind::Torque(_))
     }
 }
 

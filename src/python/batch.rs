@@ -13,7 +13,7 @@ use super::model::PyModel;
 use crate::batch::{Batch, BatchState, TaskRun};
 use crate::step::state::FlatState;
 use crate::collision::{self, CollisionData};
-use crate::dynamics::{kinematics, tendon};
+use crate::dynamics::kinematics;
 use crate::render::Placed;
 use crate::sensordata;
 use crate::sensors::Sensors;
@@ -151,21 +151,23 @@ impl PyBatch {
     fn diverged(&self, py: Python<'_>) -> Py<PyArray1<bool>> {
         self.diverged.clone_ref(py)
     }
-    /// Each world's file sensors (N, nsensordata) at its current state, touch from its last
-    /// step's contact forces, as `Sim.sensordata` (computed on each read).
+    /// Each world's file sensors (N, nsensordata) at its current state, touch, force and torque
+    /// from its last step's constraint forces, as `Sim.sensordata` (computed on each read).
     #[getter]
     fn sensordata<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let m = self.inner.model.clone();
         let (n, ns) = (self.inner.len(), m.nsensordata);
-        let (qpos, qvel) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly());
-        let (qp, qv) = (qpos.as_slice()?, qvel.as_slice()?);
+        let (qpos, qvel, ctrl, act) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly(), self.act.bind(py).readonly());
+        let (qp, qv, u, a) = (qpos.as_slice()?, qvel.as_slice()?, ctrl.as_slice()?, act.as_slice()?);
         let mut out = vec![0.0; n * ns];
         for (i, d) in self.inner.data.iter_mut().enumerate() {
-            let (q, v) = (&qp[i * m.nq..(i + 1) * m.nq], &qv[i * m.nv..(i + 1) * m.nv]);
-            let dy = &mut d.dynamics;
-            kinematics::forward(&m, q, v, &mut dy.kin);
-            tendon::compute(&m, &dy.kin, q, &mut dy.ten);
-            sensordata::compute(&m, &dy.kin, &dy.ten, q, v, (&d.constraints, &d.coll.contacts), &mut out[i * ns..(i + 1) * ns]);
+            let s = sensordata::State {
+                qpos: &qp[i * m.nq..(i + 1) * m.nq],
+                qvel: &qv[i * m.nv..(i + 1) * m.nv],
+                ctrl: &u[i * m.nu..(i + 1) * m.nu],
+                act: &a[i * m.na..(i + 1) * m.na],
+            };
+            sensordata::read(&m, d, s, &mut out[i * ns..(i + 1) * ns]);
         }
         PyArray1::from_vec(py, out).reshape([n, ns])
     }

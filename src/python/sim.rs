@@ -149,16 +149,15 @@ impl PySim {
         PyArray1::from_vec(py, flat).reshape([self.model.nbody, 3, 3])
     }
 
-    /// The file's sensors (nsensordata) at the current state, touch from the last step's contact
-    /// forces, as MuJoCo's `sensordata` (`Model.sensor_names`, `sensor_adr`; the kinds sinew does
+    /// The file's sensors (nsensordata) at the current state, touch, force and torque from the last
+    /// step's constraint forces, as MuJoCo's `sensordata` (`Model.sensor_names`, `sensor_adr`; the kinds sinew does
     /// not compute are left out).
     #[getter]
     fn sensordata<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.tendons(py)?;
-        let (qpos, qvel) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly());
+        let (qpos, qvel, ctrl, act) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly(), self.act.bind(py).readonly());
         let mut out = vec![0.0; self.model.nsensordata];
-        let d = &self.data;
-        sensordata::compute(&self.model, &d.dynamics.kin, &d.dynamics.ten, qpos.as_slice()?, qvel.as_slice()?, (&d.constraints, &d.coll.contacts), &mut out);
+        let s = sensordata::State { qpos: qpos.as_slice()?, qvel: qvel.as_slice()?, ctrl: ctrl.as_slice()?, act: act.as_slice()? };
+        sensordata::read(&self.model, &mut self.data, s, &mut out);
         Ok(PyArray1::from_vec(py, out))
     }
     /// Tendon lengths (ntendon) for the current qpos, as MuJoCo's `ten_length`.

@@ -42,14 +42,15 @@ class DmcCore(Worlds):
     def __init__(self, task: str, num_envs: int, num_threads: int | None = None, *, from_pixels: bool = False,
                  pixels_only: bool = True, height: int = 84, width: int = 84, camera_id: int | str | None = None,
                  action_repeat: int = 1, frame_stack: int = 1, flat_observation: bool = True,
-                 time_limit: float | None = None, friction: str = "pyramid", constraint_mode: str = "acceleration"):
+                 time_limit: float | None = None, friction: str = "pyramid", constraint_mode: str = "acceleration",
+                 **task_kwargs):
         from sinew.dmc import TASKS, suite_dir
         if task not in TASKS:
             raise ValueError(f"unknown task {task!r}; known: {sorted(TASKS)}")
         for name, v in (("action_repeat", action_repeat), ("frame_stack", frame_stack)):
             if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
                 raise ValueError(f"{name} must be a positive integer, got {v!r}")
-        self.task = TASKS[task]()
+        self.task = TASKS[task](**task_kwargs)
         xml = self.task.model_xml()
         path = os.path.join(suite_dir(), self.task.xml)
         with warnings.catch_warnings():
@@ -62,7 +63,8 @@ class DmcCore(Worlds):
         self.action_repeat = int(action_repeat)
         limit = self.task.time_limit if time_limit is None else time_limit
         # dm_control ends an episode at the first control step whose count reaches the limit
-        self.task.max_episode_steps = math.ceil(math.ceil(limit / (self.model.timestep * self.n_sub_steps)) / self.action_repeat)
+        steps = limit / (self.model.timestep * self.n_sub_steps)
+        self.task.max_episode_steps = math.inf if math.isinf(steps) else math.ceil(math.ceil(steps) / self.action_repeat)
         self.task.frame_skip = self.n_sub_steps * self.action_repeat
         self.task.dt = self.model.timestep * self.task.frame_skip
         self.info_names = []
