@@ -5,7 +5,8 @@ sinew: the native vector env (``gym.make_vec(..., vectorization_mode="vector_ent
 64 worlds from state and 16 from pixels, all cores; dm_control: its own ``env.step`` loop, one
 env (MuJoCo 3.17, which dm-control 1.0.50 needs, run in a subprocess; pixels by
 ``physics.render`` through mesa's EGL). Returns: mean ± sd over 16 sinew episodes and 4
-dm_control episodes, actions uniform in the action box.
+dm_control episodes, actions uniform in the action box (within ±1 where it is unbounded);
+lqr's episodes never truncate and are left out of the returns.
 
     MUJOCO_GL=egl python benches/dmc.py --out results/dmc.md [--tasks dmc-walker-walk ...]
 """
@@ -29,7 +30,7 @@ def sinew_rate(name: str, pixels: bool, seconds: float = 1.5) -> float:
     env = gym.make_vec(f"sinew/{name}-v0", num_envs=n, vectorization_mode="vector_entry_point", from_pixels=pixels)
     env.reset(seed=0)
     rng = np.random.default_rng(0)
-    lo, hi = env.single_action_space.low, env.single_action_space.high
+    lo, hi = np.clip(env.single_action_space.low, -1, 1), np.clip(env.single_action_space.high, -1, 1)
     steps, t0 = 0, time.perf_counter()
     while time.perf_counter() - t0 < seconds:
         for _ in range(10):
@@ -43,7 +44,7 @@ def sinew_returns(name: str, episodes: int = 16) -> list:
     env = gym.make_vec(f"sinew/{name}-v0", num_envs=episodes, vectorization_mode="vector_entry_point")
     env.reset(seed=0)
     rng = np.random.default_rng(1)
-    lo, hi = env.single_action_space.low, env.single_action_space.high
+    lo, hi = np.clip(env.single_action_space.low, -1, 1), np.clip(env.single_action_space.high, -1, 1)
     total, done = np.zeros(episodes), np.zeros(episodes, dtype=bool)
     while not done.all():
         _, r, term, trunc, _ = env.step(rng.uniform(lo, hi, (episodes, len(lo))))
@@ -69,6 +70,7 @@ def measure_dm_control(names: list, seconds: float = 1.5) -> None:
         domain, task = name[4:].split("-", 1)
         env = suite.load(domain, task, task_kwargs={"random": 0})
         spec = env.action_spec()
+        lo, hi = np.clip(spec.minimum, -1, 1), np.clip(spec.maximum, -1, 1)
         rng = np.random.default_rng(0)
         rates = []
         for pixels in (False, True):
@@ -76,7 +78,7 @@ def measure_dm_control(names: list, seconds: float = 1.5) -> None:
             camera = 2 if domain == "quadruped" else 0
             steps, t0 = 0, time.perf_counter()
             while time.perf_counter() - t0 < seconds:
-                ts = env.step(rng.uniform(spec.minimum, spec.maximum))
+                ts = env.step(rng.uniform(lo, hi))
                 if pixels:
                     env.physics.render(84, 84, camera_id=camera)
                 if ts.last():
@@ -84,10 +86,10 @@ def measure_dm_control(names: list, seconds: float = 1.5) -> None:
                 steps += 1
             rates.append(steps / (time.perf_counter() - t0))
         returns = []
-        for _ in range(4):
+        for _ in range(0 if domain == "lqr" else 4):
             ts, total = env.reset(), 0.0
             while not ts.last():
-                ts = env.step(rng.uniform(spec.minimum, spec.maximum))
+                ts = env.step(rng.uniform(lo, hi))
                 total += ts.reward
             returns.append(total)
         rows[name] = {"state": rates[0], "pixels": rates[1], "returns": returns}
@@ -113,10 +115,13 @@ def main() -> None:
              "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for name in names:
         s, px = sinew_rate(name, False), sinew_rate(name, True)
-        ours, theirs = sinew_returns(name), ref[name]["returns"]
         r = ref[name]
+        returns = "| — | — |"
+        if r["returns"]:
+            ours, theirs = sinew_returns(name), r["returns"]
+            returns = f"| {np.mean(ours):.1f} ± {np.std(ours):.1f} | {np.mean(theirs):.1f} ± {np.std(theirs):.1f} |"
         lines.append(f"| {name[4:]} | {s:,.0f} | {r['state']:,.0f} | {s / r['state']:.1f} | {px:,.0f} | {r['pixels']:,.0f} | "
-                     f"{px / r['pixels']:.1f} | {np.mean(ours):.1f} ± {np.std(ours):.1f} | {np.mean(theirs):.1f} ± {np.std(theirs):.1f} |")
+                     f"{px / r['pixels']:.1f} " + returns)
         print(lines[-1], flush=True)
     with open(a.out, "w") as f:
         f.write("\n".join(lines) + "\n")

@@ -45,6 +45,8 @@ def reference(tmp_path_factory):
         core = DmcCore(name, WORLDS)
         core.reset_worlds(np.arange(WORLDS), [np.random.default_rng(i) for i in range(WORLDS)])
         rng = np.random.default_rng(7)
+        # unbounded controls (lqr's) drawn in ±1
+        lo, hi = np.clip(core.action_space.low, -1, 1), np.clip(core.action_space.high, -1, 1)
         # geoms and sites each world placed (targets), sent with every state
         for kind, names in (("geom", core.model.geom_names), ("site", core.model.site_names)):
             for i, element in enumerate(names):
@@ -55,7 +57,7 @@ def reference(tmp_path_factory):
         states = [(core.batch.qpos.copy(), core.batch.qvel.copy(), core.batch.ctrl.copy())]
         obs, rewards = [core.observe()], [core.task.reward(Physics(core.batch, core.names))]
         for s in range(STEPS):
-            o, r, _, _ = core.step(rng.uniform(core.action_space.low, core.action_space.high, (WORLDS, core.model.nu)))
+            o, r, _, _ = core.step(rng.uniform(lo, hi, (WORLDS, core.model.nu)))
             if s % EVERY == EVERY - 1:
                 states.append((core.batch.qpos.copy(), core.batch.qvel.copy(), core.batch.ctrl.copy()))
                 obs.append(o)
