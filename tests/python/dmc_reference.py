@@ -2,7 +2,7 @@
 
 Run as ``python dmc_reference.py IN.npz OUT.npz`` with a MuJoCo dm_control can load (3.17:
 dm-control 1.0.50 reads model fields MuJoCo 4 no longer has). IN holds, per task key
-``<domain>-<task>``, arrays ``<key>/qpos``, ``/qvel``, ``/ctrl`` (one row per state) and ``<key>/geom/<name>``,
+``<domain>-<task>``, arrays ``<key>/qpos``, ``/qvel``, ``/ctrl``, ``/act`` (one row per state) and ``<key>/geom/<name>``,
 ``<key>/site/<name>`` (where each state places a geom or site, a target); OUT gets
 ``<key>/obs`` (dm_control's observation flattened in its key order), ``<key>/reward`` and
 ``<key>/keys`` (each observation key repeated over its entries), and ``<key>/reset`` (initial
@@ -25,11 +25,11 @@ def main(src: str, dst: str) -> None:
         phys, t = env.physics, env.task
         obs, rewards, names = [], [], []
         placed = [(k.split("/")[1], k.split("/")[2], v) for k, v in data.items() if k.startswith((f"{key}/geom/", f"{key}/site/"))]
-        for i, (q, v, u) in enumerate(zip(data[f"{key}/qpos"], data[f"{key}/qvel"], data[f"{key}/ctrl"])):
+        for i, (q, v, u, a) in enumerate(zip(data[f"{key}/qpos"], data[f"{key}/qvel"], data[f"{key}/ctrl"], data[f"{key}/act"])):
             for kind, name, pos in placed:
                 getattr(phys.named.model, f"{kind}_pos")[name] = pos[i]
             with phys.reset_context():
-                phys.data.qpos[:], phys.data.qvel[:], phys.data.ctrl[:] = q, v, u
+                phys.data.qpos[:], phys.data.qvel[:], phys.data.ctrl[:], phys.data.act[:] = q, v, u, a
             o = t.get_observation(phys)
             obs.append(np.concatenate([np.asarray(x, dtype=np.float64).ravel() for x in o.values()]))
             names = [k for k, x in o.items() for _ in range(np.asarray(x).size)]

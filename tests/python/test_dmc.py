@@ -24,7 +24,7 @@ from sinew.dmc.physics import Physics
 WORLDS, STEPS, EVERY, STARTS = 4, 40, 10, 60
 # contact forces differ between the simulators (sinew's are exact, MuJoCo's soft): touch sensors
 # are compared in test_touch_is_contact_force instead
-CONTACT_KEYS = {"touch"}
+CONTACT_KEYS = {"touch", "imu", "force_torque"}
 # cheetah settles onto the floor for 200 physics steps at each reset: its root height and pitch
 # sit on exact contact in sinew and on soft contact in MuJoCo
 SETTLED = {"cheetah-run"}
@@ -54,15 +54,15 @@ def reference(tmp_path_factory):
                 if np.ptp(pos, axis=0).any():
                     data[f"{key}/{kind}/{element}"] = np.tile(pos, (STEPS // EVERY + 1, 1))
         # the initial states, then the states of a random rollout
-        states = [(core.batch.qpos.copy(), core.batch.qvel.copy(), core.batch.ctrl.copy())]
+        states = [(core.batch.qpos.copy(), core.batch.qvel.copy(), core.batch.ctrl.copy(), core.batch.act.copy())]
         obs, rewards = [core.observe()], [core.task.reward(Physics(core.batch, core.names))]
         for s in range(STEPS):
             o, r, _, _ = core.step(rng.uniform(lo, hi, (WORLDS, core.model.nu)))
             if s % EVERY == EVERY - 1:
-                states.append((core.batch.qpos.copy(), core.batch.qvel.copy(), core.batch.ctrl.copy()))
+                states.append((core.batch.qpos.copy(), core.batch.qvel.copy(), core.batch.ctrl.copy(), core.batch.act.copy()))
                 obs.append(o)
                 rewards.append(r)
-        for k, part in enumerate(("qpos", "qvel", "ctrl")):
+        for k, part in enumerate(("qpos", "qvel", "ctrl", "act")):
             data[f"{key}/{part}"] = np.concatenate([s[k] for s in states])
         data[f"{key}/episodes"] = np.array(STARTS)
         starts = DmcCore(name, STARTS)

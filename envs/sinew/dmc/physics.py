@@ -91,6 +91,9 @@ class Physics:
     def control(self) -> np.ndarray:
         return self.batch.ctrl[self.rows]
 
+    def activation(self) -> np.ndarray:
+        return self.batch.act[self.rows]
+
     def joint_qpos(self, joint: str) -> np.ndarray:
         """A one-dof joint's position (n,)."""
         return self.batch.qpos[self.rows, self.names.jnt_qposadr[self.names.index("joint", joint)]]

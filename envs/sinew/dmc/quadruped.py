@@ -1,0 +1,148 @@
+"""dm_control's quadruped: a four-legged ant-like robot with filtered position actuators walks
+or runs forward, or fetches a ball to a target."""
+
+from __future__ import annotations
+
+from collections import OrderedDict
+
+import numpy as np
+
+from sinew.dmc.physics import tolerance
+from sinew.dmc.task import Task
+
+TOES = ["toe_front_left", "toe_front_right", "toe_back_right", "toe_back_left"]
+WALLS = ["wall_px", "wall_py", "wall_nx", "wall_ny"]
+
+
+def find_non_contacting_height(phys, orientation, xy=None):
+    """dm_control's ``_find_non_contacting_height``: each world's root at (x, y, z) with the
+    given orientation, z rising from 0 in steps of 0.01 until nothing overlaps."""
+    names = phys.names
+    root = names.jnt_qposadr[names.index("joint", "root")]
+    qpos = phys.position().copy()
+    n = len(qpos)
+    xy = np.zeros((n, 2)) if xy is None else xy
+    z = np.zeros(n)
+    pending = np.arange(n)
+    while len(pending):
+        qpos[pending, root:root + 2] = xy[pending]
+        qpos[pending, root + 2] = z[pending]
+        qpos[pending, root + 3:root + 7] = orientation[pending]
+        phys.set_state(qpos)
+        pending = pending[phys.penetrations()[pending] > 0]
+        z[pending] += 0.01
+
+
+class Walk(Task):
+    """``quadruped-walk``: a random orientation (normalised N(0, 1)⁴) at the lowest height free of
+    contact; reward for forward speed of at least 0.5 m/s, while upright."""
+
+    xml = "quadruped.xml"
+    time_limit = 20
+    control_timestep = .02
+    pixels_camera = 2
+    speed = 0.5
+    walls_and_ball = False
+
+    def model_xml(self):
+        """quadruped.xml as dm_control's ``make_model`` edits it: no terrain, no rangefinders, a
+        floor 20 s of the speed wide, and the walls and ball only for fetch."""
+        def edit(root):
+            def drop(tag, name):
+                for parent in root.iter():
+                    for child in list(parent):
+                        if child.tag == tag and child.get("name") == name:
+                            parent.remove(child)
+            if not self.walls_and_ball:
+                root.find(".//geom[@name='floor']").set("size", f"{20 * self.speed} {20 * self.speed} .5")
+                for wall in WALLS:
+                    drop("geom", wall)
+                drop("body", "ball")
+                drop("site", "target")
+            drop("geom", "terrain")
+            for parent in root.iter():
+                for child in [c for c in parent if c.tag == "rangefinder"]:
+                    parent.remove(child)
+        return self.edited_model(edit)
+
+    def initialize_episode(self, phys, rngs):
+        orientation = np.stack([r.standard_normal(4) for r in rngs])
+        find_non_contacting_height(phys, orientation / np.linalg.norm(orientation, axis=1, keepdims=True))
+
+    @staticmethod
+    def upright(phys):
+        return phys.xmat("torso")[:, 2, 2]
+
+    def observation(self, phys):
+        names = phys.names
+        hinges = [j for j, kind in enumerate(names.joint_types) if kind == "hinge"]
+        q, v = phys.position(), phys.velocity()
+        ego = [q[:, [names.jnt_qposadr[j] for j in hinges]], v[:, [names.jnt_dofadr[j] for j in hinges]], phys.activation()]
+        forces = [phys.sensor(f"{kind}_{toe}") for kind in ("force", "torque") for toe in TOES]
+        return OrderedDict(egocentric_state=np.concatenate(ego, axis=1), torso_velocity=phys.sensor("velocimeter").copy(),
+                           torso_upright=self.upright(phys), imu=np.concatenate([phys.sensor("imu_accel"), phys.sensor("imu_gyro")], axis=1),
+                           force_torque=np.arcsinh(np.concatenate(forces, axis=1)))
+
+    def reward(self, phys):
+        upright = tolerance(self.upright(phys), bounds=(1, float("inf")), sigmoid="linear", margin=2, value_at_margin=0)
+        move = tolerance(phys.sensor("velocimeter")[:, 0], bounds=(self.speed, float("inf")), margin=self.speed,
+                         value_at_margin=0.5, sigmoid="linear")
+        return upright * move
+
+
+class Run(Walk):
+    """``quadruped-run``: at least 5 m/s."""
+
+    speed = 5.0
+
+
+class Fetch(Walk):
+    """``quadruped-fetch``: in a walled arena, turned by an azimuth U(0, 2π) at a random spot, the
+    ball dropped from 2 m at a random spot with N(0, 5²) horizontal velocity; reward for reaching
+    the ball, then for bringing it to the target."""
+
+    walls_and_ball = True
+
+    def initialize_episode(self, phys, rngs):
+        n, names = len(rngs), phys.names
+        radius = 0.9 * phys.geom_size("floor")[0]
+        azimuth = np.array([r.uniform(0, 2 * np.pi) for r in rngs])
+        xy = np.stack([r.uniform(-radius, radius, size=2) for r in rngs])
+        orientation = np.stack([np.cos(azimuth / 2), np.zeros(n), np.zeros(n), np.sin(azimuth / 2)], axis=1)
+        find_non_contacting_height(phys, orientation, xy)
+        ball_q, ball_v = names.jnt_qposadr[names.index("joint", "ball_root")], names.jnt_dofadr[names.index("joint", "ball_root")]
+        qpos, qvel = phys.position().copy(), phys.velocity().copy()
+        for q, v, r in zip(qpos, qvel, rngs):
+            q[ball_q:ball_q + 2] = r.uniform(-radius, radius, size=2)
+            q[ball_q + 2] = 2
+            v[ball_v:ball_v + 2] = 5 * r.standard_normal(2)
+        phys.set_state(qpos, qvel)
+
+    @staticmethod
+    def in_torso_frame(phys, x):
+        """Vectors (n, 3) in the torso's frame."""
+        return np.einsum("nk,nkj->nj", x, phys.xmat("torso"))
+
+    def observation(self, phys):
+        obs = super().observation(phys)
+        names = phys.names
+        ball, root = (names.jnt_dofadr[names.index("joint", j)] for j in ("ball_root", "root"))
+        v = phys.velocity()
+        rows = [phys.xpos("ball") - phys.xpos("torso"), v[:, ball:ball + 3] - v[:, root:root + 3], v[:, ball + 3:ball + 6]]
+        obs["ball_state"] = np.concatenate([self.in_torso_frame(phys, r) for r in rows], axis=1)
+        obs["target_position"] = self.in_torso_frame(phys, phys.site_xpos("target") - phys.xpos("torso"))
+        return obs
+
+    def reward(self, phys):
+        arena = phys.geom_size("floor")[0] * np.sqrt(2)
+        ball = phys.xpos("ball")
+        reach = tolerance(np.linalg.norm((phys.site_xpos("workspace") - ball)[:, :2], axis=1),
+                          bounds=(0, phys.site_size("workspace")[0] + phys.geom_size("ball")[0]), sigmoid="linear",
+                          margin=arena, value_at_margin=0)
+        fetch = tolerance(np.linalg.norm((phys.site_xpos("target") - ball)[:, :2], axis=1),
+                          bounds=(0, phys.site_size("target")[0]), sigmoid="linear", margin=arena, value_at_margin=0)
+        upright = tolerance(self.upright(phys), bounds=(1, float("inf")), sigmoid="linear", margin=2, value_at_margin=0)
+        return upright * reach * (0.5 + 0.5 * fetch)
+
+
+TASKS = {"walk": Walk, "run": Run, "fetch": Fetch}
