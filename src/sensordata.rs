@@ -18,16 +18,17 @@ use crate::math::{Force, Motion, SpatialInertia};
 use crate::step::data::Data;
 use crate::model::{ConstraintMode, GeomType, Model, SensorFrame, SensorKind, Transmission, WORLD};
 
-/// Writes every sensor of world state `s` into `out` (nsensordata): kinematics, tendons and, for
-/// the sensors that read them, accelerations are computed into `d`; touch, force and torque read
-/// the last step's constraint forces there.
-pub fn read(m: &Model, d: &mut Data, s: State<'_>, out: &mut [f64]) {
+/// Writes the sensors `which` (indices, in order) of world state `s` into `out`, one after
+/// another (every sensor: `sensordata`'s layout): kinematics, tendons and, when a sensor reads
+/// them, accelerations are computed into `d`; touch, force and torque read the last step's
+/// constraint forces there.
+pub fn read(m: &Model, d: &mut Data, s: State<'_>, which: &[usize], out: &mut [f64]) {
     let dy = &mut d.dynamics;
     kinematics::forward(m, s.qpos, s.qvel, &mut dy.kin);
     tendon::compute(m, &dy.kin, s.qpos, &mut dy.ten);
-    let acc = m.sensor_kind.iter().any(SensorKind::reads_accelerations).then(|| accelerations(m, d, s));
+    let acc = which.iter().any(|&k| m.sensor_kind[k].reads_accelerations()).then(|| accelerations(m, d, s));
     let dy = &d.dynamics;
-    compute(m, &dy.kin, &dy.ten, s.qpos, s.qvel, (&d.constraints, &d.coll.contacts), acc.as_ref(), out);
+    compute(m, &dy.kin, &dy.ten, s, (&d.constraints, &d.coll.contacts), acc.as_ref(), (which, out));
 }
 
 /// A world's state as the sensors read it.
@@ -84,13 +85,14 @@ fn accelerations(m: &Model, d: &mut Data, s: State<'_>) -> Accelerations {
     Accelerations { a, f_int }
 }
 
-/// Writes every sensor of the state (`qpos`, `qvel`) with kinematics `kin`, tendons `ten` and,
-/// for the sensors that read them, accelerations `acc` into `out` (nsensordata), touch from the
-/// last step's contacts and constraint forces.
-#[allow(clippy::too_many_arguments)]
-fn compute(m: &Model, kin: &KinData, ten: &TendonData, qpos: &[f64], qvel: &[f64], last: (&Constraints, &[Contact]), acc: Option<&Accelerations>, out: &mut [f64]) {
-    for (s, kind) in m.sensor_kind.iter().enumerate() {
-        let at = m.sensor_adr[s];
+/// Writes the sensors `which` of state `st` with kinematics `kin`, tendons `ten` and, for the
+/// sensors that read them, accelerations `acc` into `out`, one after another; touch from the last
+/// step's contacts and constraint forces.
+fn compute(m: &Model, kin: &KinData, ten: &TendonData, st: State<'_>, last: (&Constraints, &[Contact]), acc: Option<&Accelerations>, (which, out): (&[usize], &mut [f64])) {
+    let (qpos, qvel) = (st.qpos, st.qvel);
+    let mut at = 0;
+    for &s in which {
+        let kind = &m.sensor_kind[s];
         let value = match *kind {
             SensorKind::JointPos(j) => Value::Scalar(qpos[m.jnt_qposadr[j]]),
             SensorKind::JointVel(j) => Value::Scalar(qvel[m.jnt_dofadr[j]]),
@@ -124,14 +126,15 @@ fn compute(m: &Model, kin: &KinData, ten: &TendonData, qpos: &[f64], qvel: &[f64
             }
             SensorKind::Touch(site) => Value::Scalar(touch(m, kin, site, last)),
             SensorKind::Accelerometer(site) | SensorKind::Force(site) | SensorKind::Torque(site) => {
-                let Some(acc) = acc else { continue };
-                Value::Vector(interaction(m, kin, acc, *kind, site))
+                // `read` computes the accelerations whenever such a sensor is read
+                Value::Vector(acc.map_or(DVec3::ZERO, |acc| interaction(m, kin, acc, *kind, site)))
             }
         };
         match value {
             Value::Scalar(x) => out[at] = x,
             Value::Vector(v) => out[at..at + 3].copy_from_slice(&v.to_array()),
         }
+        at += kind.dim();
     }
 }
 

@@ -302,6 +302,8 @@ class Batch:
     def reset(self, mask: Optional[ArrayLike] = None, seeds: Optional[Sequence[int]] = None,
               qpos: Optional[ArrayLike] = None, qvel: Optional[ArrayLike] = None) -> None: ...
     def forward_kinematics(self, mask: Optional[ArrayLike] = None) -> None: ...
+    def read_sensors(self, sensors: Sequence[int]) -> NDArray[np.float64]:
+        """The chosen sensors' readings of each world, one after another, computing only them."""
     def penetrations(self) -> NDArray[np.uintp]:
         """How many contacts penetrate in each world's current configuration (MuJoCo's ncon)."""
     def set_geom_pos(self, geom: int, pos: ArrayLike, worlds: Optional[ArrayLike] = None) -> None:

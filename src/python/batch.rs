@@ -155,8 +155,19 @@ impl PyBatch {
     /// from its last step's constraint forces, as `Sim.sensordata` (computed on each read).
     #[getter]
     fn sensordata<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let all: Vec<usize> = (0..self.inner.model.sensor_kind.len()).collect();
+        self.read_sensors(py, all)
+    }
+
+    /// The readings of the sensors `sensors` (indices into `Model.sensor_names`), one after
+    /// another, of each world (N, their total dimension): `sensordata`'s columns of those sensors,
+    /// computing only them.
+    fn read_sensors<'py>(&mut self, py: Python<'py>, sensors: Vec<usize>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let m = self.inner.model.clone();
-        let (n, ns) = (self.inner.len(), m.nsensordata);
+        if let Some(&bad) = sensors.iter().find(|&&k| k >= m.sensor_kind.len()) {
+            return Err(PyValueError::new_err(format!("sensor {bad} out of range for {} sensors", m.sensor_kind.len())));
+        }
+        let (n, ns) = (self.inner.len(), sensors.iter().map(|&k| m.sensor_kind[k].dim()).sum::<usize>());
         let (qpos, qvel, ctrl, act) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly(), self.act.bind(py).readonly());
         let (qp, qv, u, a) = (qpos.as_slice()?, qvel.as_slice()?, ctrl.as_slice()?, act.as_slice()?);
         let mut out = vec![0.0; n * ns];
@@ -167,7 +178,7 @@ impl PyBatch {
                 ctrl: &u[i * m.nu..(i + 1) * m.nu],
                 act: &a[i * m.na..(i + 1) * m.na],
             };
-            sensordata::read(&m, d, s, &mut out[i * ns..(i + 1) * ns]);
+            sensordata::read(&m, d, s, &sensors, &mut out[i * ns..(i + 1) * ns]);
         }
         PyArray1::from_vec(py, out).reshape([n, ns])
     }

@@ -157,7 +157,8 @@ impl PySim {
         let (qpos, qvel, ctrl, act) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly(), self.act.bind(py).readonly());
         let mut out = vec![0.0; self.model.nsensordata];
         let s = sensordata::State { qpos: qpos.as_slice()?, qvel: qvel.as_slice()?, ctrl: ctrl.as_slice()?, act: act.as_slice()? };
-        sensordata::read(&self.model, &mut self.data, s, &mut out);
+        let all: Vec<usize> = (0..self.model.sensor_kind.len()).collect();
+        sensordata::read(&self.model, &mut self.data, s, &all, &mut out);
         Ok(PyArray1::from_vec(py, out))
     }
     /// Tendon lengths (ntendon) for the current qpos, as MuJoCo's `ten_length`.

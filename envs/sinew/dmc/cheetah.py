@@ -16,6 +16,7 @@ class Run(Task):
 
     xml = "cheetah.xml"
     time_limit = 10
+    sensors = ("torso_subtreelinvel",)
 
     def initialize_episode(self, phys, rngs):
         n = phys.names

@@ -59,6 +59,7 @@ class DmcCore(Worlds):
             model = Model.from_mjcf(path) if xml is None else Model.from_mjcf_string(xml, path)
         super().__init__(model.with_options(friction=friction, constraint_mode=constraint_mode), num_envs, num_threads)
         self.names = Names(self.model)
+        self.names.declared = [s for s in self.task.sensors if s in self.names.sensor]
         self.n_sub_steps = n_sub_steps(self.task.control_timestep, self.model.timestep)
         self.action_repeat = int(action_repeat)
         limit = self.task.time_limit if time_limit is None else time_limit

@@ -18,6 +18,8 @@ class Spin(Task):
     xml = "finger.xml"
     time_limit = 20
     control_timestep = .02
+    sensors = ("proximal", "distal", "proximal_velocity", "distal_velocity", "hinge_velocity", "tip", "spinner",
+               "touchtop", "touchbottom")
 
     def model_xml(self):
         def edit(root):

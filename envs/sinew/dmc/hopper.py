@@ -17,6 +17,7 @@ class Stand(Task):
     time_limit = 20
     control_timestep = .02
     hopping = False
+    sensors = ("torso_subtreelinvel", "touch_toe", "touch_heel")
 
     def initialize_episode(self, phys, rngs):
         draw_qpos(phys, rngs, lambda q, r: randomize_joints(phys.names, q, r))

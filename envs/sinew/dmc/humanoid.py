@@ -21,6 +21,7 @@ class Stand(Task):
     move_speed = 0.0
     pure_state = False
     torso, upright_axis = "torso", 2
+    sensors = ("torso_subtreelinvel",)
     limbs = ("left_hand", "left_foot", "right_hand", "right_foot")
 
     def initialize_episode(self, phys, rngs):
@@ -77,6 +78,7 @@ class CmuStand(Stand):
     time_limit = 20
     control_timestep = .02
     torso, upright_axis = "thorax", 1
+    sensors = ("thorax_subtreelinvel",)
     limbs = ("lhand", "lfoot", "rhand", "rfoot")
 
 

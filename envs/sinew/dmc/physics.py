@@ -22,9 +22,12 @@ class Names:
         self.joint = {n: i for i, n in enumerate(model.joint_names)}
         self.site = {n: i for i, n in enumerate(model.site_names)}
         self.geom = {n: i for i, n in enumerate(model.geom_names)}
-        adr, dim = model.sensor_adr, model.sensor_dim
-        self.sensor = {n: (adr[i], dim[i]) for i, n in enumerate(model.sensor_names)}
+        #: each sensor's index and dimension
+        self.sensor = {n: (i, d) for i, (n, d) in enumerate(zip(model.sensor_names, model.sensor_dim))}
+        #: the sensors a task reads together (``Task.sensors``)
+        self.declared: list[str] = []
         self.site_body, self.site_pos, self.site_size = model.site_body, model.site_pos, model.site_size
+        self.site_mat = model.site_mat
         self.geom_body, self.geom_pos, self.geom_size = model.geom_body, model.geom_pos, model.geom_size
         self.geom_mat = model.geom_mat
         self.body_parent, self.body_mass = model.body_parent, model.body_mass
@@ -53,22 +56,24 @@ class Physics:
     def __init__(self, batch, names: Names, rows=None):
         self.batch, self.names = batch, names
         self.rows = slice(None) if rows is None else np.asarray(rows)
-        self._sensordata = None
+        self._sensors: dict = {}
 
     def refresh(self) -> None:
         """Forgets readings of an earlier state."""
-        self._sensordata = None
+        self._sensors = {}
 
     def _mask(self) -> np.ndarray:
         mask = np.zeros(self.batch.num_envs, dtype=bool)
         mask[self.rows] = True
         return mask
 
-    def set_state(self, qpos: np.ndarray, qvel: np.ndarray | None = None) -> None:
-        """Writes the worlds' qpos (and qvel) and recomputes what they determine."""
+    def set_state(self, qpos: np.ndarray, qvel: np.ndarray | None = None, act: np.ndarray | None = None) -> None:
+        """Writes the worlds' qpos (and qvel, act) and recomputes what they determine."""
         self.batch.qpos[self.rows] = qpos
         if qvel is not None:
             self.batch.qvel[self.rows] = qvel
+        if act is not None:
+            self.batch.act[self.rows] = act
         self.batch.forward_kinematics(self._mask())
         self.refresh()
 
@@ -119,6 +124,24 @@ class Physics:
         g = self.names.index("geom", geom)
         return self._point(self.names.geom_body[g], self.batch.geom_pos(g)[self.rows])
 
+    def site_xmat(self, site: str) -> np.ndarray:
+        """The site's rotation (n, 3, 3)."""
+        s = self.names.index("site", site)
+        return self.batch.xmat[self.rows, self.names.site_body[s]].reshape(-1, 3, 3) @ self.names.site_mat[s]
+
+    def site_velocity(self, site: str) -> np.ndarray:
+        """The site's world linear velocity (n, 3)."""
+        return self._velocity(self.names.site_body[self.names.index("site", site)], self.site_xpos(site))
+
+    def geom_velocity(self, geom: str) -> np.ndarray:
+        """The geom centre's world linear velocity (n, 3)."""
+        return self._velocity(self.names.geom_body[self.names.index("geom", geom)], self.geom_xpos(geom))
+
+    def _velocity(self, body: int, at: np.ndarray) -> np.ndarray:
+        """World velocity of points `at` (n, 3) moving with `body`."""
+        xvel = self.batch.xvel[self.rows, body]
+        return xvel[:, 3:] + np.cross(xvel[:, :3], at - self.batch.xpos[self.rows, body])
+
     def geom_xmat(self, geom: str) -> np.ndarray:
         """The geom's rotation (n, 3, 3)."""
         g = self.names.index("geom", geom)
@@ -145,11 +168,17 @@ class Physics:
         return np.einsum("b,nbk->nk", mass, self.batch.xipos[self.rows][:, inside]) / mass.sum()
 
     def sensor(self, name: str) -> np.ndarray:
-        """A file sensor's reading (n, dim)."""
-        adr, dim = self.names.index("sensor", name)
-        if self._sensordata is None:
-            self._sensordata = self.batch.sensordata[self.rows]
-        return self._sensordata[:, adr:adr + dim]
+        """A file sensor's reading (n, dim), once per state; the sensors the task declares
+        (``Task.sensors``) are read together, only they."""
+        if name not in self._sensors:
+            self.names.index("sensor", name)
+            wanted = self.names.declared if name in self.names.declared else [name]
+            values = self.batch.read_sensors([self.names.sensor[n][0] for n in wanted])[self.rows]
+            at = 0
+            for n in wanted:
+                dim = self.names.sensor[n][1]
+                self._sensors[n], at = values[:, at:at + dim], at + dim
+        return self._sensors[name]
 
     # model quantities
     def site_size(self, site: str) -> np.ndarray:

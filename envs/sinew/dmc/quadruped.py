@@ -42,6 +42,7 @@ class Walk(Task):
     control_timestep = .02
     pixels_camera = 2
     speed = 0.5
+    sensors = ("velocimeter", "imu_accel", "imu_gyro", *(f"{kind}_{toe}" for kind in ("force", "torque") for toe in TOES))
     walls_and_ball = False
 
     def model_xml(self):

@@ -58,8 +58,13 @@ class Swimmer6(Task):
         d = phys.geom_xpos("target") - phys.geom_xpos("nose")
         return np.einsum("nk,nkj->nj", d, phys.xmat("head"))[:, :2]
 
+    @property
+    def sensors(self):
+        """The head's velocimeter and gyro, then each link's."""
+        return ("head_vel", "head_gyro", *(f"{kind}_{k}" for k in range(self.bodies - 1) for kind in ("velocimeter", "gyro")))
+
     def observation(self, phys):
-        sensors = [("head_vel", "head_gyro")] + [(f"velocimeter_{k}", f"gyro_{k}") for k in range(self.bodies - 1)]
+        sensors = list(zip(self.sensors[::2], self.sensors[1::2]))
         # each link's local forward and sideways velocity and its turning rate
         velocities = [np.stack([phys.sensor(v)[:, 0], phys.sensor(v)[:, 1], phys.sensor(g)[:, 2]], axis=1) for v, g in sensors]
         return OrderedDict(joints=phys.position()[:, 3:].copy(), to_target=self.nose_to_target(phys),

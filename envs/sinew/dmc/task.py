@@ -29,6 +29,8 @@ class Task:
     camera: dict = {}
     #: Keyword arguments (dm_control's tasks take none beyond the env's).
     kwargs: dict = {}
+    #: The file sensors the task reads (read together once per state; others one by one).
+    sensors: tuple = ()
 
     def model_xml(self) -> str | None:
         """The model's MJCF text when the task builds it (None: the file as it is)."""

@@ -15,6 +15,7 @@ class Stand(Task):
     time_limit = 25
     control_timestep = .025
     move_speed = 0.0
+    sensors = ("torso_subtreelinvel",)
 
     def initialize_episode(self, phys, rngs):
         draw_qpos(phys, rngs, lambda q, r: randomize_joints(phys.names, q, r))
