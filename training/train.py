@@ -4,6 +4,8 @@ and print the evaluated return.
     python training/train.py                                   # PPO on sinew/InvertedPendulum-v0
     python training/train.py --env sinew/Hopper-v0 --algo sac --steps 100000
     python training/train.py --env Hopper-v5 --algo ppo        # the gymnasium MuJoCo twin
+    python training/train.py --env sinew/dmc-cheetah-run-v0 --algo sac --steps 100000 \
+        --env-kwargs '{"from_pixels": true, "frame_stack": 3, "action_repeat": 4}'   # dm_control's task from pixels
 
 Writes runs/<env>/<algo>_<seed>/: CSV and TensorBoard logs (when tensorboard is installed),
 checkpoints, the final model and result.json (return, wall time).
@@ -23,16 +25,16 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import hyperparams  # noqa: E402
 
 
-def make_env(env_id: str, n_envs: int, seed: int, render_mode=None):
+def make_env(env_id: str, n_envs: int, seed: int, render_mode=None, **env_kwargs):
     if env_id.startswith("sinew/"):
         import sinew.sb3
 
-        return sinew.sb3.make_vec_env(env_id, n_envs=n_envs, seed=seed, num_threads=1, render_mode=render_mode)
+        return sinew.sb3.make_vec_env(env_id, n_envs=n_envs, seed=seed, num_threads=1, render_mode=render_mode, **env_kwargs)
     from stable_baselines3.common.env_util import make_vec_env
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return make_vec_env(env_id, n_envs=n_envs, seed=seed, env_kwargs={"render_mode": render_mode})
+        return make_vec_env(env_id, n_envs=n_envs, seed=seed, env_kwargs={"render_mode": render_mode, **env_kwargs})
 
 
 def main():
@@ -45,6 +47,7 @@ def main():
     ap.add_argument("--eval-episodes", type=int, default=10)
     ap.add_argument("--out", default="runs")
     ap.add_argument("--no-progress", action="store_true")
+    ap.add_argument("--env-kwargs", type=json.loads, default={}, help="JSON keyword arguments of the environment")
     args = ap.parse_args()
 
     import torch
@@ -58,10 +61,14 @@ def main():
     steps = args.steps or hyperparams.BUDGET.get(task, hyperparams.BUDGET["default"])
     run_dir = os.path.join(args.out, args.env.replace("/", "_"), f"{args.algo}_{args.seed}")
     os.makedirs(run_dir, exist_ok=True)
-    env = make_env(args.env, args.n_envs, args.seed)
-    eval_env = make_env(args.env, 1, args.seed + 1000)
+    env = make_env(args.env, args.n_envs, args.seed, **args.env_kwargs)
+    eval_env = make_env(args.env, 1, args.seed + 1000, **args.env_kwargs)
     algo = {"ppo": PPO, "sac": SAC}[args.algo]
-    model = algo("MlpPolicy", env, seed=args.seed, verbose=0, device="cpu", **hyperparams.get(args.algo, args.env))
+    # frames (H, W, C) go through SB3's CNN; its replay buffer then holds 50,000 of them (6 GB at 84 × 84 × 9)
+    pixels = len(env.observation_space.shape) == 3
+    extra = {"buffer_size": 50_000} if pixels and args.algo == "sac" else {}
+    model = algo("CnnPolicy" if pixels else "MlpPolicy", env, seed=args.seed, verbose=0, device="cpu",
+                 **{**hyperparams.get(args.algo, args.env), **extra})
     formats = ["csv"]
     try:
         import tensorboard  # noqa: F401
