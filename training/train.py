@@ -6,6 +6,8 @@ and print the evaluated return.
     python training/train.py --env Hopper-v5 --algo ppo        # the gymnasium MuJoCo twin
     python training/train.py --env sinew/dmc-cheetah-run-v0 --algo sac --steps 100000 \
         --env-kwargs '{"from_pixels": true, "frame_stack": 3, "action_repeat": 4}'   # dm_control's task from pixels
+    PYTHONPATH=~/.cache/sinew-tests/mujoco-3.17.0 python training/train.py --env dm_control/cheetah-run-v0 --algo sac
+                                                               # dm_control itself (through shimmy; MuJoCo 3.17)
 
 Writes runs/<env>/<algo>_<seed>/: CSV and TensorBoard logs (when tensorboard is installed),
 checkpoints, the final model and result.json (return, wall time).
@@ -34,6 +36,13 @@ def make_env(env_id: str, n_envs: int, seed: int, render_mode=None, **env_kwargs
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
+        if env_id.startswith("dm_control/"):
+            # dm_control itself through shimmy (needs a MuJoCo dm_control loads), observations
+            # flattened in dm_control's key order as sinew's dmc envs give them
+            import gymnasium
+            import shimmy  # noqa: F401
+
+            return make_vec_env(env_id, n_envs=n_envs, seed=seed, wrapper_class=gymnasium.wrappers.FlattenObservation)
         return make_vec_env(env_id, n_envs=n_envs, seed=seed, env_kwargs={"render_mode": render_mode, **env_kwargs})
 
 
