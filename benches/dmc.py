@@ -9,6 +9,10 @@ dm_control episodes, actions uniform in the action box (within ±1 where it is u
 lqr's episodes never truncate and are left out of the returns.
 
     MUJOCO_GL=egl python benches/dmc.py --out results/dmc.md [--tasks dmc-walker-walk ...]
+    python benches/dmc.py --stills results/stills/dmc.png    # one 84 × 84 observation per domain
+
+The still is each domain's first task's pixel observation after ``reset(seed=0)`` and 20 random
+steps, tiled.
 """
 
 import argparse
@@ -96,12 +100,36 @@ def measure_dm_control(names: list, seconds: float = 1.5) -> None:
     print(json.dumps(rows))
 
 
+def stills(path: str) -> None:
+    import gymnasium as gym
+    import imageio.v3 as iio
+    from sinew.dmc import TASKS
+    first = {}
+    for name in TASKS:
+        first.setdefault(name.split("-")[1], name)
+    frames = []
+    for name in first.values():
+        env = gym.make(f"sinew/{name}-v0", from_pixels=True)
+        env.reset(seed=0)
+        env.action_space.seed(0)
+        for _ in range(20):
+            obs, *_ = env.step(env.action_space.sample() if np.isfinite(env.action_space.high).all() else np.zeros(env.action_space.shape))
+        frames.append(obs)
+    columns = 9
+    frames += [np.zeros_like(frames[0])] * (-len(frames) % columns)
+    rows = [np.concatenate(frames[k:k + columns], axis=1) for k in range(0, len(frames), columns)]
+    iio.imwrite(path, np.concatenate(rows, axis=0))
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--out", default="results/dmc.md")
     p.add_argument("--tasks", nargs="*")
     p.add_argument("--reference", nargs="*")
+    p.add_argument("--stills")
     a = p.parse_args()
+    if a.stills:
+        return stills(a.stills)
     if a.reference is not None:
         return measure_dm_control(a.reference)
     from sinew.dmc import TASKS
