@@ -11,6 +11,9 @@ use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
+use crate::collision::{self, CollisionData};
+use crate::dynamics::kinematics;
+use crate::sensordata;
 use crate::step::data::Data;
 use crate::model::Model;
 use crate::sensors::{self, Sensors};
@@ -232,6 +235,39 @@ impl Batch {
     /// Resets world `i` to qpos0 at rest (its constraint forces cleared) in the given rows.
     pub fn reset(&mut self, i: usize, qpos: &mut [f64], qvel: &mut [f64], act: &mut [f64]) {
         reset_world(&self.model, &mut self.data[i], qpos, qvel, act);
+    }
+
+    /// The readings of the file sensors `which` (indices) of every world at the state in `st`
+    /// (every world's rows one after another), one world after another.
+    pub fn read_sensors(&mut self, st: sensordata::State<'_>, which: &[usize]) -> Vec<f64> {
+        let m = &*self.model;
+        let dim: usize = which.iter().map(|&k| m.sensor_kind[k].dim()).sum();
+        let mut out = vec![0.0; self.data.len() * dim];
+        for (i, (d, row)) in self.data.iter_mut().zip(out.chunks_mut(dim.max(1))).enumerate() {
+            let s = sensordata::State {
+                qpos: &st.qpos[i * m.nq..(i + 1) * m.nq],
+                qvel: &st.qvel[i * m.nv..(i + 1) * m.nv],
+                ctrl: &st.ctrl[i * m.nu..(i + 1) * m.nu],
+                act: &st.act[i * m.na..(i + 1) * m.na],
+            };
+            sensordata::read(m, d, s, which, row);
+        }
+        out
+    }
+
+    /// How many contacts penetrate (distance < 0) in each world's configuration (rows of
+    /// `qpos`, `qvel`): MuJoCo's `ncon` after `mj_forward` where margins are zero.
+    pub fn penetrations(&mut self, qpos: &[f64], qvel: &[f64]) -> Vec<usize> {
+        let m = &*self.model;
+        let mut coll = CollisionData::new(m);
+        (self.data.iter_mut().enumerate())
+            .map(|(i, d)| {
+                let kin = &mut d.dynamics.kin;
+                kinematics::forward(m, &qpos[i * m.nq..(i + 1) * m.nq], &qvel[i * m.nv..(i + 1) * m.nv], kin);
+                collision::penetrations(m, kin, &mut coll);
+                coll.contacts.len()
+            })
+            .collect()
     }
 
     /// Recomputes the sensor outputs of world `i` for its current state (after a reset or a

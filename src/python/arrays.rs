@@ -1,6 +1,7 @@
-//! Arrays from Python: any array-like as contiguous float64, checked for shape and finiteness.
+//! Arrays from Python: any array-like as contiguous float64, checked for shape and finiteness;
+//! world selections (masks and index lists).
 
-use numpy::{PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -38,3 +39,46 @@ pub fn first_nonfinite(v: &[f64]) -> Option<usize> {
     v.iter().position(|x| !x.is_finite())
 }
 
+/// Indices of the `n` worlds a boolean mask of shape (n,) selects, or all of them.
+pub fn masked_worlds(n: usize, mask: Option<Bound<'_, PyAny>>) -> PyResult<Vec<usize>> {
+    match mask {
+        None => Ok((0..n).collect()),
+        Some(mk) => {
+            // a boolean array as it is; anything else through float64
+            if let Ok(b) = mk.cast::<PyArray1<bool>>()
+                && b.len() == n
+            {
+                let v = b.readonly();
+                return Ok(v.as_array().iter().enumerate().filter(|(_, x)| **x).map(|(i, _)| i).collect());
+            }
+            let arr = as_f64(&mk, "mask")?;
+            if arr.shape() != [n] {
+                return Err(PyValueError::new_err(format!("mask: expected shape [{n}], got {:?}", arr.shape())));
+            }
+            let v = arr.readonly();
+            Ok(v.as_slice()?.iter().enumerate().filter(|(_, x)| **x != 0.0).map(|(i, _)| i).collect())
+        }
+    }
+}
+
+/// Indices of `n` worlds from a boolean mask of shape (n,) or a sequence of indices (all when
+/// None).
+pub fn chosen_worlds(n: usize, worlds: Option<Bound<'_, PyAny>>) -> PyResult<Vec<usize>> {
+    let Some(w) = worlds else { return Ok((0..n).collect()) };
+    if let Ok(b) = w.cast::<PyArray1<bool>>() {
+        if b.len() != n {
+            return Err(PyValueError::new_err(format!("worlds: a mask needs shape ({n},), got ({},)", b.len())));
+        }
+        return masked_worlds(n, Some(w));
+    }
+    let idx: Vec<i64> = w.extract().map_err(|_| PyValueError::new_err("worlds must be None, a boolean mask or a sequence of world indices"))?;
+    idx.iter()
+        .map(|&i| {
+            if i < 0 || i as usize >= n {
+                Err(PyValueError::new_err(format!("worlds: index {i} out of range for {n} worlds")))
+            } else {
+                Ok(i as usize)
+            }
+        })
+        .collect()
+}

@@ -1,23 +1,21 @@
 //! `sinew.Batch`: N worlds sharing one model; state arrays are NumPy arrays stepped in place by
 //! rayon with the GIL released.
 
-use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadwriteArray2, PyReadwriteArray3, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use glam::DVec3;
 use pyo3::types::PyDict;
 
-use super::arrays::{as_f64, checked_values};
+use super::arrays::{as_f64, checked_values, chosen_worlds, masked_worlds};
 use super::model::PyModel;
+use super::outputs::{SensorArrays, TaskArrays};
+use super::placed::Placements;
 use crate::batch::{Batch, BatchState, TaskRun};
 use crate::step::state::FlatState;
-use crate::collision::{self, CollisionData};
-use crate::dynamics::kinematics;
 use crate::render::Placed;
 use crate::sensordata;
-use crate::sensors::Sensors;
-use crate::tasks::Task;
 
 /// N simulated worlds of one model, stepped in parallel (at most 2**20 worlds and 1024 threads;
 /// num_threads=None uses all cores; never more threads than worlds).
@@ -44,17 +42,7 @@ pub struct PyBatch {
     task_args: Option<(String, Py<PyDict>)>,
     /// Geoms and sites placed per world (`set_geom_pos`, `set_site_pos`): each with its position
     /// in its body's frame in every world.
-    moved: Vec<(Placed, Vec<DVec3>)>,
-}
-
-/// A task set on a batch and its output arrays.
-struct TaskArrays {
-    spec: &'static crate::tasks::Spec,
-    task: Box<dyn Task>,
-    obs: Py<PyArray2<f64>>,
-    reward: Py<PyArray1<f64>>,
-    terminated: Py<PyArray1<bool>>,
-    info: Py<PyArray2<f64>>,
+    moved: Placements,
 }
 
 #[pymethods]
@@ -100,7 +88,7 @@ impl PyBatch {
             cvel: PyArray3::zeros(py, [num_envs, m.nbody, 6], false).unbind(),
             task: None,
             task_args: None,
-            moved: vec![],
+            moved: Placements::default(),
         };
         b.refresh_poses(py)?;
         Ok(b)
@@ -169,36 +157,16 @@ impl PyBatch {
         }
         let (n, ns) = (self.inner.len(), sensors.iter().map(|&k| m.sensor_kind[k].dim()).sum::<usize>());
         let (qpos, qvel, ctrl, act) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly(), self.act.bind(py).readonly());
-        let (qp, qv, u, a) = (qpos.as_slice()?, qvel.as_slice()?, ctrl.as_slice()?, act.as_slice()?);
-        let mut out = vec![0.0; n * ns];
-        for (i, d) in self.inner.data.iter_mut().enumerate() {
-            let s = sensordata::State {
-                qpos: &qp[i * m.nq..(i + 1) * m.nq],
-                qvel: &qv[i * m.nv..(i + 1) * m.nv],
-                ctrl: &u[i * m.nu..(i + 1) * m.nu],
-                act: &a[i * m.na..(i + 1) * m.na],
-            };
-            sensordata::read(&m, d, s, &sensors, &mut out[i * ns..(i + 1) * ns]);
-        }
+        let st = sensordata::State { qpos: qpos.as_slice()?, qvel: qvel.as_slice()?, ctrl: ctrl.as_slice()?, act: act.as_slice()? };
+        let out = self.inner.read_sensors(st, &sensors);
         PyArray1::from_vec(py, out).reshape([n, ns])
     }
     /// How many contacts penetrate (distance < 0) in each world's current configuration (N,):
     /// MuJoCo's `ncon` after `mj_forward` where margins are zero, which a task's reset reads to
     /// turn down a drawn state whose bodies overlap.
     fn penetrations<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<usize>>> {
-        let m = self.inner.model.clone();
         let (qpos, qvel) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly());
-        let (qp, qv) = (qpos.as_slice()?, qvel.as_slice()?);
-        let mut coll = CollisionData::new(&m);
-        let counts: Vec<usize> = (self.inner.data.iter_mut().enumerate())
-            .map(|(i, d)| {
-                let kin = &mut d.dynamics.kin;
-                kinematics::forward(&m, &qp[i * m.nq..(i + 1) * m.nq], &qv[i * m.nv..(i + 1) * m.nv], kin);
-                collision::penetrations(&m, kin, &mut coll);
-                coll.contacts.len()
-            })
-            .collect();
-        Ok(PyArray1::from_vec(py, counts))
+        Ok(PyArray1::from_vec(py, self.inner.penetrations(qpos.as_slice()?, qvel.as_slice()?)))
     }
     /// Body positions (N, nbody, 3) for the current state.
     #[getter]
@@ -535,12 +503,13 @@ impl PyBatch {
         // state alone does not give back
         let outputs = self.clone_outputs(py)?;
         // each placed geom and site as ("geom" or "site", index, positions)
+        let (m, n) = (&self.inner.model, self.inner.len());
         let moved: Vec<(&str, usize, Bound<'py, PyArray2<f64>>)> = self
             .moved
-            .iter()
-            .map(|(k, _)| match *k {
-                Placed::Geom(g) => Ok(("geom", g, self.placed(py, *k)?)),
-                Placed::Site(s) => Ok(("site", s, self.placed(py, *k)?)),
+            .placed()
+            .map(|k| match k {
+                Placed::Geom(g) => Ok(("geom", g, self.moved.positions(py, m, n, k)?)),
+                Placed::Site(s) => Ok(("site", s, self.moved.positions(py, m, n, k)?)),
             })
             .collect::<PyResult<_>>()?;
         let args = (self.py_model.clone_ref(py), self.inner.len(), self.inner.num_threads(), task, states, outputs, moved).into_pyobject(py)?;
@@ -554,7 +523,7 @@ impl PyBatch {
     #[pyo3(signature = (geom, pos, worlds=None))]
     fn set_geom_pos(&mut self, geom: usize, pos: Bound<'_, PyAny>, worlds: Option<Bound<'_, PyAny>>) -> PyResult<()> {
         let m = self.inner.model.clone();
-        self.check_placed(Placed::Geom(geom))?;
+        Placements::check(&self.inner.model, Placed::Geom(geom))?;
         if m.opt.contact && m.collision_pairs.iter().any(|p| p.g1 == geom || p.g2 == geom) {
             return Err(PyValueError::new_err(format!(
                 "geom '{}' can touch other geoms: only a geom without contacts may be placed per world", m.geom_name[geom]
@@ -567,21 +536,21 @@ impl PyBatch {
     /// `set_geom_pos`: the renderer and `site_pos` read it (the file's sensors do not).
     #[pyo3(signature = (site, pos, worlds=None))]
     fn set_site_pos(&mut self, site: usize, pos: Bound<'_, PyAny>, worlds: Option<Bound<'_, PyAny>>) -> PyResult<()> {
-        self.check_placed(Placed::Site(site))?;
+        Placements::check(&self.inner.model, Placed::Site(site))?;
         self.place(Placed::Site(site), pos, worlds)
     }
 
     /// Geom `geom`'s position in its body's frame in every world (N, 3): the model's unless
     /// `set_geom_pos` placed it.
     fn geom_pos<'py>(&self, py: Python<'py>, geom: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        self.check_placed(Placed::Geom(geom))?;
-        self.placed(py, Placed::Geom(geom))
+        Placements::check(&self.inner.model, Placed::Geom(geom))?;
+        self.moved.positions(py, &self.inner.model, self.inner.len(), Placed::Geom(geom))
     }
 
     /// Site `site`'s position in its body's frame in every world (N, 3), as `geom_pos`.
     fn site_pos<'py>(&self, py: Python<'py>, site: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        self.check_placed(Placed::Site(site))?;
-        self.placed(py, Placed::Site(site))
+        Placements::check(&self.inner.model, Placed::Site(site))?;
+        self.moved.positions(py, &self.inner.model, self.inner.len(), Placed::Site(site))
     }
 
     /// Draws worlds in parallel: rgb (n, H, W, 3) uint8 and/or depth (n, H, W) float32, a tuple
@@ -605,7 +574,7 @@ impl PyBatch {
         if let Some((k, v)) = rows.iter().enumerate().find_map(|(k, q)| q.iter().find(|x| crate::math::out_of_range(**x)).map(|v| (k, *v))) {
             return Err(PyValueError::new_err(format!("cannot render world {}: its qpos holds {v}", which[k])));
         }
-        let moved: Vec<Vec<(Placed, DVec3)>> = which.iter().map(|&i| self.moved.iter().map(|(k, p)| (*k, p[i])).collect()).collect();
+        let moved: Vec<Vec<(Placed, DVec3)>> = which.iter().map(|&i| self.moved.of_world(i)).collect();
         super::render::draw(py, &m, &r, &rows, &moved, &cams, super::render::Frames { width: w, height: h, rgb, depth, single: false })
     }
 
@@ -617,25 +586,7 @@ impl PyBatch {
 impl PyBatch {
     /// World indices selected by a boolean mask of shape (N,), or all of them.
     fn chosen(&self, mask: Option<Bound<'_, PyAny>>) -> PyResult<Vec<usize>> {
-        let n = self.inner.len();
-        match mask {
-            None => Ok((0..n).collect()),
-            Some(mk) => {
-                // a boolean array as it is; anything else through float64
-                if let Ok(b) = mk.cast::<PyArray1<bool>>()
-                    && b.len() == n
-                {
-                    let v = b.readonly();
-                    return Ok(v.as_array().iter().enumerate().filter(|(_, x)| **x).map(|(i, _)| i).collect());
-                }
-                let arr = as_f64(&mk, "mask")?;
-                if arr.shape() != [n] {
-                    return Err(PyValueError::new_err(format!("mask: expected shape [{n}], got {:?}", arr.shape())));
-                }
-                let v = arr.readonly();
-                Ok(v.as_slice()?.iter().enumerate().filter(|(_, x)| **x != 0.0).map(|(i, _)| i).collect())
-            }
-        }
+        masked_worlds(self.inner.len(), mask)
     }
 
     /// Copies of the sensor, task and divergence output arrays, by attribute name.
@@ -674,24 +625,7 @@ impl PyBatch {
 
     /// World indices from a boolean mask of shape (N,) or a sequence of indices (all when None).
     fn worlds(&self, worlds: Option<Bound<'_, PyAny>>) -> PyResult<Vec<usize>> {
-        let n = self.inner.len();
-        let Some(w) = worlds else { return Ok((0..n).collect()) };
-        if let Ok(b) = w.cast::<PyArray1<bool>>() {
-            if b.len() != n {
-                return Err(PyValueError::new_err(format!("worlds: a mask needs shape ({n},), got ({},)", b.len())));
-            }
-            return self.chosen(Some(w));
-        }
-        let idx: Vec<i64> = w.extract().map_err(|_| PyValueError::new_err("worlds must be None, a boolean mask or a sequence of world indices"))?;
-        idx.iter()
-            .map(|&i| {
-                if i < 0 || i as usize >= n {
-                    Err(PyValueError::new_err(format!("worlds: index {i} out of range for {n} worlds")))
-                } else {
-                    Ok(i as usize)
-                }
-            })
-            .collect()
+        chosen_worlds(self.inner.len(), worlds)
     }
 
     fn refresh_poses(&mut self, py: Python<'_>) -> PyResult<()> {
@@ -739,19 +673,6 @@ impl PyBatch {
 }
 
 impl PyBatch {
-    /// A `ValueError` unless `what` is a geom or site of the model.
-    fn check_placed(&self, what: Placed) -> PyResult<()> {
-        let m = &self.inner.model;
-        let (i, n, kind) = match what {
-            Placed::Geom(g) => (g, m.ngeom, "geom"),
-            Placed::Site(s) => (s, m.site_body.len(), "site"),
-        };
-        if i >= n {
-            return Err(PyValueError::new_err(format!("{kind} {i} out of range for {n} {kind}s")));
-        }
-        Ok(())
-    }
-
     /// Puts `what` at `pos` (one row, or one per chosen world) in the worlds `worlds`.
     fn place(&mut self, what: Placed, pos: Bound<'_, PyAny>, worlds: Option<Bound<'_, PyAny>>) -> PyResult<()> {
         let which = self.worlds(worlds)?;
@@ -759,66 +680,7 @@ impl PyBatch {
             Ok(p) => vec![p; which.len()].concat(),
             Err(_) => checked_values(&pos, "pos", &[which.len(), 3])?,
         };
-        let n = self.inner.len();
-        let at = match self.moved.iter().position(|(k, _)| *k == what) {
-            Some(k) => k,
-            None => {
-                self.moved.push((what, vec![what.model_pos(&self.inner.model); n]));
-                self.moved.len() - 1
-            }
-        };
-        for (k, &i) in which.iter().enumerate() {
-            self.moved[at].1[i] = DVec3::from_slice(&rows[3 * k..3 * k + 3]);
-        }
+        self.moved.place(&self.inner.model, self.inner.len(), what, &which, &rows);
         Ok(())
-    }
-
-    /// Where `what` sits in its body's frame in every world (N, 3).
-    fn placed<'py>(&self, py: Python<'py>, what: Placed) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let n = self.inner.len();
-        let rows: Vec<f64> = match self.moved.iter().find(|(k, _)| *k == what) {
-            Some((_, p)) => p.iter().flat_map(|v| v.to_array()).collect(),
-            None => (0..n).flat_map(|_| what.model_pos(&self.inner.model).to_array()).collect(),
-        };
-        PyArray1::from_vec(py, rows).reshape([n, 3])
-    }
-}
-
-impl TaskArrays {
-    /// The task and its output arrays, borrowed for writing.
-    #[allow(clippy::type_complexity)]
-    fn borrow<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> (&dyn Task, PyReadwriteArray2<'py, f64>, numpy::PyReadwriteArray1<'py, f64>, numpy::PyReadwriteArray1<'py, bool>, PyReadwriteArray2<'py, f64>) {
-        (&*self.task, self.obs.bind(py).readwrite(), self.reward.bind(py).readwrite(), self.terminated.bind(py).readwrite(), self.info.bind(py).readwrite())
-    }
-}
-
-/// Write borrows of a batch's sensor arrays.
-struct SensorArrays<'py> {
-    xpos: PyReadwriteArray3<'py, f64>,
-    xmat: PyReadwriteArray3<'py, f64>,
-    xipos: PyReadwriteArray3<'py, f64>,
-    xvel: PyReadwriteArray3<'py, f64>,
-    cfrc_ext: PyReadwriteArray3<'py, f64>,
-    qfrc_constraint: PyReadwriteArray2<'py, f64>,
-    cinert: PyReadwriteArray3<'py, f64>,
-    cvel: PyReadwriteArray3<'py, f64>,
-}
-
-impl SensorArrays<'_> {
-    /// Every world's outputs as one [`Sensors`].
-    fn slices(&mut self) -> PyResult<Sensors<'_>> {
-        Ok(Sensors {
-            xpos: self.xpos.as_slice_mut()?,
-            xmat: self.xmat.as_slice_mut()?,
-            xipos: self.xipos.as_slice_mut()?,
-            xvel: self.xvel.as_slice_mut()?,
-            cfrc_ext: self.cfrc_ext.as_slice_mut()?,
-            qfrc_constraint: self.qfrc_constraint.as_slice_mut()?,
-            cinert: self.cinert.as_slice_mut()?,
-            cvel: self.cvel.as_slice_mut()?,
-        })
     }
 }

@@ -5,6 +5,8 @@ mod arrays;
 mod batch;
 mod errors;
 mod model;
+mod outputs;
+mod placed;
 mod render;
 mod sim;
 mod task;
