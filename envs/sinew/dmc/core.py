@@ -138,9 +138,12 @@ class DmcCore(Worlds):
     def obs_cache(self):
         """The observation's rows, frame stacks (a frame stack holds earlier states' frames) and
         the geoms and sites each world placed (targets)."""
-        placed = [(kind, i, getattr(self.batch, f"{kind}_pos")(i)) for kind, model in
-                  (("geom", self.model.geom_pos), ("site", self.model.site_pos)) for i in range(len(model))]
-        placed = [(kind, i, pos) for kind, i, pos in placed if (pos != getattr(self.model, f"{kind}_pos")[i]).any()]
+        placed = []
+        for kind, model in (("geom", self.names.geom_pos), ("site", self.names.site_pos)):
+            for i, at in enumerate(model):
+                pos = getattr(self.batch, f"{kind}_pos")(i)
+                if (pos != at).any():
+                    placed.append((kind, i, pos))
         return ({k: v.copy() for k, v in self._state.items()}, None if self._frames is None else self._frames.copy(), placed)
 
     def restore_obs(self, cache) -> None:

@@ -7,8 +7,8 @@ from collections import OrderedDict
 
 import numpy as np
 
-from sinew.dmc.physics import tolerance
-from sinew.dmc.task import Task
+from sinew.dmc.physics import in_frame, tolerance
+from sinew.dmc.task import Task, remove
 
 MIN_UPRIGHT = np.cos(np.deg2rad(30))
 
@@ -31,19 +31,14 @@ class Stand(Task):
         """dog.xml as dm_control's ``make_model`` edits it: the floor's size and, but for fetch,
         no ball, target, ball cameras or walls."""
         def edit(root):
-            def drop(tag, name):
-                for parent in root.iter():
-                    for child in list(parent):
-                        if child.tag == tag and child.get("name") == name:
-                            parent.remove(child)
             root.find(".//geom[@name='floor']").set("size", f"{self.floor} {self.floor} .1")
             if not self.ball:
-                drop("body", "ball")
-                drop("geom", "target")
-                drop("camera", "ball")
-                drop("camera", "head")
+                remove(root, "body", "ball")
+                remove(root, "geom", "target")
+                remove(root, "camera", "ball")
+                remove(root, "camera", "head")
                 for wall in ("px", "nx", "py", "ny"):
-                    drop("geom", f"wall_{wall}")
+                    remove(root, "geom", f"wall_{wall}")
         return self.edited_model(edit)
 
     def initialize_episode(self, phys, rngs):
@@ -75,7 +70,7 @@ class Stand(Task):
 
     @staticmethod
     def torso_com_velocity(phys):
-        return np.einsum("nk,nkj->nj", phys.sensor("torso_linvel"), phys.xmat("torso"))
+        return in_frame(phys.sensor("torso_linvel"), phys.xmat("torso"))
 
     def observation(self, phys):
         names = phys.names
@@ -160,16 +155,12 @@ class Fetch(Stand):
             v[ball_v:ball_v + 3] = speed * dx, speed * dy, vertical
         phys.set_state(qpos, qvel)
 
-    @staticmethod
-    def in_head_frame(phys, x):
-        return np.einsum("nk,nkj->nj", x, phys.site_xmat("head"))
-
     def observation(self, phys):
         obs = super().observation(phys)
-        head, ball = phys.site_xpos("head"), phys.geom_xpos("ball")
+        head, ball, frame = phys.site_xpos("head"), phys.geom_xpos("ball"), phys.site_xmat("head")
         velocity = phys.geom_velocity("ball") - phys.site_velocity("head")
-        obs["ball_state"] = np.concatenate([self.in_head_frame(phys, ball - head), self.in_head_frame(phys, velocity)], axis=1)
-        obs["target_position"] = self.in_head_frame(phys, phys.geom_xpos("target") - head)
+        obs["ball_state"] = np.concatenate([in_frame(ball - head, frame), in_frame(velocity, frame)], axis=1)
+        obs["target_position"] = in_frame(phys.geom_xpos("target") - head, frame)
         return obs
 
     def factors(self, phys):

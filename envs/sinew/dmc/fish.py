@@ -7,8 +7,8 @@ from collections import OrderedDict
 
 import numpy as np
 
-from sinew.dmc.physics import tolerance
-from sinew.dmc.task import Task
+from sinew.dmc.physics import in_frame, tolerance
+from sinew.dmc.task import Task, remove
 
 JOINTS = ["tail1", "tail_twist", "tail2", "finright_roll", "finright_pitch", "finleft_roll", "finleft_pitch"]
 
@@ -23,10 +23,7 @@ class Upright(Task):
 
     def model_xml(self):
         # dm_control makes the target transparent; it has no contacts, so leaving it out is the same
-        def hide(root):
-            world = root.find("./worldbody")
-            world.remove(world.find("./geom[@name='target']"))
-        return self.edited_model(hide) if type(self) is Upright else None
+        return self.edited_model(lambda root: remove(root, "geom", "target")) if type(self) is Upright else None
 
     def _draw(self, phys, rngs):
         """The orientation and joints each world draws; its qpos."""
@@ -68,7 +65,7 @@ class Swim(Upright):
     @staticmethod
     def mouth_to_target(phys):
         """The target in the mouth's frame."""
-        return np.einsum("nk,nkj->nj", phys.geom_xpos("target") - phys.geom_xpos("mouth"), phys.geom_xmat("mouth"))
+        return in_frame(phys.geom_xpos("target") - phys.geom_xpos("mouth"), phys.geom_xmat("mouth"))
 
     def observation(self, phys):
         return OrderedDict(joint_angles=self.joint_angles(phys), upright=phys.xmat("torso")[:, 2, 2],

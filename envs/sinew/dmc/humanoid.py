@@ -7,7 +7,7 @@ from collections import OrderedDict
 
 import numpy as np
 
-from sinew.dmc.physics import randomize_joints, tolerance
+from sinew.dmc.physics import in_frame, randomize_joints, tolerance
 from sinew.dmc.task import Task, draw_until_apart
 
 
@@ -35,7 +35,7 @@ class Stand(Task):
             return OrderedDict(position=phys.position().copy(), velocity=phys.velocity().copy())
         frame, origin = phys.xmat(self.torso), phys.xpos(self.torso)
         # each limb's position relative to the torso, in the torso's frame
-        limbs = [np.einsum("nk,nkj->nj", phys.xpos(limb) - origin, frame) for limb in self.limbs]
+        limbs = [in_frame(phys.xpos(limb) - origin, frame) for limb in self.limbs]
         return OrderedDict(joint_angles=phys.position()[:, 7:].copy(), head_height=phys.xpos("head")[:, 2],
                            extremities=np.concatenate(limbs, axis=1), torso_vertical=frame[:, 2, :].copy(),
                            com_velocity=self.com_velocity(phys).copy(), velocity=phys.velocity().copy())

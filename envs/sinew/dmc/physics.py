@@ -188,6 +188,11 @@ class Physics:
         return self.names.geom_size[self.names.index("geom", geom)]
 
 
+def in_frame(x: np.ndarray, rot: np.ndarray) -> np.ndarray:
+    """Vectors `x` (n, 3), world axes, in the frames `rot` (n, 3, 3): each row of x times its R."""
+    return np.einsum("nk,nkj->nj", x, rot)
+
+
 def _sigmoid(x, value_at_1: float, sigmoid: str):
     """dm_control's ``rewards._sigmoids``: 1 at x = 0, ``value_at_1`` at |x| = 1."""
     if sigmoid == "gaussian":

@@ -7,8 +7,8 @@ from collections import OrderedDict
 
 import numpy as np
 
-from sinew.dmc.physics import tolerance
-from sinew.dmc.task import Task
+from sinew.dmc.physics import in_frame, tolerance
+from sinew.dmc.task import Task, remove
 
 TOES = ["toe_front_left", "toe_front_right", "toe_back_right", "toe_back_left"]
 WALLS = ["wall_px", "wall_py", "wall_nx", "wall_ny"]
@@ -49,21 +49,14 @@ class Walk(Task):
         """quadruped.xml as dm_control's ``make_model`` edits it: no terrain, no rangefinders, a
         floor 20 s of the speed wide, and the walls and ball only for fetch."""
         def edit(root):
-            def drop(tag, name):
-                for parent in root.iter():
-                    for child in list(parent):
-                        if child.tag == tag and child.get("name") == name:
-                            parent.remove(child)
             if not self.walls_and_ball:
                 root.find(".//geom[@name='floor']").set("size", f"{20 * self.speed} {20 * self.speed} .5")
                 for wall in WALLS:
-                    drop("geom", wall)
-                drop("body", "ball")
-                drop("site", "target")
-            drop("geom", "terrain")
-            for parent in root.iter():
-                for child in [c for c in parent if c.tag == "rangefinder"]:
-                    parent.remove(child)
+                    remove(root, "geom", wall)
+                remove(root, "body", "ball")
+                remove(root, "site", "target")
+            remove(root, "geom", "terrain")
+            remove(root, "rangefinder")
         return self.edited_model(edit)
 
     def initialize_episode(self, phys, rngs):
@@ -119,19 +112,15 @@ class Fetch(Walk):
             v[ball_v:ball_v + 2] = 5 * r.standard_normal(2)
         phys.set_state(qpos, qvel)
 
-    @staticmethod
-    def in_torso_frame(phys, x):
-        """Vectors (n, 3) in the torso's frame."""
-        return np.einsum("nk,nkj->nj", x, phys.xmat("torso"))
-
     def observation(self, phys):
         obs = super().observation(phys)
         names = phys.names
         ball, root = (names.jnt_dofadr[names.index("joint", j)] for j in ("ball_root", "root"))
         v = phys.velocity()
         rows = [phys.xpos("ball") - phys.xpos("torso"), v[:, ball:ball + 3] - v[:, root:root + 3], v[:, ball + 3:ball + 6]]
-        obs["ball_state"] = np.concatenate([self.in_torso_frame(phys, r) for r in rows], axis=1)
-        obs["target_position"] = self.in_torso_frame(phys, phys.site_xpos("target") - phys.xpos("torso"))
+        frame = phys.xmat("torso")
+        obs["ball_state"] = np.concatenate([in_frame(r, frame) for r in rows], axis=1)
+        obs["target_position"] = in_frame(phys.site_xpos("target") - phys.xpos("torso"), frame)
         return obs
 
     def reward(self, phys):

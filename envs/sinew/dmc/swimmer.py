@@ -7,7 +7,7 @@ from collections import OrderedDict
 
 import numpy as np
 
-from sinew.dmc.physics import randomize_joints, tolerance
+from sinew.dmc.physics import in_frame, randomize_joints, tolerance
 from sinew.dmc.task import Task
 
 
@@ -56,7 +56,7 @@ class Swimmer6(Task):
     def nose_to_target(phys):
         """The target in the head's frame, x and y."""
         d = phys.geom_xpos("target") - phys.geom_xpos("nose")
-        return np.einsum("nk,nkj->nj", d, phys.xmat("head"))[:, :2]
+        return in_frame(d, phys.xmat("head"))[:, :2]
 
     @property
     def sensors(self):

@@ -81,6 +81,13 @@ def draw_until_apart(phys: Physics, rngs: list, draw) -> None:
         pending = pending[phys.penetrations()[pending] > 0]
 
 
+def remove(root, tag: str, name: str | None = None) -> None:
+    """Removes every `tag` element of the tree (only the one named `name`, when given)."""
+    for parent in list(root.iter()):
+        for child in [c for c in parent if c.tag == tag and (name is None or c.get("name") == name)]:
+            parent.remove(child)
+
+
 def set_size(node, first: float) -> None:
     """Sets the first number of an element's ``size`` (a geom's or site's radius)."""
     size = node.get("size").split()
