@@ -54,10 +54,11 @@ struct Accelerations {
 
 /// The accelerations of state `s` under its applied forces and the last step's constraint forces,
 /// and the interaction forces they imply (RNEA's two passes over bodies, Featherstone 2008,
-/// Table 5.1, with the contact forces as external forces).
+/// Table 5.1, with the contact forces as external forces). `d` holds the state's kinematics.
 fn accelerations(m: &Model, d: &mut Data, s: State<'_>) -> Accelerations {
     let dy = &mut d.dynamics;
-    dynamics::forward(m, dy, s.qpos, s.qvel, s.ctrl, s.act);
+    // the applied forces (and the constraint-free accelerations, not used)
+    dynamics::accelerations(m, dy, s.qpos, s.qvel, s.ctrl, s.act, 0.0);
     let (origin, mut qfrc_c) = (dy.kin.origin, vec![0.0; m.nv]);
     let mut f_ext = vec![Force::ZERO; m.nbody];
     let mut node_f = vec![Force::ZERO; m.nnode];
