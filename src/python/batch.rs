@@ -676,9 +676,11 @@ impl PyBatch {
     /// Puts `what` at `pos` (one row, or one per chosen world) in the worlds `worlds`.
     fn place(&mut self, what: Placed, pos: Bound<'_, PyAny>, worlds: Option<Bound<'_, PyAny>>) -> PyResult<()> {
         let which = self.worlds(worlds)?;
-        let rows = match checked_values(&pos, "pos", &[3]) {
-            Ok(p) => vec![p; which.len()].concat(),
-            Err(_) => checked_values(&pos, "pos", &[which.len(), 3])?,
+        // one position for all the worlds, or one row each
+        let rows = if as_f64(&pos, "pos")?.ndim() == 1 {
+            vec![checked_values(&pos, "pos", &[3])?; which.len()].concat()
+        } else {
+            checked_values(&pos, "pos", &[which.len(), 3])?
         };
         self.moved.place(&self.inner.model, self.inner.len(), what, &which, &rows);
         Ok(())

@@ -246,3 +246,20 @@ def test_sb3_vec_env_runs_a_dmc_task():
     assert obs.shape == (4, 24) and venv.max_episode_steps == 250
     obs, reward, done, info = venv.step(np.zeros((4, 6)))
     assert obs.shape == (4, 24) and reward.shape == (4,) and not done.any()
+
+
+def test_placing_elements_checks_its_input():
+    import sinew as s
+    from sinew.dmc import suite_dir
+    model = s.Model.from_mjcf(os.path.join(suite_dir(), "reacher.xml"))
+    batch = s.Batch(model, 2)
+    target = model.geom_names.index("target")
+    for args, words in (((target, [np.nan, 0, 0]), "finite|NaN|nan"), ((99, [0, 0, 0]), "out of range"),
+                        ((target, [[0, 0, 0]] * 3), "shape")):
+        with pytest.raises(ValueError, match=words):
+            batch.set_geom_pos(*args)
+    # contacts are off in reacher: any geom may be placed; where it was placed is read back
+    batch.set_geom_pos(target, [[0.1, 0, 0.01], [0, 0.1, 0.01]])
+    np.testing.assert_array_equal(batch.geom_pos(target), [[0.1, 0, 0.01], [0, 0.1, 0.01]])
+    with pytest.raises(ValueError, match="out of range"):
+        batch.read_sensors([99])
