@@ -99,11 +99,7 @@ pub(super) fn compile(spec: &ModelSpec, body_id: impl Fn(&str) -> Option<usize>)
             });
         }
     }
-    for (i, c) in cameras.iter().enumerate() {
-        if !c.name.is_empty() && cameras[..i].iter().any(|o| o.name == c.name) {
-            return Err(Error::Compile(format!("duplicate camera name '{}'", c.name)));
-        }
-    }
+    unique_camera_names(&cameras)?;
     // MuJoCo's viewer shows groups 0–2; a fully transparent element shows nothing
     let shown = |group: i32, rgba: &[f64; 4]| (0..3).contains(&group) && rgba[3] > 0.0;
     let geom_drawn = spec.bodies.iter().flat_map(|b| &b.geoms).zip(&geom_rgba).map(|(g, c)| shown(g.group, c)).collect();
@@ -132,4 +128,12 @@ pub(super) fn compile(spec: &ModelSpec, body_id: impl Fn(&str) -> Option<usize>)
         extent: v.extent,
         center: v.center,
     })
+}
+
+/// A named camera is chosen by name, so two may not share one.
+fn unique_camera_names(cameras: &[Camera]) -> Result<()> {
+    match cameras.iter().enumerate().find(|(i, c)| !c.name.is_empty() && cameras[..*i].iter().any(|o| o.name == c.name)) {
+        Some((_, c)) => Err(Error::Compile(format!("duplicate camera name '{}'", c.name))),
+        None => Ok(()),
+    }
 }

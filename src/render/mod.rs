@@ -206,7 +206,7 @@ impl Renderer {
                 (i, pos, dir)
             })
             .collect::<Vec<_>>();
-        shade::Scene::new(m, poses, view, &lights, self.extent, width, height, &self.surfaces)
+        shade::Scene::new(m, poses, view, &lights, self.extent, (width, height), &self.surfaces)
     }
 }
 

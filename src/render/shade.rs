@@ -289,8 +289,9 @@ fn light_sources(m: &Model, view: &View, lights: &[(usize, DVec3, DVec3)], geoms
 impl Scene {
     /// The frame of `view` of a world at `poses`, with `lights` (index, position, direction) on.
     /// Everything is stored relative to the eye, in single precision.
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn new(m: &Model, poses: &Poses, view: &View, lights: &[(usize, DVec3, DVec3)], extent: f64, width: usize, height: usize, meshes: &[Option<Arc<Surface>>]) -> Scene {
+    /// `size` is the frame's (width, height) in pixels.
+    pub(super) fn new(m: &Model, poses: &Poses, view: &View, lights: &[(usize, DVec3, DVec3)], extent: f64, size: (usize, usize), meshes: &[Option<Arc<Surface>>]) -> Scene {
+        let (width, height) = size;
         let v = &m.vis;
         let f = |x: DVec3| x.as_vec3a();
         // the geoms, then the sites
