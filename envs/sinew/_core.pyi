@@ -56,6 +56,8 @@ class Model:
     @property
     def hfield_names(self) -> list[str]: ...
     def hfield_data(self, hfield: Union[int, str]) -> NDArray[np.float64]: ...
+    def param(self, field: str) -> NDArray[np.float64]:
+        """The model's value of a field a batch's worlds may vary (see Batch.set_params)."""
     def with_hfield_data(self, hfield: Union[int, str], data: ArrayLike) -> Model: ...
     def with_options(
         self,
@@ -306,6 +308,17 @@ class Batch:
         """The chosen sensors' readings of each world, one after another, computing only them."""
     def penetrations(self) -> NDArray[np.uintp]:
         """How many contacts penetrate in each world's current configuration (MuJoCo's ncon)."""
+    def set_params(self, field: str, values: ArrayLike, worlds: Optional[ArrayLike] = None) -> None:
+        """Gives the chosen worlds their own values of a model field (MuJoCo's name: body_mass,
+        body_ipos, body_inertia, geom_friction, dof_damping, dof_armature, dof_frictionloss,
+        jnt_stiffness, actuator_gain, actuator_bias, actuator_gear, actuator_ctrlrange, gravity),
+        broadcast to (worlds, ...); ValueError naming the world and field, and no change, on a bad value."""
+    def params(self, field: str) -> NDArray[np.float64]:
+        """The field in every world (N, ...): a copy."""
+    def reset_params(self, worlds: Optional[ArrayLike] = None) -> None:
+        """Gives the chosen worlds the model's values back."""
+    def _varied_params(self) -> list: ...
+    def _restore_params(self, own: list) -> None: ...
     def set_geom_pos(self, geom: int, pos: ArrayLike, worlds: Optional[ArrayLike] = None) -> None:
         """Places a geom without contacts at `pos` in its body's frame in the chosen worlds."""
     def set_site_pos(self, site: int, pos: ArrayLike, worlds: Optional[ArrayLike] = None) -> None:

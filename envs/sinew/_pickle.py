@@ -19,11 +19,12 @@ def sim(m: Model, state) -> Sim:
     return s
 
 
-def batch(m: Model, num_envs: int, num_threads: int, task, states, outputs: dict, moved=()) -> Batch:
-    """A batch of ``m`` with ``task`` (kind, parameters) set, every world in its full state, the
-    output arrays as the last step left them and the geoms and sites placed per world
-    ("geom" or "site", index, positions)."""
+def batch(m: Model, num_envs: int, num_threads: int, task, states, outputs: dict, moved=(), params=()) -> Batch:
+    """A batch of ``m`` with ``task`` (kind, parameters) set, the worlds' own model values
+    (``params``), every world in its full state, the output arrays as the last step left them and
+    the geoms and sites placed per world ("geom" or "site", index, positions)."""
     b = Batch(m, num_envs, num_threads=num_threads)
+    b._restore_params(list(params))
     if task is not None:
         b.set_task(task[0], **task[1])
     b.set_state(states)

@@ -20,6 +20,9 @@ class Worlds:
         self.batch = Batch(model, num_envs, seed=0, num_threads=num_threads)
         # the generator that last seeded each world's physics stream
         self._seeded_by: list = [None] * num_envs
+        #: Called as ``randomize(batch, idx, rngs)`` at each reset, before the worlds' first
+        #: observation (``sinew.randomize.RandomizeParams`` sets it).
+        self.randomize = None
 
     def check_actions(self, actions) -> np.ndarray:
         """The actions as an (N, nu) float64 array; ``ValueError`` for a wrong shape or a value
@@ -48,6 +51,8 @@ class Worlds:
         seeds = [int(rngs[k].integers(2**63)) for k in fresh]
         for k in fresh:
             self._seeded_by[idx[k]] = rngs[k]
+        if self.randomize is not None:
+            self.randomize(self.batch, idx, rngs)
         if len(fresh) in (0, len(idx)):
             mask = np.zeros(self.num_envs, dtype=bool)
             mask[idx] = True

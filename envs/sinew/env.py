@@ -245,12 +245,14 @@ class SinewEnv(gymnasium.Env, EzPickle):
         core = self._core
         seeded = self._np_random is not None and core._seeded_by[0] is self._np_random
         state["_sinew"] = (core.batch.get_state(0, full=True), self._np_random, self._np_random_seed, seeded,
-                           self._needs_reset, dict(self.viewer._free), self._elapsed, core.obs_cache())
+                           self._needs_reset, dict(self.viewer._free), self._elapsed, core.obs_cache(),
+                           core.batch._varied_params())
         return state
 
     def __setstate__(self, state):
-        world, rng, rng_seed, seeded, needs_reset, free, self._elapsed, obs = state.pop("_sinew")
+        world, rng, rng_seed, seeded, needs_reset, free, self._elapsed, obs, params = state.pop("_sinew")
         EzPickle.__setstate__(self, state)
+        self._core.batch._restore_params(params)
         self._core.batch.set_state(world, 0)
         self._core.restore_obs(obs)
         self._np_random, self._np_random_seed = rng, rng_seed
@@ -456,11 +458,12 @@ class SinewVectorEnv(VectorEnv):
         seeded = [s is r for s, r in zip(core._seeded_by, self._rngs)]
         return {"args": self._args, "worlds": core.batch.get_state(full=True), "rngs": self._rngs, "seeded": seeded,
                 "steps": self._steps, "autoreset": self._autoreset, "free": dict(self.viewer._free),
-                "obs": core.obs_cache()}
+                "obs": core.obs_cache(), "params": core.batch._varied_params()}
 
     def __setstate__(self, state):
         """A copy: the same construction, then every world's full state, generator and counters."""
         self.__init__(**state["args"])
+        self._core.batch._restore_params(state["params"])
         self._core.batch.set_state(state["worlds"])
         self._core.restore_obs(state["obs"])
         self._rngs = state["rngs"]

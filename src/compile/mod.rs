@@ -6,6 +6,7 @@ use glam::{DMat3, DVec3};
 mod assets;
 mod inertia;
 mod pairs;
+pub mod params;
 mod sensors;
 mod tendons;
 mod visual;
@@ -104,7 +105,7 @@ fn compile(mut spec: ModelSpec, dir: &std::path::Path) -> Result<Model> {
     };
     m.body_fluid_box = inertia.iter().zip(&m.body_iaxes).map(|(i, &axes)| fluid_box(i, axes)).collect();
     joints_and_nodes(&mut m, &spec)?;
-    node_inertias(&mut m, &inertia);
+    params::node_inertias(&mut m, &inertia);
     geoms_and_sites(&mut m, &spec, &meshes, &hfields);
     m.meshes = meshes;
     m.hfields = hfields;
@@ -225,19 +226,6 @@ fn add_joint(m: &mut Model, j: &JointSpec, b: usize, body: &BodySpec) {
         m.dof_armature.push(j.armature);
         m.dof_frictionloss.push(j.frictionloss);
         m.dof_jnt.push(id);
-    }
-}
-
-/// Each node's rigid inertia: its bodies' inertias moved into its frame.
-fn node_inertias(m: &mut Model, inertia: &[SpatialInertia]) {
-    for b in 1..m.nbody {
-        let n = m.body_node[b];
-        if n == WORLD {
-            continue;
-        }
-        let (rot, pos) = m.body_offset[b].pose();
-        let moved = inertia[b].to_parent(rot, pos);
-        m.node_inertia[n] = m.node_inertia[n].combine(&moved);
     }
 }
 
@@ -371,7 +359,6 @@ fn equalities(m: &mut Model, spec: &ModelSpec) -> Result<()> {
 
 /// The actuators, each on a hinge or slide joint or a fixed tendon, with their moment arms.
 fn actuators(m: &mut Model, spec: &ModelSpec) -> Result<()> {
-    m.actuator_moment_adr.push(0);
     for a in &spec.actuators {
         let trn = match &a.target {
             TransmissionSpec::Joint(name) => {
@@ -381,21 +368,15 @@ fn actuators(m: &mut Model, spec: &ModelSpec) -> Result<()> {
                 if !matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide) {
                     return Err(Error::model(&a.kind, Some("joint"), a.line, "actuators drive hinge or slide joints only"));
                 }
-                m.actuator_moment.push(Wrap { dof: m.jnt_dofadr[j], qpos: m.jnt_qposadr[j], coef: a.gear });
                 Transmission::Joint(j)
             }
             TransmissionSpec::Tendon(name) => {
                 let Some(t) = m.tendon_name.iter().position(|n| n == name) else {
                     return Err(Error::model(&a.kind, Some("tendon"), a.line, format!("unknown tendon '{name}'")));
                 };
-                for k in m.tendon_adr[t]..m.tendon_adr[t + 1] {
-                    let w = m.tendon_wrap[k];
-                    m.actuator_moment.push(Wrap { coef: a.gear * w.coef, ..w });
-                }
                 Transmission::Tendon(t)
             }
         };
-        m.actuator_moment_adr.push(m.actuator_moment.len());
         m.actuator_trn.push(trn);
         m.actuator_name.push(a.name.clone());
         m.actuator_gear.push(a.gear);
@@ -408,9 +389,9 @@ fn actuators(m: &mut Model, spec: &ModelSpec) -> Result<()> {
         m.na += (a.dynamics != ActuatorDyn::None) as usize;
         m.actuator_dyn.push(a.dynamics);
         m.actuator_actrange.push(a.actrange);
-        m.actuator_plain.push(a.dynamics == ActuatorDyn::None && a.gain[1..] == [0.0; 2] && a.bias == [0.0; 3]);
         m.actuator_bias.push(a.bias);
     }
+    params::actuator_derived(m);
     Ok(())
 }
 

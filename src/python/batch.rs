@@ -10,7 +10,7 @@ use pyo3::types::PyDict;
 
 use super::arrays::{as_f64, checked_values, chosen_worlds, masked_worlds};
 use super::model::PyModel;
-use super::outputs::{SensorArrays, TaskArrays};
+use super::outputs::{SensorOutputs, TaskArrays};
 use super::placed::Placements;
 use crate::batch::{Batch, BatchState, TaskRun};
 use crate::step::state::FlatState;
@@ -29,14 +29,7 @@ pub struct PyBatch {
     act: Py<PyArray2<f64>>,
     time: Py<PyArray1<f64>>,
     diverged: Py<PyArray1<bool>>,
-    xpos: Py<PyArray3<f64>>,
-    xmat: Py<PyArray3<f64>>,
-    xipos: Py<PyArray3<f64>>,
-    xvel: Py<PyArray3<f64>>,
-    cfrc_ext: Py<PyArray3<f64>>,
-    qfrc_constraint: Py<PyArray2<f64>>,
-    cinert: Py<PyArray3<f64>>,
-    cvel: Py<PyArray3<f64>>,
+    out: SensorOutputs,
     task: Option<TaskArrays>,
     /// The task's kind and parameters as given to `set_task` (for pickling).
     task_args: Option<(String, Py<PyDict>)>,
@@ -78,14 +71,7 @@ impl PyBatch {
             act: PyArray2::zeros(py, [num_envs, m.na], false).unbind(),
             time: PyArray1::zeros(py, num_envs, false).unbind(),
             diverged: PyArray1::from_vec(py, vec![false; num_envs]).unbind(),
-            xpos: PyArray3::zeros(py, [num_envs, m.nbody, 3], false).unbind(),
-            xmat: PyArray3::zeros(py, [num_envs, m.nbody, 9], false).unbind(),
-            xipos: PyArray3::zeros(py, [num_envs, m.nbody, 3], false).unbind(),
-            xvel: PyArray3::zeros(py, [num_envs, m.nbody, 6], false).unbind(),
-            cfrc_ext: PyArray3::zeros(py, [num_envs, m.nbody, 6], false).unbind(),
-            qfrc_constraint: PyArray2::zeros(py, [num_envs, m.nv], false).unbind(),
-            cinert: PyArray3::zeros(py, [num_envs, m.nbody, 10], false).unbind(),
-            cvel: PyArray3::zeros(py, [num_envs, m.nbody, 6], false).unbind(),
+            out: SensorOutputs::new(py, num_envs, &m),
             task: None,
             task_args: None,
             moved: Placements::default(),
@@ -171,29 +157,29 @@ impl PyBatch {
     /// Body positions (N, nbody, 3) for the current state.
     #[getter]
     fn xpos(&self, py: Python<'_>) -> Py<PyArray3<f64>> {
-        self.xpos.clone_ref(py)
+        self.out.xpos.clone_ref(py)
     }
     /// Body rotation matrices, row-major (N, nbody, 9), for the current state.
     #[getter]
     fn xmat(&self, py: Python<'_>) -> Py<PyArray3<f64>> {
-        self.xmat.clone_ref(py)
+        self.out.xmat.clone_ref(py)
     }
     /// Body centres of mass in world (N, nbody, 3), MuJoCo's `xipos`, for the current state.
     #[getter]
     fn xipos(&self, py: Python<'_>) -> Py<PyArray3<f64>> {
-        self.xipos.clone_ref(py)
+        self.out.xipos.clone_ref(py)
     }
 
     /// Body velocities (N, nbody, 6): world angular velocity, then world velocity of the body origin.
     #[getter]
     fn xvel(&self, py: Python<'_>) -> Py<PyArray3<f64>> {
-        self.xvel.clone_ref(py)
+        self.out.xvel.clone_ref(py)
     }
     /// Contact wrench per body (N, nbody, 6) of the last step: torque then force, world axes, about
     /// the centre of mass of the body's root subtree (MuJoCo's `cfrc_ext`).
     #[getter]
     fn cfrc_ext(&self, py: Python<'_>) -> Py<PyArray3<f64>> {
-        self.cfrc_ext.clone_ref(py)
+        self.out.cfrc_ext.clone_ref(py)
     }
 
     /// Com-based body inertias after the last step (N, nbody, 10): xx, yy, zz, xy, xz, yz about
@@ -201,19 +187,19 @@ impl PyBatch {
     /// (MuJoCo's `cinert`).
     #[getter]
     fn cinert(&self, py: Python<'_>) -> Py<PyArray3<f64>> {
-        self.cinert.clone_ref(py)
+        self.out.cinert.clone_ref(py)
     }
 
     /// Com-based body velocities after the last step (N, nbody, 6): angular, then the linear
     /// velocity of the body point at the root subtree's centre of mass (MuJoCo's `cvel`).
     #[getter]
     fn cvel(&self, py: Python<'_>) -> Py<PyArray3<f64>> {
-        self.cvel.clone_ref(py)
+        self.out.cvel.clone_ref(py)
     }
     /// Generalised constraint force of the last step (N, nv) (MuJoCo's `qfrc_constraint`).
     #[getter]
     fn qfrc_constraint(&self, py: Python<'_>) -> Py<PyArray2<f64>> {
-        self.qfrc_constraint.clone_ref(py)
+        self.out.qfrc_constraint.clone_ref(py)
     }
 
     /// Advances the worlds where `mask` is true (every world when None) `n` steps (GIL released);
@@ -236,7 +222,7 @@ impl PyBatch {
         }
         let (mut qpos, mut qvel, ctrl) = (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readonly());
         let (mut time, mut div, mut act) = (self.time.bind(py).readwrite(), self.diverged.bind(py).readwrite(), self.act.bind(py).readwrite());
-        let mut out = self.sensor_arrays(py);
+        let mut out = self.out.readwrite(py);
         let st = BatchState {
             qpos: qpos.as_slice_mut()?,
             qvel: qvel.as_slice_mut()?,
@@ -339,7 +325,7 @@ impl PyBatch {
         let obs = t.obs.bind(py).readonly();
         let obs = obs.as_slice()?;
         let dim = obs.len() / n;
-        let mut arrays = self.sensor_arrays(py);
+        let mut arrays = self.out.readwrite(py);
         let mut sensors = arrays.slices()?;
         let mut info = vec![0.0; names.len()];
         for i in 0..n {
@@ -512,8 +498,53 @@ impl PyBatch {
                 Placed::Site(s) => Ok(("site", s, self.moved.positions(py, m, n, k)?)),
             })
             .collect::<PyResult<_>>()?;
-        let args = (self.py_model.clone_ref(py), self.inner.len(), self.inner.num_threads(), task, states, outputs, moved).into_pyobject(py)?;
+        let own = super::params::varied(&self.inner);
+        let args = (self.py_model.clone_ref(py), self.inner.len(), self.inner.num_threads(), task, states, outputs, moved, own).into_pyobject(py)?;
         Ok((py.import("sinew._pickle")?.getattr("batch")?, args))
+    }
+
+    /// Gives the worlds `worlds` (all when None; a mask or indices) values of their own of the
+    /// model field `field` (MuJoCo's name: body_mass, body_ipos, body_inertia, geom_friction,
+    /// dof_damping, dof_armature, dof_frictionloss, jnt_stiffness, actuator_gain, actuator_bias,
+    /// actuator_gear, actuator_ctrlrange, gravity), `values` broadcast to (worlds, ...). A new
+    /// body mass scales the body's inertia with it. What derives from the field follows, the
+    /// worlds' warm starts are forgotten; a bad value raises ValueError naming the world and the
+    /// field, and then no world changes.
+    #[pyo3(signature = (field, values, worlds=None))]
+    fn set_params(&mut self, py: Python<'_>, field: &str, values: Bound<'_, PyAny>, worlds: Option<Bound<'_, PyAny>>) -> PyResult<()> {
+        let p = super::params::named(field)?;
+        let which = self.worlds(worlds)?;
+        let v = super::params::broadcast(py, p, &self.inner.model, &values, which.len())?;
+        self.inner.set_param(p, &which, &v).map_err(|e| super::errors::to_py(py, e))?;
+        self.refresh(py, &which)
+    }
+
+    /// Field `field` (as `set_params` names it) of every world, (N, ...): a copy.
+    fn params<'py>(&self, py: Python<'py>, field: &str) -> PyResult<Bound<'py, numpy::PyArrayDyn<f64>>> {
+        super::params::read(py, &self.inner, super::params::named(field)?)
+    }
+
+    /// Gives the worlds `worlds` (all when None) the model's own values back.
+    #[pyo3(signature = (worlds=None))]
+    fn reset_params(&mut self, py: Python<'_>, worlds: Option<Bound<'_, PyAny>>) -> PyResult<()> {
+        let which = self.worlds(worlds)?;
+        self.inner.reset_params(&which);
+        self.refresh(py, &which)
+    }
+
+    /// What pickling keeps of the worlds' own values.
+    fn _varied_params(&self) -> super::params::Varied {
+        super::params::varied(&self.inner)
+    }
+
+    /// Restores what pickling kept of the worlds' own values.
+    fn _restore_params(&mut self, py: Python<'_>, own: super::params::Varied) -> PyResult<()> {
+        let which: Vec<usize> = own.iter().map(|(i, _, _)| *i).collect();
+        if let Some(&i) = which.iter().find(|&&i| i >= self.inner.len()) {
+            return Err(PyValueError::new_err(format!("world {i} out of range for {} worlds", self.inner.len())));
+        }
+        super::params::restore(&mut self.inner, own).map_err(|e| super::errors::to_py(py, e))?;
+        self.refresh(py, &which)
     }
 
     /// Places geom `geom` (an index) at `pos` in its body's frame, in the worlds `worlds` (all
@@ -592,20 +623,8 @@ impl PyBatch {
     /// Copies of the sensor, task and divergence output arrays, by attribute name.
     fn clone_outputs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
-        let arrays: [(&str, Bound<'py, PyAny>); 9] = [
-            ("xpos", self.xpos.bind(py).clone().into_any()),
-            ("xmat", self.xmat.bind(py).clone().into_any()),
-            ("xipos", self.xipos.bind(py).clone().into_any()),
-            ("xvel", self.xvel.bind(py).clone().into_any()),
-            ("cfrc_ext", self.cfrc_ext.bind(py).clone().into_any()),
-            ("qfrc_constraint", self.qfrc_constraint.bind(py).clone().into_any()),
-            ("cinert", self.cinert.bind(py).clone().into_any()),
-            ("cvel", self.cvel.bind(py).clone().into_any()),
-            ("diverged", self.diverged.bind(py).clone().into_any()),
-        ];
-        for (k, a) in arrays {
-            d.set_item(k, a.call_method0("copy")?)?;
-        }
+        self.out.copy_into(&d)?;
+        d.set_item("diverged", self.diverged.bind(py).call_method0("copy")?)?;
         if let Some(t) = &self.task {
             d.set_item("obs", t.obs.bind(py).call_method0("copy")?)?;
             d.set_item("reward", t.reward.bind(py).call_method0("copy")?)?;
@@ -633,25 +652,11 @@ impl PyBatch {
         self.refresh(py, &all)
     }
 
-    /// The sensor output arrays, borrowed for writing.
-    fn sensor_arrays<'py>(&self, py: Python<'py>) -> SensorArrays<'py> {
-        SensorArrays {
-            xpos: self.xpos.bind(py).readwrite(),
-            xmat: self.xmat.bind(py).readwrite(),
-            xipos: self.xipos.bind(py).readwrite(),
-            xvel: self.xvel.bind(py).readwrite(),
-            cfrc_ext: self.cfrc_ext.bind(py).readwrite(),
-            qfrc_constraint: self.qfrc_constraint.bind(py).readwrite(),
-            cinert: self.cinert.bind(py).readwrite(),
-            cvel: self.cvel.bind(py).readwrite(),
-        }
-    }
-
     /// Sensor outputs of the worlds `which` for their current state.
     fn refresh(&mut self, py: Python<'_>, which: &[usize]) -> PyResult<()> {
         let m = self.inner.model.clone();
         let (qpos, qvel) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly());
-        let mut arrays = self.sensor_arrays(py);
+        let mut arrays = self.out.readwrite(py);
         let mut out = arrays.slices()?;
         let ctrl = self.ctrl.bind(py).readonly();
         let (qp, qv, c) = (qpos.as_slice()?, qvel.as_slice()?, ctrl.as_slice()?);

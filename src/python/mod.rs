@@ -6,6 +6,7 @@ mod batch;
 mod errors;
 mod model;
 mod outputs;
+mod params;
 mod placed;
 mod render;
 mod sim;

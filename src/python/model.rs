@@ -147,6 +147,12 @@ impl PyModel {
         numpy::PyArray1::from_vec(py, h.data.clone()).reshape([h.nrow, h.ncol])
     }
 
+    /// The model's value of a field a batch's worlds may vary (`Batch.set_params` names them).
+    fn param<'py>(&self, py: Python<'py>, field: &str) -> PyResult<Bound<'py, numpy::PyArrayDyn<f64>>> {
+        let p = super::params::named(field)?;
+        numpy::PyArray1::from_vec(py, p.read(&self.inner)).reshape(super::params::shape(p, &self.inner))
+    }
+
     /// A copy whose height field `hfield` (a name or an index) has the elevations `data` (nrow,
     /// ncol), each finite, in units of the field's height (MuJoCo's `hfield_data`: 0 at the
     /// base's top, 1 at the field's height); everything else shared.

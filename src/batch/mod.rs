@@ -7,11 +7,10 @@
 //! bit-identical for any thread count and any batch size. A world whose state leaves the finite
 //! range is reset alone to qpos0 and flagged.
 
-use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
-use std::time::{Duration, Instant};
 
 use crate::collision::{self, CollisionData};
+use crate::compile::params::{self, Param};
 use crate::dynamics::kinematics;
 use crate::sensordata;
 use crate::step::data::Data;
@@ -21,6 +20,9 @@ use crate::state::WorldState;
 use crate::step::run::{advance, guarded};
 use crate::tasks::Task;
 
+mod workers;
+use workers::Workers;
+
 pub use crate::math::{out_of_range, MAX_STATE};
 
 /// Most threads a batch accepts (a thread each costs its stack; beyond this a count is a mistake).
@@ -29,26 +31,19 @@ pub const MAX_THREADS: usize = 1024;
 /// Most worlds a batch accepts.
 pub const MAX_WORLDS: usize = 1 << 20;
 
-/// How long the pool's workers keep polling for the next call after one ends before they go to
-/// sleep: waking a sleeping worker costs a call tens of microseconds on this kind of machine,
-/// about a tenth of a 64-world Hopper env step (Intel's OpenMP runtime spins 200 ms by default,
-/// `KMP_BLOCKTIME`).
-pub const LINGER: Duration = Duration::from_micros(200);
-
 /// Scratch of N worlds and the thread pool that steps them.
 pub struct Batch {
     /// The shared model.
     pub model: Arc<Model>,
     /// Per-world scratch (N).
     pub data: Vec<Data>,
+    /// The worlds' own models, where [`Batch::set_param`] gave them values of their own (N).
+    own: Vec<Option<Box<Model>>>,
     root: Vec<usize>,
     /// Threads that step worlds, the calling one included.
     threads: usize,
     /// The `threads − 1` workers beside the calling thread (None for one thread).
-    pool: Option<rayon::ThreadPool>,
-    /// Number of the current call to [`Batch::step`]: workers lingering after the previous one
-    /// stop polling when it changes.
-    call: Arc<AtomicU64>,
+    workers: Option<Workers>,
     /// One zero control per world, for models without actuators (the chunk iterators need a slot).
     no_ctrl: Vec<f64>,
     /// Stand-in activations (one per world) for a model without any.
@@ -114,16 +109,11 @@ impl Batch {
         let threads = num_threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).clamp(1, seeds.len().max(1));
         // the calling thread steps worlds too: a pool of one fewer, none for one thread (waking a
         // worker costs each call tens of microseconds on a loaded machine)
-        let pool = if threads == 1 {
-            None
-        } else {
-            let built = rayon::ThreadPoolBuilder::new().num_threads(threads - 1).build();
-            Some(built.map_err(|e| crate::error::Error::Input(format!("cannot start the thread pool: {e}")))?)
-        };
+        let workers = if threads == 1 { None } else { Some(Workers::new(threads - 1)?) };
         let no_ctrl = vec![0.0; if model.nu == 0 { data.len() } else { 0 }];
         let no_act = vec![0.0; if model.na == 0 { data.len() } else { 0 }];
         let (no_task, no_task_flag) = (vec![0.0; 3 * data.len()], vec![false; data.len()]);
-        Ok(Batch { root: sensors::body_root(&model), model, data, threads, pool, call: Arc::default(), no_ctrl, no_act, no_task, no_task_flag })
+        Ok(Batch { root: sensors::body_root(&model), own: (0..seeds.len()).map(|_| None).collect(), model, data, threads, workers, no_ctrl, no_act, no_task, no_task_flag })
     }
 
     /// Number of worlds.
@@ -142,6 +132,69 @@ impl Batch {
         self.threads
     }
 
+    /// World `i`'s model: the shared one, or its own after [`Batch::set_param`].
+    pub fn model_of(&self, i: usize) -> &Model {
+        self.own[i].as_deref().unwrap_or(&self.model)
+    }
+
+    /// Gives the worlds `which` the values `values` of field `p` (one row of
+    /// [`Param::shape`] per world, in `which`'s order) and forgets their warm starts. Every
+    /// value is checked first: on an error naming the world and the field, no world changes.
+    pub fn set_param(&mut self, p: Param, which: &[usize], values: &[f64]) -> crate::error::Result<()> {
+        let (rows, cols) = p.shape(&self.model);
+        let len = rows * cols;
+        if values.len() != which.len() * len {
+            return Err(crate::error::Error::Input(format!("{} takes {rows} × {cols} values per world, got {} for {} worlds", p.name(), values.len(), which.len())));
+        }
+        let changed = (which.iter().zip(values.chunks(len.max(1))))
+            .map(|(&i, row)| {
+                let mut m = self.model_of(i).clone();
+                p.check(&m, row).map_err(|e| crate::error::Error::Input(format!("world {i}: {e}")))?;
+                p.write(&mut m, row).map_err(|e| crate::error::Error::Input(format!("world {i}: {}: {e}", p.name())))?;
+                Ok((i, m))
+            })
+            .collect::<crate::error::Result<Vec<_>>>()?;
+        for (i, m) in changed {
+            self.own[i] = Some(Box::new(m));
+            self.data[i].forget_history();
+        }
+        Ok(())
+    }
+
+    /// Field `p` of every world, one row of [`Param::shape`] after another.
+    pub fn param(&self, p: Param) -> Vec<f64> {
+        (0..self.len()).flat_map(|i| p.read(self.model_of(i))).collect()
+    }
+
+    /// Gives the worlds `which` the shared model's values back (and forgets their warm starts).
+    pub fn reset_params(&mut self, which: &[usize]) {
+        for &i in which {
+            if self.own[i].take().is_some() {
+                self.data[i].forget_history();
+            }
+        }
+    }
+
+    /// The worlds with values of their own.
+    pub fn varied(&self) -> Vec<usize> {
+        (0..self.len()).filter(|&i| self.own[i].is_some()).collect()
+    }
+
+    /// World `i`'s own rotational inertias (nbody 3 × 3 matrices, columns), bit for bit: a
+    /// copy's with [`Batch::set_inertia_matrices`] (principal moments would round).
+    pub fn inertia_matrices(&self, i: usize) -> Vec<f64> {
+        params::read_inertia_matrices(self.model_of(i))
+    }
+
+    /// Sets world `i`'s rotational inertias as [`Batch::inertia_matrices`] gave them.
+    pub fn set_inertia_matrices(&mut self, i: usize, values: &[f64]) -> crate::error::Result<()> {
+        let mut m = self.model_of(i).clone();
+        params::write_inertia_matrices(&mut m, values)?;
+        self.own[i] = Some(Box::new(m));
+        self.data[i].forget_history();
+        Ok(())
+    }
+
     /// Re-seeds world `i`'s random stream.
     pub fn seed(&mut self, i: usize, seed: u64) {
         self.data[i].constraints.history.rng = crate::math::splitmix64(seed);
@@ -155,6 +208,7 @@ impl Batch {
         let root = &self.root[..];
         let (nq, nv, nu, na, nb) = (m.nq.max(1), m.nv.max(1), m.nu.max(1), m.na.max(1), m.nbody);
         let data = &mut self.data;
+        let own = &self.own;
         let ctrl = if m.nu == 0 { &self.no_ctrl[..] } else { st.ctrl };
         let BatchState { qpos, qvel, act, time, diverged, active, out, .. } = st;
         // without activations, one unused slot per world
@@ -172,13 +226,16 @@ impl Batch {
         // back, so that each keeps to its own end of the batch from call to call
         let worlds = Mutex::new(
             data.iter_mut()
+                .zip(own)
+                .map(|(d, own)| (d, own.as_deref().unwrap_or(m)))
                 .zip(qpos.chunks_mut(nq).zip(qvel.chunks_mut(nv)).zip(ctrl.chunks(nu)).zip(act.chunks_mut(na)))
                 .zip(time.iter_mut().zip(diverged.iter_mut()).zip(active.iter()))
                 .zip(out.xpos.chunks_mut(3 * nb).zip(out.xmat.chunks_mut(9 * nb)).zip(out.xipos.chunks_mut(3 * nb)))
                 .zip(out.xvel.chunks_mut(6 * nb).zip(out.cfrc_ext.chunks_mut(6 * nb)).zip(out.qfrc_constraint.chunks_mut(nv)))
                 .zip(out.cinert.chunks_mut(10 * nb).zip(out.cvel.chunks_mut(6 * nb)))
                 .zip(obs.chunks_mut(obs_dim.max(1)).zip(reward.iter_mut()).zip(terminated.iter_mut()).zip(info.chunks_mut(ninfo.max(1))))
-                .map(|((((((d, (((qpos, qvel), ctrl), act)), ((time, diverged), &active)), ((xpos, xmat), xipos)), ((xvel, cfrc_ext), qfrc_constraint)), (cinert, cvel)), (((obs, reward), terminated), info))| World {
+                .map(|(((((((d, model), (((qpos, qvel), ctrl), act)), ((time, diverged), &active)), ((xpos, xmat), xipos)), ((xvel, cfrc_ext), qfrc_constraint)), (cinert, cvel)), (((obs, reward), terminated), info))| World {
+                    model,
                     data: d,
                     state: WorldState { time, qpos: &mut qpos[..m.nq], qvel: &mut qvel[..m.nv], ctrl: &ctrl[..m.nu], act: &mut act[..m.na] },
                     diverged,
@@ -198,43 +255,19 @@ impl Batch {
                 let next = if from_back { queue.next_back() } else { queue.next() };
                 drop(queue);
                 let Some(w) = next else { return };
-                env_step(m, root, spec, n, w);
+                env_step(root, spec, n, w);
             }
         };
-        let call = self.call.fetch_add(1, Ordering::Relaxed) + 1;
-        let Some(pool) = &self.pool else {
-            return work(false);
-        };
-        // the calling thread waits for the workers' last worlds by polling: blocking in the
-        // scope would add a wake-up to every call
-        let finished = AtomicUsize::new(0);
-        pool.in_place_scope(|s| {
-            for _ in 1..self.threads {
-                s.spawn(|_| {
-                    work(true);
-                    finished.fetch_add(1, Ordering::Release);
-                });
-            }
-            work(false);
-            while finished.load(Ordering::Acquire) < self.threads - 1 {
-                std::hint::spin_loop();
-            }
-        });
-        // the workers poll for the next call for a while instead of going to sleep at once
-        for _ in 1..self.threads {
-            let now = Arc::clone(&self.call);
-            let start = Instant::now();
-            pool.spawn(move || {
-                while now.load(Ordering::Relaxed) == call && start.elapsed() < LINGER {
-                    std::hint::spin_loop();
-                }
-            });
+        match &self.workers {
+            Some(workers) => workers.run(&work),
+            None => work(false),
         }
     }
 
     /// Resets world `i` to qpos0 at rest (its constraint forces cleared) in the given rows.
     pub fn reset(&mut self, i: usize, qpos: &mut [f64], qvel: &mut [f64], act: &mut [f64]) {
-        reset_world(&self.model, &mut self.data[i], qpos, qvel, act);
+        let m = self.own[i].as_deref().unwrap_or(&self.model);
+        reset_world(m, &mut self.data[i], qpos, qvel, act);
     }
 
     /// The readings of the file sensors `which` (indices) of every world at the state in `st`
@@ -250,7 +283,7 @@ impl Batch {
                 ctrl: &st.ctrl[i * m.nu..(i + 1) * m.nu],
                 act: &st.act[i * m.na..(i + 1) * m.na],
             };
-            sensordata::read(m, d, s, which, row);
+            sensordata::read(self.own[i].as_deref().unwrap_or(m), d, s, which, row);
         }
         out
     }
@@ -273,15 +306,17 @@ impl Batch {
     /// Recomputes the sensor outputs of world `i` for its current state (after a reset or a
     /// state written from Python), and a task's observation `obs` of it.
     pub fn sense(&mut self, i: usize, qpos: &[f64], qvel: &[f64], ctrl: &[f64], mut out: Sensors<'_>, task: Option<(&dyn Task, &mut [f64])>) {
-        sensors::write(&self.model, &self.root, &mut self.data[i], qpos, qvel, out.reborrow());
+        let m = self.own[i].as_deref().unwrap_or(&self.model);
+        sensors::write(m, &self.root, &mut self.data[i], qpos, qvel, out.reborrow());
         if let Some((t, obs)) = task {
-            t.observe(&self.model, &out.world_view(qpos, qvel, ctrl), obs);
+            t.observe(m, &out.world_view(qpos, qvel, ctrl), obs);
         }
     }
 }
 
 /// One world's rows of a batch's arrays, for one call of [`Batch::step`].
 struct World<'a> {
+    model: &'a Model,
     data: &'a mut Data,
     state: WorldState<'a>,
     diverged: &'a mut bool,
@@ -297,8 +332,8 @@ struct World<'a> {
 /// its observation, reward terms and termination, under the step's panic guard: a panic (a bug)
 /// leaves the world as the call found it, its history forgotten, and its message in
 /// [`Data::fault`].
-fn env_step(m: &Model, root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>) {
-    let World { data, mut state, diverged, active, mut out, obs, reward, terminated, info } = w;
+fn env_step(root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>) {
+    let World { model: m, data, mut state, diverged, active, mut out, obs, reward, terminated, info } = w;
     *diverged = false;
     data.fault.message = None;
     if !active {

@@ -1,0 +1,266 @@
+//! The model fields a world of a batch may hold values of its own for (domain randomization):
+//! each [`Param`] is read and written by MuJoCo's name and shape, checked before anything
+//! changes, and followed by everything the compiler derives from it.
+
+use glam::{DMat3, DVec3};
+
+use crate::dynamics::DynamicsData;
+use crate::error::{Error, Result};
+use crate::math::{SpatialInertia, MAX_STATE};
+use crate::model::{Model, Transmission, Wrap, WORLD};
+
+/// A model field that may vary per world.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Param {
+    /// Body masses (nbody); setting them scales each body's inertia by the same factor.
+    BodyMass,
+    /// Centres of mass in the body frames (nbody × 3).
+    BodyIpos,
+    /// Principal moments of inertia about the body's inertial axes (nbody × 3), MuJoCo's.
+    BodyInertia,
+    /// Sliding, torsional and rolling friction (ngeom × 3); contacts read the first.
+    GeomFriction,
+    /// Joint damping per dof (nv).
+    DofDamping,
+    /// Armature inertia per dof (nv).
+    DofArmature,
+    /// Dry friction per dof (nv).
+    DofFrictionloss,
+    /// Joint stiffness (njnt).
+    JntStiffness,
+    /// Actuator gain: fixed, times length, times velocity (nu × 3).
+    ActuatorGain,
+    /// Actuator bias: fixed, times length, times velocity (nu × 3).
+    ActuatorBias,
+    /// Actuator gear (nu).
+    ActuatorGear,
+    /// Control range (nu × 2).
+    ActuatorCtrlrange,
+    /// Gravity (3).
+    Gravity,
+}
+
+impl Param {
+    /// Every field, in the order of [`Param::name`]s that `Batch` lists.
+    pub const ALL: [Param; 13] = [
+        Param::BodyMass,
+        Param::BodyIpos,
+        Param::BodyInertia,
+        Param::GeomFriction,
+        Param::DofDamping,
+        Param::DofArmature,
+        Param::DofFrictionloss,
+        Param::JntStiffness,
+        Param::ActuatorGain,
+        Param::ActuatorBias,
+        Param::ActuatorGear,
+        Param::ActuatorCtrlrange,
+        Param::Gravity,
+    ];
+
+    /// MuJoCo's name of the field (`gravity` for `opt.gravity`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Param::BodyMass => "body_mass",
+            Param::BodyIpos => "body_ipos",
+            Param::BodyInertia => "body_inertia",
+            Param::GeomFriction => "geom_friction",
+            Param::DofDamping => "dof_damping",
+            Param::DofArmature => "dof_armature",
+            Param::DofFrictionloss => "dof_frictionloss",
+            Param::JntStiffness => "jnt_stiffness",
+            Param::ActuatorGain => "actuator_gain",
+            Param::ActuatorBias => "actuator_bias",
+            Param::ActuatorGear => "actuator_gear",
+            Param::ActuatorCtrlrange => "actuator_ctrlrange",
+            Param::Gravity => "gravity",
+        }
+    }
+
+    /// The field called `name`.
+    pub fn named(name: &str) -> Option<Param> {
+        Param::ALL.into_iter().find(|p| p.name() == name)
+    }
+
+    /// (rows, columns) of the field in `m`; a field of one column per element is (n, 1).
+    pub fn shape(self, m: &Model) -> (usize, usize) {
+        match self {
+            Param::BodyMass => (m.nbody, 1),
+            Param::BodyIpos | Param::BodyInertia => (m.nbody, 3),
+            Param::GeomFriction => (m.ngeom, 3),
+            Param::DofDamping | Param::DofArmature | Param::DofFrictionloss => (m.nv, 1),
+            Param::JntStiffness => (m.njnt, 1),
+            Param::ActuatorGain | Param::ActuatorBias => (m.nu, 3),
+            Param::ActuatorGear => (m.nu, 1),
+            Param::ActuatorCtrlrange => (m.nu, 2),
+            Param::Gravity => (1, 3),
+        }
+    }
+
+    /// The field's values in `m`, row after row.
+    pub fn read(self, m: &Model) -> Vec<f64> {
+        let v3 = |v: &[DVec3]| v.iter().flat_map(|x| x.to_array()).collect();
+        match self {
+            Param::BodyMass => m.body_mass.clone(),
+            Param::BodyIpos => v3(&m.body_ipos),
+            Param::BodyInertia => (0..m.nbody).flat_map(|b| principal_moments(m, b).to_array()).collect(),
+            Param::GeomFriction => m.geom_friction.concat(),
+            Param::DofDamping => m.dof_damping.clone(),
+            Param::DofArmature => m.dof_armature.clone(),
+            Param::DofFrictionloss => m.dof_frictionloss.clone(),
+            Param::JntStiffness => m.jnt_stiffness.clone(),
+            Param::ActuatorGain => m.actuator_gain.concat(),
+            Param::ActuatorBias => m.actuator_bias.concat(),
+            Param::ActuatorGear => m.actuator_gear.clone(),
+            Param::ActuatorCtrlrange => m.actuator_ctrlrange.concat(),
+            Param::Gravity => m.opt.gravity.to_array().to_vec(),
+        }
+    }
+
+    /// What is wrong with `values` (row after row, [`Param::shape`]) for `m`, naming the element.
+    pub fn check(self, m: &Model, values: &[f64]) -> std::result::Result<(), String> {
+        let (rows, cols) = self.shape(m);
+        if values.len() != rows * cols {
+            return Err(format!("{} takes {rows} × {cols} values, got {}", self.name(), values.len()));
+        }
+        if let Some(k) = values.iter().position(|x| !x.is_finite() || x.abs() > MAX_STATE) {
+            return Err(format!("{}[{}] = {} is not finite or beyond ±{MAX_STATE:e}", self.name(), k / cols, values[k]));
+        }
+        let non_negative = matches!(
+            self,
+            Param::BodyMass | Param::BodyInertia | Param::GeomFriction | Param::DofDamping | Param::DofArmature | Param::DofFrictionloss | Param::JntStiffness
+        );
+        if let Some(k) = values.iter().position(|&x| non_negative && x < 0.0) {
+            return Err(format!("{}[{}] = {} is negative", self.name(), k / cols, values[k]));
+        }
+        match self {
+            Param::BodyInertia => (1..rows).try_for_each(|b| inertia_ok(m, b, &values[3 * b..3 * b + 3])),
+            Param::ActuatorCtrlrange => match values.chunks(2).position(|r| r[0] > r[1]) {
+                Some(a) => Err(format!("actuator_ctrlrange[{a}] = {:?}: its lower end is above its upper end", &values[2 * a..2 * a + 2])),
+                None => Ok(()),
+            },
+            _ => Ok(()),
+        }
+    }
+
+    /// Writes checked `values` into `m` (mass scales inertia), then what the compiler derives
+    /// from them; fails if a joint is left moving no mass.
+    pub fn write(self, m: &mut Model, values: &[f64]) -> Result<()> {
+        let v3 = |k: usize| DVec3::from_slice(&values[3 * k..3 * k + 3]);
+        let a3 = |k: usize| [values[3 * k], values[3 * k + 1], values[3 * k + 2]];
+        match self {
+            Param::BodyMass => {
+                for (b, &mass) in values.iter().enumerate() {
+                    if mass != m.body_mass[b] && m.body_mass[b] > 0.0 {
+                        m.body_inertia[b] *= mass / m.body_mass[b];
+                    }
+                    m.body_mass[b] = mass;
+                }
+            }
+            Param::BodyIpos => m.body_ipos = (0..m.nbody).map(v3).collect(),
+            Param::BodyInertia => {
+                for b in 0..m.nbody {
+                    if v3(b) != principal_moments(m, b) {
+                        let r = m.body_iaxes[b];
+                        m.body_inertia[b] = r * DMat3::from_diagonal(v3(b)) * r.transpose();
+                    }
+                }
+            }
+            Param::GeomFriction => m.geom_friction = (0..m.ngeom).map(a3).collect(),
+            Param::DofDamping => m.dof_damping.copy_from_slice(values),
+            Param::DofArmature => m.dof_armature.copy_from_slice(values),
+            Param::DofFrictionloss => m.dof_frictionloss.copy_from_slice(values),
+            Param::JntStiffness => m.jnt_stiffness.copy_from_slice(values),
+            Param::ActuatorGain => m.actuator_gain = (0..m.nu).map(a3).collect(),
+            Param::ActuatorBias => m.actuator_bias = (0..m.nu).map(a3).collect(),
+            Param::ActuatorGear => m.actuator_gear.copy_from_slice(values),
+            Param::ActuatorCtrlrange => m.actuator_ctrlrange = values.chunks(2).map(|r| [r[0], r[1]]).collect(),
+            Param::Gravity => m.opt.gravity = v3(0),
+        }
+        derive(m)
+    }
+}
+
+/// Every body's rotational inertia (3 × 3, columns), bit for bit.
+pub fn read_inertia_matrices(m: &Model) -> Vec<f64> {
+    m.body_inertia.iter().flat_map(|i| i.to_cols_array()).collect()
+}
+
+/// Sets every body's rotational inertia as [`read_inertia_matrices`] gave it.
+pub fn write_inertia_matrices(m: &mut Model, values: &[f64]) -> Result<()> {
+    if values.len() != 9 * m.nbody || values.iter().any(|x| !x.is_finite()) {
+        return Err(Error::Input(format!("inertia matrices: {} finite values expected, got {}", 9 * m.nbody, values.len())));
+    }
+    m.body_inertia = values.chunks(9).map(DMat3::from_cols_slice).collect();
+    derive(m)
+}
+
+/// Body `b`'s principal moments: its inertia about its centre of mass along its inertial axes.
+fn principal_moments(m: &Model, b: usize) -> DVec3 {
+    let r = m.body_iaxes[b];
+    let p = r.transpose() * m.body_inertia[b] * r;
+    DVec3::new(p.x_axis.x, p.y_axis.y, p.z_axis.z)
+}
+
+/// Principal moments of body `b` that a rigid body can have: positive where it has mass, and
+/// each at most the sum of the other two (MuJoCo's compiler check).
+fn inertia_ok(m: &Model, b: usize, d: &[f64]) -> std::result::Result<(), String> {
+    let (x, y, z) = (d[0], d[1], d[2]);
+    if m.body_mass[b] > 0.0 && d.iter().any(|&v| v <= 0.0) {
+        return Err(format!("body_inertia[{b}] = {d:?} is not positive definite (body '{}' has mass)", m.body_name[b]));
+    }
+    let slack = 1e-12 * (x + y + z);
+    if x > y + z + slack || y > x + z + slack || z > x + y + slack {
+        return Err(format!("body_inertia[{b}] = {d:?} breaks the triangle inequality (no rigid body has it)"));
+    }
+    Ok(())
+}
+
+/// Each actuator's moment arms ([`Model::actuator_moment`]) from its transmission and gear, and
+/// whether its force is its control times a fixed gain ([`Model::actuator_plain`]).
+pub(super) fn actuator_derived(m: &mut Model) {
+    m.actuator_moment.clear();
+    m.actuator_moment_adr = vec![0];
+    for a in 0..m.nu {
+        let gear = m.actuator_gear[a];
+        match m.actuator_trn[a] {
+            Transmission::Joint(j) => m.actuator_moment.push(Wrap { dof: m.jnt_dofadr[j], qpos: m.jnt_qposadr[j], coef: gear }),
+            Transmission::Tendon(t) => {
+                for k in m.tendon_adr[t]..m.tendon_adr[t + 1] {
+                    let w = m.tendon_wrap[k];
+                    m.actuator_moment.push(Wrap { coef: gear * w.coef, ..w });
+                }
+            }
+        }
+        m.actuator_moment_adr.push(m.actuator_moment.len());
+    }
+    m.actuator_plain = (0..m.nu)
+        .map(|a| m.actuator_dyn[a] == crate::model::ActuatorDyn::None && m.actuator_gain[a][1..] == [0.0; 2] && m.actuator_bias[a] == [0.0; 3])
+        .collect();
+}
+
+/// Each node's rigid inertia: its bodies' inertias moved into its frame.
+pub(super) fn node_inertias(m: &mut Model, inertia: &[SpatialInertia]) {
+    for b in 1..m.nbody {
+        let n = m.body_node[b];
+        if n == WORLD {
+            continue;
+        }
+        let (rot, pos) = m.body_offset[b].pose();
+        let moved = inertia[b].to_parent(rot, pos);
+        m.node_inertia[n] = m.node_inertia[n].combine(&moved);
+    }
+}
+
+/// What the compiler derives from the fields of [`Param`]: the nodes' inertias, the fluid boxes,
+/// the actuators' moment arms; then the check that every joint moves some mass.
+fn derive(m: &mut Model) -> Result<()> {
+    let inertia: Vec<SpatialInertia> = (0..m.nbody).map(|b| SpatialInertia::new(m.body_mass[b], m.body_ipos[b], m.body_inertia[b])).collect();
+    m.node_inertia.fill(SpatialInertia::ZERO);
+    node_inertias(m, &inertia);
+    m.body_fluid_box = inertia.iter().zip(&m.body_iaxes).map(|(i, &axes)| super::fluid_box(i, axes)).collect();
+    actuator_derived(m);
+    let mut dy = DynamicsData::new(m);
+    crate::dynamics::forward(m, &mut dy, &m.qpos0, &vec![0.0; m.nv], &vec![0.0; m.nu], &vec![0.0; m.na]);
+    super::check_solvable(m, &dy).map_err(|e| Error::Input(e.to_string()))
+}
