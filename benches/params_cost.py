@@ -1,6 +1,8 @@
 """What per-world parameters cost: env-steps/s of sinew's native vector env (64 worlds, random
 actions) with every world holding its own value of every field (each scaled by a draw in
-[0.9, 1.1], gravity's too) beside the same env without, timed in alternating rounds.
+[0.9, 1.1], gravity's too; the inertias through the masses: independent draws of the three
+moments can break the triangle inequality) beside the same env without, timed in alternating
+rounds.
 
     python benches/params_cost.py [--threads 1 2] [--steps 500] [--rounds 5] [--out results/params_cost.md]
 """
@@ -15,7 +17,7 @@ import numpy as np
 import sinew
 
 TASKS = ["Hopper", "Walker2d", "HalfCheetah", "Ant", "Humanoid"]
-FIELDS = ["body_mass", "body_ipos", "body_inertia", "geom_friction", "dof_damping", "dof_armature", "dof_frictionloss",
+FIELDS = ["body_mass", "body_ipos", "geom_friction", "dof_damping", "dof_armature", "dof_frictionloss",
           "jnt_stiffness", "actuator_gain", "actuator_bias", "actuator_gear", "actuator_ctrlrange", "gravity"]
 
 
