@@ -1,0 +1,86 @@
+"""A/B of the batched gym step against a given commit: builds that commit's wheel once (cached
+under ~/.cache/sinew-ab/<commit>), then times the native vector env's step loop (64 worlds,
+seeded random actions) with the installed sinew and with the commit's, in alternating runs, on an
+Euler model and the RK4 ones, with 1 and 2 threads. Run it before a change to the step lands.
+
+    python benches/ab_step.py BASE_COMMIT [--rounds 5] [--tasks Hopper HalfCheetah Ant Humanoid] [--out FILE]
+
+Each run is a fresh process timing only the step loop; the ratio is new time / base time per
+round (below 1: the installed build is faster), reported as the median and range over rounds.
+"""
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+from pathlib import Path
+
+CACHE = Path.home() / ".cache" / "sinew-ab"
+ROOT = Path(__file__).resolve().parent.parent
+STEPS = {"Hopper": 1500, "Walker2d": 1000, "HalfCheetah": 1000, "Ant": 600, "Humanoid": 500}
+
+LOOP = """
+import sys, time, numpy as np, gymnasium as gym, sinew
+task, threads, steps = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+env = gym.make_vec(f"sinew/{task}-v0", num_envs=64, vectorization_mode="vector_entry_point", num_threads=threads)
+space = env.single_action_space
+a = np.random.default_rng(0).uniform(space.low, space.high, (steps, 64) + space.shape)
+env.reset(seed=0)
+t = time.perf_counter()
+for x in a:
+    env.step(x)
+print(time.perf_counter() - t)
+"""
+
+
+def build(commit: str) -> Path:
+    """The package of `commit`, unpacked from its wheel (built once)."""
+    sha = subprocess.run(["git", "rev-parse", commit], cwd=ROOT, capture_output=True, text=True, check=True).stdout.strip()
+    pkg = CACHE / sha / "pkg"
+    if (pkg / "sinew").is_dir():
+        return pkg
+    src, wheels = CACHE / sha / "src", CACHE / sha / "wheel"
+    subprocess.run(["git", "worktree", "add", "--force", "--detach", str(src), sha], cwd=ROOT, check=True)
+    try:
+        subprocess.run([sys.executable, "-m", "pip", "wheel", ".", "--no-deps", "-q", "-w", str(wheels)], cwd=src, check=True)
+    finally:
+        subprocess.run(["git", "worktree", "remove", "--force", str(src)], cwd=ROOT)
+    wheel = next(wheels.glob("*.whl"))
+    subprocess.run([sys.executable, "-m", "zipfile", "-e", str(wheel), str(pkg)], check=True)
+    return pkg
+
+
+def run(task: str, threads: int, base: Path | None) -> float:
+    env = dict(os.environ)
+    if base is not None:
+        env["PYTHONPATH"] = str(base)
+    out = subprocess.run([sys.executable, "-c", LOOP, task, str(threads), str(STEPS[task])], env=env, capture_output=True, text=True, check=True)
+    return float(out.stdout)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("base")
+    ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--tasks", nargs="+", default=["Hopper", "HalfCheetah", "Ant", "Humanoid"])
+    ap.add_argument("--out", default=None)
+    args = ap.parse_args()
+    base = build(args.base)
+    lines = [f"| task | threads | new / base step time (median) | range over {args.rounds} rounds | new (s) | base (s) |", "|---|---|---|---|---|---|"]
+    for task in args.tasks:
+        for threads in (1, 2):
+            new, old = [], []
+            for _ in range(args.rounds):
+                new.append(run(task, threads, None))
+                old.append(run(task, threads, base))
+            ratios = sorted(a / b for a, b in zip(new, old))
+            row = f"| {task} | {threads} | {statistics.median(ratios):.3f} | {ratios[0]:.3f}–{ratios[-1]:.3f} | {statistics.median(new):.3f} | {statistics.median(old):.3f} |"
+            print(row, flush=True)
+            lines.append(row)
+    if args.out:
+        Path(args.out).write_text(f"<!-- python benches/ab_step.py {' '.join(sys.argv[1:])} -->\n" + "\n".join(lines) + "\n")
+
+
+if __name__ == "__main__":
+    main()
