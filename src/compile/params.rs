@@ -38,11 +38,14 @@ pub enum Param {
     ActuatorCtrlrange,
     /// Gravity (3).
     Gravity,
+    /// The coefficient of each joint of the fixed tendons (MuJoCo's `wrap_prm` of their
+    /// joint wraps, in tendon order): their lengths and the moment arms of actuators on them.
+    WrapPrm,
 }
 
 impl Param {
     /// Every field, in the order of [`Param::name`]s that `Batch` lists.
-    pub const ALL: [Param; 13] = [
+    pub const ALL: [Param; 14] = [
         Param::BodyMass,
         Param::BodyIpos,
         Param::BodyInertia,
@@ -56,6 +59,7 @@ impl Param {
         Param::ActuatorGear,
         Param::ActuatorCtrlrange,
         Param::Gravity,
+        Param::WrapPrm,
     ];
 
     /// MuJoCo's name of the field (`gravity` for `opt.gravity`).
@@ -74,6 +78,7 @@ impl Param {
             Param::ActuatorGear => "actuator_gear",
             Param::ActuatorCtrlrange => "actuator_ctrlrange",
             Param::Gravity => "gravity",
+            Param::WrapPrm => "wrap_prm",
         }
     }
 
@@ -94,6 +99,7 @@ impl Param {
             Param::ActuatorGear => (m.nu, 1),
             Param::ActuatorCtrlrange => (m.nu, 2),
             Param::Gravity => (1, 3),
+            Param::WrapPrm => (m.tendon_wrap.len(), 1),
         }
     }
 
@@ -114,6 +120,7 @@ impl Param {
             Param::ActuatorGear => m.actuator_gear.clone(),
             Param::ActuatorCtrlrange => m.actuator_ctrlrange.concat(),
             Param::Gravity => m.opt.gravity.to_array().to_vec(),
+            Param::WrapPrm => m.tendon_wrap.iter().map(|w| w.coef).collect(),
         }
     }
 
@@ -176,6 +183,11 @@ impl Param {
             Param::ActuatorGear => m.actuator_gear.copy_from_slice(values),
             Param::ActuatorCtrlrange => m.actuator_ctrlrange = values.chunks(2).map(|r| [r[0], r[1]]).collect(),
             Param::Gravity => m.opt.gravity = v3(0),
+            Param::WrapPrm => {
+                for (w, &coef) in m.tendon_wrap.iter_mut().zip(values) {
+                    w.coef = coef;
+                }
+            }
         }
         derive(m)
     }

@@ -213,6 +213,24 @@ def test_targets_are_drawn_where_each_world_placed_them():
     assert not np.array_equal(frames[0], frames[1])
 
 
+def test_point_mass_hard_drives_each_world_along_its_own_drawn_directions():
+    venv = gym.make_vec("sinew/dmc-point_mass-hard-v0", num_envs=3, vectorization_mode="vector_entry_point")
+    venv.reset(seed=0)
+    batch = venv.unwrapped._core.batch
+    prm = batch.params("wrap_prm")
+    assert prm.shape == (3, 4) and not np.allclose(prm[0], prm[1])
+    assert np.allclose(np.linalg.norm(prm[:, :2], axis=1), 1) and np.all(np.abs(np.sum(prm[:, :2] * prm[:, 2:], axis=1)) <= 0.9)
+    # from rest, the first control alone pushes the mass along the world's first direction
+    batch.qvel[:] = 0
+    batch.forward_kinematics()
+    v0 = batch.qvel.copy()
+    venv.step(np.tile([1.0, 0.0], (3, 1)))
+    dv = batch.qvel - v0
+    assert np.allclose(dv[:, 0] * prm[:, 1] - dv[:, 1] * prm[:, 0], 0, atol=1e-12) and np.all(np.sum(dv * prm[:, :2], axis=1) > 0)
+    copy = pickle.loads(pickle.dumps(venv))
+    np.testing.assert_array_equal(copy.unwrapped._core.batch.params("wrap_prm"), prm)
+
+
 def test_copies_step_on_bit_identically():
     venv = gym.make_vec("sinew/dmc-fish-swim-v0", num_envs=2, vectorization_mode="vector_entry_point",
                         from_pixels=True, frame_stack=2, pixels_only=False)

@@ -11,7 +11,7 @@ import sinew
 from conftest import gym_model_path
 
 FIELDS = ["body_mass", "body_ipos", "body_inertia", "geom_friction", "dof_damping", "dof_armature", "dof_frictionloss",
-          "jnt_stiffness", "actuator_gain", "actuator_bias", "actuator_gear", "actuator_ctrlrange", "gravity"]
+          "jnt_stiffness", "actuator_gain", "actuator_bias", "actuator_gear", "actuator_ctrlrange", "gravity", "wrap_prm"]
 
 # a block on a slider pushed by a motor: q̈ = gear · ctrl / (mass + armature) while nothing else acts
 SLIDER = """<mujoco><option timestep="0.01" gravity="0 0 0"/><worldbody><body name="block">

@@ -77,6 +77,11 @@ class Physics:
         self.batch.forward_kinematics(self._mask())
         self.refresh()
 
+    def set_params(self, field: str, values) -> None:
+        """Gives the worlds values of their own of a model field (``Batch.set_params``; one row per
+        world, in world order), as a task that edits ``physics.model`` at each episode does."""
+        self.batch.set_params(field, values, self._mask())
+
     def step(self, n: int) -> None:
         """Advances the worlds `n` physics steps with their current controls."""
         self.batch.step(n, self._mask())

@@ -30,4 +30,23 @@ class Easy(Task):
         return near * (control + 4) / 5
 
 
-TASKS = {"easy": Easy}
+class Hard(Easy):
+    """``point_mass-hard``: as easy, and each control drives a direction of the plane drawn per
+    episode (the fixed tendons' coefficients, ``wrap_prm``), the two at least 25.8° apart."""
+
+    def initialize_episode(self, phys, rngs):
+        super().initialize_episode(phys, rngs)
+        prm = []
+        for rng in rngs:
+            dir1 = rng.standard_normal(2)
+            dir1 /= np.linalg.norm(dir1)
+            while True:
+                dir2 = rng.standard_normal(2)
+                dir2 /= np.linalg.norm(dir2)
+                if abs(dir1 @ dir2) <= 0.9:
+                    break
+            prm.append(np.concatenate([dir1, dir2]))
+        phys.set_params("wrap_prm", np.array(prm))
+
+
+TASKS = {"easy": Easy, "hard": Hard}
