@@ -126,6 +126,10 @@ fn compute(m: &Model, kin: &KinData, ten: &TendonData, st: State<'_>, last: (&Co
                 Value::Vector(pose(m, kin, SensorFrame::Site(site)).0.transpose() * v)
             }
             SensorKind::Touch(site) => Value::Scalar(touch(m, kin, site, last)),
+            SensorKind::Rangefinder(site) => {
+                let (rot, p) = pose(m, kin, SensorFrame::Site(site));
+                Value::Scalar(crate::collision::ray::ray(m, kin, p, rot.col(2), m.site_body[site]))
+            }
             SensorKind::Accelerometer(site) | SensorKind::Force(site) | SensorKind::Torque(site) => {
                 // `read` computes the accelerations whenever such a sensor is read
                 Value::Vector(acc.map_or(DVec3::ZERO, |acc| interaction(m, kin, acc, *kind, site)))

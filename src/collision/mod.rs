@@ -42,6 +42,7 @@ mod convex;
 mod data;
 mod gaps;
 mod narrowphase;
+pub mod ray;
 mod shapes;
 mod terrain;
 

@@ -29,7 +29,8 @@ pub(super) fn load_hfields(spec: &ModelSpec, dir: &Path) -> Result<Vec<HField>> 
             let (nrow, ncol, mut data) = match &hs.file {
                 Some(f) => read_hfield(&asset_path(spec, dir, f)).map_err(|e| in_element(e, "hfield", hs.line))?,
                 None if hs.elevation.is_empty() => (hs.nrow, hs.ncol, vec![0.0; hs.nrow * hs.ncol]),
-                None => (hs.nrow, hs.ncol, hs.elevation.clone()),
+                // MuJoCo reads inline elevations with the first row at +y
+                None => (hs.nrow, hs.ncol, hs.elevation.chunks(hs.ncol.max(1)).rev().flatten().copied().collect()),
             };
             normalize(&mut data);
             Ok(HField { name: hs.name.clone(), nrow, ncol, size: hs.size, data })

@@ -55,6 +55,7 @@ pub(super) fn sensors(m: &mut Model, spec: &ModelSpec) -> Result<()> {
             "accelerometer" => SensorKind::Accelerometer(find(&m.site_name, "site")?),
             "force" => SensorKind::Force(find(&m.site_name, "site")?),
             "torque" => SensorKind::Torque(find(&m.site_name, "site")?),
+            "rangefinder" => SensorKind::Rangefinder(find(&m.site_name, "site")?),
             other => {
                 m.warnings.push(format!("<{other}> sensor '{}' at line {}: not computed by sinew, left out of sensordata", sp.name, sp.line));
                 continue;

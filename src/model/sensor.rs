@@ -41,6 +41,9 @@ pub enum SensorKind {
     Force(usize),
     /// That interaction's torque about the site, in the site's frame.
     Torque(usize),
+    /// The distance along the site's z axis to the first geom it meets (not of the site's
+    /// body), −1 for none.
+    Rangefinder(usize),
 }
 
 impl SensorKind {
@@ -53,7 +56,8 @@ impl SensorKind {
             | SensorKind::TendonVel(_)
             | SensorKind::ActuatorPos(_)
             | SensorKind::ActuatorVel(_)
-            | SensorKind::Touch(_) => 1,
+            | SensorKind::Touch(_)
+            | SensorKind::Rangefinder(_) => 1,
             _ => 3,
         }
     }

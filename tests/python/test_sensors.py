@@ -104,7 +104,73 @@ def test_force_sensor_reads_the_weight_below_it():
     np.testing.assert_allclose(acc, [0, 0, 9.81], atol=1e-6)
 
 
+#: one geom of each type (an invisible sphere too) around a probe with rays in many directions
+RAYS = """<mujoco><asset><mesh name="tet" vertex="0 0 0  .3 0 0  0 .3 0  0 0 .3  .1 .1 -.2"/>
+<hfield name="hf" nrow="4" ncol="5" size=".6 .5 .3 .1" elevation="0 .2 .5 .3 .1 .4 .8 .1 0 .6 .3 .3 .9 .2 .1 0 .1 .2 .7 .5"/></asset>
+<worldbody><geom type="plane" size="3 3 .1" pos="0 0 -1.2"/><geom type="sphere" size=".2" pos="1 0 0"/>
+<geom type="capsule" size=".1 .3" pos="-1 0 0" euler="30 40 0"/><geom type="ellipsoid" size=".3 .2 .1" pos="0 1 0" euler="10 0 70"/>
+<geom type="cylinder" size=".2 .3" pos="0 -1 0" euler="0 60 20"/><geom type="box" size=".2 .3 .1" pos="0 0 1" euler="20 20 20"/>
+<geom type="mesh" mesh="tet" pos="1 1 .2"/><geom type="hfield" hfield="hf" pos="-1 -1 -.6"/>
+<geom type="sphere" size=".3" pos="1 -1 0" rgba="1 1 1 0"/>
+<body name="probe"><freejoint/><geom type="sphere" size=".05" contype="0" conaffinity="0"/>
+<site name="s0" zaxis="1 0 0"/>
+<site name="s1" zaxis="-1 0 0"/>
+<site name="s2" zaxis="0 1 0"/>
+<site name="s3" zaxis="0 -1 0"/>
+<site name="s4" zaxis="0 0 1"/>
+<site name="s5" zaxis="0 0 -1"/>
+<site name="s6" zaxis="1 1 0"/>
+<site name="s7" zaxis="1 -1 1"/>
+<site name="s8" zaxis="-1 1 -1"/>
+<site name="s9" zaxis="1 1 1"/>
+<site name="s10" zaxis="-1 -1 -1"/>
+<site name="s11" zaxis="0 1 -1"/>
+<site name="s12" zaxis="2 -1 -3"/>
+<site name="s13" zaxis="-1 3 1"/>
+<site name="s14" zaxis="1 0 -2"/>
+<site name="s15" zaxis="0 -2 1"/>
+</body></worldbody><sensor><rangefinder site="s0"/><rangefinder site="s1"/><rangefinder site="s2"/><rangefinder site="s3"/><rangefinder site="s4"/><rangefinder site="s5"/><rangefinder site="s6"/><rangefinder site="s7"/><rangefinder site="s8"/><rangefinder site="s9"/><rangefinder site="s10"/><rangefinder site="s11"/><rangefinder site="s12"/><rangefinder site="s13"/><rangefinder site="s14"/><rangefinder site="s15"/></sensor></mujoco>"""
+
+
+def test_rangefinders_equal_mujocos_against_every_geom_type():
+    m, mj = sinew.Model.from_mjcf_string(RAYS), mujoco.MjModel.from_xml_string(RAYS)
+    # inline elevations: the first row at +y, normalized, as MuJoCo reads them
+    np.testing.assert_allclose(m.hfield_data(0), mj.hfield_data.reshape(4, 5), atol=1e-7)
+    d, sim = mujoco.MjData(mj), sinew.Sim(m)
+    rng = np.random.default_rng(0)
+    seen, geom = set(), np.zeros(1, np.int32)
+    for _ in range(300):
+        quat = rng.normal(size=4)
+        q = np.concatenate([rng.uniform(-1.4, 1.4, 3), quat / np.linalg.norm(quat)])
+        forward_both(mj, d, sim, q, np.zeros(6))
+        # MuJoCo keeps mesh vertices and height-field elevations in single precision
+        np.testing.assert_allclose(sim.sensordata, d.sensordata, rtol=0, atol=1e-6)
+        for s in range(mj.nsite):
+            mujoco.mj_ray(mj, d, d.site_xpos[s], d.site_xmat[s].reshape(3, 3)[:, 2], None, 1, mj.site_bodyid[s], geom)
+            seen.add(int(geom[0]))
+    # every visible geom was met by some ray (the invisible sphere, geom 8, by none)
+    assert set(range(8)) <= seen and 8 not in seen
+
+
+def test_quadruped_rangefinders_equal_mujocos():
+    m, mj = load("quadruped"), mujoco.MjModel.from_xml_path(os.path.join(SUITE, "quadruped.xml"))
+    d, sim = mujoco.MjData(mj), sinew.Sim(m)
+    rf = [i for i in range(mj.nsensor) if mj.sensor_type[i] == mujoco.mjtSensor.mjSENS_RANGEFINDER]
+    adr = [mj.sensor_adr[i] for i in rf]
+    ours = [m.sensor_adr[m.sensor_names.index(mj.sensor(i).name)] for i in rf]
+    assert len(rf) == 20
+    rng = np.random.default_rng(1)
+    for _ in range(20):
+        q = near_qpos0(mj, rng, 0.3)
+        forward_both(mj, d, sim, q, np.zeros(mj.nv))
+        np.testing.assert_allclose(sim.sensordata[ours], d.sensordata[adr], rtol=0, atol=1e-9)
+
+
 def test_kinds_not_computed_are_named_in_a_warning():
-    m = load("quadruped")
-    assert any("<rangefinder> sensor" in w for w in m.warnings)
-    assert "rf_00" not in m.sensor_names
+    xml = """<mujoco><worldbody><body><freejoint/><geom size=".1"/><site name="s"/></body></worldbody>
+<sensor><magnetometer name="mag" site="s"/><gyro name="gyro" site="s"/></sensor></mujoco>"""
+    with warnings.catch_warnings(record=True):
+        warnings.simplefilter("always")
+        m = sinew.Model.from_mjcf_string(xml)
+    assert any("<magnetometer> sensor 'mag'" in w for w in m.warnings)
+    assert m.sensor_names == ["gyro"]
