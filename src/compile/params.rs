@@ -41,11 +41,14 @@ pub enum Param {
     /// The coefficient of each joint of the fixed tendons (MuJoCo's `wrap_prm` of their
     /// joint wraps, in tendon order): their lengths and the moment arms of actuators on them.
     WrapPrm,
+    /// Every height field's elevations, one after another (MuJoCo's `hfield_data`: row 0 at −y,
+    /// in units of the field's height).
+    HfieldData,
 }
 
 impl Param {
     /// Every field, in the order of [`Param::name`]s that `Batch` lists.
-    pub const ALL: [Param; 14] = [
+    pub const ALL: [Param; 15] = [
         Param::BodyMass,
         Param::BodyIpos,
         Param::BodyInertia,
@@ -60,6 +63,7 @@ impl Param {
         Param::ActuatorCtrlrange,
         Param::Gravity,
         Param::WrapPrm,
+        Param::HfieldData,
     ];
 
     /// MuJoCo's name of the field (`gravity` for `opt.gravity`).
@@ -79,6 +83,7 @@ impl Param {
             Param::ActuatorCtrlrange => "actuator_ctrlrange",
             Param::Gravity => "gravity",
             Param::WrapPrm => "wrap_prm",
+            Param::HfieldData => "hfield_data",
         }
     }
 
@@ -100,6 +105,7 @@ impl Param {
             Param::ActuatorCtrlrange => (m.nu, 2),
             Param::Gravity => (1, 3),
             Param::WrapPrm => (m.tendon_wrap.len(), 1),
+            Param::HfieldData => (m.hfields.iter().map(|h| h.data.len()).sum(), 1),
         }
     }
 
@@ -121,6 +127,7 @@ impl Param {
             Param::ActuatorCtrlrange => m.actuator_ctrlrange.concat(),
             Param::Gravity => m.opt.gravity.to_array().to_vec(),
             Param::WrapPrm => m.tendon_wrap.iter().map(|w| w.coef).collect(),
+            Param::HfieldData => m.hfields.iter().flat_map(|h| h.data.iter().copied()).collect(),
         }
     }
 
@@ -186,6 +193,14 @@ impl Param {
             Param::WrapPrm => {
                 for (w, &coef) in m.tendon_wrap.iter_mut().zip(values) {
                     w.coef = coef;
+                }
+            }
+            Param::HfieldData => {
+                let mut rest = values;
+                for h in &mut m.hfields {
+                    let (mine, after) = rest.split_at(h.data.len());
+                    h.data.copy_from_slice(mine);
+                    rest = after;
                 }
             }
         }

@@ -5,7 +5,6 @@ use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyUntypedArrayMethods}
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use glam::DVec3;
 use pyo3::types::PyDict;
 
 use super::arrays::{as_f64, checked_values, chosen_worlds, masked_worlds};
@@ -506,7 +505,7 @@ impl PyBatch {
     /// Gives the worlds `worlds` (all when None; a mask or indices) values of their own of the
     /// model field `field` (MuJoCo's name: body_mass, body_ipos, body_inertia, geom_friction,
     /// dof_damping, dof_armature, dof_frictionloss, jnt_stiffness, actuator_gain, actuator_bias,
-    /// actuator_gear, actuator_ctrlrange, gravity, wrap_prm), `values` broadcast to (worlds, ...). A new
+    /// actuator_gear, actuator_ctrlrange, gravity, wrap_prm, hfield_data), `values` broadcast to (worlds, ...). A new
     /// body mass scales the body's inertia with it. What derives from the field follows, the
     /// worlds' warm starts are forgotten; a bad value raises ValueError naming the world and the
     /// field, and then no world changes.
@@ -516,6 +515,7 @@ impl PyBatch {
         let which = self.worlds(worlds)?;
         let v = super::params::broadcast(py, p, &self.inner.model, &values, which.len())?;
         self.inner.set_param(p, &which, &v).map_err(|e| super::errors::to_py(py, e))?;
+        self.redraw(py, &which);
         self.refresh(py, &which)
     }
 
@@ -529,6 +529,7 @@ impl PyBatch {
     fn reset_params(&mut self, py: Python<'_>, worlds: Option<Bound<'_, PyAny>>) -> PyResult<()> {
         let which = self.worlds(worlds)?;
         self.inner.reset_params(&which);
+        self.redraw(py, &which);
         self.refresh(py, &which)
     }
 
@@ -544,6 +545,7 @@ impl PyBatch {
             return Err(PyValueError::new_err(format!("world {i} out of range for {} worlds", self.inner.len())));
         }
         super::params::restore(&mut self.inner, own).map_err(|e| super::errors::to_py(py, e))?;
+        self.redraw(py, &which);
         self.refresh(py, &which)
     }
 
@@ -605,8 +607,8 @@ impl PyBatch {
         if let Some((k, v)) = rows.iter().enumerate().find_map(|(k, q)| q.iter().find(|x| crate::math::out_of_range(**x)).map(|v| (k, *v))) {
             return Err(PyValueError::new_err(format!("cannot render world {}: its qpos holds {v}", which[k])));
         }
-        let moved: Vec<Vec<(Placed, DVec3)>> = which.iter().map(|&i| self.moved.of_world(i)).collect();
-        super::render::draw(py, &m, &r, &rows, &moved, &cams, super::render::Frames { width: w, height: h, rgb, depth, single: false })
+        let looks: Vec<_> = which.iter().map(|&i| self.moved.of_world(i)).collect();
+        super::render::draw(py, &m, &r, &rows, &looks, &cams, super::render::Frames { width: w, height: h, rgb, depth, single: false })
     }
 
     fn __repr__(&self) -> String {
@@ -678,6 +680,11 @@ impl PyBatch {
 }
 
 impl PyBatch {
+    /// The surfaces the worlds `which` are drawn with: their own where their height fields are.
+    fn redraw(&mut self, py: Python<'_>, which: &[usize]) {
+        self.moved.redraw(&self.inner, || self.py_model.bind(py).get().renderer(), which);
+    }
+
     /// Puts `what` at `pos` (one row, or one per chosen world) in the worlds `worlds`.
     fn place(&mut self, what: Placed, pos: Bound<'_, PyAny>, worlds: Option<Bound<'_, PyAny>>) -> PyResult<()> {
         let which = self.worlds(worlds)?;

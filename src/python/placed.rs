@@ -1,17 +1,25 @@
-//! Geoms and sites a batch places per world (`Batch.set_geom_pos`, `set_site_pos`): targets and
-//! markers whose place changes from world to world, drawn there and read back.
+//! How a batch's worlds look apart from their states: geoms and sites placed per world
+//! (`Batch.set_geom_pos`, `set_site_pos`: targets and markers whose place changes from world to
+//! world, drawn there and read back) and the surfaces of height fields a world has of its own.
 
 use glam::DVec3;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::model::Model;
-use crate::render::Placed;
+use std::sync::Arc;
 
-/// Each placed geom or site with its position in its body's frame in every world.
+use crate::batch::Batch;
+use crate::model::Model;
+use crate::render::{Placed, Renderer, Surfaces};
+
+/// Each placed geom or site with its position in its body's frame in every world, and the
+/// worlds' own height-field surfaces.
 #[derive(Default)]
-pub struct Placements(Vec<(Placed, Vec<DVec3>)>);
+pub struct Placements(Vec<(Placed, Vec<DVec3>)>, Vec<Option<Surfaces>>);
+
+/// What one world draws differently: placed geoms and sites, its own surfaces.
+pub type WorldLook = (Vec<(Placed, DVec3)>, Option<Surfaces>);
 
 impl Placements {
     /// A `ValueError` unless `what` is a geom or site of `m`.
@@ -49,9 +57,23 @@ impl Placements {
         PyArray1::from_vec(py, rows).reshape([n, 3])
     }
 
-    /// What world `i` places, for its frame.
-    pub fn of_world(&self, i: usize) -> Vec<(Placed, DVec3)> {
-        self.0.iter().map(|(k, p)| (*k, p[i])).collect()
+    /// What world `i` draws differently, for its frame.
+    pub fn of_world(&self, i: usize) -> WorldLook {
+        (self.0.iter().map(|(k, p)| (*k, p[i])).collect(), self.1.get(i).cloned().flatten())
+    }
+
+    /// Gives the worlds `which` of `b` the surfaces they are drawn with: their own where their
+    /// height fields are (from `renderer`, asked for only then), else the model's.
+    pub fn redraw(&mut self, b: &Batch, renderer: impl FnOnce() -> Arc<Renderer>, which: &[usize]) {
+        if b.model.hfields.is_empty() {
+            return;
+        }
+        let r = renderer();
+        self.1.resize(b.len(), None);
+        for &i in which {
+            let own = b.model_of(i);
+            self.1[i] = (own.hfields != b.model.hfields).then(|| r.surfaces_for(own));
+        }
     }
 
     /// The placed geoms and sites.

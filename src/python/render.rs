@@ -150,7 +150,7 @@ pub struct Frames {
 /// Draws the worlds at `qpos` rows (each nq long), world k through `cams[k]`, the GIL released,
 /// and returns rgb (n, H, W, 3) uint8 and/or depth (n, H, W) float32, a tuple when both (`single`:
 /// one world, without the leading axis).
-pub fn draw<'py>(py: Python<'py>, m: &Arc<Model>, r: &Renderer, qpos: &[&[f64]], moved: &[Vec<(crate::render::Placed, glam::DVec3)>], cams: &[CameraChoice], frames: Frames) -> PyResult<Bound<'py, PyAny>> {
+pub fn draw<'py>(py: Python<'py>, m: &Arc<Model>, r: &Renderer, qpos: &[&[f64]], looks: &[super::placed::WorldLook], cams: &[CameraChoice], frames: Frames) -> PyResult<Bound<'py, PyAny>> {
     let Frames { width, height, rgb, depth, single } = frames;
     if !rgb && !depth {
         return Err(PyValueError::new_err("nothing to render: rgb and depth are both False"));
@@ -160,7 +160,7 @@ pub fn draw<'py>(py: Python<'py>, m: &Arc<Model>, r: &Renderer, qpos: &[&[f64]],
     let mut depth_buf = vec![0f32; if depth { n * height * width } else { 0 }];
     py.detach(|| {
         super::errors::guard("render", || {
-            let poses: Vec<Poses> = qpos.iter().zip(moved).map(|(q, g)| Poses::new(m, q).with_placed(g)).collect();
+            let poses: Vec<Poses> = qpos.iter().zip(looks).map(|(q, (placed, surfaces))| Poses::new(m, q).with_placed(placed).with_surfaces(surfaces.clone())).collect();
             let worlds: Vec<(&Poses, CameraChoice)> = poses.iter().zip(cams).map(|(p, c)| (p, *c)).collect();
             r.draw(m, &worlds, width, height, &mut rgb_buf, &mut depth_buf);
         })

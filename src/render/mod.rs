@@ -36,12 +36,14 @@ pub struct Poses {
     /// Geoms and sites of this world away from the model's place, each with its position in its
     /// body's frame.
     moved: Vec<(Placed, DVec3)>,
+    /// This world's surfaces where its height fields are its own.
+    surfaces: Option<Surfaces>,
 }
 
 impl Poses {
     /// Poses at `qpos`.
     pub fn new(m: &Model, qpos: &[f64]) -> Poses {
-        let mut p = Poses { kin: KinData::new(m), qvel: vec![0.0; m.nv], com: vec![DVec3::ZERO; m.nbody], moved: vec![] };
+        let mut p = Poses { kin: KinData::new(m), qvel: vec![0.0; m.nv], com: vec![DVec3::ZERO; m.nbody], moved: vec![], surfaces: None };
         p.update(m, qpos);
         p
     }
@@ -80,6 +82,12 @@ impl Poses {
     /// The same poses with geoms and sites placed in their bodies' frames as given.
     pub fn with_placed(mut self, moved: &[(Placed, DVec3)]) -> Poses {
         self.moved = moved.to_vec();
+        self
+    }
+
+    /// These poses drawn with `surfaces` (a world's own height fields), if any.
+    pub fn with_surfaces(mut self, surfaces: Option<Surfaces>) -> Poses {
+        self.surfaces = surfaces;
         self
     }
 
@@ -131,7 +139,16 @@ pub struct Renderer {
     cam_anchors: camera::Anchors,
     light_anchors: camera::Anchors,
     /// Each mesh's, then each height field's, triangles (None: parry refused them; not drawn).
-    surfaces: Vec<Option<std::sync::Arc<surface::Surface>>>,
+    surfaces: Surfaces,
+}
+
+/// Each mesh's, then each height field's, triangles as drawn (None: not drawn).
+pub type Surfaces = std::sync::Arc<[Option<std::sync::Arc<surface::Surface>>]>;
+
+/// A height field's surface as drawn.
+fn hfield_surface(h: &crate::geometry::HField) -> Option<std::sync::Arc<surface::Surface>> {
+    let vert: Vec<DVec3> = (0..h.nrow * h.ncol).map(|i| h.vertex(i / h.ncol, i % h.ncol)).collect();
+    surface::Surface::new(&vert, &h.triangles(), &[]).map(std::sync::Arc::new)
 }
 
 /// What to draw into: either buffer may be empty (not wanted).
@@ -158,14 +175,20 @@ impl Renderer {
             surfaces: m
                 .meshes
                 .iter()
-                .map(|mesh| surface::Surface::new(&mesh.vert, &mesh.face, &mesh.corner_normal).or_else(|| surface::Surface::new(&mesh.hull.vert, &mesh.hull.tris, &[])))
-                .chain(m.hfields.iter().map(|h| {
-                    let vert: Vec<DVec3> = (0..h.nrow * h.ncol).map(|i| h.vertex(i / h.ncol, i % h.ncol)).collect();
-                    surface::Surface::new(&vert, &h.triangles(), &[])
-                }))
-                .map(|t| t.map(std::sync::Arc::new))
+                .map(|mesh| {
+                    let s = surface::Surface::new(&mesh.vert, &mesh.face, &mesh.corner_normal).or_else(|| surface::Surface::new(&mesh.hull.vert, &mesh.hull.tris, &[]));
+                    s.map(std::sync::Arc::new)
+                })
+                .chain(m.hfields.iter().map(hfield_surface))
                 .collect(),
         }
+    }
+
+    /// The surfaces of a world whose model `m` has height fields of its own: the meshes' shared,
+    /// the height fields' made from `m`.
+    pub fn surfaces_for(&self, m: &Model) -> Surfaces {
+        let meshes = self.surfaces.len() - m.hfields.len();
+        self.surfaces[..meshes].iter().cloned().chain(m.hfields.iter().map(hfield_surface)).collect()
     }
 
     /// The view a camera gives of a world.
@@ -206,7 +229,8 @@ impl Renderer {
                 (i, pos, dir)
             })
             .collect::<Vec<_>>();
-        shade::Scene::new(m, poses, view, &lights, self.extent, (width, height), &self.surfaces)
+        let surfaces = poses.surfaces.as_ref().unwrap_or(&self.surfaces);
+        shade::Scene::new(m, poses, view, &lights, self.extent, (width, height), surfaces)
     }
 }
 

@@ -11,7 +11,7 @@ import sinew
 from conftest import gym_model_path
 
 FIELDS = ["body_mass", "body_ipos", "body_inertia", "geom_friction", "dof_damping", "dof_armature", "dof_frictionloss",
-          "jnt_stiffness", "actuator_gain", "actuator_bias", "actuator_gear", "actuator_ctrlrange", "gravity", "wrap_prm"]
+          "jnt_stiffness", "actuator_gain", "actuator_bias", "actuator_gear", "actuator_ctrlrange", "gravity", "wrap_prm", "hfield_data"]
 
 # a block on a slider pushed by a motor: q̈ = gear · ctrl / (mass + armature) while nothing else acts
 SLIDER = """<mujoco><option timestep="0.01" gravity="0 0 0"/><worldbody><body name="block">
@@ -221,3 +221,29 @@ def test_envs_pickle_with_their_worlds_own_values():
     assert np.array_equal(copy.unwrapped._core.batch.params("body_mass"), b.params("body_mass"))
     a = np.full((2, 3), 0.3)
     assert np.array_equal(copy.step(a)[0], env.step(a)[0])
+
+
+TERRAIN = """<mujoco><option timestep="0.005"/><asset><hfield name="ground" nrow="3" ncol="3" size="2 2 0.3 0.1"/></asset>
+<worldbody><light pos="0 0 3"/><geom type="hfield" hfield="ground" rgba=".4 .6 .4 1"/>
+<body name="ball" pos="0 0 0.6"><freejoint/><geom type="sphere" size="0.1" mass="1"/></body></worldbody></mujoco>"""
+
+
+def test_height_fields_per_world_carry_and_show_each_worlds_terrain():
+    b = sinew.Batch(sinew.Model.from_mjcf_string(TERRAIN), 3)
+    assert b.params("hfield_data").shape == (3, 9)
+    raised = np.full(9, 0.5)
+    b.set_params("hfield_data", raised, [1])
+    for _ in range(400):
+        b.step()
+    # the ball rests on its own world's surface: z = elevation · 0.3 + radius
+    assert np.allclose(b.qpos[:, 2], [0.1, 0.25, 0.1], atol=1e-6)
+    frames = b.render(64, 64, camera={"lookat": [0, 0, 0], "distance": 3, "elevation": -20})
+    assert not np.array_equal(frames[0], frames[1]) and np.array_equal(frames[0], frames[2])
+    copy = pickle.loads(pickle.dumps(b))
+    assert np.array_equal(copy.params("hfield_data"), b.params("hfield_data"))
+    assert np.array_equal(copy.render(64, 64, camera={"lookat": [0, 0, 0], "distance": 3, "elevation": -20}), frames)
+    b.reset_params([1])
+    b.qpos[1] = b.qpos[0]
+    b.forward_kinematics()
+    again = b.render(64, 64, camera={"lookat": [0, 0, 0], "distance": 3, "elevation": -20})
+    assert np.array_equal(again[0], again[1])
