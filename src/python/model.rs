@@ -140,6 +140,12 @@ impl PyModel {
         self.inner.hfields.iter().map(|h| h.name.clone()).collect()
     }
 
+    /// Each height field's x and y half-extents, height and base depth (nhfield, 4).
+    #[getter]
+    fn hfield_size<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        numpy::PyArray1::from_vec(py, self.inner.hfields.iter().flat_map(|h| h.size).collect()).reshape([self.inner.hfields.len(), 4])
+    }
+
     /// The elevations (nrow, ncol), in [0, 1] of the field's height, of height field `hfield` (a
     /// name or an index): a copy.
     fn hfield_data<'py>(&self, py: Python<'py>, hfield: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {

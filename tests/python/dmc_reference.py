@@ -3,7 +3,8 @@
 Run as ``python dmc_reference.py IN.npz OUT.npz`` with a MuJoCo dm_control can load (3.17:
 dm-control 1.0.50 reads model fields MuJoCo 4 no longer has). IN holds, per task key
 ``<domain>-<task>``, arrays ``<key>/qpos``, ``/qvel``, ``/ctrl``, ``/act`` (one row per state), ``<key>/geom/<name>``,
-``<key>/site/<name>`` (where each state places a geom or site, a target) and
+``<key>/site/<name>`` (where each state places a geom or site, a target), ``<key>/hfield`` (each
+state's height-field elevations, where worlds have their own) and
 ``<key>/sensor/<name>`` (sinew's readings, which the sensors that read contact forces take);
 OUT gets
 ``<key>/obs`` (dm_control's observation flattened in its key order), ``<key>/reward`` and
@@ -16,6 +17,11 @@ import sys
 import mujoco
 import numpy as np
 from dm_control import suite
+from dm_control.mujoco import engine
+
+# quadruped-escape uploads each new terrain to a rendering context when asked for one; the
+# reference renders nothing (and has no OpenGL here)
+engine.Physics.contexts = property(lambda self: None)
 
 
 def main(src: str, dst: str) -> None:
@@ -36,6 +42,8 @@ def main(src: str, dst: str) -> None:
         for i, (q, v, u, a) in enumerate(zip(data[f"{key}/qpos"], data[f"{key}/qvel"], data[f"{key}/ctrl"], data[f"{key}/act"])):
             for kind, name, pos in placed:
                 getattr(phys.named.model, f"{kind}_pos")[name] = pos[i]
+            if f"{key}/hfield" in data:
+                phys.model.hfield_data[:] = data[f"{key}/hfield"][i]
             with phys.reset_context():
                 phys.data.qpos[:], phys.data.qvel[:], phys.data.ctrl[:], phys.data.act[:] = q, v, u, a
             for n in given:

@@ -51,6 +51,9 @@ def reference(tmp_path_factory):
                 pos = getattr(core.batch, f"{kind}_pos")(i)
                 if np.ptp(pos, axis=0).any():
                     data[f"{key}/{kind}/{element}"] = np.tile(pos, (STEPS // EVERY + 1, 1))
+        # each world's own height fields, sent with every state
+        if core.model.hfield_names and np.ptp(core.batch.params("hfield_data"), axis=0).any():
+            data[f"{key}/hfield"] = np.tile(core.batch.params("hfield_data"), (STEPS // EVERY + 1, 1))
         # the initial states, then the states of a random rollout
         states = [(core.batch.qpos.copy(), core.batch.qvel.copy(), core.batch.ctrl.copy(), core.batch.act.copy(), core.batch.sensordata)]
         obs, rewards = [core.observe()], [core.task.reward(Physics(core.batch, core.names))]

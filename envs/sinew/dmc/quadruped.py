@@ -1,5 +1,5 @@
 """dm_control's quadruped: a four-legged ant-like robot with filtered position actuators walks
-or runs forward, or fetches a ball to a target."""
+or runs forward, escapes a bumpy bowl of terrain, or fetches a ball to a target."""
 
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ from sinew.dmc.task import Task, remove
 
 TOES = ["toe_front_left", "toe_front_right", "toe_back_right", "toe_back_left"]
 WALLS = ["wall_px", "wall_py", "wall_nx", "wall_ny"]
+RANGEFINDERS = [f"rf_{i}{j}" for i in range(4) for j in range(5)]
 
 
 def find_non_contacting_height(phys, orientation, xy=None):
@@ -44,19 +45,25 @@ class Walk(Task):
     speed = 0.5
     sensors = ("velocimeter", "imu_accel", "imu_gyro", *(f"{kind}_{toe}" for kind in ("force", "torque") for toe in TOES))
     walls_and_ball = False
+    terrain = False
+
+    def floor_size(self):
+        """The floor's half-width: 20 s of the speed."""
+        return 20 * self.speed
 
     def model_xml(self):
-        """quadruped.xml as dm_control's ``make_model`` edits it: no terrain, no rangefinders, a
-        floor 20 s of the speed wide, and the walls and ball only for fetch."""
+        """quadruped.xml as dm_control's ``make_model`` edits it: the terrain and rangefinders
+        only for escape, the walls and ball only for fetch, else a floor ``floor_size`` wide."""
         def edit(root):
             if not self.walls_and_ball:
-                root.find(".//geom[@name='floor']").set("size", f"{20 * self.speed} {20 * self.speed} .5")
+                root.find(".//geom[@name='floor']").set("size", f"{self.floor_size()} {self.floor_size()} .5")
                 for wall in WALLS:
                     remove(root, "geom", wall)
                 remove(root, "body", "ball")
                 remove(root, "site", "target")
-            remove(root, "geom", "terrain")
-            remove(root, "rangefinder")
+            if not self.terrain:
+                remove(root, "geom", "terrain")
+                remove(root, "rangefinder")
         return self.edited_model(edit)
 
     def initialize_episode(self, phys, rngs):
@@ -88,6 +95,51 @@ class Run(Walk):
     """``quadruped-run``: at least 5 m/s."""
 
     speed = 5.0
+
+
+class Escape(Walk):
+    """``quadruped-escape``: each episode a new terrain per world (a sinusoidal bowl times smooth
+    random bumps, dm_control's), a random orientation at the lowest height free of contact;
+    reward for the distance from the origin out to the terrain's edge, while upright within 20°.
+    Observes the origin in the torso's frame and 20 rangefinders (tanh of the distance, 1 where
+    a ray meets nothing)."""
+
+    terrain = True
+    sensors = Walk.sensors + tuple(RANGEFINDERS)
+    bump_scale, smoothness = 2.0, 0.15
+
+    def floor_size(self):
+        return 40
+
+    def initialize_episode(self, phys, rngs):
+        from scipy import ndimage  # dm_control's own smoothing of the bumps
+
+        model = phys.names.model
+        res = model.hfield_data(0).shape[0]
+        row, col = np.ogrid[-1:1:res * 1j, -1:1:res * 1j]
+        bowl = 0.5 - np.cos(2 * np.pi * np.clip(np.sqrt(col ** 2 + row ** 2), 0.04, 1)) / 2
+        bump_res = int(2 * model.hfield_size[0, 0] / self.bump_scale)
+        terrains = [bowl * ndimage.zoom(r.uniform(self.smoothness, 1, (bump_res, bump_res)), res / bump_res) for r in rngs]
+        # in single precision, as MuJoCo keeps height fields
+        phys.set_params("hfield_data", np.stack([t.ravel() for t in terrains]).astype(np.float32))
+        orientation = np.stack([r.standard_normal(4) for r in rngs])
+        find_non_contacting_height(phys, orientation / np.linalg.norm(orientation, axis=1, keepdims=True))
+
+    def observation(self, phys):
+        obs = super().observation(phys)
+        obs["origin"] = in_frame(-phys.xpos("torso"), phys.xmat("torso"))
+        rf = np.concatenate([phys.sensor(n) for n in RANGEFINDERS], axis=1)
+        obs["rangefinder"] = np.where(rf == -1.0, 1.0, np.tanh(rf))
+        return obs
+
+    def reward(self, phys):
+        edge = phys.names.model.hfield_size[0, 0]
+        escape = tolerance(np.linalg.norm(phys.site_xpos("workspace"), axis=1), bounds=(edge, float("inf")), margin=edge,
+                           value_at_margin=0, sigmoid="linear")
+        deviation = np.cos(np.deg2rad(20))
+        upright = tolerance(self.upright(phys), bounds=(deviation, float("inf")), sigmoid="linear", margin=1 + deviation,
+                            value_at_margin=0)
+        return upright * escape
 
 
 class Fetch(Walk):
@@ -135,4 +187,4 @@ class Fetch(Walk):
         return upright * reach * (0.5 + 0.5 * fetch)
 
 
-TASKS = {"walk": Walk, "run": Run, "fetch": Fetch}
+TASKS = {"walk": Walk, "run": Run, "escape": Escape, "fetch": Fetch}
