@@ -291,10 +291,12 @@ impl Batch {
     /// How many contacts penetrate (distance < 0) in each world's configuration (rows of
     /// `qpos`, `qvel`): MuJoCo's `ncon` after `mj_forward` where margins are zero.
     pub fn penetrations(&mut self, qpos: &[f64], qvel: &[f64]) -> Vec<usize> {
-        let m = &*self.model;
-        let mut coll = CollisionData::new(m);
-        (self.data.iter_mut().enumerate())
-            .map(|(i, d)| {
+        let shared = &*self.model;
+        let mut coll = CollisionData::new(shared);
+        (self.data.iter_mut().zip(&self.own).enumerate())
+            .map(|(i, (d, own))| {
+                // a world's own model: its own terrain, say
+                let m = own.as_deref().unwrap_or(shared);
                 let kin = &mut d.dynamics.kin;
                 kinematics::forward(m, &qpos[i * m.nq..(i + 1) * m.nq], &qvel[i * m.nv..(i + 1) * m.nv], kin);
                 collision::penetrations(m, kin, &mut coll);

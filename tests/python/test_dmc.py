@@ -234,6 +234,19 @@ def test_point_mass_hard_drives_each_world_along_its_own_drawn_directions():
     np.testing.assert_array_equal(copy.unwrapped._core.batch.params("wrap_prm"), prm)
 
 
+def test_quadruped_escape_starts_each_world_clear_of_its_own_terrain():
+    venv = gym.make_vec("sinew/dmc-quadruped-escape-v0", num_envs=3, vectorization_mode="vector_entry_point")
+    venv.reset(seed=0)
+    batch = venv.unwrapped._core.batch
+    terrain = batch.params("hfield_data")
+    assert not np.allclose(terrain[0], terrain[1])
+    assert batch.penetrations().tolist() == [0, 0, 0]
+    # lowered by a centimetre, each world touches its own bumps
+    batch.qpos[:, 2] -= 0.01
+    batch.forward_kinematics()
+    assert all(n > 0 for n in batch.penetrations())
+
+
 def test_copies_step_on_bit_identically():
     venv = gym.make_vec("sinew/dmc-fish-swim-v0", num_envs=2, vectorization_mode="vector_entry_point",
                         from_pixels=True, frame_stack=2, pixels_only=False)

@@ -233,6 +233,10 @@ def test_height_fields_per_world_carry_and_show_each_worlds_terrain():
     assert b.params("hfield_data").shape == (3, 9)
     raised = np.full(9, 0.5)
     b.set_params("hfield_data", raised, [1])
+    # a ball 0.2 m up overlaps only the raised terrain (0.15 m) of world 1
+    b.qpos[:, 2] = 0.2
+    b.forward_kinematics()
+    assert b.penetrations().tolist() == [0, 1, 0]
     for _ in range(400):
         b.step()
     # the ball rests on its own world's surface: z = elevation · 0.3 + radius

@@ -1,0 +1,64 @@
+"""Bytes per world of a batch: the growth of the process's resident memory from 1 to N worlds
+(one thread, after one step), split into the state and output arrays Python sees (their sizes
+from their shapes) and the rest (each world's scratch, history and caches), and the extra a
+world pays once it holds model values of its own (`set_params`: its own copy of the model).
+
+    python benches/memory.py [--worlds 4096] [--out results/memory.md]
+
+Each measurement runs in a fresh process.
+"""
+
+import argparse
+import json
+import subprocess
+import sys
+
+TASKS = {"Hopper": "hopper", "Walker2d": "walker2d_v5", "HalfCheetah": "half_cheetah", "Ant": "ant", "Humanoid": "humanoid"}
+
+PROBE = """
+import json, sys, numpy as np, sinew
+from sinew.tasks import ASSETS
+name, n, own = sys.argv[1], int(sys.argv[2]), sys.argv[3] == "1"
+m = sinew.Model.from_mjcf(f"{ASSETS}/{name}.xml")
+rss = lambda: int(open("/proc/self/statm").read().split()[1]) * 4096
+one = sinew.Batch(m, 1, num_threads=1)
+one.step()
+before = rss()
+b = sinew.Batch(m, n, num_threads=1)
+if own:
+    b.set_params("gravity", np.tile([0.0, 0.0, -9.81], (n, 1)) * np.linspace(0.9, 1.1, n)[:, None])
+b.step()
+after = rss()
+arrays = sum(getattr(b, k).nbytes for k in ("qpos", "qvel", "ctrl", "act", "time", "diverged", "xpos", "xmat", "xipos",
+                                            "xvel", "cfrc_ext", "qfrc_constraint", "cinert", "cvel"))
+print(json.dumps({"total": (after - before) / n, "arrays": arrays / n}))
+"""
+
+
+def probe(xml: str, n: int, own: bool) -> dict:
+    out = subprocess.run([sys.executable, "-c", PROBE, xml, str(n), "1" if own else "0"], capture_output=True, text=True, check=True)
+    return json.loads(out.stdout)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--worlds", type=int, default=4096)
+    ap.add_argument("--out", default=None)
+    args = ap.parse_args()
+    lines = [f"| task | kB per world ({args.worlds} worlds) | of which state and output arrays | scratch, history, caches | "
+             "a world with its own model values, extra |", "|---|---|---|---|---|"]
+    for task, xml in TASKS.items():
+        plain, own = probe(xml, args.worlds, False), probe(xml, args.worlds, True)
+        kb = lambda x: f"{x / 1024:.1f}"
+        lines.append(f"| {task} | {kb(plain['total'])} | {kb(plain['arrays'])} | {kb(plain['total'] - plain['arrays'])} | "
+                     f"{kb(own['total'] - plain['total'])} |")
+        print(lines[-1], flush=True)
+    table = "\n".join(lines)
+    print(table)
+    if args.out:
+        with open(args.out, "w") as f:
+            f.write(f"<!-- {' '.join(['python benches/memory.py'] + sys.argv[1:])} -->\n{table}\n")
+
+
+if __name__ == "__main__":
+    main()
