@@ -6,7 +6,7 @@ use glam::{DMat3, DVec3};
 
 use crate::dynamics::DynamicsData;
 use crate::error::{Error, Result};
-use crate::math::{SpatialInertia, MAX_STATE};
+use crate::math::{SpatialInertia, Xform, MAX_STATE};
 use crate::model::{Model, Transmission, Wrap, WORLD};
 
 /// A model field that may vary per world.
@@ -44,11 +44,17 @@ pub enum Param {
     /// Every height field's elevations, one after another (MuJoCo's `hfield_data`: row 0 at −y,
     /// in units of the field's height).
     HfieldData,
+    /// Body positions in their parents' frames (nbody × 3); only a body fixed to the world (no
+    /// joint between it and the world) may take a value of its own: a target, an obstacle.
+    BodyPos,
+    /// Body orientations in their parents' frames (nbody × 4, w x y z, normalized when set), as
+    /// `BodyPos`.
+    BodyQuat,
 }
 
 impl Param {
     /// Every field, in the order of [`Param::name`]s that `Batch` lists.
-    pub const ALL: [Param; 15] = [
+    pub const ALL: [Param; 17] = [
         Param::BodyMass,
         Param::BodyIpos,
         Param::BodyInertia,
@@ -64,6 +70,8 @@ impl Param {
         Param::Gravity,
         Param::WrapPrm,
         Param::HfieldData,
+        Param::BodyPos,
+        Param::BodyQuat,
     ];
 
     /// MuJoCo's name of the field (`gravity` for `opt.gravity`).
@@ -84,6 +92,8 @@ impl Param {
             Param::Gravity => "gravity",
             Param::WrapPrm => "wrap_prm",
             Param::HfieldData => "hfield_data",
+            Param::BodyPos => "body_pos",
+            Param::BodyQuat => "body_quat",
         }
     }
 
@@ -106,6 +116,8 @@ impl Param {
             Param::Gravity => (1, 3),
             Param::WrapPrm => (m.tendon_wrap.len(), 1),
             Param::HfieldData => (m.hfields.iter().map(|h| h.data.len()).sum(), 1),
+            Param::BodyPos => (m.nbody, 3),
+            Param::BodyQuat => (m.nbody, 4),
         }
     }
 
@@ -128,6 +140,8 @@ impl Param {
             Param::Gravity => m.opt.gravity.to_array().to_vec(),
             Param::WrapPrm => m.tendon_wrap.iter().map(|w| w.coef).collect(),
             Param::HfieldData => m.hfields.iter().flat_map(|h| h.data.iter().copied()).collect(),
+            Param::BodyPos => v3(&m.body_pos),
+            Param::BodyQuat => m.body_quat.iter().flat_map(|q| [q.w, q.x, q.y, q.z]).collect(),
         }
     }
 
@@ -153,6 +167,16 @@ impl Param {
                 Some(a) => Err(format!("actuator_ctrlrange[{a}] = {:?}: its lower end is above its upper end", &values[2 * a..2 * a + 2])),
                 None => Ok(()),
             },
+            Param::BodyPos | Param::BodyQuat => {
+                let now = self.read(m);
+                if let Some(b) = (0..rows).find(|&b| values[b * cols..(b + 1) * cols] != now[b * cols..(b + 1) * cols] && (b == 0 || m.body_node[b] != WORLD)) {
+                    return Err(format!("{}[{b}]: body '{}' is not fixed to the world: only such a body may be placed per world", self.name(), m.body_name[b]));
+                }
+                match values.chunks(4).position(|q| self == Param::BodyQuat && q.iter().map(|x| x * x).sum::<f64>() < 1e-20) {
+                    Some(b) => Err(format!("body_quat[{b}] is zero: not a rotation")),
+                    None => Ok(()),
+                }
+            }
             _ => Ok(()),
         }
     }
@@ -193,6 +217,15 @@ impl Param {
             Param::WrapPrm => {
                 for (w, &coef) in m.tendon_wrap.iter_mut().zip(values) {
                     w.coef = coef;
+                }
+            }
+            Param::BodyPos => m.body_pos = (0..m.nbody).map(v3).collect(),
+            Param::BodyQuat => {
+                for (b, q) in values.chunks(4).enumerate() {
+                    let q = glam::DQuat::from_xyzw(q[1], q[2], q[3], q[0]);
+                    if q != m.body_quat[b] {
+                        m.body_quat[b] = q.normalize();
+                    }
                 }
             }
             Param::HfieldData => {
@@ -287,6 +320,13 @@ fn derive(m: &mut Model) -> Result<()> {
     node_inertias(m, &inertia);
     m.body_fluid_box = inertia.iter().zip(&m.body_iaxes).map(|(i, &axes)| super::fluid_box(i, axes)).collect();
     actuator_derived(m);
+    // the world-fixed bodies' poses, parents first (as `compile::joints_and_nodes` sets them)
+    for b in 1..m.nbody {
+        if m.body_node[b] == WORLD {
+            let p = m.body_parent[b];
+            m.body_offset[b] = m.body_offset[p].then(&Xform::from_pose_quat(m.body_quat[b], m.body_pos[b]));
+        }
+    }
     let mut dy = DynamicsData::new(m);
     crate::dynamics::forward(m, &mut dy, &m.qpos0, &vec![0.0; m.nv], &vec![0.0; m.nu], &vec![0.0; m.na]);
     super::check_solvable(m, &dy).map_err(|e| Error::Input(e.to_string()))

@@ -3,7 +3,8 @@
 Run as ``python dmc_reference.py IN.npz OUT.npz`` with a MuJoCo dm_control can load (3.17:
 dm-control 1.0.50 reads model fields MuJoCo 4 no longer has). IN holds, per task key
 ``<domain>-<task>``, arrays ``<key>/qpos``, ``/qvel``, ``/ctrl``, ``/act`` (one row per state), ``<key>/geom/<name>``,
-``<key>/site/<name>`` (where each state places a geom or site, a target), ``<key>/hfield`` (each
+``<key>/site/<name>`` (where each state places a geom or site, a target), ``<key>/body_pos/<name>``
+and ``<key>/body_quat/<name>`` (where each state places a body fixed to the world), ``<key>/hfield`` (each
 state's height-field elevations, where worlds have their own) and
 ``<key>/sensor/<name>`` (sinew's readings, which the sensors that read contact forces take);
 OUT gets
@@ -42,6 +43,10 @@ def main(src: str, dst: str) -> None:
         for i, (q, v, u, a) in enumerate(zip(data[f"{key}/qpos"], data[f"{key}/qvel"], data[f"{key}/ctrl"], data[f"{key}/act"])):
             for kind, name, pos in placed:
                 getattr(phys.named.model, f"{kind}_pos")[name] = pos[i]
+            for field in ("body_pos", "body_quat"):
+                for entry, values in data.items():
+                    if entry.startswith(f"{key}/{field}/"):
+                        getattr(phys.named.model, field)[entry.split("/")[2]] = values[i]
             if f"{key}/hfield" in data:
                 phys.model.hfield_data[:] = data[f"{key}/hfield"][i]
             with phys.reset_context():

@@ -51,6 +51,11 @@ def reference(tmp_path_factory):
                 pos = getattr(core.batch, f"{kind}_pos")(i)
                 if np.ptp(pos, axis=0).any():
                     data[f"{key}/{kind}/{element}"] = np.tile(pos, (STEPS // EVERY + 1, 1))
+        # bodies each world placed (targets, receptacles), sent with every state
+        for field in ("body_pos", "body_quat"):
+            values = core.batch.params(field)
+            for b in np.flatnonzero(np.ptp(values, axis=0).any(axis=1)):
+                data[f"{key}/{field}/{core.model.body_names[b]}"] = np.tile(values[:, b], (STEPS // EVERY + 1, 1))
         # each world's own height fields, sent with every state
         if core.model.hfield_names and np.ptp(core.batch.params("hfield_data"), axis=0).any():
             data[f"{key}/hfield"] = np.tile(core.batch.params("hfield_data"), (STEPS // EVERY + 1, 1))

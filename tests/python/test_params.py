@@ -251,3 +251,26 @@ def test_height_fields_per_world_carry_and_show_each_worlds_terrain():
     b.forward_kinematics()
     again = b.render(64, 64, camera={"lookat": [0, 0, 0], "distance": 3, "elevation": -20})
     assert np.array_equal(again[0], again[1])
+
+
+def test_only_bodies_fixed_to_the_world_are_placed_per_world():
+    xml = """<mujoco><worldbody><body name="target" pos="1 0 0"><geom size=".1" contype="0" conaffinity="0"/></body>
+<body name="ball" pos="0 0 1"><freejoint/><geom size=".1"/></body></worldbody></mujoco>"""
+    b = sinew.Batch(sinew.Model.from_mjcf_string(xml), 2)
+    pos = b.params("body_pos")
+    pos[1, 1] = [0, 2, 0.5]
+    b.set_params("body_pos", pos)
+    quat = b.params("body_quat")
+    quat[1, 1] = [0, 0, 0, 2]  # normalized when set
+    b.set_params("body_quat", quat)
+    b.forward_kinematics()
+    assert np.allclose(b.xpos[:, 1], [[1, 0, 0], [0, 2, 0.5]])
+    assert np.allclose(b.xmat[1, 1].reshape(3, 3), np.diag([-1, -1, 1]))
+    moved = b.params("body_pos")
+    moved[0, 2] = [0, 0, 3]
+    with pytest.raises(ValueError, match="world 0.*body_pos\\[2\\].*'ball' is not fixed to the world"):
+        b.set_params("body_pos", moved)
+    zero = b.params("body_quat")
+    zero[:, 1] = 0
+    with pytest.raises(ValueError, match="body_quat\\[1\\] is zero"):
+        b.set_params("body_quat", zero)

@@ -17,16 +17,15 @@ from __future__ import annotations
 import importlib.util
 import os
 
-from sinew.dmc import (acrobot, ball_in_cup, cartpole, cheetah, dog, finger, fish, hopper, humanoid, lqr, pendulum, point_mass,
-                       quadruped, reacher,
-                       swimmer, walker)
+from sinew.dmc import (acrobot, ball_in_cup, cartpole, cheetah, dog, finger, fish, hopper, humanoid, lqr, manipulator, pendulum,
+                       point_mass, quadruped, reacher, stacker, swimmer, walker)
 from sinew.dmc.task import Task
 
 _DOMAINS = {
     "acrobot": acrobot.TASKS, "ball_in_cup": ball_in_cup.TASKS, "cartpole": cartpole.TASKS, "cheetah": cheetah.TASKS, "dog": dog.TASKS,
     "hopper": hopper.TASKS, "humanoid": humanoid.TASKS, "humanoid_CMU": humanoid.CMU_TASKS,
-    "finger": finger.TASKS, "fish": fish.TASKS, "lqr": lqr.TASKS, "pendulum": pendulum.TASKS, "point_mass": point_mass.TASKS, "quadruped": quadruped.TASKS,
-    "reacher": reacher.TASKS,
+    "finger": finger.TASKS, "fish": fish.TASKS, "lqr": lqr.TASKS, "manipulator": manipulator.TASKS, "pendulum": pendulum.TASKS, "point_mass": point_mass.TASKS, "quadruped": quadruped.TASKS,
+    "reacher": reacher.TASKS, "stacker": stacker.TASKS,
     "swimmer": swimmer.TASKS, "walker": walker.TASKS,
 }
 
