@@ -603,8 +603,8 @@ impl PyBatch {
         let cams = super::render::cameras(&m, &r, camera.as_ref(), which.len())?;
         let qpos = self.qpos.bind(py).readonly();
         let all = qpos.as_slice()?;
-        let rows: Vec<&[f64]> = which.iter().map(|&i| &all[i * m.nq..(i + 1) * m.nq]).collect();
-        if let Some((k, v)) = rows.iter().enumerate().find_map(|(k, q)| q.iter().find(|x| crate::math::out_of_range(**x)).map(|v| (k, *v))) {
+        let rows: Vec<(&crate::model::Model, &[f64])> = which.iter().map(|&i| (self.inner.model_of(i), &all[i * m.nq..(i + 1) * m.nq])).collect();
+        if let Some((k, v)) = rows.iter().enumerate().find_map(|(k, (_, q))| q.iter().find(|x| crate::math::out_of_range(**x)).map(|v| (k, *v))) {
             return Err(PyValueError::new_err(format!("cannot render world {}: its qpos holds {v}", which[k])));
         }
         let looks: Vec<_> = which.iter().map(|&i| self.moved.of_world(i)).collect();

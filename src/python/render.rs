@@ -147,10 +147,11 @@ pub struct Frames {
     pub single: bool,
 }
 
-/// Draws the worlds at `qpos` rows (each nq long), world k through `cams[k]`, the GIL released,
+/// Draws the worlds at `qpos` rows (each world's model, whose kinematics place its bodies, and
+/// its qpos), world k through `cams[k]`, the GIL released,
 /// and returns rgb (n, H, W, 3) uint8 and/or depth (n, H, W) float32, a tuple when both (`single`:
 /// one world, without the leading axis).
-pub fn draw<'py>(py: Python<'py>, m: &Arc<Model>, r: &Renderer, qpos: &[&[f64]], looks: &[super::placed::WorldLook], cams: &[CameraChoice], frames: Frames) -> PyResult<Bound<'py, PyAny>> {
+pub fn draw<'py>(py: Python<'py>, m: &Arc<Model>, r: &Renderer, qpos: &[(&Model, &[f64])], looks: &[super::placed::WorldLook], cams: &[CameraChoice], frames: Frames) -> PyResult<Bound<'py, PyAny>> {
     let Frames { width, height, rgb, depth, single } = frames;
     if !rgb && !depth {
         return Err(PyValueError::new_err("nothing to render: rgb and depth are both False"));
@@ -160,7 +161,7 @@ pub fn draw<'py>(py: Python<'py>, m: &Arc<Model>, r: &Renderer, qpos: &[&[f64]],
     let mut depth_buf = vec![0f32; if depth { n * height * width } else { 0 }];
     py.detach(|| {
         super::errors::guard("render", || {
-            let poses: Vec<Poses> = qpos.iter().zip(looks).map(|(q, (placed, surfaces))| Poses::new(m, q).with_placed(placed).with_surfaces(surfaces.clone())).collect();
+            let poses: Vec<Poses> = qpos.iter().zip(looks).map(|((own, q), (placed, surfaces))| Poses::new(own, q).with_placed(placed).with_surfaces(surfaces.clone())).collect();
             let worlds: Vec<(&Poses, CameraChoice)> = poses.iter().zip(cams).map(|(p, c)| (p, *c)).collect();
             r.draw(m, &worlds, width, height, &mut rgb_buf, &mut depth_buf);
         })

@@ -198,7 +198,7 @@ impl PySim {
         if let Some(i) = q.iter().position(|&x| out_of_range(x)) {
             return Err(PyValueError::new_err(format!("cannot render: qpos[{i}] is {}", q[i])));
         }
-        super::render::draw(py, &self.model, &r, &[q], &[(vec![], None)], &[cam], super::render::Frames { width: w, height: h, rgb, depth, single: true })
+        super::render::draw(py, &self.model, &r, &[(&self.model, q)], &[(vec![], None)], &[cam], super::render::Frames { width: w, height: h, rgb, depth, single: true })
     }
 
     /// Computes qacc for the current state without advancing time.

@@ -266,6 +266,11 @@ def test_only_bodies_fixed_to_the_world_are_placed_per_world():
     b.forward_kinematics()
     assert np.allclose(b.xpos[:, 1], [[1, 0, 0], [0, 2, 0.5]])
     assert np.allclose(b.xmat[1, 1].reshape(3, 3), np.diag([-1, -1, 1]))
+    # each world's frame shows the body where that world placed it
+    view = {"lookat": [0.5, 0.5, 0.5], "distance": 4, "elevation": -30}
+    frames = b.render(64, 64, camera=view)
+    plain = sinew.Batch(b.model, 1).render(64, 64, camera=view)
+    assert np.array_equal(frames[0], plain[0]) and not np.array_equal(frames[1], plain[0])
     moved = b.params("body_pos")
     moved[0, 2] = [0, 0, 3]
     with pytest.raises(ValueError, match="world 0.*body_pos\\[2\\].*'ball' is not fixed to the world"):
