@@ -16,6 +16,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+from emit import invocation
+
 CACHE = Path.home() / ".cache" / "sinew-ab"
 ROOT = Path(__file__).resolve().parent.parent
 STEPS = {"Hopper": 1500, "Walker2d": 1000, "HalfCheetah": 1000, "Ant": 600, "Humanoid": 500}
@@ -79,7 +81,7 @@ def main():
             print(row, flush=True)
             lines.append(row)
     if args.out:
-        Path(args.out).write_text(f"<!-- python benches/ab_step.py {' '.join(sys.argv[1:])} -->\n" + "\n".join(lines) + "\n")
+        Path(args.out).write_text("\n".join([invocation(), *lines]) + "\n")
 
 
 if __name__ == "__main__":

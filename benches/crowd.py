@@ -12,7 +12,6 @@ the end, the two do not solve the same problem.
 
 import argparse
 import copy
-import sys
 import time
 import xml.etree.ElementTree as ET
 
@@ -21,6 +20,8 @@ import numpy as np
 
 import sinew
 from sinew.tasks import ASSETS
+
+from emit import emit, invocation
 
 
 def scene(n: int) -> str:
@@ -69,11 +70,7 @@ def main():
              "|---|---|---|---|---|---|---|",
              f"| {args.humanoids} humanoids dropped together, dt 0.005, 1 thread | {args.steps} | {ours:.2f} | {theirs:.2f} | "
              f"{ours / theirs:.1f}× | {len(sim.contacts)} / {d.ncon} | {stats['fallback_pgs'] + stats['fallback_zero']} |"]
-    table = "\n".join(lines)
-    print(table)
-    if args.out:
-        with open(args.out, "w") as f:
-            f.write(f"<!-- {' '.join(['python benches/crowd.py'] + sys.argv[1:])} -->\n{table}\n")
+    emit("\n".join([invocation(), *lines]) + "\n", args.out)
 
 
 if __name__ == "__main__":

@@ -13,6 +13,8 @@ import json
 import subprocess
 import sys
 
+from emit import emit, invocation
+
 TASKS = {"Hopper": "hopper", "Walker2d": "walker2d_v5", "HalfCheetah": "half_cheetah", "Ant": "ant", "Humanoid": "humanoid"}
 
 PROBE = """
@@ -53,11 +55,7 @@ def main():
         lines.append(f"| {task} | {kb(plain['total'])} | {kb(plain['arrays'])} | {kb(plain['total'] - plain['arrays'])} | "
                      f"{kb(own['total'] - plain['total'])} |")
         print(lines[-1], flush=True)
-    table = "\n".join(lines)
-    print(table)
-    if args.out:
-        with open(args.out, "w") as f:
-            f.write(f"<!-- {' '.join(['python benches/memory.py'] + sys.argv[1:])} -->\n{table}\n")
+    emit("\n".join([invocation(), *lines]) + "\n", args.out)
 
 
 if __name__ == "__main__":

@@ -8,13 +8,13 @@ rounds.
 """
 
 import argparse
-import sys
 import time
 
 import gymnasium as gym
 import numpy as np
 
 import sinew
+from emit import emit, invocation
 
 TASKS = ["Hopper", "Walker2d", "HalfCheetah", "Ant", "Humanoid"]
 FIELDS = ["body_mass", "body_ipos", "geom_friction", "dof_damping", "dof_armature", "dof_frictionloss",
@@ -59,11 +59,7 @@ def main():
             print(f"{task} {threads}t plain {plain:,.0f} varied {varied:,.0f} ratio {varied / plain:.3f}", flush=True)
     lines = ["| task | threads | env-steps/s, shared model | every field varied in every world | ratio |", "|---|---|---|---|---|"]
     lines += [f"| {t} | {k} | {p:,.0f} | {v:,.0f} | {r:.3f} |" for t, k, p, v, r in rows]
-    table = "\n".join(lines)
-    print(table)
-    if args.out:
-        with open(args.out, "w") as f:
-            f.write(f"<!-- {' '.join(['python benches/params_cost.py'] + sys.argv[1:])} -->\n{table}\n")
+    emit("\n".join([invocation(), *lines]) + "\n", args.out)
 
 
 if __name__ == "__main__":

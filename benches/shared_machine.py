@@ -17,6 +17,8 @@ import time
 
 import numpy as np
 
+from emit import emit, invocation
+
 SPIN = "while True: pass"
 
 
@@ -97,12 +99,7 @@ def main():
     for r in rows:
         cells = [r[0], f"{r[1]:,.0f}", f"{r[2]:,.0f}", f"{r[3]:.0%}", f"{r[4]:.2f}"] + ([f"{r[5]:.0%}"] if args.envpool else [])
         lines.append("| " + " | ".join(cells) + " |")
-    table = "\n".join(lines)
-    print(table)
-    if args.out:
-        cmd = " ".join(["python benches/shared_machine.py"] + sys.argv[1:])
-        with open(args.out, "w") as f:
-            f.write(f"<!-- {cmd} -->\n{table}\n")
+    emit("\n".join([invocation(), *lines]) + "\n", args.out)
 
 
 if __name__ == "__main__":
