@@ -134,7 +134,7 @@ impl Batch {
 
     /// World `i`'s model: the shared one, or its own after [`Batch::set_param`].
     pub fn model_of(&self, i: usize) -> &Model {
-        self.own[i].as_deref().unwrap_or(&self.model)
+        world_model(&self.own, &self.model, i)
     }
 
     /// Gives the worlds `which` the values `values` of field `p` (one row of
@@ -181,15 +181,16 @@ impl Batch {
     }
 
     /// World `i`'s own rotational inertias (nbody 3 × 3 matrices, columns), bit for bit: a
-    /// copy's with [`Batch::set_inertia_matrices`] (principal moments would round).
+    /// copy's with [`Batch::restore_params`] (principal moments would round).
     pub fn inertia_matrices(&self, i: usize) -> Vec<f64> {
         params::read_inertia_matrices(self.model_of(i))
     }
 
-    /// Sets world `i`'s rotational inertias as [`Batch::inertia_matrices`] gave them.
-    pub fn set_inertia_matrices(&mut self, i: usize, values: &[f64]) -> crate::error::Result<()> {
-        let mut m = self.model_of(i).clone();
-        params::write_inertia_matrices(&mut m, values)?;
+    /// Gives world `i` the values a copy read from another world: every field of
+    /// [`Param::ALL`] (in that order) and its [`Batch::inertia_matrices`].
+    pub fn restore_params(&mut self, i: usize, fields: &[Vec<f64>], inertia: &[f64]) -> crate::error::Result<()> {
+        let mut m = (*self.model).clone();
+        params::restore(&mut m, fields, inertia).map_err(|e| crate::error::Error::Input(format!("world {i}: {e}")))?;
         self.own[i] = Some(Box::new(m));
         self.data[i].forget_history();
         Ok(())
@@ -226,8 +227,8 @@ impl Batch {
         // back, so that each keeps to its own end of the batch from call to call
         let worlds = Mutex::new(
             data.iter_mut()
-                .zip(own)
-                .map(|(d, own)| (d, own.as_deref().unwrap_or(m)))
+                .enumerate()
+                .map(|(i, d)| (d, world_model(own, m, i)))
                 .zip(qpos.chunks_mut(nq).zip(qvel.chunks_mut(nv)).zip(ctrl.chunks(nu)).zip(act.chunks_mut(na)))
                 .zip(time.iter_mut().zip(diverged.iter_mut()).zip(active.iter()))
                 .zip(out.xpos.chunks_mut(3 * nb).zip(out.xmat.chunks_mut(9 * nb)).zip(out.xipos.chunks_mut(3 * nb)))
@@ -266,8 +267,7 @@ impl Batch {
 
     /// Resets world `i` to qpos0 at rest (its constraint forces cleared) in the given rows.
     pub fn reset(&mut self, i: usize, qpos: &mut [f64], qvel: &mut [f64], act: &mut [f64]) {
-        let m = self.own[i].as_deref().unwrap_or(&self.model);
-        reset_world(m, &mut self.data[i], qpos, qvel, act);
+        reset_world(world_model(&self.own, &self.model, i), &mut self.data[i], qpos, qvel, act);
     }
 
     /// The readings of the file sensors `which` (indices) of every world at the state in `st`
@@ -283,7 +283,7 @@ impl Batch {
                 ctrl: &st.ctrl[i * m.nu..(i + 1) * m.nu],
                 act: &st.act[i * m.na..(i + 1) * m.na],
             };
-            sensordata::read(self.own[i].as_deref().unwrap_or(m), d, s, which, row);
+            sensordata::read(world_model(&self.own, m, i), d, s, which, row);
         }
         out
     }
@@ -293,10 +293,10 @@ impl Batch {
     pub fn penetrations(&mut self, qpos: &[f64], qvel: &[f64]) -> Vec<usize> {
         let shared = &*self.model;
         let mut coll = CollisionData::new(shared);
-        (self.data.iter_mut().zip(&self.own).enumerate())
-            .map(|(i, (d, own))| {
+        (self.data.iter_mut().enumerate())
+            .map(|(i, d)| {
                 // a world's own model: its own terrain, say
-                let m = own.as_deref().unwrap_or(shared);
+                let m = world_model(&self.own, shared, i);
                 let kin = &mut d.dynamics.kin;
                 kinematics::forward(m, &qpos[i * m.nq..(i + 1) * m.nq], &qvel[i * m.nv..(i + 1) * m.nv], kin);
                 collision::penetrations(m, kin, &mut coll);
@@ -308,12 +308,18 @@ impl Batch {
     /// Recomputes the sensor outputs of world `i` for its current state (after a reset or a
     /// state written from Python), and a task's observation `obs` of it.
     pub fn sense(&mut self, i: usize, qpos: &[f64], qvel: &[f64], ctrl: &[f64], mut out: Sensors<'_>, task: Option<(&dyn Task, &mut [f64])>) {
-        let m = self.own[i].as_deref().unwrap_or(&self.model);
+        let m = world_model(&self.own, &self.model, i);
         sensors::write(m, &self.root, &mut self.data[i], qpos, qvel, out.reborrow());
         if let Some((t, obs)) = task {
             t.observe(m, &out.world_view(qpos, qvel, ctrl), obs);
         }
     }
+}
+
+/// World `i`'s own model if it has one, else the shared one (a field-wise borrow of a
+/// [`Batch`], beside its mutable scratch).
+fn world_model<'a>(own: &'a [Option<Box<Model>>], shared: &'a Model, i: usize) -> &'a Model {
+    own[i].as_deref().unwrap_or(shared)
 }
 
 /// One world's rows of a batch's arrays, for one call of [`Batch::step`].

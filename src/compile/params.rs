@@ -184,6 +184,12 @@ impl Param {
     /// Writes checked `values` into `m` (mass scales inertia), then what the compiler derives
     /// from them; fails if a joint is left moving no mass.
     pub fn write(self, m: &mut Model, values: &[f64]) -> Result<()> {
+        self.assign(m, values);
+        derive(m)
+    }
+
+    /// Writes checked `values` into `m`, nothing derived yet.
+    fn assign(self, m: &mut Model, values: &[f64]) {
         let v3 = |k: usize| DVec3::from_slice(&values[3 * k..3 * k + 3]);
         let a3 = |k: usize| [values[3 * k], values[3 * k + 1], values[3 * k + 2]];
         match self {
@@ -223,8 +229,9 @@ impl Param {
             Param::BodyQuat => {
                 for (b, q) in values.chunks(4).enumerate() {
                     let q = glam::DQuat::from_xyzw(q[1], q[2], q[3], q[0]);
+                    // a unit quaternion is kept as given (so a copy's values come back bit for bit)
                     if q != m.body_quat[b] {
-                        m.body_quat[b] = q.normalize();
+                        m.body_quat[b] = if (q.length_squared() - 1.0).abs() < 1e-12 { q } else { q.normalize() };
                     }
                 }
             }
@@ -237,8 +244,20 @@ impl Param {
                 }
             }
         }
-        derive(m)
     }
+}
+
+/// `m` with every field of [`Param::ALL`] set to `fields` (in that order) and the rotational
+/// inertias to `inertia` ([`read_inertia_matrices`]'s, bit for bit), each checked, derived once.
+pub fn restore(m: &mut Model, fields: &[Vec<f64>], inertia: &[f64]) -> Result<()> {
+    if fields.len() != Param::ALL.len() {
+        return Err(Error::Input(format!("{} fields expected, got {}", Param::ALL.len(), fields.len())));
+    }
+    for (p, values) in Param::ALL.iter().zip(fields) {
+        p.check(m, values).map_err(Error::Input)?;
+        p.assign(m, values);
+    }
+    write_inertia_matrices(m, inertia)
 }
 
 /// Every body's rotational inertia (3 × 3, columns), bit for bit.

@@ -58,11 +58,5 @@ pub fn varied(b: &Batch) -> Varied {
 
 /// Gives the worlds back the values `varied` kept.
 pub fn restore(b: &mut Batch, varied: Varied) -> crate::error::Result<()> {
-    for (i, fields, inertia) in varied {
-        for (p, values) in Param::ALL.iter().zip(&fields) {
-            b.set_param(*p, &[i], values)?;
-        }
-        b.set_inertia_matrices(i, &inertia)?;
-    }
-    Ok(())
+    varied.into_iter().try_for_each(|(i, fields, inertia)| b.restore_params(i, &fields, &inertia))
 }

@@ -266,6 +266,10 @@ def test_only_bodies_fixed_to_the_world_are_placed_per_world():
     b.forward_kinematics()
     assert np.allclose(b.xpos[:, 1], [[1, 0, 0], [0, 2, 0.5]])
     assert np.allclose(b.xmat[1, 1].reshape(3, 3), np.diag([-1, -1, 1]))
+    # a copy holds the same placements bit for bit
+    copy = pickle.loads(pickle.dumps(b))
+    for f in ("body_pos", "body_quat"):
+        assert np.array_equal(copy.params(f), b.params(f))
     # each world's frame shows the body where that world placed it
     view = {"lookat": [0.5, 0.5, 0.5], "distance": 4, "elevation": -30}
     frames = b.render(64, 64, camera=view)
