@@ -383,3 +383,31 @@ fn a_tower_of_cubes_rests_on_its_warm_starts() {
         }
     }
 }
+
+/// `n` cubes of 0.1 m side resting on the floor in a row, 0.3 m apart, with `size` written in.
+fn cubes_on_floor(n: usize, size: &str) -> String {
+    let cubes: String = (0..n).map(|i| format!(r#"<body pos="{} 0 0.05"><freejoint/><geom type="box" size=".05 .05 .05"/></body>"#, 0.3 * i as f64)).collect();
+    format!(r#"<mujoco>{size}<option timestep="0.005"/><worldbody><geom type="plane" size="20 20 .1"/>{cubes}</worldbody></mujoco>"#)
+}
+
+#[test]
+fn a_step_keeps_every_contact_of_a_large_scene_unless_the_file_bounds_them() {
+    // 48 cubes on the floor touch it at 192 corners: more than the 128 a small model keeps; the
+    // bound grows with the model, and `<size nconmax>` sets it
+    for (size, kept) in [("", 192), (r#"<size nconmax="64"/>"#, 64)] {
+        let m = Model::from_mjcf(&cubes_on_floor(48, size)).unwrap();
+        let mut s = State::new(&m);
+        for _ in 0..100 {
+            s.step(&m);
+        }
+        assert_eq!(s.data.coll.contacts.len(), kept, "{size}");
+        if kept == 192 {
+            let sunk = (0..48).map(|i| 0.05 - s.qpos[7 * i + 2]).fold(0.0, f64::max);
+            assert!(sunk < 1e-6, "the cubes rest on their corners: sunk {sunk:e} m");
+        }
+    }
+    for bad in ["0", "-2", "many"] {
+        let err = Model::from_mjcf(&cubes_on_floor(1, &format!(r#"<size nconmax="{bad}"/>"#))).unwrap_err().to_string();
+        assert!(err.contains("nconmax"), "{bad}: {err}");
+    }
+}

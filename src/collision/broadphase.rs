@@ -1,7 +1,9 @@
 //! The broadphase: plane groups, the sort-and-sweep of bounding boxes, bounding-sphere tests and
 //! each geom's bound on how far it moves within the step.
 
-use super::data::{has_own_reach, CollisionData, SWEEP_PAIRS};
+use glam::DVec3;
+
+use super::data::{has_own_reach, CollisionData, SweepBox, SWEEP_PAIRS};
 use crate::dynamics::aba::AbaData;
 use crate::dynamics::kinematics::KinData;
 use crate::model::{GeomPair, Model, PairTest, WORLD};
@@ -20,9 +22,10 @@ pub(super) fn judge_groups(m: &Model, kin: &KinData, out: &mut CollisionData, re
 /// else [`Model::pairs_unswept`] and the sphere pairs of two trees whose boxes overlap.
 /// Each geom's box holds its bounding sphere grown by its margin and `reach(out, g)`; a sphere
 /// pair that is not apart has overlapping boxes, so the tests that follow find the contacts the
-/// test of every pair finds. The boxes are swept along x (sort and sweep, Baraff 1992, §6.2),
-/// from the last sweep's order: an insertion sort then costs little. Geoms of non-finite boxes
-/// (a diverging world) send every pair to its test.
+/// test of every pair finds. The boxes are swept along the axis their centres spread most along
+/// (sort and sweep, Baraff 1992, §6.2; [`sweep_axis`]), from the last sweep's order: an
+/// insertion sort then costs little. Geoms of non-finite boxes (a diverging world) send every pair
+/// to its test.
 pub(super) fn near_pairs(m: &Model, out: &mut CollisionData, reach: impl Fn(&CollisionData, usize) -> f64) -> Vec<usize> {
     let mut near = std::mem::take(&mut out.near);
     if m.collision_pairs.len() < SWEEP_PAIRS {
@@ -31,10 +34,18 @@ pub(super) fn near_pairs(m: &Model, out: &mut CollisionData, reach: impl Fn(&Col
     near.clear();
     let mut finite = true;
     let mut sweep = std::mem::take(&mut out.sweep);
+    out.sweep_axis = sweep_axis(out, &sweep);
+    // the boxes' coordinates rotated so that the sweep's axis is x
+    let axis = out.sweep_axis;
+    let rotate = |v: DVec3| match axis {
+        0 => v,
+        1 => DVec3::new(v.y, v.z, v.x),
+        _ => DVec3::new(v.z, v.x, v.y),
+    };
     for b in sweep.iter_mut() {
         let g = b.geom;
         let e = m.geom_rbound[g] + m.geom_margin[g] + reach(out, g);
-        let c = out.geom_xpos[g];
+        let c = rotate(out.geom_xpos[g]);
         (b.lo, b.hi) = (c - e, c + e);
         finite &= c.is_finite() && e.is_finite();
     }
@@ -80,6 +91,18 @@ pub(super) fn near_pairs(m: &Model, out: &mut CollisionData, reach: impl Fn(&Col
         }
     }
     near
+}
+
+/// The axis to sweep along: the one the boxes' centres spread most along (their variance), kept
+/// until another spreads twice as much, so that the last sweep's order stays nearly sorted.
+/// Two rows of characters side by side along y overlap all along x: swept along x, every box
+/// meets half the others.
+fn sweep_axis(out: &CollisionData, sweep: &[SweepBox]) -> usize {
+    let n = sweep.len() as f64;
+    let (sum, sq) = sweep.iter().map(|b| out.geom_xpos[b.geom]).fold((DVec3::ZERO, DVec3::ZERO), |(s, q), c| (s + c, q + c * c));
+    let spread = (sq - sum * sum / n).to_array();
+    let widest = (0..3).max_by(|&a, &b| spread[a].total_cmp(&spread[b])).unwrap_or(0);
+    if spread[widest] > 2.0 * spread[out.sweep_axis] { widest } else { out.sweep_axis }
 }
 
 /// The index in `m.collision_pairs` of the pair of geoms i < j, if they make one.

@@ -88,9 +88,12 @@ pub struct CollisionData {
     pub(super) shrink: f64,
     /// Pairs whose gap spared them a test in the last detection.
     pub gap_skips: usize,
-    /// The boxes of [`Model::sweep_geoms`] by increasing `lo.x`, as the last sweep left them
+    /// The boxes of [`Model::sweep_geoms`] by increasing `lo.x` (x: the sweep axis), as the last sweep left them
     /// (nearly sorted for the next).
     pub(super) sweep: Vec<SweepBox>,
+    /// The axis the boxes are swept along (0: x, 1: y, 2: z); each box's coordinates are
+    /// rotated to put it first.
+    pub(super) sweep_axis: usize,
     /// The pairs of two trees whose boxes overlap, as the sweep finds them ([`near_pairs`]).
     pub(super) swept: Vec<usize>,
     /// The pairs the sweep leaves to test, in order ([`near_pairs`]).
@@ -127,10 +130,12 @@ impl CollisionData {
             shrink: 0.0,
             gap_skips: 0,
             sweep: m.sweep_geoms.iter().map(|&g| SweepBox { lo: DVec3::ZERO, hi: DVec3::ZERO, geom: g, tree: crate::model::geom_tree(m, g) }).collect(),
+            sweep_axis: 0,
             swept: Vec::with_capacity(if m.collision_pairs.len() < SWEEP_PAIRS { 0 } else { m.collision_pairs.len() }),
             // a model of few pairs tests them all, listed once here
             near: if m.collision_pairs.len() < SWEEP_PAIRS { (0..m.collision_pairs.len()).collect() } else { Vec::with_capacity(m.collision_pairs.len()) },
-            contacts: Vec::with_capacity(MAX_CONTACTS),
+            // grown to the most a step has found (at most `Options::max_contacts`)
+            contacts: Vec::new(),
         }
     }
 
@@ -144,9 +149,6 @@ impl CollisionData {
 
 /// Gaps are compared with this much to spare (m): they are computed in floating point.
 pub(super) const GAP_TOLERANCE: f64 = 1e-9;
-
-/// Contacts kept per step; beyond it, a deeper contact replaces the least deep.
-pub const MAX_CONTACTS: usize = 128;
 
 /// Whether geom g's centre (and a plane's axes) is posed for the current detection.
 #[inline(always)]

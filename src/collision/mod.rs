@@ -47,7 +47,7 @@ mod shapes;
 mod terrain;
 
 use broadphase::{apart, arm_speed, judge_groups, near_pairs, own_reach_of};
-pub use data::{CollisionData, Contact, MAX_CONTACTS};
+pub use data::{CollisionData, Contact};
 use data::{pose, posed, reach, fixed, GAP_TOLERANCE};
 use gaps::{lower_and_test_gaps, quick_travel, test_lazily, travel};
 pub use narrowphase::contact_friction;
@@ -233,7 +233,7 @@ fn test_again(m: &Model, kin: &KinData, out: &mut CollisionData, k: usize, lever
         return Some(false);
     }
     let before = out.contacts.len();
-    if before >= MAX_CONTACTS {
+    if before >= m.opt.max_contacts {
         // full: a replacement would change contacts the rows already refer to
         return None;
     }

@@ -5,7 +5,7 @@ use glam::DVec3;
 
 use super::convex::{on_plane, point_polytope, polytopes, Manifold, PosedBox, PosedHull, Segment};
 use super::terrain::hfield_contacts;
-use super::data::{pose_axes, CollisionData, Contact, MAX_CONTACTS};
+use super::data::{pose_axes, CollisionData, Contact};
 use super::shapes::{box_box, closest_on_segment, closest_segments, point_box, segment_box_points, shape, spheres, Shape};
 use crate::dynamics::kinematics::KinData;
 use crate::model::Model;
@@ -34,9 +34,10 @@ pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, i: usize, j
         if dist > margin || repeats_joint_contact(m, &cd.contacts, &c) {
             return;
         }
-        if cd.contacts.len() < MAX_CONTACTS {
+        let most = m.opt.max_contacts;
+        if cd.contacts.len() < most {
             cd.contacts.push(c);
-        } else if let Some(widest) = (0..MAX_CONTACTS).max_by(|&a, &b| cd.contacts[a].dist.total_cmp(&cd.contacts[b].dist)) {
+        } else if let Some(widest) = (0..most).max_by(|&a, &b| cd.contacts[a].dist.total_cmp(&cd.contacts[b].dist)) {
             // full: the deepest are kept
             if cd.contacts[widest].dist > dist {
                 cd.contacts[widest] = c;

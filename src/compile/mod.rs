@@ -107,6 +107,7 @@ fn compile(mut spec: ModelSpec, dir: &std::path::Path) -> Result<Model> {
     joints_and_nodes(&mut m, &spec)?;
     params::node_inertias(&mut m, &inertia);
     geoms_and_sites(&mut m, &spec, &meshes, &hfields);
+    m.opt.max_contacts = spec.option.nconmax.unwrap_or_else(|| crate::model::default_max_contacts(m.ngeom));
     m.meshes = meshes;
     m.hfields = hfields;
     m.keys = keyframes(&m, &spec)?;

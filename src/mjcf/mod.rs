@@ -105,6 +105,8 @@ pub struct OptionSpec {
     pub viscosity: f64,
     /// Velocity of the medium.
     pub wind: DVec3,
+    /// Most contacts a step keeps (`<size nconmax>`; None: sized from the model).
+    pub nconmax: Option<usize>,
 }
 
 /// A joint as written, with defaults applied and units converted.

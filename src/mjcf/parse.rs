@@ -73,6 +73,7 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
                 density: 0.0,
                 viscosity: 0.0,
                 wind: DVec3::ZERO,
+                nconmax: None,
             },
             bodies: vec![BodySpec {
                 name: "world".into(),
@@ -127,7 +128,8 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
             "statistic" => p.statistic(c)?,
             "keyframe" => p.keyframe(c)?,
             "sensor" => p.sensor(c)?,
-            "size" | "extension" => {}
+            "size" => p.size(c)?,
+            "extension" => {}
             other => return Err(p.err(c, None, format!("unsupported element <{other}>"))),
         }
     }
@@ -217,6 +219,18 @@ impl<'d> Parser<'d> {
                 other => return Err(e.err(other, "unsupported attribute")),
             }
         }
+        Ok(())
+    }
+
+    /// `<size>`: `nconmax` bounds the contacts a step keeps (−1, MuJoCo's default: sized from the
+    /// model); the other sizes are MuJoCo's memory arena's, which sinew sizes itself.
+    fn size(&mut self, n: Node) -> Result<()> {
+        let e = El { node: n, line: line(self.doc, n), defaults: vec![] };
+        self.spec.option.nconmax = match e.int("nconmax", -1)? {
+            -1 => None,
+            k if k > 0 => Some(k as usize),
+            k => return Err(e.err("nconmax", format!("must be positive, or -1 for sinew's default, got {k}"))),
+        };
         Ok(())
     }
 

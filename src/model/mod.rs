@@ -177,6 +177,15 @@ pub struct Options {
     pub viscosity: f64,
     /// Velocity of the medium (m/s).
     pub wind: DVec3,
+    /// Most contacts a step keeps; beyond it, the deepest ([`default_max_contacts`]).
+    pub max_contacts: usize,
+}
+
+/// Contacts a step keeps unless `<size nconmax>` says otherwise: four per geom (a box on a floor
+/// touches it at its corners), at least 128 and at most 1024 (K is dense over a step's rows:
+/// 1024 contacts with pyramid friction are 5120 rows, 210 MB).
+pub fn default_max_contacts(ngeom: usize) -> usize {
+    (4 * ngeom).clamp(128, 1024)
 }
 
 impl Model {
@@ -231,6 +240,7 @@ impl Default for Options {
             density: 0.0,
             viscosity: 0.0,
             wind: DVec3::ZERO,
+            max_contacts: default_max_contacts(0),
         }
     }
 }
