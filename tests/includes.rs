@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 
 use sinew::{Error, Model};
 
-/// A fresh directory with `files` (relative path, text) written in it.
-fn tree(name: &str, files: &[(&str, &str)]) -> PathBuf {
+/// A fresh directory with `files` (relative path, text) written in it, removed when dropped.
+fn tree(name: &str, files: &[(&str, &str)]) -> Tree {
     let dir = std::env::temp_dir().join(format!("sinew-include-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     for (path, text) in files {
@@ -15,7 +15,23 @@ fn tree(name: &str, files: &[(&str, &str)]) -> PathBuf {
         std::fs::create_dir_all(p.parent().unwrap()).unwrap();
         std::fs::write(p, text).unwrap();
     }
-    dir
+    Tree(dir)
+}
+
+/// A test's directory of model files ([`tree`]).
+struct Tree(PathBuf);
+
+impl std::ops::Deref for Tree {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for Tree {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
 }
 
 const ARM: &str = "<mujoco>\n  <body name='arm' pos='0 0 1'>\n    <joint name='shoulder' axis='0 1 0'/>\n    <geom type='capsule' size='0.1' fromto='0 0 0 0.5 0 0'/>\n    <include file='hand.xml'/>\n  </body>\n</mujoco>\n";
