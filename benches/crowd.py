@@ -2,12 +2,12 @@
 dropped together onto the floor in two layers, dt 0.005, one thread; sinew's wall time beside
 MuJoCo's on the same MJCF, with the contacts at the end and sinew's fallback solves.
 
-    python benches/crowd.py [--humanoids 22] [--steps 400] [--rounds 3] [--out results/crowd.md]
+    python benches/crowd.py [--humanoids 22] [--steps 400] [--rounds 3] [--xml FILE ...] [--out results/crowd.md]
 
-The scene is written from gymnasium's humanoid.xml (every name prefixed per copy); it stands in
-for MuJoCo's own 22-humanoid model, which its Python package does not ship. sinew keeps at most
-128 contacts a step (the deepest; docs/physics.md): where the pile has more, as this one does by
-the end, the two do not solve the same problem.
+The scene is written from gymnasium's humanoid.xml (every name prefixed per copy). MuJoCo's own
+22-humanoid model (`model/humanoid/22_humanoids.xml` in MuJoCo's repository, which its Python
+package does not ship) is timed as well when given with `--xml`, as is any other file (passive:
+zero controls).
 """
 
 import argparse
@@ -50,27 +50,36 @@ def main():
     ap.add_argument("--humanoids", type=int, default=22)
     ap.add_argument("--steps", type=int, default=400)
     ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--xml", nargs="*", default=[], help="more scenes to time, as files")
     ap.add_argument("--out", default=None)
     args = ap.parse_args()
-    xml = scene(args.humanoids)
+    lines = ["| scene | steps | sinew wall time (s) | MuJoCo (s) | sinew / MuJoCo | contacts at the end, sinew / MuJoCo | sinew fallback solves |",
+             "|---|---|---|---|---|---|---|"]
+    scenes = [(f"{args.humanoids} gymnasium humanoids dropped together, dt 0.005", scene(args.humanoids))]
+    scenes += [(f"`{path.split('/')[-1]}`", open(path).read()) for path in args.xml]
+    for name, xml in scenes:
+        lines.append(f"| {name}, 1 thread | {args.steps} | " + time_scene(xml, args.steps, args.rounds))
+    emit("\n".join([invocation(), *lines]) + "\n", args.out)
+
+
+def time_scene(xml: str, steps: int, rounds: int) -> str:
+    """The table's cells after the step count: median wall times over `rounds`, contacts at the
+    end and fallback solves."""
     times = {"sinew": [], "mujoco": []}
-    for _ in range(args.rounds):
+    for _ in range(rounds):
         sim = sinew.Sim(sinew.Model.from_mjcf_string(xml))
         t = time.perf_counter()
-        sim.step(args.steps)
+        sim.step(steps)
         times["sinew"].append(time.perf_counter() - t)
         mj = mujoco.MjModel.from_xml_string(xml)
         d = mujoco.MjData(mj)
         t = time.perf_counter()
-        mujoco.mj_step(mj, d, args.steps)
+        mujoco.mj_step(mj, d, steps)
         times["mujoco"].append(time.perf_counter() - t)
     stats = sim.constraint_stats
     ours, theirs = np.median(times["sinew"]), np.median(times["mujoco"])
-    lines = ["| scene | steps | sinew wall time (s) | MuJoCo (s) | sinew / MuJoCo | contacts at the end, sinew / MuJoCo | sinew fallback solves |",
-             "|---|---|---|---|---|---|---|",
-             f"| {args.humanoids} humanoids dropped together, dt 0.005, 1 thread | {args.steps} | {ours:.2f} | {theirs:.2f} | "
-             f"{ours / theirs:.1f}× | {len(sim.contacts)} / {d.ncon} | {stats['fallback_pgs'] + stats['fallback_zero']} |"]
-    emit("\n".join([invocation(), *lines]) + "\n", args.out)
+    return (f"{ours:.2f} | {theirs:.2f} | {ours / theirs:.1f}× | {len(sim.contacts)} / {d.ncon} | "
+            f"{stats['fallback_pgs'] + stats['fallback_zero']} |")
 
 
 if __name__ == "__main__":
