@@ -1,14 +1,18 @@
 //! Steps a model 200 000 times with random controls (pyramid friction, Euler): a workload for `perf`.
 //! `cargo build --profile profiling --example profile_step && perf record target/profiling/examples/profile_step model.xml`
 //! A second argument `zero-gravity` switches gravity off (with a far floor: the cost of collision
-//! that finds nothing); `free` switches contacts and limits off (the bare step).
+//! that finds nothing); `free` switches contacts and limits off (the bare step); `own` keeps the
+//! model's own integrator (RK4 for Ant, Hopper, Humanoid).
 fn main() {
     let path = std::env::args().nth(1).unwrap();
     let m = sinew::Model::from_mjcf_file(std::path::Path::new(&path)).unwrap();
     let mut m = m;
     m.opt.friction = sinew::model::FrictionModel::Pyramid;
-    m.opt.integrator = sinew::model::Integrator::Euler;
-    match std::env::args().nth(2).as_deref() {
+    let mode = std::env::args().nth(2);
+    if mode.as_deref() != Some("own") {
+        m.opt.integrator = sinew::model::Integrator::Euler;
+    }
+    match mode.as_deref() {
         Some("zero-gravity") => m.opt.gravity = glam::DVec3::ZERO,
         Some("free") => (m.opt.contact, m.opt.limit) = (false, false),
         _ => {}
