@@ -34,10 +34,9 @@ pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, i: usize, j
         if dist > margin || repeats_joint_contact(m, &cd.contacts, &c) {
             return;
         }
-        let most = m.opt.max_contacts;
-        if cd.contacts.len() < most {
+        if cd.contacts.len() < m.opt.max_contacts {
             cd.contacts.push(c);
-        } else if let Some(widest) = (0..most).max_by(|&a, &b| cd.contacts[a].dist.total_cmp(&cd.contacts[b].dist)) {
+        } else if let Some(widest) = (0..cd.contacts.len()).max_by(|&a, &b| cd.contacts[a].dist.total_cmp(&cd.contacts[b].dist)) {
             // full: the deepest are kept
             if cd.contacts[widest].dist > dist {
                 cd.contacts[widest] = c;
