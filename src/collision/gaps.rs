@@ -105,7 +105,7 @@ pub(super) fn test_lazily(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Col
         }
     }
     let margin = p.margin + reach(out, p.g1) + reach(out, p.g2);
-    if apart(out, p, margin) { spheres_gap(out, p, spare) } else { pair(m, kin, out, p.g1, p.g2, margin) }
+    if apart(out, p, margin) { spheres_gap(out, p, spare) } else { pair(m, kin, out, p, margin) }
 }
 
 /// The distance between a pair's bounding spheres where it exceeds `spare`, else −∞ (also for

@@ -118,7 +118,7 @@ pub fn collide(m: &Model, dy: &DynamicsData, s: &WorldState<'_>, out: &mut Colli
         // is stopped at the surface instead of being found inside it one step later
         let margin = p.margin + reach(out, p.g1) + reach(out, p.g2);
         if !apart(out, p, margin) {
-            pair(m, kin, out, p.g1, p.g2, margin);
+            pair(m, kin, out, p, margin);
         }
     }
     out.near = near;
@@ -133,7 +133,7 @@ pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
         for &k in &near {
             let p = &m.collision_pairs[k];
             if !apart(out, p, 0.0) {
-                pair(m, kin, out, p.g1, p.g2, 0.0);
+                pair(m, kin, out, p, 0.0);
             }
         }
         out.near = near;
@@ -149,7 +149,7 @@ pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
             }
         }
         if !apart(out, p, 0.0) {
-            pair(m, kin, out, p.g1, p.g2, 0.0);
+            pair(m, kin, out, p, 0.0);
         }
     }
 }
@@ -237,7 +237,7 @@ fn test_again(m: &Model, kin: &KinData, out: &mut CollisionData, k: usize, lever
         // full: a replacement would change contacts the rows already refer to
         return None;
     }
-    pair(m, kin, out, i, j, margin);
+    pair(m, kin, out, p, margin);
     let mut found = false;
     let mut k = before;
     while k < out.contacts.len() {

@@ -8,7 +8,7 @@ use super::terrain::hfield_contacts;
 use super::data::{pose_axes, CollisionData, Contact};
 use super::shapes::{box_box, closest_on_segment, closest_segments, point_box, segment_box_points, shape, spheres, Shape};
 use crate::dynamics::kinematics::KinData;
-use crate::model::Model;
+use crate::model::{GeomPair, Model};
 
 /// The sliding friction coefficient of a contact between geoms i and j, and whether it has
 /// friction (condim > 1), as MuJoCo combines them: the higher-priority geom's, else the larger of
@@ -24,11 +24,12 @@ pub fn contact_friction(m: &Model, i: usize, j: usize) -> (f64, bool) {
 
 /// Narrowphase of geoms i and j: appends the contacts within `margin`. Returns the distance
 /// between the geoms where a pair of spheres and capsules gives it exactly, else −∞.
-pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, i: usize, j: usize, margin: f64) -> f64 {
+pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, p: &GeomPair, margin: f64) -> f64 {
+    let (i, j, explicit) = (p.g1, p.g2, p.friction);
     pose_axes(m, kin, cd, i);
     pose_axes(m, kin, cd, j);
     let (si, sj) = (shape(m, cd, i), shape(m, cd, j));
-    let (mu, friction) = contact_friction(m, i, j);
+    let (mu, friction) = explicit.unwrap_or_else(|| contact_friction(m, i, j));
     let add = |cd: &mut CollisionData, g1: usize, g2: usize, feature: usize, pos: DVec3, normal: DVec3, dist: f64| {
         let c = Contact { geom1: g1, geom2: g2, feature, pos, normal, dist, mu, friction };
         if dist > margin || repeats_joint_contact(m, &cd.contacts, &c) {

@@ -125,13 +125,17 @@ fn compile(mut spec: ModelSpec, dir: &std::path::Path) -> Result<Model> {
         let (i, j) = (find(b1)?, find(b2)?);
         m.exclude_pairs.push((i.min(j), i.max(j)));
     }
+    let explicit = pairs::explicit_pairs(&m, &spec)?;
     for i in 0..m.ngeom {
         for j in i + 1..m.ngeom {
-            if pairs::can_collide(&m, i, j) {
+            // an explicit pair replaces the geoms' own, as in MuJoCo
+            if pairs::can_collide(&m, i, j) && !explicit.iter().any(|p| (p.g1, p.g2) == (i, j)) {
                 m.collision_pairs.push(pairs::geom_pair(&m, i, j));
             }
         }
     }
+    m.collision_pairs.extend(explicit);
+    m.collision_pairs.sort_by_key(|p| (p.g1, p.g2));
     sweep_lists(&mut m);
     m.body_reach = body_reaches(&m);
     m.dof_arm = dof_arms(&m);

@@ -4,6 +4,8 @@
 
 use glam::DVec3;
 
+use crate::error::{Error, Result};
+use crate::mjcf::ModelSpec;
 use crate::model::{GeomPair, GeomType, Model, PairTest};
 
 /// Bounding radius of a geom about its centre (planes: infinite).
@@ -38,6 +40,26 @@ pub fn can_collide(m: &Model, i: usize, j: usize) -> bool {
     !m.exclude_pairs.contains(&(bi.min(bj), bi.max(bj)))
 }
 
+/// The `<contact><pair>`s, each with its own friction and margin, geoms in index order; an
+/// unknown geom name, a pair of one geom, or a pair given twice is an error.
+pub fn explicit_pairs(m: &Model, spec: &ModelSpec) -> Result<Vec<GeomPair>> {
+    let mut out: Vec<GeomPair> = Vec::new();
+    for p in &spec.contact_pairs {
+        let id = |n: &str| {
+            m.geom_id(n).ok_or_else(|| Error::Compile(format!("<pair> at line {} names unknown geom '{n}'", p.line)))
+        };
+        let (a, b) = (id(&p.geoms[0])?, id(&p.geoms[1])?);
+        let (i, j) = (a.min(b), a.max(b));
+        if i == j || out.iter().any(|q| (q.g1, q.g2) == (i, j)) {
+            return Err(Error::Compile(format!("<pair> at line {}: geoms '{}' and '{}' make no new pair", p.line, p.geoms[0], p.geoms[1])));
+        }
+        let mut pair = geom_pair(m, i, j);
+        (pair.margin, pair.friction) = (p.margin, Some((p.friction, p.condim > 1)));
+        out.push(pair);
+    }
+    Ok(out)
+}
+
 /// The world body.
 const WORLD_BODY: usize = 0;
 
@@ -60,5 +82,5 @@ pub fn geom_pair(m: &Model, i: usize, j: usize) -> GeomPair {
         (true, false) if m.geom_type[j] == GeomType::Plane => (PairTest::Plane { plane: j, other: i, group: None }, ri),
         _ => (PairTest::Always, 0.0),
     };
-    GeomPair { g1: i, g2: j, test, margin, radii }
+    GeomPair { g1: i, g2: j, test, margin, radii, friction: None }
 }

@@ -109,6 +109,22 @@ pub struct OptionSpec {
     pub nconmax: Option<usize>,
 }
 
+/// A `<contact><pair>`: two geoms that collide whatever contype, conaffinity, `<exclude>` and
+/// their bodies' kinship say, with the pair's own friction, condim and margin.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PairSpec {
+    /// The geoms' names.
+    pub geoms: [String; 2],
+    /// Sliding friction coefficient (the first of `friction`).
+    pub friction: f64,
+    /// Contact dimensionality (1: frictionless).
+    pub condim: u32,
+    /// Distance within which the pair is in contact.
+    pub margin: f64,
+    /// Line of the element, for errors.
+    pub line: u32,
+}
+
 /// A joint as written, with defaults applied and units converted.
 #[derive(Clone, Debug, PartialEq)]
 pub struct JointSpec {
@@ -503,6 +519,8 @@ pub struct ModelSpec {
     pub settotalmass: Option<f64>,
     /// Body-name pairs excluded from contact (`<contact><exclude>`).
     pub contact_excludes: Vec<(String, String)>,
+    /// Geom pairs that collide whatever their filters say, with their own friction (`<contact><pair>`).
+    pub contact_pairs: Vec<PairSpec>,
     /// Contact restitution from `<custom><numeric name="sinew/restitution">`.
     pub restitution: Option<f64>,
     /// Textures, materials, `<visual>` and `<statistic>`.

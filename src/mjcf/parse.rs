@@ -97,6 +97,7 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
             inertiafromgeom: InertiaFromGeom::Auto,
             settotalmass: None,
             contact_excludes: vec![],
+            contact_pairs: vec![],
             restitution: None,
             visual: VisualSpec::default(),
             meshes: vec![],

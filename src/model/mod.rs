@@ -271,6 +271,9 @@ pub struct GeomPair {
     pub margin: f64,
     /// The bounding radii of the bounded geoms, summed.
     pub radii: f64,
+    /// An explicit pair's (`<contact><pair>`) friction coefficient and whether friction applies;
+    /// None: the geoms' ([`crate::collision::contact_friction`]).
+    pub friction: Option<(f64, bool)>,
 }
 
 /// A pair of two bounded geoms ([`PairTest::Spheres`]), which keeps a lower bound on its distance
@@ -662,5 +665,10 @@ impl Model {
     /// Index of the body named `name`.
     pub fn body_id(&self, name: &str) -> Option<usize> {
         self.body_name.iter().position(|n| n == name)
+    }
+
+    /// Index of the geom named `name`.
+    pub fn geom_id(&self, name: &str) -> Option<usize> {
+        self.geom_name.iter().position(|n| n == name)
     }
 }

@@ -137,3 +137,48 @@ def test_joint_dry_friction_holds_where_mujocos_creeps():
         mujoco.mj_step(m, d)
     assert abs(sim.qpos[0]) < 1e-8
     assert abs(d.qpos[0]) > 0.05, d.qpos[0]
+
+
+def pair_on_slope(pair: str) -> str:
+    """A box on a 30° slope whose geoms do not collide by their own filters (contype 0) and whose
+    own friction (0.9) would hold it: only `pair` (a `<contact>` child) makes them touch."""
+    return f"""<mujoco><option timestep="0.002"/><worldbody>
+    <geom name="slope" type="plane" size="50 50 .1" euler="0 30 0" friction="0.9" contype="0"/>
+    <body pos="0 0 0.1"><freejoint/><geom name="box" type="box" size="0.1 0.1 0.1" friction="0.9" contype="0"/></body>
+    </worldbody><contact>{pair}</contact></mujoco>"""
+
+
+@pytest.mark.parametrize("friction", ["one_tangent", "pyramid"])
+def test_an_explicit_pair_collides_with_its_own_friction(friction):
+    """`<contact><pair>` as MuJoCo reads it: the geoms collide whatever contype says, with the
+    pair's friction (0.3, not the geoms' 0.9): the box slides at g (sin θ − 0.3 cos θ)."""
+    xml = pair_on_slope('<pair geom1="box" geom2="slope" friction="0.3 0.3 0.005 0.0001 0.0001" solref="0.02 1"/>')
+    sim = sinew.Sim(sinew.Model.from_mjcf_string(xml).with_options(friction=friction))
+    th = math.radians(30)
+    sim.qpos[3:7] = [math.cos(th / 2), 0, math.sin(th / 2), 0]
+    sim.qpos[:3] = [0.1 * math.sin(th), 0, 0.1 * math.cos(th)]
+    down = np.array([math.cos(th), 0.0, -math.sin(th)])
+    sim.step(250)
+    t0, v0 = sim.time, sim.qvel[:3] @ down
+    sim.step(250)
+    accel = (sim.qvel[:3] @ down - v0) / (sim.time - t0)
+    expected = G * (math.sin(th) - 0.3 * math.cos(th))
+    assert abs(accel - expected) / expected <= 0.005
+    assert [(c["geom1"], c["geom2"]) for c in sim.contacts] == [(1, 0)] * len(sim.contacts) and len(sim.contacts) == 4
+    # without the pair the box falls through the slope
+    free = sinew.Sim(sinew.Model.from_mjcf_string(pair_on_slope("")))
+    free.step(250)
+    assert free.qpos[2] < -0.5 and not free.contacts
+
+
+@pytest.mark.parametrize("pair, complaint", [
+    ('<pair geom1="box"/>', "geom2"),
+    ('<pair geom1="box" geom2="nowhere"/>', "nowhere"),
+    ('<pair geom1="box" geom2="box"/>', "no new pair"),
+    ('<pair geom1="box" geom2="slope"/><pair geom1="slope" geom2="box"/>', "no new pair"),
+    ('<pair geom1="box" geom2="slope" condim="2"/>', "condim"),
+    ('<pair geom1="box" geom2="slope" friction="-1"/>', "friction"),
+])
+def test_a_bad_pair_is_an_error_naming_it(pair, complaint):
+    with pytest.raises(ValueError, match=complaint):
+        sinew.Model.from_mjcf_string(pair_on_slope(pair))

@@ -8,7 +8,7 @@ use super::Parser;
 use crate::error::Result;
 use glam::DVec3;
 
-use crate::mjcf::{ActuatorDyn, ActuatorSpec, ConnectSpec, EqualitySpec, KeySpec, PathSpec, SensorSpec, TendonPathSpec, TendonSpec, TransmissionSpec};
+use crate::mjcf::{ActuatorDyn, ActuatorSpec, ConnectSpec, EqualitySpec, KeySpec, PairSpec, PathSpec, SensorSpec, TendonPathSpec, TendonSpec, TransmissionSpec};
 
 /// Attributes every actuator takes.
 const ACTUATOR_ATTRS: &[&str] =
@@ -402,10 +402,41 @@ impl Parser<'_> {
         Ok(())
     }
 
+    /// `<contact><pair>` (MuJoCo's defaults: condim 3, friction 1, margin 0; `solref`, `solimp`,
+    /// `gap` and the torsional and rolling coefficients are ignored as for geoms).
+    fn pair(&mut self, c: Node) -> Result<()> {
+        let e = self.el(c, None)?;
+        e.check(&["name", "class", "geom1", "geom2", "condim", "friction", "margin", "solreffriction"], &self.warnings)?;
+        let (Some(g1), Some(g2)) = (e.get("geom1"), e.get("geom2")) else {
+            return Err(e.err("geom1", "geom1 and geom2 are required"));
+        };
+        let friction = e.nums("friction")?.unwrap_or_else(|| vec![1.0]);
+        if friction.is_empty() || friction.len() > 5 || friction.iter().any(|&f| !(f >= 0.0 && f.is_finite())) {
+            return Err(e.err("friction", "expected 1 to 5 non-negative numbers"));
+        }
+        let condim = e.uint("condim", 3)?;
+        if ![1, 3, 4, 6].contains(&condim) {
+            return Err(e.err("condim", format!("must be 1, 3, 4 or 6, got {condim}")));
+        }
+        if condim > 3 {
+            self.warnings.borrow_mut().push(format!(
+                "<pair> at line {}: condim={condim} asks for torsional or rolling friction, which sinew does not model (sliding friction only, as condim=3)",
+                e.line
+            ));
+        }
+        let margin = e.nonneg("margin", 0.0)?;
+        self.spec.contact_pairs.push(PairSpec { geoms: [g1.to_string(), g2.to_string()], friction: friction[0], condim, margin, line: e.line });
+        Ok(())
+    }
+
     pub(super) fn contact(&mut self, n: Node) -> Result<()> {
         for c in n.children().filter(Node::is_element) {
+            if c.has_tag_name("pair") {
+                self.pair(c)?;
+                continue;
+            }
             if !c.has_tag_name("exclude") {
-                return Err(self.err(c, None, "only <exclude> is supported in <contact>"));
+                return Err(self.err(c, None, "only <exclude> and <pair> are read in <contact>"));
             }
             let (Some(b1), Some(b2)) = (c.attribute("body1"), c.attribute("body2")) else {
                 return Err(self.err(c, Some("body1"), "body1 and body2 are required"));
