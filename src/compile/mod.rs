@@ -14,7 +14,7 @@ mod visual;
 use inertia::{body_inertias, fluid_box, inertia_axes, spring_dampers};
 use sensors::sensors;
 use tendons::tendons;
-use crate::model::{ActuatorDyn, Connect, GapPair, GeomType, Keyframe, Model, Options, PairTest, PlaneGroup, Transmission, Wrap, WORLD};
+use crate::model::{ActuatorDyn, Connect, EqRef, GapPair, GeomType, Keyframe, Model, Options, PairTest, PlaneGroup, Transmission, Wrap, WORLD};
 use crate::error::{Error, Result};
 use crate::math::{SpatialInertia, Xform};
 use crate::mjcf::{include, BodySpec, JointSpec, JointType, ModelSpec, TransmissionSpec};
@@ -146,6 +146,10 @@ fn compile(mut spec: ModelSpec, dir: &std::path::Path) -> Result<Model> {
     check_solvable(&m, &dy)?;
     spring_dampers(&mut m, &spec, &dy.kin);
     m.connects = connects(&m, &spec, &dy.kin)?;
+    let mut order: Vec<(usize, EqRef)> = spec.equalities.iter().enumerate().map(|(e, s)| (s.order, EqRef::Coupling(e))).collect();
+    order.extend(spec.connects.iter().enumerate().map(|(c, s)| (s.order, EqRef::Connect(c))));
+    order.sort_unstable_by_key(|&(o, _)| o);
+    m.eq_order = order.into_iter().map(|(_, e)| e).collect();
     m.motion_plane = motion_plane(&m, &dy.kin);
     m.vis = visual::compile(&spec, |n| m.body_id(n))?;
     Ok(m)

@@ -7,7 +7,7 @@ use glam::{DMat3, DVec3};
 use crate::dynamics::DynamicsData;
 use crate::error::{Error, Result};
 use crate::math::{SpatialInertia, Xform, MAX_STATE};
-use crate::model::{Model, Transmission, Wrap, WORLD};
+use crate::model::{EqRef, Model, Transmission, Wrap, WORLD};
 
 /// A model field that may vary per world.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -50,11 +50,15 @@ pub enum Param {
     /// Body orientations in their parents' frames (nbody × 4, w x y z, normalized when set), as
     /// `BodyPos`.
     BodyQuat,
+    /// Whether each equality acts (1) or not (0), in the file's order (MuJoCo's `eq_active`,
+    /// [`Model::eq_order`]): a weld switched on holds the bodies where the weld's reference
+    /// puts them, closing any error within a step.
+    EqActive,
 }
 
 impl Param {
     /// Every field, in the order of [`Param::name`]s that `Batch` lists.
-    pub const ALL: [Param; 17] = [
+    pub const ALL: [Param; 18] = [
         Param::BodyMass,
         Param::BodyIpos,
         Param::BodyInertia,
@@ -72,6 +76,7 @@ impl Param {
         Param::HfieldData,
         Param::BodyPos,
         Param::BodyQuat,
+        Param::EqActive,
     ];
 
     /// MuJoCo's name of the field (`gravity` for `opt.gravity`).
@@ -94,6 +99,7 @@ impl Param {
             Param::HfieldData => "hfield_data",
             Param::BodyPos => "body_pos",
             Param::BodyQuat => "body_quat",
+            Param::EqActive => "eq_active",
         }
     }
 
@@ -118,6 +124,7 @@ impl Param {
             Param::HfieldData => (m.hfields.iter().map(|h| h.data.len()).sum(), 1),
             Param::BodyPos => (m.nbody, 3),
             Param::BodyQuat => (m.nbody, 4),
+            Param::EqActive => (m.eq_order.len(), 1),
         }
     }
 
@@ -142,6 +149,14 @@ impl Param {
             Param::HfieldData => m.hfields.iter().flat_map(|h| h.data.iter().copied()).collect(),
             Param::BodyPos => v3(&m.body_pos),
             Param::BodyQuat => m.body_quat.iter().flat_map(|q| [q.w, q.x, q.y, q.z]).collect(),
+            Param::EqActive => m
+                .eq_order
+                .iter()
+                .map(|&e| match e {
+                    EqRef::Coupling(k) => m.eq_active[k],
+                    EqRef::Connect(c) => m.connects[c].active,
+                } as u8 as f64)
+                .collect(),
         }
     }
 
@@ -163,6 +178,10 @@ impl Param {
         }
         match self {
             Param::BodyInertia => (1..rows).try_for_each(|b| inertia_ok(m, b, &values[3 * b..3 * b + 3])),
+            Param::EqActive => match values.iter().position(|&x| x != 0.0 && x != 1.0) {
+                Some(e) => Err(format!("eq_active[{e}] = {}: 0 (off) or 1 (on)", values[e])),
+                None => Ok(()),
+            },
             Param::ActuatorCtrlrange => match values.chunks(2).position(|r| r[0] > r[1]) {
                 Some(a) => Err(format!("actuator_ctrlrange[{a}] = {:?}: its lower end is above its upper end", &values[2 * a..2 * a + 2])),
                 None => Ok(()),
@@ -232,6 +251,14 @@ impl Param {
                     // a unit quaternion is kept as given (so a copy's values come back bit for bit)
                     if q != m.body_quat[b] {
                         m.body_quat[b] = if (q.length_squared() - 1.0).abs() < 1e-12 { q } else { q.normalize() };
+                    }
+                }
+            }
+            Param::EqActive => {
+                for (&e, &on) in m.eq_order.iter().zip(values) {
+                    match e {
+                        EqRef::Coupling(k) => m.eq_active[k] = on != 0.0,
+                        EqRef::Connect(c) => m.connects[c].active = on != 0.0,
                     }
                 }
             }

@@ -376,6 +376,8 @@ pub struct EqualitySpec {
     pub polycoef: [f64; 5],
     /// Whether the constraint starts active.
     pub active: bool,
+    /// Its place among the file's equalities of every kind (MuJoCo's equality order).
+    pub order: usize,
     /// Source line.
     pub line: u32,
 }
@@ -396,6 +398,8 @@ pub struct ConnectSpec {
     pub weld: bool,
     /// Whether the constraint starts active.
     pub active: bool,
+    /// Its place among the file's equalities of every kind (MuJoCo's equality order).
+    pub order: usize,
     /// Source line.
     pub line: u32,
 }

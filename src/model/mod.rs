@@ -93,6 +93,15 @@ pub struct Connect {
     pub active: bool,
 }
 
+/// One of the model's equalities ([`Model::eq_order`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EqRef {
+    /// A joint or tendon coupling (its index below [`Model::neq`]).
+    Coupling(usize),
+    /// A connect or weld (its index in [`Model::connects`]).
+    Connect(usize),
+}
+
 /// A named state of the model (MuJoCo's `<key>`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Keyframe {
@@ -559,6 +568,9 @@ pub struct Model {
     pub eq_active: Vec<bool>,
     /// Connect equalities.
     pub connects: Vec<Connect>,
+    /// Every equality in the file's order (MuJoCo's): a coupling of joints or tendons (an index
+    /// below `neq`) or a connect or weld (into `connects`).
+    pub eq_order: Vec<EqRef>,
     /// Keyframes: named states (time, qpos, qvel, ctrl), absent arrays filled with qpos0 and zeros.
     pub keys: Vec<Keyframe>,
     /// Actuator names (nu).

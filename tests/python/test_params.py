@@ -283,3 +283,37 @@ def test_only_bodies_fixed_to_the_world_are_placed_per_world():
     zero[:, 1] = 0
     with pytest.raises(ValueError, match="body_quat\\[1\\] is zero"):
         b.set_params("body_quat", zero)
+
+
+# three equalities of three kinds in one file: MuJoCo numbers them in file order
+EQUALITIES = """<mujoco><option timestep="0.005"/><worldbody>
+<body name="a" pos="0 0 1"><joint name="ja" type="slide" axis="0 0 1"/><geom size="0.1" mass="1"/></body>
+<body name="b" pos="1 0 1"><joint name="jb" type="slide" axis="0 0 1"/><geom size="0.1" mass="1"/></body>
+<body name="c" pos="2 0 1"><freejoint/><geom type="box" size="0.1 0.1 0.1" mass="1"/></body>
+<body name="d" pos="3 0 1"><freejoint/><geom type="box" size="0.1 0.1 0.1" mass="1"/></body>
+</worldbody><equality><joint joint1="ja" joint2="jb"/><weld body1="c" active="false"/><connect body1="d" anchor="0 0 0.1"/></equality>
+</mujoco>"""
+
+
+def test_eq_active_is_mujocos_and_switches_each_worlds_equalities_at_run_time():
+    import mujoco
+    m = sinew.Model.from_mjcf_string(EQUALITIES)
+    np.testing.assert_array_equal(m.param("eq_active"), mujoco.MjModel.from_xml_string(EQUALITIES).eq_active0)
+    b = sinew.Batch(m, 3, num_threads=1)
+    b.set_params("eq_active", [1, 1, 1], worlds=[1])   # world 1: the weld holds c too
+    b.set_params("eq_active", [0, 0, 0], worlds=[2])   # world 2: nothing holds
+    np.testing.assert_array_equal(b.params("eq_active"), [[1, 0, 1], [1, 1, 1], [0, 0, 0]])
+    b.qvel[:, 0] = 1.0   # ja thrown up: coupled, jb goes with it
+    b.step(100)
+    ja, jb, c_z, d_z = b.qpos[:, 0], b.qpos[:, 1], b.qpos[:, 4], b.qpos[:, 11]
+    np.testing.assert_allclose(ja[:2], jb[:2], atol=1e-6)
+    assert ja[2] - jb[2] > 0.45                              # off: each on its own
+    assert abs(c_z[1] - 1.0) < 1e-6 and c_z[0] < 0.6 and c_z[2] < 0.6   # the weld holds c in world 1 only
+    assert abs(d_z[0] - 1.0) < 1e-3 and d_z[2] < 0.6        # the connect holds d where it acts
+    with pytest.raises(ValueError, match="eq_active"):
+        b.set_params("eq_active", [1, 0.5, 1])
+    # a world given the model's own flags steps as one without
+    fresh = sinew.Batch(m, 1, num_threads=1)
+    fresh.qvel[:, 0] = 1.0
+    fresh.step(100)
+    np.testing.assert_array_equal(fresh.qpos[0], b.qpos[0])

@@ -340,6 +340,7 @@ impl Parser<'_> {
                 obj2: e.get(a2).map(str::to_string),
                 polycoef,
                 active: e.tristate("active")?.unwrap_or(true),
+                order: self.spec.equalities.len() + self.spec.connects.len(),
                 line: e.line,
             });
         }
@@ -371,6 +372,7 @@ impl Parser<'_> {
             },
             weld,
             active: e.tristate("active")?.unwrap_or(true),
+            order: self.spec.equalities.len() + self.spec.connects.len(),
             line: e.line,
         });
         Ok(())
