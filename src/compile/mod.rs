@@ -4,6 +4,7 @@
 use glam::{DMat3, DVec3};
 
 mod assets;
+mod fluid;
 mod inertia;
 mod pairs;
 pub mod params;
@@ -265,6 +266,7 @@ fn geoms_and_sites(m: &mut Model, spec: &ModelSpec, meshes: &[crate::geometry::M
             m.geom_condim.push(g.condim);
             m.geom_priority.push(g.priority);
             m.geom_margin.push(g.margin);
+            m.geom_fluid.push(g.fluid.map(|coef| fluid::geom_fluid(g.kind, g.size, coef)));
         }
         for s in &body.sites {
             m.site_name.push(s.name.clone());
@@ -276,6 +278,7 @@ fn geoms_and_sites(m: &mut Model, spec: &ModelSpec, meshes: &[crate::geometry::M
         }
     }
     m.ngeom = m.geom_type.len();
+    m.body_fluid_ellipsoid = (0..m.nbody).map(|b| (0..m.ngeom).any(|g| m.geom_body[g] == b && m.geom_fluid[g].is_some())).collect();
 }
 
 /// The connect equalities, body2's point where body1's anchor is at qpos0 (`kin`: there).

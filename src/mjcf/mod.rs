@@ -200,6 +200,9 @@ pub struct GeomSpec {
     pub hfield: Option<String>,
     /// Visibility group (MuJoCo's viewer draws groups 0–2 by default).
     pub group: i32,
+    /// `fluidshape="ellipsoid"`: the geom moves through the medium as its ellipsoid, with these
+    /// `fluidcoef` (blunt drag, slender drag, angular drag, Kutta lift, Magnus lift).
+    pub fluid: Option<[f64; 5]>,
     /// Source line.
     pub line: u32,
 }

@@ -93,6 +93,19 @@ pub struct Connect {
     pub active: bool,
 }
 
+/// A geom's constants in MuJoCo's ellipsoid fluid model (its `geom_fluid`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GeomFluid {
+    /// Blunt drag, slender drag, angular drag, Kutta lift and Magnus lift coefficients.
+    pub coef: [f64; 5],
+    /// The equivalent ellipsoid's semi-axes, along the geom's axes.
+    pub semiaxes: DVec3,
+    /// Volume of fluid carried along per unit density, along each axis.
+    pub virtual_mass: DVec3,
+    /// Moment of inertia of the fluid carried along per unit density, about each axis.
+    pub virtual_inertia: DVec3,
+}
+
 /// One of the model's equalities ([`Model::eq_order`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum EqRef {
@@ -392,6 +405,9 @@ pub struct Model {
     /// Sides of the box with the body's principal moments of inertia, along `body_iaxes` (nbody):
     /// what the fluid sees.
     pub body_fluid_box: Vec<DVec3>,
+    /// Whether a geom of the body has `fluidshape="ellipsoid"`: the body then meets the medium
+    /// through those geoms' ellipsoids, not its inertia box (nbody).
+    pub body_fluid_ellipsoid: Vec<bool>,
     /// Node whose frame the body moves with, or [`WORLD`] (nbody).
     pub body_node: Vec<usize>,
     /// Body frame relative to its node frame (nbody).
@@ -494,6 +510,8 @@ pub struct Model {
     pub geom_priority: Vec<i32>,
     /// Contact margin (ngeom).
     pub geom_margin: Vec<f64>,
+    /// The ellipsoid fluid model's constants of a geom with `fluidshape="ellipsoid"` (ngeom).
+    pub geom_fluid: Vec<Option<GeomFluid>>,
 
     /// Site names.
     pub site_name: Vec<String>,

@@ -17,6 +17,7 @@ pub(super) const JOINT_ATTRS: &[&str] = &[
 pub(super) const GEOM_ATTRS: &[&str] = &[
     "name", "class", "type", "size", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "fromto", "density",
     "mass", "friction", "contype", "conaffinity", "condim", "priority", "margin", "rgba", "material", "mesh", "hfield",
+    "fluidshape", "fluidcoef",
 ];
 pub(super) const SITE_ATTRS: &[&str] =
     &["name", "class", "type", "size", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "fromto"];
@@ -317,6 +318,7 @@ impl Parser<'_> {
             mesh,
             hfield,
             group: e.int("group", 0)?,
+            fluid: fluid_shape(&e)?,
             line: e.line,
         })
     }
@@ -385,4 +387,22 @@ fn geom_assets(e: &El, kind: GeomType) -> Result<(Option<String>, Option<String>
         return Err(e.err("hfield", "a height-field geom needs an hfield, and only it takes one"));
     }
     Ok((mesh, hfield))
+}
+
+/// `fluidshape` and `fluidcoef`: the ellipsoid fluid model's coefficients when the geom takes part
+/// (MuJoCo's defaults 0.5, 0.25, 1.5, 1, 1 for those not given).
+fn fluid_shape(e: &El) -> Result<Option<[f64; 5]>> {
+    match e.get("fluidshape").unwrap_or("none") {
+        "none" => Ok(None),
+        "ellipsoid" => {
+            let mut coef = [0.5, 0.25, 1.5, 1.0, 1.0];
+            let given = e.nums("fluidcoef")?.unwrap_or_default();
+            if given.len() > 5 || given.iter().any(|&c| !c.is_finite()) {
+                return Err(e.err("fluidcoef", "expected at most five finite numbers"));
+            }
+            coef[..given.len()].copy_from_slice(&given);
+            Ok(Some(coef))
+        }
+        other => Err(e.err("fluidshape", format!("'{other}': none or ellipsoid"))),
+    }
 }
