@@ -9,6 +9,7 @@
 
 use glam::{DMat3, DVec3};
 
+use crate::collision::ray::ray_primitive;
 use crate::collision::Contact;
 use crate::constraint::{Constraints, RowKind};
 use crate::dynamics::kinematics::{self, point_accel, KinData};
@@ -16,7 +17,7 @@ use crate::dynamics::tendon::{self, geom_pose, TendonData};
 use crate::dynamics::{self, aba};
 use crate::math::{Force, Motion, SpatialInertia};
 use crate::step::data::Data;
-use crate::model::{ConstraintMode, GeomType, Model, SensorFrame, SensorKind, Transmission, WORLD};
+use crate::model::{ConstraintMode, Model, SensorFrame, SensorKind, Transmission, WORLD};
 
 /// Writes the sensors `which` (indices, in order) of world state `s` into `out`, one after
 /// another (every sensor: `sensordata`'s layout): kinematics, tendons and, when a sensor reads
@@ -244,8 +245,9 @@ fn subtree(m: &Model, kin: &KinData, root: usize) -> Subtree {
     Subtree { com, velocity: vcom, momentum }
 }
 
-/// The normal force of the last step's contacts on site `site`'s body whose point lies within
-/// the site's volume.
+/// The normal force of the last step's contacts on site `site`'s body whose ray — from the contact
+/// point along its normal, away from that body — meets the site's volume (MuJoCo's rule: a contact
+/// within the volume counts, and so does one whose normal points into it).
 fn touch(m: &Model, kin: &KinData, site: usize, (constraints, contacts): (&Constraints, &[Contact])) -> f64 {
     let (con, force) = (&constraints.con, &constraints.solve.force);
     if force.len() < con.len() {
@@ -261,24 +263,14 @@ fn touch(m: &Model, kin: &KinData, site: usize, (constraints, contacts): (&Const
         if m.geom_body[c.geom1] != body && m.geom_body[c.geom2] != body {
             continue;
         }
-        if inside(m.site_type[site], m.site_size[site], rot.transpose() * (c.pos - centre)) {
+        // the normal points into body 1 (from geom2 to geom1): away from body 1 is −n
+        let away = if m.geom_body[c.geom1] == body { -c.normal } else { c.normal };
+        let (p, d) = (rot.transpose() * (c.pos - centre), rot.transpose() * away);
+        if force[j] > 0.0 && ray_primitive(m.site_type[site], m.site_size[site], p, d).is_some() {
             total += force[j] * per_force;
         }
     }
     total
-}
-
-/// Whether the point `p` (shape coordinates) lies within the shape.
-fn inside(kind: GeomType, size: [f64; 3], p: DVec3) -> bool {
-    let [a, b, c] = size;
-    match kind {
-        GeomType::Sphere => p.length() <= a,
-        GeomType::Capsule => DVec3::new(p.x, p.y, p.z - p.z.clamp(-b, b)).length() <= a,
-        GeomType::Cylinder => p.x.hypot(p.y) <= a && p.z.abs() <= b,
-        GeomType::Box => p.x.abs() <= a && p.y.abs() <= b && p.z.abs() <= c,
-        GeomType::Ellipsoid => (p / DVec3::new(a, b, c)).length_squared() <= 1.0,
-        GeomType::Plane | GeomType::Mesh | GeomType::Hfield => false,
-    }
 }
 
 /// The last step's constraint forces (`last`: its constraints and contacts) as generalised forces

@@ -50,6 +50,19 @@ fn ray_geom(m: &Model, g: usize, p: DVec3, d: DVec3) -> Option<f64> {
             let within = |v: f64, half: f64| half <= 0.0 || v.abs() <= half;
             (t >= 0.0 && within(hit.x, s[0]) && within(hit.y, s[1])).then_some(t)
         }
+        kind @ (GeomType::Sphere | GeomType::Ellipsoid | GeomType::Capsule | GeomType::Cylinder | GeomType::Box) => ray_primitive(kind, s, p, d),
+        GeomType::Mesh => {
+            let mesh = &m.meshes[m.geom_mesh[g]?];
+            min_of(mesh.face.iter().map(|f| triangle(p, d, f.map(|i| mesh.vert[i as usize]))))
+        }
+        GeomType::Hfield => hfield(&m.hfields[m.geom_hfield[g]?], p, d),
+    }
+}
+
+/// The ray (p, d), in the frame of a primitive shape of `kind` and `size`, against it: the entry,
+/// or the exit from inside (MuJoCo's `mju_rayGeom`); None for a plane, mesh or height field.
+pub fn ray_primitive(kind: GeomType, s: [f64; 3], p: DVec3, d: DVec3) -> Option<f64> {
+    match kind {
         GeomType::Sphere => sphere(p, d, s[0]),
         GeomType::Ellipsoid => {
             // a unit sphere in coordinates scaled by the semi-axes
@@ -66,11 +79,7 @@ fn ray_geom(m: &Model, g: usize, p: DVec3, d: DVec3) -> Option<f64> {
             min_of(caps.into_iter().chain([side(p, d, s[0], s[1])]))
         }
         GeomType::Box => boxed(p, d, DVec3::from_array(s)),
-        GeomType::Mesh => {
-            let mesh = &m.meshes[m.geom_mesh[g]?];
-            min_of(mesh.face.iter().map(|f| triangle(p, d, f.map(|i| mesh.vert[i as usize]))))
-        }
-        GeomType::Hfield => hfield(&m.hfields[m.geom_hfield[g]?], p, d),
+        GeomType::Plane | GeomType::Mesh | GeomType::Hfield => None,
     }
 }
 

@@ -64,6 +64,25 @@ def test_touch_reads_the_weight_a_foot_carries():
         np.testing.assert_array_equal(b.sensordata, [sim.sensordata] * 2)
 
 
+def test_touch_counts_a_contact_whose_normal_points_into_the_site_as_mujoco_does():
+    # MuJoCo's rule: a contact counts when the ray from its point along its normal, away from the
+    # sensor's body, meets the site; a site below the floor under the box's corners does, one
+    # beside them does not (neither holds a contact point)
+    xml = """<mujoco><worldbody><geom type="plane" size="5 5 0.1"/>
+      <body pos="0 0 0.1"><freejoint/><geom type="box" size="0.2 0.1 0.1" mass="2"/>
+        <site name="under" type="box" size="0.25 0.15 0.05" pos="0 0 -0.25"/>
+        <site name="beside" type="box" size="0.25 0.15 0.05" pos="0.5 0 -0.25"/></body></worldbody>
+      <sensor><touch name="under" site="under"/><touch name="beside" site="beside"/></sensor></mujoco>"""
+    sim = sinew.Sim(sinew.Model.from_mjcf_string(xml))
+    mj = mujoco.MjModel.from_xml_string(xml)
+    d = mujoco.MjData(mj)
+    sim.step(200)
+    mujoco.mj_step(mj, d, 2000)
+    under, beside = sim.sensordata
+    assert under == pytest.approx(2 * 9.81, rel=1e-6) and beside == 0.0, (under, beside)
+    assert d.sensor("under").data[0] == pytest.approx(2 * 9.81, rel=1e-2) and d.sensor("beside").data[0] == 0.0
+
+
 @pytest.mark.parametrize("name", ["quadruped", "dog", "humanoid"])
 def test_accelerometer_force_and_torque_equal_mujocos_without_constraints(name):
     # with constraints off, accelerations and interaction forces are functions of the state and
