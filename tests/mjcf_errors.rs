@@ -33,7 +33,7 @@ fn unsupported_things_are_errors() {
         ("<mujoco><worldbody><body><composite/></body></worldbody></mujoco>", "composite", None),
         ("<mujoco><equality><flex flex=\"a\"/></equality></mujoco>", "flex", None),
         ("<mujoco><equality><weld body1=\"a\"/></equality></mujoco>", "weld", Some("body1")),
-        ("<mujoco><actuator><muscle joint=\"j\"/></actuator></mujoco>", "muscle", None),
+        ("<mujoco><actuator><adhesion body=\"b\"/></actuator></mujoco>", "adhesion", None),
         ("<mujoco><actuator><general joint=\"j\" dyntype=\"muscle\"/></actuator></mujoco>", "general", Some("dyntype")),
         ("<mujoco><actuator><general joint=\"j\" dyntype=\"filter\" dynprm=\"0\"/></actuator></mujoco>", "general", Some("dynprm")),
         ("<mujoco><actuator><general joint=\"j\" actlimited=\"true\" actrange=\"1 0\"/></actuator></mujoco>", "general", Some("actrange")),

@@ -15,10 +15,10 @@ mod visual;
 use inertia::{body_inertias, fluid_box, inertia_axes, spring_dampers};
 use sensors::sensors;
 use tendons::tendons;
-use crate::model::{ActuatorDyn, Connect, EqRef, GapPair, GeomType, Keyframe, Model, Options, PairTest, PlaneGroup, Transmission, Wrap, WORLD};
+use crate::model::{ActuatorDyn, Connect, EqRef, GapPair, Muscle, GeomType, Keyframe, Model, Options, PairTest, PlaneGroup, Transmission, Wrap, WORLD};
 use crate::error::{Error, Result};
 use crate::math::{SpatialInertia, Xform};
-use crate::mjcf::{include, BodySpec, JointSpec, JointType, ModelSpec, TransmissionSpec};
+use crate::mjcf::{include, ActuatorSpec, BodySpec, JointSpec, JointType, ModelSpec, MuscleSpec, TransmissionSpec};
 use crate::dynamics::DynamicsData;
 
 impl Model {
@@ -145,6 +145,7 @@ fn compile(mut spec: ModelSpec, dir: &std::path::Path) -> Result<Model> {
     let mut dy = DynamicsData::new(&m);
     crate::dynamics::forward(&m, &mut dy, &m.qpos0, &vec![0.0; m.nv], &vec![0.0; m.nu], &vec![0.0; m.na]);
     check_solvable(&m, &dy)?;
+    muscle_acc0(&mut m, &dy);
     spring_dampers(&mut m, &spec, &dy.kin);
     m.connects = connects(&m, &spec, &dy.kin)?;
     let mut order: Vec<(usize, EqRef)> = spec.equalities.iter().enumerate().map(|(e, s)| (s.order, EqRef::Coupling(e))).collect();
@@ -402,9 +403,53 @@ fn actuators(m: &mut Model, spec: &ModelSpec) -> Result<()> {
         m.actuator_dyn.push(a.dynamics);
         m.actuator_actrange.push(a.actrange);
         m.actuator_bias.push(a.bias);
+        let muscle = a.muscle.map(|s| muscle_range(m, a, &s, trn).map(|lengthrange| Muscle { prm: s.prm, lengthrange, acc0: 0.0 })).transpose()?;
+        m.actuator_muscle.push(muscle);
     }
     params::actuator_derived(m);
     Ok(())
+}
+
+/// A muscle's actuator length range: its `lengthrange`, else its limited joint's or tendon's range
+/// times its gear, with a warning (MuJoCo finds an unset range by simulating the model, and gets
+/// other values); an error when there is neither.
+fn muscle_range(m: &mut Model, a: &ActuatorSpec, s: &MuscleSpec, trn: Transmission) -> Result<[f64; 2]> {
+    if let Some(range) = s.lengthrange {
+        return Ok(range);
+    }
+    let limits = match trn {
+        Transmission::Joint(j) => m.jnt_limited[j].then_some(m.jnt_range[j]),
+        Transmission::Tendon(t) => m.tendon_limited[t].then_some(m.tendon_range[t]),
+    };
+    let Some([lo, hi]) = limits else {
+        return Err(Error::model(&a.kind, Some("lengthrange"), a.line, "a muscle on an unlimited joint or tendon needs its lengthrange"));
+    };
+    m.warnings.push(format!(
+        "<muscle> '{}' at line {}: lengthrange taken from its {} range times gear (MuJoCo computes it by simulation; give lengthrange to match it)",
+        a.name,
+        a.line,
+        if matches!(trn, Transmission::Joint(_)) { "joint's" } else { "tendon's" }
+    ));
+    let (x, y) = (lo * a.gear, hi * a.gear);
+    Ok([x.min(y), x.max(y)])
+}
+
+/// Each muscle's acc0: ‖M⁻¹ moment‖ at qpos0 (MuJoCo's `actuator_acc0`), `dy` the dynamics there.
+fn muscle_acc0(m: &mut Model, dy: &DynamicsData) {
+    if m.actuator_muscle.iter().all(Option::is_none) {
+        return;
+    }
+    let mass = crate::dynamics::crba::crba(m, &dy.kin);
+    for a in 0..m.nu {
+        let Some(muscle) = m.actuator_muscle[a] else { continue };
+        let mut moment = vec![0.0; m.nv];
+        match m.actuator_trn[a] {
+            Transmission::Joint(_) => m.moment(a).iter().for_each(|w| moment[w.dof] += w.coef),
+            Transmission::Tendon(t) => moment.iter_mut().zip(dy.ten.jac(t, m.nv)).for_each(|(x, j)| *x = m.actuator_gear[a] * j),
+        }
+        let acc = crate::dynamics::crba::cholesky_solve(&mass, &moment);
+        m.actuator_muscle[a] = Some(Muscle { acc0: acc.iter().map(|x| x * x).sum::<f64>().sqrt(), ..muscle });
+    }
 }
 
 /// [`Model::geom_first_pair`], [`Model::sweep_geoms`] and [`Model::pairs_unswept`] from the pairs

@@ -13,6 +13,7 @@ pub fn rates(m: &Model, ctrl: &[f64], act: &[f64], act_dot: &mut [f64]) {
         act_dot[i] = match m.actuator_dyn[a] {
             ActuatorDyn::Integrator => u,
             ActuatorDyn::Filter(tau) | ActuatorDyn::FilterExact(tau) => (u - act[i]) / tau,
+            ActuatorDyn::Muscle(tau) => super::muscle::activation_rate(u, act[i], tau),
             ActuatorDyn::None => 0.0,
         };
     }

@@ -85,6 +85,9 @@ fn general_force(m: &Model, ten: &TendonData, a: usize, u: f64, (qpos, qvel): (&
         Transmission::Joint(_) => (Wrap::length(m.moment(a), qpos), Wrap::rate(m.moment(a), qvel)),
         Transmission::Tendon(t) => (m.actuator_gear[a] * ten.length[t], m.actuator_gear[a] * ten.rate(m, t, qvel)),
     };
+    if let Some(mu) = &m.actuator_muscle[a] {
+        return u * super::muscle::gain(mu, length, rate) + super::muscle::bias(mu, length);
+    }
     let gain = if [g1, g2] == [0.0; 2] { g0 } else { g0 + g1 * length + g2 * rate };
     let force = u * gain;
     if [b0, b1, b2] == [0.0; 3] { force } else { force + (b0 + b1 * length + b2 * rate) }

@@ -4,6 +4,7 @@
 pub mod aba;
 pub mod activation;
 pub mod crba;
+pub mod muscle;
 pub mod fluid;
 pub mod forces;
 pub mod kinematics;

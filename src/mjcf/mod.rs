@@ -344,6 +344,8 @@ pub struct ActuatorSpec {
     pub dynamics: ActuatorDyn,
     /// Activation range, when limited.
     pub actrange: Option<[f64; 2]>,
+    /// A muscle's force parameters (its gain and bias are then MuJoCo's muscle curves).
+    pub muscle: Option<MuscleSpec>,
     /// Source line.
     pub line: u32,
 }
@@ -360,6 +362,21 @@ pub enum ActuatorDyn {
     Filter(f64),
     /// The same filter, integrated exactly over each step: act += (ctrl − act)(1 − e^(−h/τ)).
     FilterExact(f64),
+    /// A muscle's activation (MuJoCo's `mju_muscleDynamics`): act˙ = (ctrl − act)/τ, τ the
+    /// activation time constant (τ_act (0.5 + 1.5 act)) while ctrl exceeds act, the deactivation one
+    /// (τ_deact / (0.5 + 1.5 act)) otherwise, blended over a width when smoothed:
+    /// [τ_act, τ_deact, width].
+    Muscle([f64; 3]),
+}
+
+/// A muscle's force parameters (MuJoCo's `gainprm` = `biasprm` of a muscle: range[0..2], force,
+/// scale, lmin, lmax, vmax, fpmax, fvmax) and the actuator length range they are read over.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MuscleSpec {
+    /// The nine parameters.
+    pub prm: [f64; 9],
+    /// `lengthrange`, when given.
+    pub lengthrange: Option<[f64; 2]>,
 }
 
 /// A `<joint>` or `<tendon>` equality: x₁ − x₁⁰ = Σₖ polycoef[k] (x₂ − x₂⁰)ᵏ, x a joint's

@@ -329,7 +329,7 @@ impl<'d> Parser<'d> {
                 "joint" => JOINT_ATTRS,
                 "geom" => GEOM_ATTRS,
                 "site" => SITE_ATTRS,
-                "motor" | "position" | "velocity" | "intvelocity" | "damper" | "cylinder" | "general" => actuator_attrs(kind),
+                "motor" | "position" | "velocity" | "intvelocity" | "damper" | "cylinder" | "muscle" | "general" => actuator_attrs(kind),
                 "tendon" => TENDON_ATTRS,
                 "equality" => &["active"][..],
                 _ => &[][..],

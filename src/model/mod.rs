@@ -106,6 +106,18 @@ pub struct GeomFluid {
     pub virtual_inertia: DVec3,
 }
 
+/// A muscle actuator's force constants (MuJoCo's `gainprm`/`biasprm`, `actuator_lengthrange` and
+/// `actuator_acc0`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Muscle {
+    /// range[0..2], force, scale, lmin, lmax, vmax, fpmax, fvmax.
+    pub prm: [f64; 9],
+    /// The actuator lengths the range maps to.
+    pub lengthrange: [f64; 2],
+    /// ‖M⁻¹ moment‖ at qpos0: the peak force is scale / acc0 when force is negative.
+    pub acc0: f64,
+}
+
 /// One of the model's equalities ([`Model::eq_order`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum EqRef {
@@ -608,6 +620,8 @@ pub struct Model {
     pub actuator_actadr: Vec<Option<usize>>,
     /// Activation range [low, high] when limited (nu).
     pub actuator_actrange: Vec<Option<[f64; 2]>>,
+    /// A muscle's force parameters, length range and acc0 (nu; None for other actuators).
+    pub actuator_muscle: Vec<Option<Muscle>>,
     /// Number of activations (actuators with dynamics).
     pub na: usize,
     /// Actuators whose force is gain₀ · ctrl alone (no dynamics, fixed gain, no bias) (nu).

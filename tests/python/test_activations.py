@@ -75,3 +75,52 @@ def test_act_is_state():
     np.testing.assert_array_equal(b.act[1], other.act)
     b.reset(mask=[True, False, False])
     assert not b.act[0].any() and b.act[1].any()
+
+
+# muscles on a joint (peak force from scale / acc0, smoothed activation) and on a fixed tendon
+# (a given peak force), with their length ranges given, as MuJoCo then uses them unchanged
+MUSCLES = """<mujoco><option timestep="0.002" integrator="{integrator}" gravity="0 0 -2"/>
+  <default><geom contype="0" conaffinity="0"/></default>
+  <worldbody>
+    <body><joint name="a" type="hinge" axis="0 1 0" damping="0.05" range="-80 80"/><geom type="capsule" fromto="0 0 0 0.4 0 0" size="0.04"/>
+      <body pos="0.4 0 0"><joint name="b" type="hinge" axis="0 1 0" damping="0.05"/><geom type="capsule" fromto="0 0 0 0.4 0 0" size="0.04"/></body></body>
+  </worldbody>
+  <tendon><fixed name="t"><joint joint="a" coef="0.3"/><joint joint="b" coef="-0.2"/></fixed></tendon>
+  <actuator>
+    <muscle joint="a" gear="0.8" lengthrange="-0.6 0.6" tausmooth="0.2" ctrlrange="0 1" ctrllimited="true"/>
+    <muscle joint="a" gear="-0.8" lengthrange="-0.6 0.6" scale="50"/>
+    <muscle tendon="t" lengthrange="-0.4 0.3" force="20" range="0.6 1.2" fpmax="2" vmax="3" timeconst="0.02 0.05"/>
+  </actuator>
+</mujoco>"""
+
+
+@pytest.mark.parametrize("integrator", ["Euler", "RK4"])
+def test_muscles_step_as_mujocos(integrator):
+    xml = MUSCLES.format(integrator=integrator)
+    mj, m = mujoco.MjModel.from_xml_string(xml), sinew.Model.from_mjcf_string(xml)
+    d, sim = mujoco.MjData(mj), sinew.Sim(m)
+    assert not m.warnings and len(sim.act) == mj.na == 3
+    rng = np.random.default_rng(1)
+    force = 0.0
+    for k in range(600):
+        if k % 25 == 0:
+            d.ctrl[:] = sim.ctrl[:] = rng.uniform(-0.2, 1.2, mj.nu)
+        mujoco.mj_step(mj, d)
+        sim.step()
+        force = max(force, np.abs(d.actuator_force).max())
+    # the muscles pulled, lengthened past their optimum and relaxed
+    assert force > 5.0 and np.ptp(d.act) > 0.3
+    np.testing.assert_allclose(sim.act, d.act, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(sim.qpos, d.qpos, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(sim.qvel, d.qvel, rtol=0, atol=1e-8)
+
+
+def test_a_muscle_without_a_length_range_takes_its_joints_with_a_warning_or_is_an_error():
+    base = MUSCLES.format(integrator="Euler")
+    m = sinew.Model.from_mjcf_string(base.replace('gear="0.8" lengthrange="-0.6 0.6"', 'gear="0.8"'))
+    assert any("lengthrange" in w for w in m.warnings)
+    with pytest.raises(ValueError, match="lengthrange"):
+        sinew.Model.from_mjcf_string(base.replace('lengthrange="-0.4 0.3"', ''))
+    for bad in ['timeconst="0 1"', 'range="1 0.5"', 'lmin="1.2"', 'lengthrange="1 -1"']:
+        with pytest.raises(ValueError):
+            sinew.Model.from_mjcf_string(base.replace('scale="50"', bad))

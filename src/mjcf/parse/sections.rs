@@ -8,7 +8,7 @@ use super::Parser;
 use crate::error::Result;
 use glam::DVec3;
 
-use crate::mjcf::{ActuatorDyn, ActuatorSpec, ConnectSpec, EqualitySpec, KeySpec, PairSpec, PathSpec, SensorSpec, TendonPathSpec, TendonSpec, TransmissionSpec};
+use crate::mjcf::{ActuatorDyn, ActuatorSpec, MuscleSpec, ConnectSpec, EqualitySpec, KeySpec, PairSpec, PathSpec, SensorSpec, TendonPathSpec, TendonSpec, TransmissionSpec};
 
 /// Attributes every actuator takes.
 const ACTUATOR_ATTRS: &[&str] =
@@ -33,12 +33,16 @@ pub(super) fn actuator_attrs(kind: &str) -> &'static [&'static str] {
             "name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "gaintype",
             "gainprm", "biastype", "biasprm", "dyntype", "dynprm", "actlimited", "actrange", "actearly",
         ],
+        "muscle" => &[
+            "name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "lengthrange",
+            "timeconst", "tausmooth", "range", "force", "scale", "lmin", "lmax", "vmax", "fpmax", "fvmax",
+        ],
         _ => ACTUATOR_ATTRS,
     }
 }
 
 /// The actuator kinds read.
-const ACTUATOR_KINDS: &[&str] = &["motor", "position", "velocity", "intvelocity", "damper", "cylinder", "general"];
+const ACTUATOR_KINDS: &[&str] = &["motor", "position", "velocity", "intvelocity", "damper", "cylinder", "muscle", "general"];
 
 /// An actuator's gain, bias and activation (its kind's shortcut, or `<general>`'s own).
 struct Drive {
@@ -46,6 +50,7 @@ struct Drive {
     bias: [f64; 3],
     dynamics: ActuatorDyn,
     actrange: Option<[f64; 2]>,
+    muscle: Option<MuscleSpec>,
 }
 
 /// Attributes of a tendon.
@@ -78,7 +83,7 @@ impl Parser<'_> {
             if gear.is_empty() || gear.len() > 6 || gear[1..].iter().any(|&g| g != 0.0) {
                 return Err(e.err("gear", "only a scalar gear is supported for joint and tendon transmissions"));
             }
-            let Drive { gain, bias, dynamics, actrange } = self.drive(&e, kind)?;
+            let Drive { gain, bias, dynamics, actrange, muscle } = self.drive(&e, kind)?;
             let ctrlrange = e.arr::<2>("ctrlrange")?.unwrap_or([0.0, 0.0]);
             let forcerange = e.arr::<2>("forcerange")?.unwrap_or([0.0, 0.0]);
             let ctrllimited = e.tristate("ctrllimited")?.unwrap_or(self.autolimits && e.has("ctrlrange"));
@@ -102,6 +107,7 @@ impl Parser<'_> {
                 bias,
                 dynamics,
                 actrange,
+                muscle,
                 line: e.line,
             });
         }
@@ -112,7 +118,7 @@ impl Parser<'_> {
     /// force is ctrl; a position servo's kp (ctrl − length) − kv velocity; a velocity servo's
     /// kv (ctrl − velocity); a general actuator's from `gainprm` and `biasprm`.
     fn drive(&self, e: &El, kind: &str) -> Result<Drive> {
-        let drive = |gain: [f64; 3], bias: [f64; 3], dynamics: ActuatorDyn| Drive { gain, bias, dynamics, actrange: None };
+        let drive = |gain: [f64; 3], bias: [f64; 3], dynamics: ActuatorDyn| Drive { gain, bias, dynamics, actrange: None, muscle: None };
         Ok(match kind {
             "position" => {
                 let (kp, kv, tc) = (e.nonneg("kp", 1.0)?, e.nonneg("kv", 0.0)?, e.nonneg("timeconst", 0.0)?);
@@ -139,6 +145,7 @@ impl Parser<'_> {
                 let bias = e.nums("bias")?.unwrap_or_default();
                 drive([area, 0.0, 0.0], [0, 1, 2].map(|k| bias.get(k).copied().unwrap_or(0.0)), ActuatorDyn::Filter(tc))
             }
+            "muscle" => muscle(e)?,
             "general" => self.general(e)?,
             _ => drive([1.0, 0.0, 0.0], [0.0; 3], ActuatorDyn::None),
         })
@@ -181,7 +188,7 @@ impl Parser<'_> {
         if e.get("actearly") == Some("true") {
             return Err(e.err("actearly", "actearly is not supported"));
         }
-        Ok(Drive { gain, bias, dynamics, actrange: self.actrange(e)? })
+        Ok(Drive { gain, bias, dynamics, actrange: self.actrange(e)?, muscle: None })
     }
 
     /// An actuator's activation range when limited (`actlimited`, or `actrange` under autolimits).
@@ -447,4 +454,38 @@ impl Parser<'_> {
         }
         Ok(())
     }
+}
+
+/// `<muscle>`: MuJoCo's defaults (timeconst 0.01 0.04, tausmooth 0, range 0.75 1.05, force −1,
+/// scale 200, lmin 0.5, lmax 1.6, vmax 1.5, fpmax 1.3, fvmax 1.2), each checked.
+fn muscle(e: &El) -> Result<Drive> {
+    let timeconst = e.arr::<2>("timeconst")?.unwrap_or([0.01, 0.04]);
+    if timeconst.iter().any(|&t| t.is_nan() || t <= 0.0) {
+        return Err(e.err("timeconst", format!("time constants must be positive, got {timeconst:?}")));
+    }
+    let tausmooth = e.nonneg("tausmooth", 0.0)?;
+    let range = e.arr::<2>("range")?.unwrap_or([0.75, 1.05]);
+    if range[0].is_nan() || range[0] >= range[1] {
+        return Err(e.err("range", format!("needs range[0] < range[1], got {range:?}")));
+    }
+    let (lmin, lmax) = (e.f64("lmin", 0.5)?, e.f64("lmax", 1.6)?);
+    if lmin.is_nan() || lmax.is_nan() || lmin >= 1.0 || lmax <= 1.0 {
+        return Err(e.err("lmin", format!("needs lmin < 1 < lmax, got {lmin} and {lmax}")));
+    }
+    let (vmax, fpmax, fvmax) = (e.f64("vmax", 1.5)?, e.nonneg("fpmax", 1.3)?, e.f64("fvmax", 1.2)?);
+    if vmax.is_nan() || fvmax.is_nan() || vmax <= 0.0 || fvmax < 1.0 {
+        return Err(e.err("vmax", format!("needs vmax > 0 and fvmax ≥ 1, got {vmax} and {fvmax}")));
+    }
+    let prm = [range[0], range[1], e.f64("force", -1.0)?, e.nonneg("scale", 200.0)?, lmin, lmax, vmax, fpmax, fvmax];
+    let lengthrange = e.arr::<2>("lengthrange")?.filter(|r| r != &[0.0, 0.0]);
+    if lengthrange.is_some_and(|r| r[0].is_nan() || r[0] >= r[1]) {
+        return Err(e.err("lengthrange", format!("needs lengthrange[0] < lengthrange[1], got {lengthrange:?}")));
+    }
+    Ok(Drive {
+        gain: [0.0; 3],
+        bias: [0.0; 3],
+        dynamics: ActuatorDyn::Muscle([timeconst[0], timeconst[1], tausmooth]),
+        actrange: None,
+        muscle: Some(MuscleSpec { prm, lengthrange }),
+    })
 }
