@@ -8,12 +8,14 @@
 //! qvel = world linear velocity then body-frame angular velocity), and a body without joints is
 //! welded to its parent's node with a fixed offset.
 
+mod pairs;
 pub mod sensor;
 pub mod visual;
 
 use glam::{DMat3, DQuat, DVec3};
 
 pub use crate::mjcf::{ActuatorDyn, GeomType, Integrator, JointType};
+pub use pairs::{geom_tree, same_tree, GapPair, GeomPair, PairTest, PlaneGroup, PAIR_BITS_GEOMS};
 pub use sensor::{SensorFrame, SensorKind};
 use crate::math::{SpatialInertia, Xform};
 
@@ -291,85 +293,6 @@ impl Options {
         }
     }
 }
-
-/// A geom pair that may collide, with its broadphase test precomputed.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GeomPair {
-    /// First geom (the lower index).
-    pub g1: usize,
-    /// Second geom.
-    pub g2: usize,
-    /// How the broadphase rejects the pair.
-    pub test: PairTest,
-    /// The larger of the two geoms' margins.
-    pub margin: f64,
-    /// The bounding radii of the bounded geoms, summed.
-    pub radii: f64,
-    /// An explicit pair's (`<contact><pair>`) friction coefficient and whether friction applies;
-    /// None: the geoms' ([`crate::collision::contact_friction`]).
-    pub friction: Option<(f64, bool)>,
-}
-
-/// A pair of two bounded geoms ([`PairTest::Spheres`]), which keeps a lower bound on its distance
-/// while every plane group is apart.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GapPair {
-    /// Index into [`Model::collision_pairs`].
-    pub pair: usize,
-    /// The geoms' bodies.
-    pub bodies: [usize; 2],
-    /// The deepest body both bodies descend from (or are): only the joints below it change the
-    /// distance between the geoms.
-    pub ancestor: usize,
-    /// The pair's margin.
-    pub margin: f64,
-}
-
-/// Broadphase test of a [`GeomPair`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PairTest {
-    /// Bounding spheres farther apart than their radii, margin and reach.
-    Spheres,
-    /// The bounding sphere of geom `other` farther above geom `plane` than its radius, margin and
-    /// reach.
-    Plane {
-        /// The plane geom.
-        plane: usize,
-        /// The bounded geom.
-        other: usize,
-        /// The [`PlaneGroup`] whose single test rejects the pair first, if any.
-        group: Option<usize>,
-    },
-    /// No bound: always tested (two planes).
-    Always,
-}
-
-/// A world plane and the subtree of one child of the world: while the sphere about the child's
-/// origin that holds every geom of the subtree stays above the plane, none of their pairs with the
-/// plane needs a test of its own (the broadphase's upper level).
-#[derive(Clone, Debug, PartialEq)]
-pub struct PlaneGroup {
-    /// The plane geom (a world geom).
-    pub plane: usize,
-    /// The child of the world.
-    pub body: usize,
-    /// The body's [`Model::body_reach`] plus the largest margin of the group's pairs.
-    pub radius: f64,
-}
-
-/// The tree geom g moves with ([`Model::node_tree`] of its body's node), or [`WORLD`].
-pub fn geom_tree(m: &Model, g: usize) -> usize {
-    let n = m.body_node[m.geom_body[g]];
-    if n == WORLD { WORLD } else { m.node_tree[n] }
-}
-
-/// Whether geoms i and j move with the same tree (not the world).
-pub fn same_tree(m: &Model, i: usize, j: usize) -> bool {
-    geom_tree(m, i) != WORLD && geom_tree(m, i) == geom_tree(m, j)
-}
-
-/// Largest geom count for which [`Model::pair_bits`] is kept (2 MiB of bits).
-pub const PAIR_BITS_GEOMS: usize = 4096;
 
 /// A compiled model. Build it with [`Model::from_mjcf`].
 #[derive(Clone, Debug, Default)]
