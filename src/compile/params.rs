@@ -178,6 +178,13 @@ impl Param {
         }
         match self {
             Param::BodyInertia => (1..rows).try_for_each(|b| inertia_ok(m, b, &values[3 * b..3 * b + 3])),
+            Param::ActuatorGain | Param::ActuatorBias => {
+                let now = self.read(m);
+                match (0..rows).find(|&a| m.actuator_muscle[a].is_some() && values[3 * a..3 * a + 3] != now[3 * a..3 * a + 3]) {
+                    Some(a) => Err(format!("{}[{a}]: actuator {a} is a muscle, whose force its own curves set", self.name())),
+                    None => Ok(()),
+                }
+            }
             Param::EqActive => match values.iter().position(|&x| x != 0.0 && x != 1.0) {
                 Some(e) => Err(format!("eq_active[{e}] = {}: 0 (off) or 1 (on)", values[e])),
                 None => Ok(()),

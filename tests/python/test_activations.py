@@ -124,3 +124,10 @@ def test_a_muscle_without_a_length_range_takes_its_joints_with_a_warning_or_is_a
     for bad in ['timeconst="0 1"', 'range="1 0.5"', 'lmin="1.2"', 'lengthrange="1 -1"']:
         with pytest.raises(ValueError):
             sinew.Model.from_mjcf_string(base.replace('scale="50"', bad))
+
+
+def test_a_muscles_gain_and_bias_cannot_be_set_per_world():
+    b = sinew.Batch(sinew.Model.from_mjcf_string(MUSCLES.format(integrator="Euler")), 2, num_threads=1)
+    with pytest.raises(ValueError, match="muscle"):
+        b.set_params("actuator_gain", b.params("actuator_gain")[0] + 1.0)
+    b.set_params("actuator_gain", b.params("actuator_gain")[0])  # its own values are fine
