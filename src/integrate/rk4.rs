@@ -9,6 +9,40 @@ use crate::dynamics::{self, activation, kinematics, DynamicsData};
 use crate::model::{JointType, Model};
 use crate::state::WorldState;
 
+/// The activations of RK4 stage i (1..4) into `rk.act`: act + h Σⱼ A_ij kactⱼ.
+fn activation_stage(m: &Model, act: &[f64], rk: &mut Rk4Scratch, i: usize, h: f64) {
+    rk.act.copy_from_slice(act);
+    for (j, &a) in RK4_A[i - 1][..i].iter().enumerate().filter(|(_, a)| **a != 0.0) {
+        for k in 0..m.na {
+            rk.act[k] += h * a * rk.kact[j][k];
+        }
+    }
+}
+
+/// act advanced over h by RK4's weighted stage rates `rk.kact` (MuJoCo's `mj_advance`).
+fn advance_activations(m: &Model, act: &mut [f64], rk: &mut Rk4Scratch, h: f64) {
+    rk.act.fill(0.0);
+    for j in 0..4 {
+        for k in 0..m.na {
+            rk.act[k] += RK4_B[j] * rk.kact[j][k];
+        }
+    }
+    activation::advance(m, act, &rk.act, h);
+}
+
+/// The activations alone advanced over h by RK4, at controls `ctrl`: their rates read ctrl and
+/// act only, so a step whose (qpos, qvel) advance otherwise (a constrained step of an RK4 model)
+/// still advances them exactly as MuJoCo's RK4 does.
+pub fn rk4_activations(m: &Model, ctrl: &[f64], act: &mut [f64], rk: &mut Rk4Scratch, h: f64) {
+    activation::rates(m, ctrl, act, &mut rk.kact[0]);
+    for i in 1..4 {
+        activation_stage(m, act, rk, i, h);
+        let (stage, kact) = (&rk.act, &mut rk.kact[i]);
+        activation::rates(m, ctrl, stage, kact);
+    }
+    advance_activations(m, act, rk, h);
+}
+
 /// Classical RK4 over the whole (qpos, qvel) state. A rotation's stage state is `q₀ exp(uᵢ)`
 /// with `uᵢ = h Σⱼ Aᵢⱼ Kⱼ` and `Kⱼ = dexp⁻¹(ωⱼ)` at `uⱼ`: adding body-frame angular
 /// velocities taken at different orientations as if they were one vector would be second order.
@@ -26,7 +60,7 @@ pub fn rk4(m: &Model, dy: &mut DynamicsData, rk: &mut Rk4Scratch, s: &mut WorldS
         rk.qpos.copy_from_slice(qpos);
         rk.dv.fill(0.0);
         rk.qvel.copy_from_slice(qvel);
-        rk.act.copy_from_slice(act);
+        activation_stage(m, act, rk, i, h);
         for j in 0..i {
             let a = RK4_A[i - 1][j];
             if a == 0.0 {
@@ -35,9 +69,6 @@ pub fn rk4(m: &Model, dy: &mut DynamicsData, rk: &mut Rk4Scratch, s: &mut WorldS
             for k in 0..m.nv {
                 rk.dv[k] += a * rk.kv[j][k];
                 rk.qvel[k] += h * a * rk.ka[j][k];
-            }
-            for k in 0..m.na {
-                rk.act[k] += h * a * rk.kact[j][k];
             }
         }
         integrate_pos(m, &mut rk.qpos, &rk.dv, h);
@@ -66,13 +97,7 @@ pub fn rk4(m: &Model, dy: &mut DynamicsData, rk: &mut Rk4Scratch, s: &mut WorldS
     integrate_pos(m, qpos, &rk.dv, h);
     // the activations by the weighted rates (MuJoCo's mj_advance)
     if acts {
-        rk.act.fill(0.0);
-        for j in 0..4 {
-            for k in 0..m.na {
-                rk.act[k] += RK4_B[j] * rk.kact[j][k];
-            }
-        }
-        activation::advance(m, act, &rk.act, h);
+        advance_activations(m, act, rk, h);
     }
     // report the acceleration at the start of the step
     dy.qacc.copy_from_slice(&rk.ka[0]);

@@ -13,7 +13,7 @@ use crate::constraint::rows::{build_rows, missed_contacts, missed_limits};
 use crate::constraint::solve::{apply_to_qacc, solve_rows, Level};
 use crate::constraint::{stabilize, test_forces, RowKind};
 use crate::dynamics::{self, activation, kinematics};
-use crate::integrate::{self, rk4::rk4};
+use crate::integrate::{self, rk4::{rk4, rk4_activations}};
 use crate::model::{ConstraintMode, Integrator, Model};
 use data::Data;
 use crate::state::WorldState;
@@ -81,7 +81,12 @@ fn damping_horizon(m: &Model, data: &Data) -> f64 {
 /// The activations over the step by their rates at its start (semi-implicit Euler's and
 /// leapfrog's; RK4 advances them with its stages).
 fn advance_activations(m: &Model, data: &mut Data, s: &mut WorldState<'_>) {
-    if m.na > 0 {
+    if m.na == 0 {
+        return;
+    }
+    if m.opt.integrator == Integrator::Rk4 {
+        rk4_activations(m, s.ctrl, s.act, &mut data.rk4, m.opt.timestep);
+    } else {
         activation::rates(m, s.ctrl, s.act, &mut data.dynamics.act_dot);
         activation::advance(m, s.act, &data.dynamics.act_dot, m.opt.timestep);
     }

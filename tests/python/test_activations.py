@@ -131,3 +131,19 @@ def test_a_muscles_gain_and_bias_cannot_be_set_per_world():
     with pytest.raises(ValueError, match="muscle"):
         b.set_params("actuator_gain", b.params("actuator_gain")[0] + 1.0)
     b.set_params("actuator_gain", b.params("actuator_gain")[0])  # its own values are fine
+
+
+def test_rk4_advances_activations_as_mujoco_while_a_joint_rests_on_its_limit():
+    # with a limit row every step is constrained (positions by semi-implicit Euler), yet the
+    # activations, whose rates read ctrl and act alone, advance by RK4 as MuJoCo's do
+    xml = MUSCLES.format(integrator="RK4").replace('range="-80 80"', 'range="-1 1"')
+    mj, m = mujoco.MjModel.from_xml_string(xml), sinew.Model.from_mjcf_string(xml)
+    d, sim = mujoco.MjData(mj), sinew.Sim(m)
+    rng = np.random.default_rng(1)
+    for k in range(600):
+        if k % 25 == 0:
+            d.ctrl[:] = sim.ctrl[:] = rng.uniform(-0.2, 1.2, mj.nu)
+        mujoco.mj_step(mj, d)
+        sim.step()
+    assert sim.constraint_stats["solves"] > 300 and np.ptp(d.act) > 0.3
+    np.testing.assert_allclose(sim.act, d.act, rtol=0, atol=1e-12)
