@@ -288,17 +288,7 @@ impl Parser<'_> {
         }
         let mut fr = [1.0, 0.005, 0.0001];
         fr[..friction.len()].copy_from_slice(&friction);
-        let condim = e.uint("condim", 3)?;
-        if ![1, 3, 4, 6].contains(&condim) {
-            return Err(e.err("condim", format!("must be 1, 3, 4 or 6, got {condim}")));
-        }
-        if condim > 3 {
-            self.warnings.borrow_mut().push(format!(
-                "<geom> '{}' at line {}: condim={condim} asks for torsional or rolling friction, which sinew does not model (sliding friction only, as condim=3)",
-                e.str("name"),
-                e.line
-            ));
-        }
+        let condim = self.condim(&e)?;
         Ok(GeomSpec {
             name: e.str("name").to_string(),
             kind,
@@ -321,6 +311,23 @@ impl Parser<'_> {
             fluid: fluid_shape(&e)?,
             line: e.line,
         })
+    }
+
+    /// A geom's or pair's `condim` (1, 3, 4 or 6; default 3), with a warning for 4 and 6.
+    pub(super) fn condim(&self, e: &El) -> Result<u32> {
+        let condim = e.uint("condim", 3)?;
+        if ![1, 3, 4, 6].contains(&condim) {
+            return Err(e.err("condim", format!("must be 1, 3, 4 or 6, got {condim}")));
+        }
+        if condim > 3 {
+            self.warnings.borrow_mut().push(format!(
+                "<{}> '{}' at line {}: condim={condim} asks for torsional or rolling friction, which sinew does not model (sliding friction only, as condim=3)",
+                e.tag(),
+                e.str("name"),
+                e.line
+            ));
+        }
+        Ok(condim)
     }
 
     pub(super) fn site(&mut self, n: Node, childclass: Option<&str>) -> Result<SiteSpec> {

@@ -423,16 +423,7 @@ impl Parser<'_> {
         if friction.is_empty() || friction.len() > 5 || friction.iter().any(|&f| !(f >= 0.0 && f.is_finite())) {
             return Err(e.err("friction", "expected 1 to 5 non-negative numbers"));
         }
-        let condim = e.uint("condim", 3)?;
-        if ![1, 3, 4, 6].contains(&condim) {
-            return Err(e.err("condim", format!("must be 1, 3, 4 or 6, got {condim}")));
-        }
-        if condim > 3 {
-            self.warnings.borrow_mut().push(format!(
-                "<pair> at line {}: condim={condim} asks for torsional or rolling friction, which sinew does not model (sliding friction only, as condim=3)",
-                e.line
-            ));
-        }
+        let condim = self.condim(&e)?;
         let margin = e.nonneg("margin", 0.0)?;
         self.spec.contact_pairs.push(PairSpec { geoms: [g1.to_string(), g2.to_string()], friction: friction[0], condim, margin, line: e.line });
         Ok(())
