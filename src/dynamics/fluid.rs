@@ -31,12 +31,8 @@ fn body_forces(m: &Model, kin: &KinData, v: &[Motion], tau: &mut [f64]) {
         if n == WORLD || m.body_mass[b] < 1e-15 {
             continue;
         }
+        // a body with ellipsoid geoms meets the fluid through them (below)
         if m.body_fluid_ellipsoid[b] {
-            for g in (0..m.ngeom).filter(|&g| m.geom_body[g] == b) {
-                if let Some(f) = &m.geom_fluid[g] {
-                    ellipsoid_forces(m, kin, &v[n], g, f, tau);
-                }
-            }
             continue;
         }
         // the principal frame at the centre of mass, and the velocities in it
@@ -59,6 +55,13 @@ fn body_forces(m: &Model, kin: &KinData, v: &[Motion], tau: &mut [f64]) {
         }
         let (torque, force) = (rot * torque, rot * force);
         add_joint_forces(m, kin, n, &Force { ang: torque + r.cross(force), lin: force }, tau);
+    }
+    for (g, f) in m.geom_fluid.iter().enumerate() {
+        let (Some(f), b) = (f, m.geom_body[g]) else { continue };
+        let n = m.body_node[b];
+        if n != WORLD && m.body_mass[b] >= 1e-15 {
+            ellipsoid_forces(m, kin, &v[n], g, f, tau);
+        }
     }
 }
 
