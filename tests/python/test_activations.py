@@ -33,17 +33,28 @@ XML = """<mujoco><option timestep="0.005" integrator="{integrator}"/>
 </mujoco>"""
 
 
-@pytest.mark.parametrize("integrator", ["Euler", "RK4"])
-def test_activations_step_as_mujocos(integrator):
-    xml = XML.format(integrator=integrator)
+def step_beside_mujoco(xml, steps, every, controls, seed):
+    """sinew and MuJoCo on `xml`, stepped `steps` times under the same random controls (uniform in
+    `controls`, drawn every `every` steps); the Sim, MuJoCo's data and the largest actuator force
+    MuJoCo met."""
     mj, m = mujoco.MjModel.from_xml_string(xml), sinew.Model.from_mjcf_string(xml)
     d, sim = mujoco.MjData(mj), sinew.Sim(m)
-    assert len(sim.act) == mj.na == 6
-    rng = np.random.default_rng(0)
-    for _ in range(400):
-        d.ctrl[:] = sim.ctrl[:] = rng.uniform(-1.0, 1.0, mj.nu)
+    assert not m.warnings and len(sim.act) == mj.na
+    rng = np.random.default_rng(seed)
+    force = 0.0
+    for k in range(steps):
+        if k % every == 0:
+            d.ctrl[:] = sim.ctrl[:] = rng.uniform(*controls, mj.nu)
         mujoco.mj_step(mj, d)
         sim.step()
+        force = max(force, np.abs(d.actuator_force).max())
+    return sim, d, force
+
+
+@pytest.mark.parametrize("integrator", ["Euler", "RK4"])
+def test_activations_step_as_mujocos(integrator):
+    sim, d, _ = step_beside_mujoco(XML.format(integrator=integrator), 400, 1, (-1.0, 1.0), 0)
+    assert len(sim.act) == 6
     assert np.abs(d.act).max() > 0.1  # the activations moved
     np.testing.assert_allclose(sim.act, d.act, rtol=0, atol=1e-10)
     np.testing.assert_allclose(sim.qpos, d.qpos, rtol=0, atol=1e-10)
@@ -96,18 +107,8 @@ MUSCLES = """<mujoco><option timestep="0.002" integrator="{integrator}" gravity=
 
 @pytest.mark.parametrize("integrator", ["Euler", "RK4"])
 def test_muscles_step_as_mujocos(integrator):
-    xml = MUSCLES.format(integrator=integrator)
-    mj, m = mujoco.MjModel.from_xml_string(xml), sinew.Model.from_mjcf_string(xml)
-    d, sim = mujoco.MjData(mj), sinew.Sim(m)
-    assert not m.warnings and len(sim.act) == mj.na == 3
-    rng = np.random.default_rng(1)
-    force = 0.0
-    for k in range(600):
-        if k % 25 == 0:
-            d.ctrl[:] = sim.ctrl[:] = rng.uniform(-0.2, 1.2, mj.nu)
-        mujoco.mj_step(mj, d)
-        sim.step()
-        force = max(force, np.abs(d.actuator_force).max())
+    sim, d, force = step_beside_mujoco(MUSCLES.format(integrator=integrator), 600, 25, (-0.2, 1.2), 1)
+    assert len(sim.act) == 3
     # the muscles pulled, lengthened past their optimum and relaxed
     assert force > 5.0 and np.ptp(d.act) > 0.3
     np.testing.assert_allclose(sim.act, d.act, rtol=0, atol=1e-9)
@@ -137,13 +138,6 @@ def test_rk4_advances_activations_as_mujoco_while_a_joint_rests_on_its_limit():
     # with a limit row every step is constrained (positions by semi-implicit Euler), yet the
     # activations, whose rates read ctrl and act alone, advance by RK4 as MuJoCo's do
     xml = MUSCLES.format(integrator="RK4").replace('range="-80 80"', 'range="-1 1"')
-    mj, m = mujoco.MjModel.from_xml_string(xml), sinew.Model.from_mjcf_string(xml)
-    d, sim = mujoco.MjData(mj), sinew.Sim(m)
-    rng = np.random.default_rng(1)
-    for k in range(600):
-        if k % 25 == 0:
-            d.ctrl[:] = sim.ctrl[:] = rng.uniform(-0.2, 1.2, mj.nu)
-        mujoco.mj_step(mj, d)
-        sim.step()
+    sim, d, _ = step_beside_mujoco(xml, 600, 25, (-0.2, 1.2), 1)
     assert sim.constraint_stats["solves"] > 300 and np.ptp(d.act) > 0.3
     np.testing.assert_allclose(sim.act, d.act, rtol=0, atol=1e-12)

@@ -44,14 +44,20 @@ def test_position_and_velocity_sensors_equal_mujocos(name):
                 np.testing.assert_allclose(data[adr:adr + dim], d.sensor(n).data, rtol=1e-10, atol=1e-12, err_msg=n)
 
 
+def touch_box(sites):
+    """A 2 kg box resting on the floor with box sites `sites` (name, half-height, centre), each
+    with a touch sensor of its name."""
+    placed = "".join(f'<site name="{n}" type="box" size="0.25 0.15 {h}" pos="{p}"/>' for n, h, p in sites)
+    sensors = "".join(f'<touch name="{n}" site="{n}"/>' for n, _, _ in sites)
+    return f"""<mujoco><worldbody><geom type="plane" size="5 5 0.1"/>
+      <body pos="0 0 0.1"><freejoint/><geom type="box" size="0.2 0.1 0.1" mass="2"/>{placed}</body></worldbody>
+      <sensor>{sensors}</sensor></mujoco>"""
+
+
 def test_touch_reads_the_weight_a_foot_carries():
     # a box resting on the floor: a site around its bottom face reads its weight, one around its
     # top face nothing
-    xml = """<mujoco><worldbody><geom type="plane" size="5 5 0.1"/>
-      <body pos="0 0 0.1"><freejoint/><geom type="box" size="0.2 0.1 0.1" mass="2"/>
-        <site name="bottom" type="box" size="0.25 0.15 0.02" pos="0 0 -0.1"/>
-        <site name="top" type="box" size="0.25 0.15 0.02" pos="0 0 0.1"/></body></worldbody>
-      <sensor><touch name="bottom" site="bottom"/><touch name="top" site="top"/></sensor></mujoco>"""
+    xml = touch_box([("bottom", 0.02, "0 0 -0.1"), ("top", 0.02, "0 0 0.1")])
     for mode in ["acceleration", "velocity"]:
         sim = sinew.Sim(sinew.Model.from_mjcf_string(xml).with_options(constraint_mode=mode))
         for _ in range(200):
@@ -68,11 +74,7 @@ def test_touch_counts_a_contact_whose_normal_points_into_the_site_as_mujoco_does
     # MuJoCo's rule: a contact counts when the ray from its point along its normal, away from the
     # sensor's body, meets the site; a site below the floor under the box's corners does, one
     # beside them does not (neither holds a contact point)
-    xml = """<mujoco><worldbody><geom type="plane" size="5 5 0.1"/>
-      <body pos="0 0 0.1"><freejoint/><geom type="box" size="0.2 0.1 0.1" mass="2"/>
-        <site name="under" type="box" size="0.25 0.15 0.05" pos="0 0 -0.25"/>
-        <site name="beside" type="box" size="0.25 0.15 0.05" pos="0.5 0 -0.25"/></body></worldbody>
-      <sensor><touch name="under" site="under"/><touch name="beside" site="beside"/></sensor></mujoco>"""
+    xml = touch_box([("under", 0.05, "0 0 -0.25"), ("beside", 0.05, "0.5 0 -0.25")])
     sim = sinew.Sim(sinew.Model.from_mjcf_string(xml))
     mj = mujoco.MjModel.from_xml_string(xml)
     d = mujoco.MjData(mj)
