@@ -84,6 +84,8 @@ pub struct LcpWork {
     free: Vec<bool>,
     /// The warm start's guessed active set.
     guess: Vec<bool>,
+    /// The sets of [`settle`]'s passes so far, one after another.
+    seen: Vec<bool>,
     /// The λ (σ) variables with an active row ([`settle`]).
     used: Vec<bool>,
     /// Candidate rows of the ratio test.

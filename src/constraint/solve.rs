@@ -178,12 +178,13 @@ pub fn leave_out(data: &mut World<'_>, level: Level, n: usize) -> bool {
 /// one. After this step's impact solve, on the same rows: its active set (a contact the impact
 /// stopped now rests on its force). Else last step's, read through the rows' identities
 /// ([`row_key`]): a row last step also had keeps its activity, and so does its contact's λ (a
-/// bounded motion row's σ); a new row starts inactive. With the same rows as last step this is
+/// bounded motion row's σ); a new contact or limit row starts active when q says the motion without
+/// force drives into it (q < 0), with the friction rows its q drives against. With the same rows as last step this is
 /// last step's active set as it was.
 pub fn warm_guess(data: &mut World<'_>, level: Level, n: usize) -> bool {
     let coll = &*data.coll;
     let Constraints { con, history, solve, .. } = &mut *data.constraints;
-    let SolveData { impact_warm, warm: guess, lambda: lcp_lambda, warm_lambda: old_lambda, .. } = solve;
+    let SolveData { impact_warm, warm: guess, lambda: lcp_lambda, warm_lambda: old_lambda, q, .. } = solve;
     guess.clear();
     if level == Level::Velocity {
         return false;
@@ -208,6 +209,13 @@ pub fn warm_guess(data: &mut World<'_>, level: Level, n: usize) -> bool {
     for j in 0..con.len() {
         let key = row_key(con, &coll.contacts, j);
         let Some(i) = (at..keys.len()).chain(0..at.min(keys.len())).find(|&i| keys[i] == key) else {
+            // a new row: a contact or limit the motion without force drives into starts pressing,
+            // a friction row of such a contact sticking against the demand
+            guess[j] = match con.kind[j] {
+                RowKind::Normal | RowKind::Limit => q[j] < 0.0,
+                RowKind::Tangent { normal } => guess[normal] && q[j] < 0.0,
+                _ => false,
+            };
             continue;
         };
         at = i + 1;

@@ -21,14 +21,27 @@ const POLISH_PASSES: usize = 10;
 /// drops the variables it makes negative and adds those whose w it makes negative (a friction
 /// row's beyond [`ADD_TOLERANCE`]), with the friction rows of a contact left without normal force
 /// and the λ (σ) left without an active row, and solves again, up to `passes` times (a contact the
-/// last step or this step's impact left inactive now pressing, a joint now driven into its limit).
+/// last step or this step's impact left inactive now pressing, a joint now driven into its limit);
+/// a set met before ends it (the passes cycle), with the answer the last pass would have left.
 /// The residual of an answer in `work.trial` that passes the independent check, or None.
 pub(super) fn settle(n: usize, m: &[f64], q: &[f64], role: &[Role], start: impl Iterator<Item = bool>, passes: usize, work: &mut LcpWork) -> Option<f64> {
     let mut guess = std::mem::take(&mut work.guess);
     guess.clear();
     guess.extend(start.take(n));
+    // every pass's set, to recognise a cycle
+    let mut seen = std::mem::take(&mut work.seen);
+    seen.clear();
     let mut settled = None;
-    for _ in 0..passes {
+    for pass in 0..passes {
+        // a set met before repeats the passes since: they did not settle, nor will they
+        if let Some(first) = seen.chunks_exact(n.max(1)).position(|s| s == &guess[..]) {
+            // the answer of the last pass the cycle would have run (a polish keeps it)
+            let last = first + (passes - 1 - first) % (pass - first);
+            guess.copy_from_slice(&seen[last * n..(last + 1) * n]);
+            solve_on(n, m, q, role, |i| guess[i], work);
+            break;
+        }
+        seen.extend_from_slice(&guess);
         if !solve_on(n, m, q, role, |i| guess[i], work) {
             break;
         }
@@ -45,14 +58,17 @@ pub(super) fn settle(n: usize, m: &[f64], q: &[f64], role: &[Role], start: impl 
             changed |= now != guess[i];
             guess[i] = now;
         }
-        // a contact without normal force has no friction force (|f_t| ≤ μ f_n)
+        // a contact without normal force has no friction force (|f_t| ≤ μ f_n); one that starts
+        // pressing starts sticking too, on the rows its tangential demand pushes against (their
+        // w without λ, which was free while the normal was inactive, below zero)
         for i in 0..n {
-            if let Role::Friction { normal, .. } = role[i]
-                && guess[i]
-                && !guess[normal]
-            {
-                guess[i] = false;
-                changed = true;
+            if let Role::Friction { normal, lambda, .. } = role[i] {
+                if guess[i] && !guess[normal] {
+                    guess[i] = false;
+                    changed = true;
+                } else if !guess[i] && guess[normal] && work.free[lambda] && work.w[i] - work.trial[lambda] < 0.0 {
+                    guess[i] = true;
+                }
             }
         }
         // a λ (σ) is positive only with one of its rows at the bound (else its column in M_AA is
@@ -78,6 +94,7 @@ pub(super) fn settle(n: usize, m: &[f64], q: &[f64], role: &[Role], start: impl 
         }
     }
     work.guess = guess;
+    work.seen = seen;
     settled
 }
 
