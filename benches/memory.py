@@ -1,9 +1,10 @@
 """Bytes per world of a batch: the growth of the process's resident memory from 1 to N worlds
-(one thread, after one step), split into the state and output arrays Python sees (their sizes
+(one thread, after 300 steps under random controls, which grow the buffers sized to a step's
+contacts and rows), split into the state and output arrays Python sees (their sizes
 from their shapes) and the rest (each world's scratch, history and caches), and the extra a
 world pays once it holds model values of its own (`set_params`: its own copy of the model).
 
-    python benches/memory.py [--worlds 4096] [--out results/memory.md]
+    python benches/memory.py [--worlds 1024] [--out results/memory.md]
 
 Each measurement runs in a fresh process.
 """
@@ -23,13 +24,18 @@ from sinew.tasks import ASSETS
 name, n, own = sys.argv[1], int(sys.argv[2]), sys.argv[3] == "1"
 m = sinew.Model.from_mjcf(f"{ASSETS}/{name}.xml")
 rss = lambda: int(open("/proc/self/statm").read().split()[1]) * 4096
-one = sinew.Batch(m, 1, num_threads=1)
-one.step()
+rng = np.random.default_rng(0)
+def run(b):
+    for k in range(300):
+        if k % 10 == 0:
+            b.ctrl[:] = rng.uniform(-1, 1, b.ctrl.shape)
+        b.step()
+run(sinew.Batch(m, 1, num_threads=1))
 before = rss()
 b = sinew.Batch(m, n, num_threads=1)
 if own:
     b.set_params("gravity", np.tile([0.0, 0.0, -9.81], (n, 1)) * np.linspace(0.9, 1.1, n)[:, None])
-b.step()
+run(b)
 after = rss()
 arrays = sum(getattr(b, k).nbytes for k in ("qpos", "qvel", "ctrl", "act", "time", "diverged", "xpos", "xmat", "xipos",
                                             "xvel", "cfrc_ext", "qfrc_constraint", "cinert", "cvel"))
@@ -44,7 +50,7 @@ def probe(xml: str, n: int, own: bool) -> dict:
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--worlds", type=int, default=4096)
+    ap.add_argument("--worlds", type=int, default=1024)
     ap.add_argument("--out", default=None)
     args = ap.parse_args()
     lines = [f"| task | kB per world ({args.worlds} worlds) | of which state and output arrays | scratch, history, caches | "

@@ -4,13 +4,15 @@
 //!
 //! Worlds are independent: each has its own [`Data`] (scratch and its seeded random stream) and
 //! its own rows of the flat (N × nq), (N × nv), (N × nu) state arrays, so the result is
-//! bit-identical for any thread count and any batch size. A world whose state leaves the finite
+//! bit-identical for any thread count and any batch size. The buffers a solve sizes to its rows
+//! are the threads', lent to each world for its step ([`SolveBuffers`]). A world whose state leaves the finite
 //! range is reset alone to qpos0 and flagged.
 
 use std::sync::{Arc, Mutex};
 
 use crate::collision::{self, CollisionData};
 use crate::compile::params::{self, Param};
+use crate::constraint::SolveBuffers;
 use crate::dynamics::kinematics;
 use crate::sensordata;
 use crate::step::data::Data;
@@ -42,6 +44,8 @@ pub struct Batch {
     root: Vec<usize>,
     /// Threads that step worlds, the calling one included.
     threads: usize,
+    /// The solve buffers each thread lends the worlds it steps (one set per thread).
+    buffers: Mutex<Vec<SolveBuffers>>,
     /// The `threads − 1` workers beside the calling thread (None for one thread).
     workers: Option<Workers>,
     /// One zero control per world, for models without actuators (the chunk iterators need a slot).
@@ -113,7 +117,8 @@ impl Batch {
         let no_ctrl = vec![0.0; if model.nu == 0 { data.len() } else { 0 }];
         let no_act = vec![0.0; if model.na == 0 { data.len() } else { 0 }];
         let (no_task, no_task_flag) = (vec![0.0; 3 * data.len()], vec![false; data.len()]);
-        Ok(Batch { root: sensors::body_root(&model), own: (0..seeds.len()).map(|_| None).collect(), model, data, threads, workers, no_ctrl, no_act, no_task, no_task_flag })
+        let buffers = Mutex::new((0..threads).map(|_| SolveBuffers::default()).collect());
+        Ok(Batch { root: sensors::body_root(&model), own: (0..seeds.len()).map(|_| None).collect(), model, data, threads, buffers, workers, no_ctrl, no_act, no_task, no_task_flag })
     }
 
     /// Number of worlds.
@@ -248,16 +253,19 @@ impl Batch {
                     info,
                 }),
         );
+        let buffers = &self.buffers;
         let work = |from_back: bool| {
+            let mut lent = buffers.lock().unwrap_or_else(|e| e.into_inner()).pop().unwrap_or_default();
             loop {
                 // the lock is held only to take the next world (a guard in a `while let`
                 // scrutinee would live through the loop body)
                 let mut queue = worlds.lock().unwrap_or_else(|e| e.into_inner());
                 let next = if from_back { queue.next_back() } else { queue.next() };
                 drop(queue);
-                let Some(w) = next else { return };
-                env_step(root, spec, n, w);
+                let Some(w) = next else { break };
+                env_step(root, spec, n, w, &mut lent);
             }
+            buffers.lock().unwrap_or_else(|e| e.into_inner()).push(lent);
         };
         match &self.workers {
             Some(workers) => workers.run(&work),
@@ -336,17 +344,19 @@ struct World<'a> {
     info: &'a mut [f64],
 }
 
-/// `n` steps of one world (reset alone if it diverges), then its sensor outputs and, with a task,
-/// its observation, reward terms and termination, under the step's panic guard: a panic (a bug)
+/// `n` steps of one world (reset alone if it diverges) with the thread's solve buffers `lent`,
+/// then its sensor outputs and, with a task, its observation, reward terms and termination, under
+/// the step's panic guard: a panic (a bug)
 /// leaves the world as the call found it, its history forgotten, and its message in
 /// [`Data::fault`].
-fn env_step(root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>) {
+fn env_step(root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>, lent: &mut SolveBuffers) {
     let World { model: m, data, mut state, diverged, active, mut out, obs, reward, terminated, info } = w;
     *diverged = false;
     data.fault.message = None;
     if !active {
         return;
     }
+    data.constraints.swap_buffers(lent);
     let outcome = guarded(data, &mut state, |data, s| {
         // the rewarded position before the env step, from the outputs of the state it starts in
         let before = task.map(|t| t.position(m, &out.world_view(s.qpos, s.qvel, s.ctrl)));
@@ -368,6 +378,7 @@ fn env_step(root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>) {
             }
         }
     });
+    data.constraints.swap_buffers(lent);
     if let Err(message) = outcome {
         data.fault.message = Some(message);
     }

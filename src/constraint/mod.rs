@@ -72,6 +72,32 @@ impl Constraints {
         self.solve.impact_warm.clear();
         self.con.clear();
     }
+
+    /// Exchanges the buffers a step's solve sizes to its rows with `b`: a batch lends a thread's
+    /// to each world for its step and takes them back after ([`SolveBuffers`]).
+    pub fn swap_buffers(&mut self, b: &mut SolveBuffers) {
+        std::mem::swap(&mut self.con.k, &mut b.k);
+        std::mem::swap(&mut self.con.zeroed_trees, &mut b.zeroed_trees);
+        std::mem::swap(&mut self.con.dqdd, &mut b.dqdd);
+        std::mem::swap(&mut self.solve.m, &mut b.m);
+        std::mem::swap(&mut self.solve.work, &mut b.work);
+        self.post.swap_buffers(&mut b.post);
+    }
+}
+
+/// The buffers a step's constraint solve sizes to its rows — K (with the rows' trees it was
+/// zeroed for) and Δq̈, the LCP's matrix and work, post-stabilisation's rows and LCP — which grow
+/// with a world's contacts to several times the rest of its scratch. Nothing reads them from one
+/// step to the next, so a batch keeps one set per thread and lends it to each world for its step
+/// ([`Constraints::swap_buffers`]) instead of keeping one per world.
+#[derive(Clone, Debug, Default)]
+pub struct SolveBuffers {
+    k: Vec<f64>,
+    zeroed_trees: Vec<[usize; 2]>,
+    dqdd: Vec<f64>,
+    m: Vec<f64>,
+    work: lcp::LcpWork,
+    post: stabilize::PostBuffers,
 }
 
 /// One world as the constraint stages see it: its dynamics (which an impact re-evaluates), its

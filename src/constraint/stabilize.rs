@@ -65,7 +65,24 @@ pub struct StabilizeData {
     pub projections: u64,
 }
 
+/// The projection's buffers sized to its rows, lent with [`crate::constraint::SolveBuffers`].
+#[derive(Clone, Debug, Default)]
+pub struct PostBuffers {
+    jac: Vec<f64>,
+    dqdd: Vec<f64>,
+    m: Vec<f64>,
+    work: LcpWork,
+}
+
 impl StabilizeData {
+    /// Exchanges the buffers sized to the projection's rows with `b`.
+    pub(super) fn swap_buffers(&mut self, b: &mut PostBuffers) {
+        std::mem::swap(&mut self.jac, &mut b.jac);
+        std::mem::swap(&mut self.dqdd, &mut b.dqdd);
+        std::mem::swap(&mut self.m, &mut b.m);
+        std::mem::swap(&mut self.work, &mut b.work);
+    }
+
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
         StabilizeData {

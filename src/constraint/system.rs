@@ -181,7 +181,7 @@ pub struct ConstraintData {
     pub(super) tree_rows: Vec<usize>,
     /// The rows' trees when K was last zeroed whole ([`clear_k_block`]), or empty: test forces
     /// write K only between rows that share a tree, so for the same trees the rest is still zero.
-    pub(super) zeroed_trees: Vec<[usize; 2]>,
+    pub(crate) zeroed_trees: Vec<[usize; 2]>,
 }
 
 impl ConstraintData {

@@ -111,6 +111,11 @@ pub fn prepare(m: &Model, out: &mut ConstraintData) {
         return;
     }
     let (nr, nv) = (out.len(), m.nv);
+    // K's zeros are known only for the trees it was zeroed for: test forces of other rows' trees
+    // write where those are zero
+    if out.zeroed_trees != out.tree {
+        out.zeroed_trees.clear();
+    }
     out.k.resize(nr * nr, 0.0);
     if out.dqdd.len() < nr * nv {
         out.dqdd.resize(nr * nv, 0.0);
