@@ -4,18 +4,17 @@
 //!
 //! Worlds are independent: each has its own [`Data`] (scratch and its seeded random stream) and
 //! its own rows of the flat (N × nq), (N × nv), (N × nu) state arrays, so the result is
-//! bit-identical for any thread count and any batch size. The buffers a solve sizes to its rows
-//! are the threads', lent to each world for its step ([`SolveBuffers`]). A world whose state leaves the finite
+//! bit-identical for any thread count and any batch size. Most of a step's scratch is the
+//! threads', lent to each world for its step ([`Lent`]). A world whose state leaves the finite
 //! range is reset alone to qpos0 and flagged.
 
 use std::sync::{Arc, Mutex};
 
 use crate::collision::{self, CollisionData};
 use crate::compile::params::{self, Param};
-use crate::constraint::SolveBuffers;
-use crate::dynamics::kinematics;
+use crate::dynamics::kinematics::{self, KinData};
 use crate::sensordata;
-use crate::step::data::Data;
+use crate::step::data::{Data, Lent};
 use crate::model::Model;
 use crate::sensors::{self, Sensors};
 use crate::state::WorldState;
@@ -44,8 +43,8 @@ pub struct Batch {
     root: Vec<usize>,
     /// Threads that step worlds, the calling one included.
     threads: usize,
-    /// The solve buffers each thread lends the worlds it steps (one set per thread).
-    buffers: Mutex<Vec<SolveBuffers>>,
+    /// The scratch each thread lends the worlds it steps (one set per thread).
+    lent: Mutex<Vec<Lent>>,
     /// The `threads − 1` workers beside the calling thread (None for one thread).
     workers: Option<Workers>,
     /// One zero control per world, for models without actuators (the chunk iterators need a slot).
@@ -104,7 +103,7 @@ impl Batch {
         let data: Vec<Data> = seeds
             .iter()
             .map(|&s| {
-                let mut d = Data::new(&model);
+                let mut d = Data::lending(&model);
                 d.constraints.history.rng = crate::math::splitmix64(s);
                 d
             })
@@ -117,8 +116,8 @@ impl Batch {
         let no_ctrl = vec![0.0; if model.nu == 0 { data.len() } else { 0 }];
         let no_act = vec![0.0; if model.na == 0 { data.len() } else { 0 }];
         let (no_task, no_task_flag) = (vec![0.0; 3 * data.len()], vec![false; data.len()]);
-        let buffers = Mutex::new((0..threads).map(|_| SolveBuffers::default()).collect());
-        Ok(Batch { root: sensors::body_root(&model), own: (0..seeds.len()).map(|_| None).collect(), model, data, threads, buffers, workers, no_ctrl, no_act, no_task, no_task_flag })
+        let lent = Mutex::new((0..threads).map(|_| Lent::new(&model)).collect());
+        Ok(Batch { root: sensors::body_root(&model), own: (0..seeds.len()).map(|_| None).collect(), model, data, threads, lent, workers, no_ctrl, no_act, no_task, no_task_flag })
     }
 
     /// Number of worlds.
@@ -253,9 +252,9 @@ impl Batch {
                     info,
                 }),
         );
-        let buffers = &self.buffers;
+        let pool = &self.lent;
         let work = |from_back: bool| {
-            let mut lent = buffers.lock().unwrap_or_else(|e| e.into_inner()).pop().unwrap_or_default();
+            let mut lent = pool.lock().unwrap_or_else(|e| e.into_inner()).pop().unwrap_or_else(|| Lent::new(m));
             loop {
                 // the lock is held only to take the next world (a guard in a `while let`
                 // scrutinee would live through the loop body)
@@ -265,7 +264,7 @@ impl Batch {
                 let Some(w) = next else { break };
                 env_step(root, spec, n, w, &mut lent);
             }
-            buffers.lock().unwrap_or_else(|e| e.into_inner()).push(lent);
+            pool.lock().unwrap_or_else(|e| e.into_inner()).push(lent);
         };
         match &self.workers {
             Some(workers) => workers.run(&work),
@@ -284,6 +283,7 @@ impl Batch {
         let m = &*self.model;
         let dim: usize = which.iter().map(|&k| m.sensor_kind[k].dim()).sum();
         let mut out = vec![0.0; self.data.len() * dim];
+        let lent = lent_here(&mut self.lent, m);
         for (i, (d, row)) in self.data.iter_mut().zip(out.chunks_mut(dim.max(1))).enumerate() {
             let s = sensordata::State {
                 qpos: &st.qpos[i * m.nq..(i + 1) * m.nq],
@@ -291,7 +291,9 @@ impl Batch {
                 ctrl: &st.ctrl[i * m.nu..(i + 1) * m.nu],
                 act: &st.act[i * m.na..(i + 1) * m.na],
             };
+            d.swap_lent(lent);
             sensordata::read(world_model(&self.own, m, i), d, s, which, row);
+            d.swap_lent(lent);
         }
         out
     }
@@ -301,13 +303,13 @@ impl Batch {
     pub fn penetrations(&mut self, qpos: &[f64], qvel: &[f64]) -> Vec<usize> {
         let shared = &*self.model;
         let mut coll = CollisionData::new(shared);
-        (self.data.iter_mut().enumerate())
-            .map(|(i, d)| {
+        let mut kin = KinData::new(shared);
+        (0..self.data.len())
+            .map(|i| {
                 // a world's own model: its own terrain, say
                 let m = world_model(&self.own, shared, i);
-                let kin = &mut d.dynamics.kin;
-                kinematics::forward(m, &qpos[i * m.nq..(i + 1) * m.nq], &qvel[i * m.nv..(i + 1) * m.nv], kin);
-                collision::penetrations(m, kin, &mut coll);
+                kinematics::forward(m, &qpos[i * m.nq..(i + 1) * m.nq], &qvel[i * m.nv..(i + 1) * m.nv], &mut kin);
+                collision::penetrations(m, &kin, &mut coll);
                 coll.contacts.len()
             })
             .collect()
@@ -317,11 +319,23 @@ impl Batch {
     /// state written from Python), and a task's observation `obs` of it.
     pub fn sense(&mut self, i: usize, qpos: &[f64], qvel: &[f64], ctrl: &[f64], mut out: Sensors<'_>, task: Option<(&dyn Task, &mut [f64])>) {
         let m = world_model(&self.own, &self.model, i);
-        sensors::write(m, &self.root, &mut self.data[i], qpos, qvel, out.reborrow());
+        let (d, lent) = (&mut self.data[i], lent_here(&mut self.lent, &self.model));
+        d.swap_lent(lent);
+        sensors::write(m, &self.root, d, qpos, qvel, out.reborrow());
+        d.swap_lent(lent);
         if let Some((t, obs)) = task {
             t.observe(m, &out.world_view(qpos, qvel, ctrl), obs);
         }
     }
+}
+
+/// A thread's scratch to lend a world outside a step call (there is always one per thread).
+fn lent_here<'a>(pool: &'a mut Mutex<Vec<Lent>>, m: &Model) -> &'a mut Lent {
+    let pool = pool.get_mut().unwrap_or_else(|e| e.into_inner());
+    if pool.is_empty() {
+        pool.push(Lent::new(m));
+    }
+    &mut pool[0]
 }
 
 /// World `i`'s own model if it has one, else the shared one (a field-wise borrow of a
@@ -344,19 +358,19 @@ struct World<'a> {
     info: &'a mut [f64],
 }
 
-/// `n` steps of one world (reset alone if it diverges) with the thread's solve buffers `lent`,
+/// `n` steps of one world (reset alone if it diverges) with the thread's scratch `lent`,
 /// then its sensor outputs and, with a task, its observation, reward terms and termination, under
 /// the step's panic guard: a panic (a bug)
 /// leaves the world as the call found it, its history forgotten, and its message in
 /// [`Data::fault`].
-fn env_step(root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>, lent: &mut SolveBuffers) {
+fn env_step(root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>, lent: &mut Lent) {
     let World { model: m, data, mut state, diverged, active, mut out, obs, reward, terminated, info } = w;
     *diverged = false;
     data.fault.message = None;
     if !active {
         return;
     }
-    data.constraints.swap_buffers(lent);
+    data.swap_lent(lent);
     let outcome = guarded(data, &mut state, |data, s| {
         // the rewarded position before the env step, from the outputs of the state it starts in
         let before = task.map(|t| t.position(m, &out.world_view(s.qpos, s.qvel, s.ctrl)));
@@ -378,7 +392,7 @@ fn env_step(root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>, len
             }
         }
     });
-    data.constraints.swap_buffers(lent);
+    data.swap_lent(lent);
     if let Err(message) = outcome {
         data.fault.message = Some(message);
     }

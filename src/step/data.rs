@@ -4,7 +4,9 @@
 use glam::DVec3;
 
 use crate::collision::CollisionData;
-use crate::constraint::{Constraints, History, World};
+use crate::constraint::{Constraints, History, SolveBuffers, World};
+use crate::dynamics::aba::AbaData;
+use crate::dynamics::kinematics::KinData;
 use crate::dynamics::DynamicsData;
 use crate::integrate::Rk4Scratch;
 use crate::model::Model;
@@ -54,6 +56,23 @@ impl Data {
         }
     }
 
+    /// A batch world's: without the scratch the batch's threads lend it ([`Lent`]).
+    pub fn lending(m: &Model) -> Self {
+        let mut d = Data::new(m);
+        // its own sized buffers go to a set that is dropped
+        d.swap_lent(&mut Lent::default());
+        d
+    }
+
+    /// Exchanges the scratch of [`Lent`] with `l`: lends a thread's to this world before it steps
+    /// or is read, and takes it back after.
+    pub fn swap_lent(&mut self, l: &mut Lent) {
+        std::mem::swap(&mut self.dynamics.kin, &mut l.kin);
+        std::mem::swap(&mut self.dynamics.aba, &mut l.aba);
+        std::mem::swap(&mut self.rk4, &mut l.rk4);
+        self.constraints.swap_buffers(&mut l.solve);
+    }
+
     /// Forgets what the last steps leave for the next (friction tangents, the LCP's warm start and
     /// regrow rate, cached kinematics, rows and forces), so that the next step is a fresh world's;
     /// the random stream runs on.
@@ -85,6 +104,26 @@ impl Data {
             #[cfg(feature = "stage-timing")]
             stage_ns: &mut self.stage_ns,
         }
+    }
+}
+
+/// The scratch a step writes before it reads and no later step reads: the kinematics being
+/// evaluated (the next step's, computed ahead, stay the world's: `DynamicsData::ahead`), the ABA
+/// quantities, RK4's stages and the solve's buffers sized to its rows ([`SolveBuffers`]). They
+/// are most of a world's scratch, so a batch keeps one set per thread and lends it to each world
+/// for its step ([`Data::swap_lent`]) instead of keeping one per world; a `Sim` keeps its own.
+#[derive(Clone, Debug, Default)]
+pub struct Lent {
+    kin: KinData,
+    aba: AbaData,
+    rk4: Rk4Scratch,
+    solve: SolveBuffers,
+}
+
+impl Lent {
+    /// Buffers sized for `m` (and for any world's own copy of it).
+    pub fn new(m: &Model) -> Self {
+        Lent { kin: KinData::new(m), aba: AbaData::new(m), rk4: Rk4Scratch::new(m), solve: SolveBuffers::default() }
     }
 }
 
