@@ -553,3 +553,34 @@ def test_termination_on_the_time_limits_step_reports_both_as_time_limit_does(mod
         for x, y in zip(r1[:4], r2[:4]):
             assert np.array_equal(x, y)
     assert r1[2][0] and r1[3][0], "terminated and truncated together, as gymnasium's TimeLimit reports them"
+
+
+def test_batch_worlds_with_lent_scratch_step_as_sims_with_their_own():
+    """A batch lends each world its threads' scratch (kinematics, ABA, K, the LCP's buffers), so
+    worlds with different contacts take turns in the same buffers: each still steps bit for bit as
+    a Sim with scratch of its own does, touch sensors read between steps included."""
+    site = '<site name="s" type="box" size=".11 .11 .02" pos="0 0 -.1"/>'
+    boxes = "".join(f'<body pos="{0.05 * i} 0 {0.2 + 0.25 * i}"><freejoint/><geom type="box" size=".1 .1 .1"/>'
+                    f'{site if i == 0 else ""}</body>' for i in range(3))
+    xml = (f'<mujoco><worldbody><geom type="plane" size="5 5 .1"/>{boxes}</worldbody>'
+           '<sensor><touch site="s"/></sensor></mujoco>')
+    m = sinew.Model.from_mjcf_string(xml)
+    for threads in (1, 2):
+        b = sinew.Batch(m, 4, seed=3, num_threads=threads)
+        rng = np.random.default_rng(1)
+        b.qpos[:, 2::7] += rng.uniform(-0.05, 0.3, (4, 3))
+        b.qvel[:] = rng.uniform(-1, 1, b.qvel.shape)
+        b.forward_kinematics()
+        sims = []
+        for i in range(4):
+            s = sinew.Sim(m)
+            s.set_state(b.get_state(i, full=True))
+            sims.append(s)
+        for _ in range(150):
+            b.step(2)
+            touch = b.sensordata
+            for i, s in enumerate(sims):
+                s.step(2)
+                np.testing.assert_array_equal(b.qpos[i], s.qpos)
+                np.testing.assert_array_equal(touch[i], s.sensordata)
+        assert touch[:, 0].max() > 0
