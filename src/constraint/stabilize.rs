@@ -51,6 +51,9 @@ pub struct StabilizeData {
     /// Trees of each row's sides ([`ConstraintData::tree`](constraint::ConstraintData::tree)):
     /// rows that share none have K_ab = 0.
     tree: Vec<[usize; 2]>,
+    /// The step's row each projection row is (usize::MAX: a row of its own), whose K entries
+    /// the step's test forces measured.
+    row: Vec<usize>,
     m: Vec<f64>,
     role: Vec<Role>,
     p: Vec<f64>,
@@ -173,6 +176,7 @@ fn gather(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]) -> bool {
     post.dqdd.clear();
     post.limit.clear();
     post.tree.clear();
+    post.row.clear();
     // the step's contact rows, their points carried by each side's node:
     // d' = d + n'·(p₁' − p₂'), n' turned with side 2 (a first-order estimate)
     let new = &ahead.kin;
@@ -201,6 +205,7 @@ fn gather(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]) -> bool {
         post.dqdd.extend_from_slice(&con.dqdd[j * nv..(j + 1) * nv]);
         post.limit.push(None);
         post.tree.push(con.tree[j]);
+        post.row.push(j);
     }
     // contacts penetrating now that had no row: a test force each
     for i in 0..post.coll.contacts.len() {
@@ -234,6 +239,7 @@ fn gather(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]) -> bool {
         post.dqdd.extend_from_slice(&con.dqdd[j * nv..(j + 1) * nv]);
         post.limit.push(Some((source, sign)));
         post.tree.push(con.tree[j]);
+        post.row.push(j);
     }
     // limits the step crossed without a row: a unit test torque each
     for joint in m.limited_joints() {
@@ -275,6 +281,7 @@ fn push_contact_row(m: &Model, kin: &KinData, aba: &AbaData, new: &KinData, post
     delta_pass(m, kin, aba, trees, &[], &mut post.delta, &mut post.dqdd[start..]);
     post.limit.push(None);
     post.tree.push(trees);
+    post.row.push(usize::MAX);
 }
 
 /// Appends the projection row of joint `joint`'s limit (row sign `sign`, gap `gap`), its Δq̈ by a
@@ -291,6 +298,7 @@ fn push_limit_row(m: &Model, kin: &KinData, aba: &AbaData, post: &mut StabilizeD
     delta_pass(m, kin, aba, [tree, WORLD], &[(dof, sign)], &mut post.delta, &mut post.dqdd[start..]);
     post.limit.push(Some((joint, sign)));
     post.tree.push([tree, WORLD]);
+    post.row.push(usize::MAX);
 }
 
 /// Appends the row's J (nv) for node forces `jac`: τ = Jᵀ f, carried to the root as RNEA's
@@ -308,14 +316,16 @@ fn push_jacobian(m: &Model, kin: &KinData, nodes: [usize; 2], jac: [Force; 2], o
 /// crossed after that, the step is shortened to stop at it.
 fn solve(m: &Model, data: &mut World<'_>, qpos: &mut [f64]) {
     let (kin, aba) = (&data.dynamics.kin, &data.dynamics.aba);
-    let Constraints { post, solve: SolveData { stats, .. }, .. } = &mut *data.constraints;
+    let Constraints { con, post, solve: SolveData { stats, .. }, .. } = &mut *data.constraints;
     post.projections += 1;
-    let nv = m.nv;
+    let (nv, nr) = (m.nv, con.len());
     for attempt in 0..=LIMIT_PASSES {
         let k = post.gap.len();
         // K_ab = J_a · Δq̈_b over the dofs of the trees both rows move (J_a is zero off a's
-        // trees, Δq̈_b off b's): one character's of many in a scene, zero between separate trees.
-        // K = J M⁻¹ Jᵀ is symmetric: the upper triangle is computed, the lower copied
+        // trees, Δq̈_b off b's): one character's of many in a scene, zero between separate trees;
+        // between two of the step's rows, the step's own measure (its test forces were pushed
+        // through the same ABA quantities). K = J M⁻¹ Jᵀ is symmetric: the upper triangle is
+        // computed, the lower copied
         post.m.clear();
         post.m.resize(k * k, 0.0);
         for a in 0..k {
@@ -326,9 +336,14 @@ fn solve(m: &Model, data: &mut World<'_>, qpos: &mut [f64]) {
                 if trees == [WORLD; 2] {
                     continue;
                 }
+                let (ja, jb) = (post.row[a], post.row[b]);
                 let mut dot = 0.0;
-                for r in tree_dofs(m, trees) {
-                    dot += post.jac[a * nv + r.start..a * nv + r.end].iter().zip(&post.dqdd[b * nv + r.start..b * nv + r.end]).map(|(x, y)| x * y).sum::<f64>();
+                if ja != usize::MAX && jb != usize::MAX {
+                    dot = con.k[jb * nr + ja];
+                } else {
+                    for r in tree_dofs(m, trees) {
+                        dot += post.jac[a * nv + r.start..a * nv + r.end].iter().zip(&post.dqdd[b * nv + r.start..b * nv + r.end]).map(|(x, y)| x * y).sum::<f64>();
+                    }
                 }
                 (post.m[a * k + b], post.m[b * k + a]) = (dot, dot);
             }
