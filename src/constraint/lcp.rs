@@ -57,6 +57,10 @@ pub struct LcpStats {
     pub inexact: u64,
     /// Solves that fell back to zero force.
     pub fallback_zero: u64,
+    /// Steps whose force LCP had no exact answer (a configuration of Painlevé's, a pile's
+    /// redundant contacts), solved as impulses over the step instead (`step::constrain`); their
+    /// force solves' fallbacks are not counted above.
+    pub impulse_steps: u64,
     /// Variables (rows and their λ) left out of solves as needing no force, summed over solves.
     pub left_out: u64,
     /// Times an answer pushed into a left-out row, which was brought back and the problem solved
@@ -238,6 +242,13 @@ pub fn solve(p: Problem<'_>, split: bool, warm: Option<&[bool]>, out: &mut Vec<b
     }
     work.sub = sub;
     solved
+}
+
+impl LcpStats {
+    /// Whether a solve since `before` kept an answer that fails the check (or zero force).
+    pub fn inexact_since(&self, before: &LcpStats) -> bool {
+        (self.fallback_pgs, self.inexact, self.fallback_zero) != (before.fallback_pgs, before.inexact, before.fallback_zero)
+    }
 }
 
 impl Subproblem {

@@ -394,7 +394,8 @@ impl PySim {
     }
 
     /// Constraint statistics: rows of the last step, LCP solves, pivots, warm starts, regularised
-    /// retries, solves rescued from a failed Lemke, fallbacks, rows left out of solves as
+    /// retries, solves rescued from a failed Lemke, fallbacks, steps solved as impulses where
+    /// the force LCP had no exact answer, rows left out of solves as
     /// separating (summed) and times one was brought back, residual, impacts, post-stabilisation
     /// projections.
     #[getter]
@@ -410,6 +411,7 @@ impl PySim {
         d.set_item("fallback_pgs", s.fallback_pgs)?;
         d.set_item("inexact", s.inexact)?;
         d.set_item("fallback_zero", s.fallback_zero)?;
+        d.set_item("impulse_steps", s.impulse_steps)?;
         d.set_item("left_out", s.left_out)?;
         d.set_item("regrown", s.regrown)?;
         d.set_item("residual", s.residual)?;

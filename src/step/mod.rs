@@ -134,9 +134,21 @@ fn constrain(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) {
             solve_rows(m, &mut data.world(), Level::TimeStep);
             apply_to_qacc(m, &mut data.world(), 1.0 / h);
         } else {
-            // 7. constraint forces at the acceleration level, added to q̈
+            // 7. constraint forces at the acceleration level, added to q̈; where that LCP has no
+            // exact answer (Painlevé's configurations, a pile's redundant contacts), the step's
+            // impulses instead, as in 7', whose LCP always has one (Stewart & Trinkle 1996;
+            // Anitescu & Potra 1997)
+            let before = data.constraints.solve.stats;
             solve_rows(m, &mut data.world(), Level::Acceleration);
-            apply_to_qacc(m, &mut data.world(), 1.0);
+            if data.constraints.solve.stats.inexact_since(&before) {
+                let stats = &mut data.constraints.solve.stats;
+                (stats.fallback_pgs, stats.inexact, stats.fallback_zero) = (before.fallback_pgs, before.inexact, before.fallback_zero);
+                stats.impulse_steps += 1;
+                solve_rows(m, &mut data.world(), Level::TimeStep);
+                apply_to_qacc(m, &mut data.world(), 1.0 / h);
+            } else {
+                apply_to_qacc(m, &mut data.world(), 1.0);
+            }
         }
         // with no force, no impulse and the accelerations the rows were chosen with, the motion
         // is the constraint-free one they were chosen for: nothing can have been missed
