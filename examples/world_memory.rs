@@ -1,0 +1,69 @@
+//! Heap bytes of one world's scratch by part, after 300 steps under random controls: what a
+//! batch lends from its threads (`step::data::Lent`) and what each world keeps.
+//! `cargo run --release --example world_memory -- model.xml`
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicIsize, Ordering};
+
+/// The system allocator, counting the bytes live.
+struct Counting;
+static LIVE: AtomicIsize = AtomicIsize::new(0);
+
+// SAFETY: every call is forwarded to the system allocator unchanged
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
+        LIVE.fetch_add(l.size() as isize, Ordering::Relaxed);
+        unsafe { System.alloc(l) }
+    }
+    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
+        LIVE.fetch_sub(l.size() as isize, Ordering::Relaxed);
+        unsafe { System.dealloc(p, l) }
+    }
+    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
+        LIVE.fetch_add(n as isize - l.size() as isize, Ordering::Relaxed);
+        unsafe { System.realloc(p, l, n) }
+    }
+}
+
+#[global_allocator]
+static ALLOC: Counting = Counting;
+
+fn kb() -> f64 {
+    LIVE.load(Ordering::Relaxed) as f64 / 1024.0
+}
+
+/// Drops `part` and prints the bytes that freed.
+fn free<T>(name: &str, part: T) {
+    let before = kb();
+    drop(part);
+    println!("{name:>34} {:6.1} kB", before - kb());
+}
+
+fn main() {
+    let path = std::env::args().nth(1).expect("usage: world_memory MODEL.xml");
+    let m = sinew::Model::from_mjcf_file(std::path::Path::new(&path)).unwrap();
+    let mut s = sinew::State::new(&m);
+    let mut x: u64 = 1;
+    for k in 0..300 {
+        if k % 10 == 0 {
+            for c in s.ctrl.iter_mut() {
+                x = x.wrapping_mul(6364136223846793005).wrapping_add(1);
+                *c = ((x >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0;
+            }
+        }
+        s.step(&m);
+    }
+    let d = &mut s.data;
+    let mut lent = sinew::step::data::Lent::default();
+    d.swap_lent(&mut lent);
+    free("lent by the batch's threads", lent);
+    free("kinematics computed ahead", std::mem::take(&mut d.dynamics.ahead));
+    free("rest of the dynamics", std::mem::take(&mut d.dynamics));
+    free("contacts", std::mem::take(&mut d.coll.contacts));
+    free("collision poses and caches", std::mem::take(&mut d.coll));
+    free("rows (what sensors read)", std::mem::take(&mut d.constraints.con));
+    free("solve: forces, q, roles, islands", std::mem::take(&mut d.constraints.solve));
+    free("post-stabilisation's check", std::mem::take(&mut d.constraints.post));
+    free("history", std::mem::take(&mut d.constraints.history));
+    free("row building, feed-forward, start", std::mem::take(&mut d.constraints));
+    free("sensor scratch, fault record", (std::mem::take(&mut d.sensors), std::mem::take(&mut d.fault)));
+}
