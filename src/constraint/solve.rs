@@ -178,9 +178,9 @@ pub fn leave_out(data: &mut World<'_>, level: Level, n: usize) -> bool {
 /// one. After this step's impact solve, on the same rows: its active set (a contact the impact
 /// stopped now rests on its force). Else last step's, read through the rows' identities
 /// ([`row_key`]): a row last step also had keeps its activity, and so does its contact's λ (a
-/// bounded motion row's σ); a new contact or limit row starts active when q says the motion without
-/// force drives into it (q < 0), with the friction rows its q drives against. With the same rows as last step this is
-/// last step's active set as it was.
+/// bounded motion row's σ); a new contact or limit row starts active when q says the motion
+/// without force drives into it (q < 0), with the friction rows its q drives against. With the
+/// same rows as last step this is last step's active set as it was.
 pub fn warm_guess(data: &mut World<'_>, level: Level, n: usize) -> bool {
     let coll = &*data.coll;
     let Constraints { con, history, solve, .. } = &mut *data.constraints;
