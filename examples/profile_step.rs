@@ -2,7 +2,8 @@
 //! `cargo build --profile profiling --example profile_step && perf record target/profiling/examples/profile_step model.xml`
 //! A second argument `zero-gravity` switches gravity off (with a far floor: the cost of collision
 //! that finds nothing); `free` switches contacts and limits off (the bare step); `own` keeps the
-//! model's own integrator (RK4 for Ant, Hopper, Humanoid).
+//! model's own integrator (RK4 for Ant, Hopper, Humanoid); a third and fourth set the step count
+//! and the controls' random seed (`benches/ab_instructions.py` counts a short run's instructions).
 fn main() {
     let path = std::env::args().nth(1).unwrap();
     let m = sinew::Model::from_mjcf_file(std::path::Path::new(&path)).unwrap();
@@ -18,8 +19,9 @@ fn main() {
         _ => {}
     }
     let mut s = sinew::State::new(&m);
-    let mut x: u64 = 1;
-    for k in 0..200_000 {
+    let arg = |i: usize, default: u64| std::env::args().nth(i).map_or(default, |a| a.parse().unwrap());
+    let mut x = arg(4, 1);
+    for k in 0..arg(3, 200_000) {
         if k % 10 == 0 {
             for c in s.ctrl.iter_mut() {
                 x = x.wrapping_mul(6364136223846793005).wrapping_add(1);
