@@ -291,9 +291,7 @@ impl Batch {
                 ctrl: &st.ctrl[i * m.nu..(i + 1) * m.nu],
                 act: &st.act[i * m.na..(i + 1) * m.na],
             };
-            d.swap_lent(lent);
-            sensordata::read(world_model(&self.own, m, i), d, s, which, row);
-            d.swap_lent(lent);
+            d.with_lent(lent, |d| sensordata::read(world_model(&self.own, m, i), d, s, which, row));
         }
         out
     }
@@ -320,9 +318,7 @@ impl Batch {
     pub fn sense(&mut self, i: usize, qpos: &[f64], qvel: &[f64], ctrl: &[f64], mut out: Sensors<'_>, task: Option<(&dyn Task, &mut [f64])>) {
         let m = world_model(&self.own, &self.model, i);
         let (d, lent) = (&mut self.data[i], lent_here(&mut self.lent, &self.model));
-        d.swap_lent(lent);
-        sensors::write(m, &self.root, d, qpos, qvel, out.reborrow());
-        d.swap_lent(lent);
+        d.with_lent(lent, |d| sensors::write(m, &self.root, d, qpos, qvel, out.reborrow()));
         if let Some((t, obs)) = task {
             t.observe(m, &out.world_view(qpos, qvel, ctrl), obs);
         }
@@ -370,8 +366,7 @@ fn env_step(root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>, len
     if !active {
         return;
     }
-    data.swap_lent(lent);
-    let outcome = guarded(data, &mut state, |data, s| {
+    let outcome = data.with_lent(lent, |data| guarded(data, &mut state, |data, s| {
         // the rewarded position before the env step, from the outputs of the state it starts in
         let before = task.map(|t| t.position(m, &out.world_view(s.qpos, s.qvel, s.ctrl)));
         if advance(m, data, s, n).is_some() {
@@ -391,8 +386,7 @@ fn env_step(root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>, len
                 *terminated = true;
             }
         }
-    });
-    data.swap_lent(lent);
+    }));
     if let Err(message) = outcome {
         data.fault.message = Some(message);
     }

@@ -64,8 +64,16 @@ impl Data {
         d
     }
 
-    /// Exchanges the scratch of [`Lent`] with `l`: lends a thread's to this world before it steps
-    /// or is read, and takes it back after.
+    /// Runs `f` on this world with the thread's scratch `l` lent to it, and takes it back after,
+    /// also when `f` panics (the panic then goes on).
+    pub fn with_lent<R>(&mut self, l: &mut Lent, f: impl FnOnce(&mut Data) -> R) -> R {
+        self.swap_lent(l);
+        let out = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(self)));
+        self.swap_lent(l);
+        out.unwrap_or_else(|e| std::panic::resume_unwind(e))
+    }
+
+    /// Exchanges the scratch of [`Lent`] with `l` (a batch world's is none between its steps).
     pub fn swap_lent(&mut self, l: &mut Lent) {
         std::mem::swap(&mut self.dynamics.kin, &mut l.kin);
         std::mem::swap(&mut self.dynamics.aba, &mut l.aba);
@@ -111,7 +119,7 @@ impl Data {
 /// evaluated (the next step's, computed ahead, stay the world's: `DynamicsData::ahead`), the ABA
 /// quantities, RK4's stages and the solve's buffers sized to its rows ([`SolveBuffers`]). They
 /// are most of a world's scratch, so a batch keeps one set per thread and lends it to each world
-/// for its step ([`Data::swap_lent`]) instead of keeping one per world; a `Sim` keeps its own.
+/// for its step ([`Data::with_lent`]) instead of keeping one per world; a `Sim` keeps its own.
 #[derive(Clone, Debug, Default)]
 pub struct Lent {
     kin: KinData,
