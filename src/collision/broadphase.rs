@@ -6,7 +6,8 @@ use glam::DVec3;
 use super::data::{has_own_reach, CollisionData, SweepBox, SWEEP_PAIRS};
 use crate::dynamics::aba::AbaData;
 use crate::dynamics::kinematics::KinData;
-use crate::model::{GeomPair, Model, PairTest, WORLD};
+use crate::math::Motion;
+use crate::model::{GeomPair, Model, PairTest};
 
 /// Decides each plane group: apart when its subtree's sphere stays farther above the plane than
 /// its radius and `reach` (a bound on how far any of its points moves).
@@ -19,7 +20,7 @@ pub(super) fn judge_groups(m: &Model, kin: &KinData, out: &mut CollisionData, re
 
 /// The pairs a detection with every geom posed tests on their bounds, in order, taken from
 /// `out.near` (the caller puts it back): every pair of a model with fewer than [`SWEEP_PAIRS`],
-/// else [`Model::pairs_unswept`] and the sphere pairs of two trees whose boxes overlap.
+/// else [`Model::pairs_unswept`] and the sphere pairs whose boxes overlap.
 /// Each geom's box holds its bounding sphere grown by its margin and `reach(out, g)`; a sphere
 /// pair that is not apart has overlapping boxes, so the tests that follow find the contacts the
 /// test of every pair finds. The boxes are swept along the axis their centres spread most along
@@ -71,7 +72,7 @@ pub(super) fn near_pairs(m: &Model, out: &mut CollisionData, reach: impl Fn(&Col
             }
             // one branch on the four comparisons (each alone is unpredictable)
             let overlap = (a.hi.y >= b.lo.y) & (b.hi.y >= a.lo.y) & (a.hi.z >= b.lo.z) & (b.hi.z >= a.lo.z);
-            if overlap && (a.tree != b.tree || a.tree == WORLD) && let Some(k) = pair_of(m, a.geom.min(b.geom), a.geom.max(b.geom)) {
+            if overlap && let Some(k) = pair_of(m, a.geom.min(b.geom), a.geom.max(b.geom)) {
                 swept.push(k);
             }
         }
@@ -155,6 +156,44 @@ pub(super) fn own_reach(m: &Model, kin: &KinData, aba: &AbaData, out: &Collision
     let linear = (2.0 * (vc.length_squared() + h * h * ac.length_squared())).sqrt();
     let angular = (2.0 * (w2 + h * h * a.ang.length_squared())).sqrt() + h * w2;
     lever * (linear + angular * rb)
+}
+
+/// A bound on how far two moving geoms i and j can approach each other within the step, from
+/// their bodies' relative motion (two limbs of a falling character, or two characters falling
+/// side by side, keep their distance however fast they fall). Seen from j's body, a point p of
+/// i moves at u(p) = (v_i − v_j)(p), which changes at (a_i − a_j)(p) + Ω × v_i(p) − ω_j × u(p),
+/// Ω = ω_i − ω_j (ABA's fictitious −g cancels in a_i − a_j); bounded over i's bounding sphere as
+/// [`own_reach`] bounds a point's own motion. i is the pair's geom of the smaller bounding radius.
+/// The accelerations are constraint-free, and a body resting on another lacks its support there
+/// while both fall alike: one step's fall, h|g|, is added to the relative speed.
+#[inline(always)]
+pub(super) fn relative_reach(m: &Model, kin: &KinData, aba: &AbaData, out: &CollisionData, p: &GeomPair) -> f64 {
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
+    let (i, ni, nj) = smaller_first(m, p);
+    let (vi, vj) = (kin.v[ni], kin.v[nj]);
+    let (dv, da) = (vi - vj, aba.a[ni] - aba.a[nj]);
+    let (centre, rb) = (out.geom_xpos[i] - kin.origin, m.geom_rbound[i]);
+    let u = dv.point_velocity(centre);
+    let du = da.point_velocity(centre) + dv.ang.cross(vi.point_velocity(centre)) - vj.ang.cross(u);
+    let w = dv.ang.length();
+    let linear = u.length() + h * (du.length() + m.opt.gravity.length());
+    let angular = w + h * (da.ang.length() + w * (vi.ang.length() + vj.ang.length()));
+    lever * (linear + angular * rb)
+}
+
+/// [`relative_reach`] at the step's end velocities `v_end` (per node), without acceleration terms.
+#[inline(always)]
+pub(super) fn relative_reach_end(m: &Model, kin: &KinData, v_end: &[Motion], out: &CollisionData, p: &GeomPair) -> f64 {
+    let (i, ni, nj) = smaller_first(m, p);
+    let dv = v_end[ni] - v_end[nj];
+    m.opt.lever() * (dv.point_velocity(out.geom_xpos[i] - kin.origin).length() + dv.ang.length() * m.geom_rbound[i])
+}
+
+/// The pair's geom of the smaller bounding radius, its node and the other geom's node.
+#[inline(always)]
+fn smaller_first(m: &Model, p: &GeomPair) -> (usize, usize, usize) {
+    let (i, j) = if m.geom_rbound[p.g1] <= m.geom_rbound[p.g2] { (p.g1, p.g2) } else { (p.g2, p.g1) };
+    (i, m.body_node[m.geom_body[i]], m.body_node[m.geom_body[j]])
 }
 
 /// Bound on the speed of any point of any moving geom whose joint speeds are at most `speeds`

@@ -3,6 +3,7 @@
 
 use glam::{DMat3, DVec3};
 
+use super::ellipsoid::Epa;
 use crate::dynamics::kinematics::KinData;
 use crate::model::{GeomType, JointType, Model, WORLD};
 
@@ -98,6 +99,8 @@ pub struct CollisionData {
     pub(super) swept: Vec<usize>,
     /// The pairs the sweep leaves to test, in order ([`near_pairs`]).
     pub(super) near: Vec<usize>,
+    /// EPA's buffers, for pairs with an ellipsoid.
+    pub(super) epa: Epa,
     /// Contacts of this configuration.
     pub contacts: Vec<Contact>,
 }
@@ -129,11 +132,12 @@ impl CollisionData {
             least_slack: f64::NEG_INFINITY,
             shrink: 0.0,
             gap_skips: 0,
-            sweep: m.sweep_geoms.iter().map(|&g| SweepBox { lo: DVec3::ZERO, hi: DVec3::ZERO, geom: g, tree: crate::model::geom_tree(m, g) }).collect(),
+            sweep: m.sweep_geoms.iter().map(|&g| SweepBox { lo: DVec3::ZERO, hi: DVec3::ZERO, geom: g }).collect(),
             sweep_axis: 0,
             swept: Vec::with_capacity(if m.collision_pairs.len() < SWEEP_PAIRS { 0 } else { m.collision_pairs.len() }),
             // a model of few pairs tests them all, listed once here
             near: if m.collision_pairs.len() < SWEEP_PAIRS { (0..m.collision_pairs.len()).collect() } else { Vec::with_capacity(m.collision_pairs.len()) },
+            epa: Epa::default(),
             // grown to the most a step has found (at most `Options::max_contacts`)
             contacts: Vec::new(),
         }
@@ -191,7 +195,7 @@ pub(super) fn pose_plane(m: &Model, kin: &KinData, cd: &mut CollisionData, g: us
 /// Poses the world axes of geom g for the configuration in `kin`, unless already done (a
 /// sphere's orientation is never read).
 pub(super) fn pose_axes(m: &Model, kin: &KinData, cd: &mut CollisionData, g: usize) {
-    if cd.axes_at[g] < cd.stamp && !matches!(m.geom_type[g], GeomType::Sphere | GeomType::Ellipsoid) {
+    if cd.axes_at[g] < cd.stamp && m.geom_type[g] != GeomType::Sphere {
         cd.geom_xmat[g] = kin.xmat[m.geom_body[g]] * m.geom_mat[g];
         cd.axes_at[g] = cd.stamp;
     }
@@ -210,14 +214,12 @@ pub(super) fn quick_arms(m: &Model, within_trees: bool) -> Option<Vec<(usize, f6
         .collect()
 }
 
-/// A geom's box in the sweep ([`near_pairs`]): its corners, the geom and its tree
-/// ([`Model::node_tree`] of its body's node, or [`WORLD`]).
+/// A geom's box in the sweep ([`near_pairs`]): its corners and the geom.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct SweepBox {
     pub(super) lo: DVec3,
     pub(super) hi: DVec3,
     pub(super) geom: usize,
-    pub(super) tree: usize,
 }
 
 /// Pairs fewer than this are all tested on their spheres; more are swept first ([`near_pairs`]).

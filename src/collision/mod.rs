@@ -4,8 +4,10 @@
 //! (exact), capsule–box (the segment's ends and its point nearest the box, as spheres) and box–box
 //! (separating axes: face contacts clipped to the overlap of the faces, or one edge–edge point);
 //! a mesh's convex hull against a plane, a sphere, a capsule, a box or another hull, and a height
-//! field's triangle prisms against all but planes (`convex.rs`, `terrain.rs`). Cylinders collide as capsules of the same radius and half-length, ellipsoids as spheres of their
-//! largest semi-axis (documented approximations). Filtering follows MuJoCo: contype/conaffinity
+//! field's triangle prisms against all but planes (`convex.rs`, `terrain.rs`); an ellipsoid against
+//! a plane in closed form and against every other shape by its support function
+//! (`ellipsoid.rs`). Cylinders collide as capsules of the same radius and half-length (a
+//! documented approximation). Filtering follows MuJoCo: contype/conaffinity
 //! bits, no contact within a body or between a body and its parent (unless the parent is the
 //! world), `<exclude>` pairs. A contact's friction and condim are MuJoCo's: the higher-priority
 //! geom's, else the larger of each.
@@ -28,10 +30,13 @@
 //! whose floor is far and whose limbs are apart costs a few bounds per step.
 //!
 //! Detection is speculative: a pair within its margin plus the distance its geoms can cover in one
-//! step yields a (separated, dist > 0) contact, whose row only stops it at the surface.
+//! step yields a (separated, dist > 0) contact, whose row only stops it at the surface. Two moving
+//! geoms are bounded by their bodies' relative motion where that is less (limbs of one falling
+//! character, characters falling side by side).
 
-use crate::model::Model;
+use crate::model::{GeomPair, Model};
 
+use crate::dynamics::aba::AbaData;
 use crate::dynamics::kinematics::KinData;
 use crate::dynamics::DynamicsData;
 use crate::state::WorldState;
@@ -39,6 +44,7 @@ use crate::math::Motion;
 
 mod broadphase;
 mod convex;
+mod ellipsoid;
 mod data;
 mod gaps;
 mod narrowphase;
@@ -46,7 +52,7 @@ pub mod ray;
 mod shapes;
 mod terrain;
 
-use broadphase::{apart, arm_speed, judge_groups, near_pairs, own_reach_of};
+use broadphase::{apart, arm_speed, judge_groups, near_pairs, own_reach_of, relative_reach, relative_reach_end};
 pub use data::{CollisionData, Contact};
 use data::{pose, posed, reach, fixed, GAP_TOLERANCE};
 use gaps::{lower_and_test_gaps, quick_travel, test_lazily, travel};
@@ -116,12 +122,25 @@ pub fn collide(m: &Model, dy: &DynamicsData, s: &WorldState<'_>, out: &mut Colli
         // speculative: pairs that could close within this step (which moves a point by
         // lever × (v + h a), lever = h for semi-implicit Euler) count as contacts, so a fast foot
         // is stopped at the surface instead of being found inside it one step later
-        let margin = p.margin + reach(out, p.g1) + reach(out, p.g2);
+        if apart(out, p, p.margin + reach(out, p.g1) + reach(out, p.g2)) {
+            continue;
+        }
+        let margin = speculative_margin(m, kin, aba, out, p);
         if !apart(out, p, margin) {
             pair(m, kin, out, p, margin);
         }
     }
     out.near = near;
+}
+
+/// The margin a detection tests pair p with: the pair's own and how far its geoms can approach
+/// each other within the step (each geom's own bound, or for two moving geoms their relative
+/// motion's where that is less).
+#[inline(always)]
+fn speculative_margin(m: &Model, kin: &KinData, aba: &AbaData, out: &CollisionData, p: &GeomPair) -> f64 {
+    let each = reach(out, p.g1) + reach(out, p.g2);
+    let closing = if fixed(m, p.g1) || fixed(m, p.g2) { each } else { each.min(relative_reach(m, kin, aba, out, p)) };
+    p.margin + closing
 }
 
 /// Contacts of the configuration in `kin` that penetrate (dist < 0) — no speculative margin; for
@@ -159,7 +178,7 @@ pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
 /// contacts not found before are appended. Returns whether there were any: constraint forces (a
 /// body landing on another, say) can carry a geom further than its constraint-free motion. The
 /// nodes' end velocities are computed into `v_end` only if a pair needs them.
-pub fn reach_again(m: &Model, kin: &KinData, qvel_end: &[f64], v_end: &mut [Motion], out: &mut CollisionData) -> bool {
+pub fn reach_again(m: &Model, kin: &KinData, aba: &AbaData, qvel_end: &[f64], v_end: &mut [Motion], out: &mut CollisionData) -> bool {
     if !m.opt.contact || m.collision_pairs.is_empty() {
         return false;
     }
@@ -172,7 +191,7 @@ pub fn reach_again(m: &Model, kin: &KinData, qvel_end: &[f64], v_end: &mut [Moti
         end_speeds(m, kin, qvel_end, v_end, out);
         let near = near_pairs(m, out, |out, g| lever * out.geom_speed_end[g]);
         for &k in &near {
-            let Some(more) = test_again(m, kin, out, k, lever) else { break };
+            let Some(more) = test_again(m, kin, aba, v_end, out, k, lever) else { break };
             found |= more;
         }
         out.near = near;
@@ -199,7 +218,7 @@ pub fn reach_again(m: &Model, kin: &KinData, qvel_end: &[f64], v_end: &mut [Moti
             end_speeds(m, kin, qvel_end, v_end, out);
             speeds = true;
         }
-        let Some(more) = test_again(m, kin, out, k, lever) else { break };
+        let Some(more) = test_again(m, kin, aba, v_end, out, k, lever) else { break };
         found |= more;
     }
     found
@@ -224,12 +243,15 @@ fn end_speeds(m: &Model, kin: &KinData, qvel_end: &[f64], v_end: &mut [Motion], 
 
 /// [`reach_again`]'s test of pair k: whether it added contacts, None when the list is full.
 #[inline(always)]
-fn test_again(m: &Model, kin: &KinData, out: &mut CollisionData, k: usize, lever: f64) -> Option<bool> {
+fn test_again(m: &Model, kin: &KinData, aba: &AbaData, v_end: &[Motion], out: &mut CollisionData, k: usize, lever: f64) -> Option<bool> {
     let p = &m.collision_pairs[k];
-    let (i, j) = (p.g1, p.g2);
-    let reach = lever * (out.geom_speed_end[i] + out.geom_speed_end[j]);
-    let margin = p.margin + reach;
-    if reach <= self::reach(out, i) + self::reach(out, j) || apart(out, p, margin) {
+    let each = lever * (out.geom_speed_end[p.g1] + out.geom_speed_end[p.g2]);
+    if apart(out, p, p.margin + each) {
+        return Some(false);
+    }
+    let closing = if fixed(m, p.g1) || fixed(m, p.g2) { each } else { each.min(relative_reach_end(m, kin, v_end, out, p)) };
+    let margin = p.margin + closing;
+    if margin <= speculative_margin(m, kin, aba, out, p) || apart(out, p, margin) {
         return Some(false);
     }
     let before = out.contacts.len();

@@ -4,6 +4,7 @@
 use glam::DVec3;
 
 use super::convex::{on_plane, point_polytope, polytopes, Manifold, PosedBox, PosedHull, Segment};
+use super::ellipsoid::{self, Epa};
 use super::terrain::hfield_contacts;
 use super::data::{pose_axes, CollisionData, Contact};
 use super::shapes::{box_box, closest_on_segment, closest_segments, point_box, segment_box_points, shape, spheres, Shape};
@@ -115,8 +116,17 @@ pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, p: &GeomPai
                 add(cd, g1, g2, feature, pos, n, d);
             }
         }
+        (Shape::Ellipsoid { c, rot, radii }, Shape::Plane { p, n }) => {
+            let (pos, n, d) = ellipsoid::on_plane(c, rot, radii, p, n);
+            add(cd, g1, g2, 0, pos, n, d);
+        }
+        (Shape::Ellipsoid { .. }, other) | (other, Shape::Ellipsoid { .. }) if !matches!(other, Shape::HField { .. }) => {
+            if let Some((pos, n, d)) = ellipsoid::convex(s1, s2, margin, &mut cd.epa) {
+                add(cd, g1, g2, 0, pos, n, d);
+            }
+        }
         (Shape::Hull { .. } | Shape::HField { .. }, _) | (_, Shape::Hull { .. } | Shape::HField { .. }) => {
-            for &(feature, pos, n, d) in convex_pair(m, (s1, g1), (s2, g2), margin).iter() {
+            for &(feature, pos, n, d) in convex_pair(m, (s1, g1), (s2, g2), margin, &mut cd.epa).iter() {
                 add(cd, g1, g2, feature, pos, n, d);
             }
         }
@@ -126,9 +136,9 @@ pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, p: &GeomPai
 }
 
 /// Contacts of a pair with a hull or a height field (shape 2; normals from shape 2 to shape 1).
-fn convex_pair(m: &Model, (s1, g1): (Shape, usize), (s2, g2): (Shape, usize), margin: f64) -> Manifold {
+fn convex_pair(m: &Model, (s1, g1): (Shape, usize), (s2, g2): (Shape, usize), margin: f64, epa: &mut Epa) -> Manifold {
     match s2 {
-        Shape::HField { p, rot, field } => hfield_contacts(field, p, rot, s1, margin, m.geom_rbound[g1]),
+        Shape::HField { p, rot, field } => hfield_contacts(field, p, rot, s1, margin, m.geom_rbound[g1], epa),
         _ => hull_pair(s1, s2, margin, m.geom_rbound[g1] + m.geom_rbound[g2]),
     }
 }

@@ -15,6 +15,7 @@ pub(super) enum Shape<'a> {
     Sphere { c: DVec3, r: f64 },
     Segment { a: DVec3, b: DVec3, r: f64 },
     Box { c: DVec3, rot: DMat3, half: DVec3 },
+    Ellipsoid { c: DVec3, rot: DMat3, radii: DVec3 },
     Hull { c: DVec3, rot: DMat3, hull: &'a Hull },
     HField { p: DVec3, rot: DMat3, field: &'a HField },
 }
@@ -26,7 +27,7 @@ pub(super) fn shape<'a>(m: &'a Model, cd: &CollisionData, g: usize) -> Shape<'a>
     match m.geom_type[g] {
         GeomType::Plane => Shape::Plane { p, n: r.col(2) },
         GeomType::Sphere => Shape::Sphere { c: p, r: s[0] },
-        GeomType::Ellipsoid => Shape::Sphere { c: p, r: s[0].max(s[1]).max(s[2]) },
+        GeomType::Ellipsoid => Shape::Ellipsoid { c: p, rot: r, radii: DVec3::from_array(s) },
         GeomType::Capsule | GeomType::Cylinder => {
             let h = r.col(2) * s[1];
             Shape::Segment { a: p - h, b: p + h, r: s[0] }

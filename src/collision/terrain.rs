@@ -7,6 +7,7 @@ use arrayvec::ArrayVec;
 use glam::{DMat3, DVec3};
 
 use super::convex::{point_polytope, polytopes, reduce, Manifold, Point, PosedBox, PosedHull, Prism, Segment, MAX_MANIFOLD};
+use super::ellipsoid::{half_width, with_polytope, Epa};
 use super::shapes::Shape;
 use crate::geometry::HField;
 
@@ -15,7 +16,7 @@ const MAX_GATHER: usize = 64;
 
 /// Contacts of `other` (within `margin`) with the height field `h` at pose (`p`, `rot`); normals
 /// point from the field toward `other`.
-pub(super) fn hfield_contacts(h: &HField, p: DVec3, rot: DMat3, other: Shape, margin: f64, scale: f64) -> Manifold {
+pub(super) fn hfield_contacts(h: &HField, p: DVec3, rot: DMat3, other: Shape, margin: f64, scale: f64, epa: &mut Epa) -> Manifold {
     let up = rot.col(2);
     // the shape's centre and its half-extents along the field's x and y
     let (x, y) = (rot.col(0), rot.col(1));
@@ -28,6 +29,7 @@ pub(super) fn hfield_contacts(h: &HField, p: DVec3, rot: DMat3, other: Shape, ma
             let mid = |d: DVec3| 0.5 * (hull.support(hr.transpose() * d).1 - hull.support(hr.transpose() * -d).1);
             (c + x * mid(x) + y * mid(y), [reach(x), reach(y)])
         }
+        Shape::Ellipsoid { c, rot: er, radii } => (c, [half_width(er, radii, x), half_width(er, radii, y)]),
         Shape::Plane { .. } | Shape::HField { .. } => return Manifold::new(),
     };
     let lowest = lowest_along(other, up);
@@ -52,7 +54,7 @@ pub(super) fn hfield_contacts(h: &HField, p: DVec3, rot: DMat3, other: Shape, ma
                     continue;
                 }
                 let prism = Prism::new(top, p, up, h.size[3]);
-                let m = prism_contacts(&prism, other, margin);
+                let m = prism_contacts(&prism, other, margin, epa);
                 let id = ((row * h.ncol + col) * 2 + t).wrapping_mul(0x9E37_79B9_7F4A_7C15);
                 for &(f, at, n, d) in m.iter() {
                     let repeat = pts.iter().any(|q: &Point| q.1.distance(at) <= tol && q.2.dot(n) > 1.0 - 1e-9);
@@ -77,12 +79,13 @@ fn lowest_along(shape: Shape, n: DVec3) -> f64 {
         Shape::Segment { a, b, r } => a.dot(n).min(b.dot(n)) - r,
         Shape::Box { c, rot, half } => c.dot(n) - (rot.transpose() * n).abs().dot(half),
         Shape::Hull { c, rot, hull } => c.dot(n) - hull.support(rot.transpose() * -n).1,
+        Shape::Ellipsoid { c, rot, radii } => c.dot(n) - half_width(rot, radii, n),
         Shape::Plane { .. } | Shape::HField { .. } => f64::NEG_INFINITY,
     }
 }
 
 /// Contacts of `other` with one prism, normals from the prism toward `other`.
-fn prism_contacts(prism: &Prism, other: Shape, margin: f64) -> Manifold {
+fn prism_contacts(prism: &Prism, other: Shape, margin: f64, epa: &mut Epa) -> Manifold {
     let scale = prism.v[0].distance(prism.v[3]).max(prism.v[0].distance(prism.v[1]));
     let flip = |mut m: Manifold| {
         for q in m.iter_mut() {
@@ -110,6 +113,7 @@ fn prism_contacts(prism: &Prism, other: Shape, margin: f64) -> Manifold {
         }
         Shape::Box { c, rot, half } => polytopes(&PosedBox { c, rot, half }, prism, margin, scale),
         Shape::Hull { c, rot, hull } => polytopes(&PosedHull { hull, c, rot }, prism, margin, scale),
+        Shape::Ellipsoid { .. } => with_polytope(other, prism, margin, epa).into_iter().map(|(at, n, d)| (0, at, n, d)).collect(),
         Shape::Plane { .. } | Shape::HField { .. } => Manifold::new(),
     }
 }

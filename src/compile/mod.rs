@@ -460,7 +460,7 @@ fn sweep_lists(m: &mut Model) {
     m.pairs_unswept.clear();
     for (k, p) in m.collision_pairs.iter().enumerate().rev() {
         first[p.g1] = k;
-        if p.test == PairTest::Spheres && !crate::model::same_tree(m, p.g1, p.g2) {
+        if p.test == PairTest::Spheres {
             (swept[p.g1], swept[p.g2]) = (true, true);
         } else {
             m.pairs_unswept.push(k);

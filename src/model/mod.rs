@@ -587,12 +587,11 @@ pub struct Model {
     /// Bit i · ngeom + j set when geoms i < j make a pair (empty for models of more than
     /// [`PAIR_BITS_GEOMS`] geoms): the sweep's overlapping boxes that are no pair cost one load.
     pub pair_bits: Vec<u64>,
-    /// The geoms of [`PairTest::Spheres`] pairs of two trees (or a tree and the world), which the
-    /// sweep of the broadphase bounds by boxes.
+    /// The geoms of [`PairTest::Spheres`] pairs, which the sweep of the broadphase bounds by
+    /// boxes (within a tree too: dm_control's dog has 5,438 pairs of its own geoms).
     pub sweep_geoms: Vec<usize>,
-    /// Indices into `collision_pairs` of the other pairs (within one tree, a plane's, two
-    /// planes'), in order: tested on their bounds without the sweep (a character's limbs are
-    /// always near each other).
+    /// Indices into `collision_pairs` of the other pairs (a plane's, two planes'), in order:
+    /// tested on their bounds without the sweep.
     pub pairs_unswept: Vec<usize>,
     /// Indices into `collision_pairs` of the other pairs outside plane groups (a plane's with a
     /// geom of unbounded reach, two planes'): with the gap pairs, the only ones tested while every

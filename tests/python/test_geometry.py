@@ -91,3 +91,49 @@ def test_a_meshed_model_pickles_and_loads_from_anywhere(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     again = pickle.loads(pickle.dumps(dog))
     np.testing.assert_array_equal(again.body_mass, dog.body_mass)
+
+
+ELLIPSOID_PARTNERS = {
+    "plane": 'type="plane" size="2 2 0.1"',
+    "sphere": 'type="sphere" size="0.1"',
+    "capsule": 'type="capsule" size="0.07 0.15"',
+    "box": 'type="box" size="0.1 0.15 0.08"',
+    "ellipsoid": 'type="ellipsoid" size="0.2 0.09 0.11"',
+    "mesh": 'type="mesh" mesh="frustum"',
+}
+
+
+@pytest.mark.parametrize("other", sorted(ELLIPSOID_PARTNERS))
+def test_ellipsoid_contacts_are_mujocos(other):
+    # an ellipsoid against every kind of geom at random poses: the same contact (one point),
+    # distance and normal as MuJoCo's, to MuJoCo's own tolerance of its convex collisions (1e-6)
+    partner = f'<geom {ELLIPSOID_PARTNERS[other]} pos="0 0 1"/>'
+    if other != "plane":
+        partner = f'<body pos="0 0 1"><freejoint/><geom {ELLIPSOID_PARTNERS[other]}/></body>'
+    xml = f"""<mujoco><option gravity="0 0 0" timestep="1e-9"/><asset><mesh name="frustum" vertex="{FRUSTUM}" scale="2 2 2"/></asset>
+    <worldbody><body pos="0 0 1"><freejoint/><geom type="ellipsoid" size="0.16 0.1 0.07"/></body>{partner}</worldbody></mujoco>"""
+    m, mj = sinew.Model.from_mjcf_string(xml), mujoco.MjModel.from_xml_string(xml)
+    sim, d = sinew.Sim(m), mujoco.MjData(mj)
+    rng = np.random.default_rng(3)
+    compared = 0
+    for _ in range(1000):
+        q = mj.qpos0.copy()
+        q[0:3] += rng.uniform(-0.2, 0.2, 3)
+        for a in range(3, mj.nq, 7):
+            quat = rng.normal(size=4)
+            q[a:a + 4] = quat / np.linalg.norm(quat)
+        if mj.nq > 7:
+            q[7:10] = q[0:3] + rng.uniform(-0.25, 0.25, 3)
+        d.qpos[:] = q
+        mujoco.mj_forward(mj, d)
+        sim.qpos, sim.qvel = q, np.zeros(mj.nv)
+        sim.step()
+        ours = [c for c in sim.contacts if c["dist"] <= 0]
+        if d.ncon and d.contact.dist[0] < -0.02:
+            continue  # deep overlaps: MuJoCo's depth is not the least translation there
+        assert len(ours) == d.ncon, (q, ours, d.contact)
+        for c in ours:
+            assert abs(c["dist"] - d.contact.dist[0]) < 1e-5, (q, c, d.contact.dist[0])
+            assert abs(abs(np.dot(c["normal"], d.contact.frame[0][:3])) - 1) < 1e-5, (q, c, d.contact.frame[0])
+            compared += 1
+    assert compared > 20
