@@ -141,8 +141,8 @@ fn walk(m: &Model, r: &mut Rng, steps: usize, jump: usize, drift: f64, v_max: f6
         skipped += cd.gap_skips;
         // constraint forces changed the velocities: the pairs the new ones can close
         let v_end: Vec<f64> = v.iter().map(|x| x * r.uniform(0.0, 30.0)).collect();
-        reach_again(m, &data.dynamics.kin, &data.dynamics.aba, &v_end, &mut node_v, &mut cd);
-        reach_again(m, &data.dynamics.kin, &data.dynamics.aba, &v_end, &mut node_v, &mut fresh);
+        reach_again(m, &data.dynamics.kin, &v_end, &mut node_v, &mut cd);
+        reach_again(m, &data.dynamics.kin, &v_end, &mut node_v, &mut fresh);
         assert_eq!(cd.contacts, fresh.contacts, "{} step {step}, end velocities", m.name);
         touching += !fresh.contacts.is_empty() as usize;
         for x in v.iter_mut() {

@@ -176,9 +176,16 @@ pub(super) fn relative_reach(m: &Model, kin: &KinData, aba: &AbaData, out: &Coll
     let u = dv.point_velocity(centre);
     let du = da.point_velocity(centre) + dv.ang.cross(vi.point_velocity(centre)) - vj.ang.cross(u);
     let w = dv.ang.length();
-    let linear = u.length() + h * (du.length() + m.opt.gravity.length());
+    let linear = u.length() + h * du.length();
     let angular = w + h * (da.ang.length() + w * (vi.ang.length() + vj.ang.length()));
-    lever * (linear + angular * rb)
+    lever * (linear + angular * rb) + fall(m)
+}
+
+/// One step's fall, lever · h|g|: what [`relative_reach`] adds for the support a body resting on
+/// another lacks in the constraint-free accelerations.
+#[inline(always)]
+pub(super) fn fall(m: &Model) -> f64 {
+    m.opt.lever() * m.opt.timestep * m.opt.gravity.length()
 }
 
 /// [`relative_reach`] at the step's end velocities `v_end` (per node), without acceleration terms.

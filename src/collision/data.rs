@@ -99,6 +99,8 @@ pub struct CollisionData {
     pub(super) swept: Vec<usize>,
     /// The pairs the sweep leaves to test, in order ([`near_pairs`]).
     pub(super) near: Vec<usize>,
+    /// Pairs the detection narrowed to their relative motion's margin, with that margin.
+    pub(super) narrowed: Vec<(usize, f64)>,
     /// EPA's buffers, for pairs with an ellipsoid.
     pub(super) epa: Epa,
     /// Contacts of this configuration.
@@ -137,6 +139,7 @@ impl CollisionData {
             swept: Vec::with_capacity(if m.collision_pairs.len() < SWEEP_PAIRS { 0 } else { m.collision_pairs.len() }),
             // a model of few pairs tests them all, listed once here
             near: if m.collision_pairs.len() < SWEEP_PAIRS { (0..m.collision_pairs.len()).collect() } else { Vec::with_capacity(m.collision_pairs.len()) },
+            narrowed: Vec::new(),
             epa: Epa::default(),
             // grown to the most a step has found (at most `Options::max_contacts`)
             contacts: Vec::new(),

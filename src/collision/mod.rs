@@ -34,9 +34,8 @@
 //! geoms are bounded by their bodies' relative motion where that is less (limbs of one falling
 //! character, characters falling side by side).
 
-use crate::model::{GeomPair, Model};
+use crate::model::Model;
 
-use crate::dynamics::aba::AbaData;
 use crate::dynamics::kinematics::KinData;
 use crate::dynamics::DynamicsData;
 use crate::state::WorldState;
@@ -52,7 +51,7 @@ pub mod ray;
 mod shapes;
 mod terrain;
 
-use broadphase::{apart, arm_speed, judge_groups, near_pairs, own_reach_of, relative_reach, relative_reach_end};
+use broadphase::{apart, arm_speed, fall, judge_groups, near_pairs, own_reach_of, relative_reach, relative_reach_end};
 pub use data::{CollisionData, Contact};
 use data::{pose, posed, reach, fixed, GAP_TOLERANCE};
 use gaps::{lower_and_test_gaps, quick_travel, test_lazily, travel};
@@ -66,6 +65,7 @@ use narrowphase::pair;
 /// nothing to test, else whether every group is apart.
 fn begin(m: &Model, kin: &KinData, out: &mut CollisionData, reach: f64) -> Option<bool> {
     out.contacts.clear();
+    out.narrowed.clear();
     out.gap_skips = 0;
     if !m.opt.contact || m.collision_pairs.is_empty() {
         return None;
@@ -122,25 +122,41 @@ pub fn collide(m: &Model, dy: &DynamicsData, s: &WorldState<'_>, out: &mut Colli
         // speculative: pairs that could close within this step (which moves a point by
         // lever × (v + h a), lever = h for semi-implicit Euler) count as contacts, so a fast foot
         // is stopped at the surface instead of being found inside it one step later
-        if apart(out, p, p.margin + reach(out, p.g1) + reach(out, p.g2)) {
+        let margin = p.margin + reach(out, p.g1) + reach(out, p.g2);
+        if apart(out, p, margin) {
             continue;
         }
-        let margin = speculative_margin(m, kin, aba, out, p);
-        if !apart(out, p, margin) {
-            pair(m, kin, out, p, margin);
+        let before = out.contacts.len();
+        pair(m, kin, out, p, margin);
+        // two moving geoms: only their relative motion can close the gap (bounded only where a
+        // contact found lies farther than that could matter)
+        if !(fixed(m, p.g1) || fixed(m, p.g2)) && out.contacts[before..].iter().any(|c| c.dist > p.margin + fall(m)) {
+            narrow(out, k, before, (p.margin + relative_reach(m, kin, aba, out, p)).min(margin));
         }
     }
     out.near = near;
 }
 
-/// The margin a detection tests pair p with: the pair's own and how far its geoms can approach
-/// each other within the step (each geom's own bound, or for two moving geoms their relative
-/// motion's where that is less).
-#[inline(always)]
-fn speculative_margin(m: &Model, kin: &KinData, aba: &AbaData, out: &CollisionData, p: &GeomPair) -> f64 {
-    let each = reach(out, p.g1) + reach(out, p.g2);
-    let closing = if fixed(m, p.g1) || fixed(m, p.g2) { each } else { each.min(relative_reach(m, kin, aba, out, p)) };
-    p.margin + closing
+/// Drops the contacts from `before` on (pair k's) farther than `margin`, and notes the pair's
+/// narrower margin for [`reach_again`] if it dropped any.
+fn narrow(out: &mut CollisionData, k: usize, before: usize, margin: f64) {
+    if drop_beyond(&mut out.contacts, before, margin) {
+        out.narrowed.push((k, margin));
+    }
+}
+
+/// Drops the contacts from `before` on farther than `margin` (in order); whether any were.
+fn drop_beyond(contacts: &mut Vec<Contact>, before: usize, margin: f64) -> bool {
+    let mut kept = before;
+    for i in before..contacts.len() {
+        if contacts[i].dist <= margin {
+            contacts[kept] = contacts[i];
+            kept += 1;
+        }
+    }
+    let dropped = kept < contacts.len();
+    contacts.truncate(kept);
+    dropped
 }
 
 /// Contacts of the configuration in `kin` that penetrate (dist < 0) — no speculative margin; for
@@ -178,7 +194,7 @@ pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
 /// contacts not found before are appended. Returns whether there were any: constraint forces (a
 /// body landing on another, say) can carry a geom further than its constraint-free motion. The
 /// nodes' end velocities are computed into `v_end` only if a pair needs them.
-pub fn reach_again(m: &Model, kin: &KinData, aba: &AbaData, qvel_end: &[f64], v_end: &mut [Motion], out: &mut CollisionData) -> bool {
+pub fn reach_again(m: &Model, kin: &KinData, qvel_end: &[f64], v_end: &mut [Motion], out: &mut CollisionData) -> bool {
     if !m.opt.contact || m.collision_pairs.is_empty() {
         return false;
     }
@@ -191,7 +207,7 @@ pub fn reach_again(m: &Model, kin: &KinData, aba: &AbaData, qvel_end: &[f64], v_
         end_speeds(m, kin, qvel_end, v_end, out);
         let near = near_pairs(m, out, |out, g| lever * out.geom_speed_end[g]);
         for &k in &near {
-            let Some(more) = test_again(m, kin, aba, v_end, out, k, lever) else { break };
+            let Some(more) = test_again(m, kin, v_end, out, k, lever) else { break };
             found |= more;
         }
         out.near = near;
@@ -218,7 +234,7 @@ pub fn reach_again(m: &Model, kin: &KinData, aba: &AbaData, qvel_end: &[f64], v_
             end_speeds(m, kin, qvel_end, v_end, out);
             speeds = true;
         }
-        let Some(more) = test_again(m, kin, aba, v_end, out, k, lever) else { break };
+        let Some(more) = test_again(m, kin, v_end, out, k, lever) else { break };
         found |= more;
     }
     found
@@ -243,15 +259,13 @@ fn end_speeds(m: &Model, kin: &KinData, qvel_end: &[f64], v_end: &mut [Motion], 
 
 /// [`reach_again`]'s test of pair k: whether it added contacts, None when the list is full.
 #[inline(always)]
-fn test_again(m: &Model, kin: &KinData, aba: &AbaData, v_end: &[Motion], out: &mut CollisionData, k: usize, lever: f64) -> Option<bool> {
+fn test_again(m: &Model, kin: &KinData, v_end: &[Motion], out: &mut CollisionData, k: usize, lever: f64) -> Option<bool> {
     let p = &m.collision_pairs[k];
-    let each = lever * (out.geom_speed_end[p.g1] + out.geom_speed_end[p.g2]);
-    if apart(out, p, p.margin + each) {
-        return Some(false);
-    }
-    let closing = if fixed(m, p.g1) || fixed(m, p.g2) { each } else { each.min(relative_reach_end(m, kin, v_end, out, p)) };
-    let margin = p.margin + closing;
-    if margin <= speculative_margin(m, kin, aba, out, p) || apart(out, p, margin) {
+    let reach = lever * (out.geom_speed_end[p.g1] + out.geom_speed_end[p.g2]);
+    // the first detection's margin: each geom's own bound, or a narrower one it noted
+    let first = out.narrowed.iter().find(|n| n.0 == k).map_or(p.margin + self::reach(out, p.g1) + self::reach(out, p.g2), |n| n.1);
+    let margin = p.margin + reach;
+    if margin <= first || apart(out, p, margin) {
         return Some(false);
     }
     let before = out.contacts.len();
@@ -260,6 +274,10 @@ fn test_again(m: &Model, kin: &KinData, aba: &AbaData, v_end: &[Motion], out: &m
         return None;
     }
     pair(m, kin, out, p, margin);
+    if !(fixed(m, p.g1) || fixed(m, p.g2)) && out.contacts[before..].iter().any(|c| c.dist > p.margin) {
+        let relative = p.margin + relative_reach_end(m, kin, v_end, out, p);
+        drop_beyond(&mut out.contacts, before, relative);
+    }
     let mut found = false;
     let mut k = before;
     while k < out.contacts.len() {

@@ -53,11 +53,11 @@ pub fn missed_contacts(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) -> b
         return false;
     }
     let h = m.opt.timestep;
-    let (kin, aba, qacc, coll, rows) = (&data.dynamics.kin, &data.dynamics.aba, &data.dynamics.qacc, &mut *data.coll, &mut data.constraints.rows);
+    let (kin, qacc, coll, rows) = (&data.dynamics.kin, &data.dynamics.qacc, &mut *data.coll, &mut data.constraints.rows);
     for ((e, v), a) in rows.vel_end.iter_mut().zip(s.qvel.iter()).zip(qacc.iter()) {
         *e = v + h * a;
     }
-    collision::reach_again(m, kin, aba, &rows.vel_end, &mut rows.v_end, coll)
+    collision::reach_again(m, kin, &rows.vel_end, &mut rows.v_end, coll)
 }
 
 /// Marks in `data.constraints.rows.limit_forced` each limit without a row that q̇ + h q̈ would cross within the step.
