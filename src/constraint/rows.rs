@@ -22,6 +22,9 @@ use crate::model::{Actuation, Connect, FrictionModel, GeomType, Model, Wrap, WOR
 pub struct RowScratch {
     /// Limits whose rows this step must include (2 per joint, then 2 per tendon: lower, upper).
     pub limit_forced: Vec<bool>,
+    /// Limits that have a row this step (as `limit_forced`), marked by [`missed_limits`] when it
+    /// needs them.
+    limit_row: Vec<bool>,
     /// Friction tangents being recorded this step.
     pub tangents_next: Vec<((usize, usize, usize), DVec3)>,
     /// The step's end velocities q̇ + h q̈ (nv) and the nodes' spatial velocities of them (nnode),
@@ -38,6 +41,7 @@ impl RowScratch {
     pub fn new(m: &Model) -> Self {
         RowScratch {
             limit_forced: vec![false; 2 * (m.njnt + m.ntendon)],
+            limit_row: vec![false; 2 * (m.njnt + m.ntendon)],
             tangents_next: vec![],
             vel_end: vec![0.0; m.nv],
             v_end: vec![Motion::ZERO; m.nnode],
@@ -64,17 +68,30 @@ pub fn missed_contacts(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) -> b
 pub fn missed_limits(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) -> bool {
     let (qpos, qvel) = (&*s.qpos, &*s.qvel);
     let (h, lever) = (m.opt.timestep, m.opt.lever());
-    let (dy, con) = (&*data.dynamics, &data.constraints.con);
+    let dy = &*data.dynamics;
+    let Constraints { con, rows, .. } = &mut *data.constraints;
     let mut any = false;
-    let has_row = |source: usize, sign: f64| (0..con.len()).any(|r| con.kind[r] == RowKind::Limit && con.source[r] == source && con.dof[r].1 == sign);
+    // the limits with rows, marked at the first crossing found (one pass over the rows)
+    let mut marked = false;
+    let mut without_row = |source: usize, side: usize| {
+        if !marked {
+            rows.limit_row.fill(false);
+            for r in (0..con.len()).filter(|&r| con.kind[r] == RowKind::Limit) {
+                rows.limit_row[2 * con.source[r] + (con.dof[r].1 < 0.0) as usize] = true;
+            }
+            marked = true;
+        }
+        let missed = !rows.limit_row[2 * source + side];
+        rows.limit_forced[2 * source + side] |= missed;
+        missed
+    };
     for j in m.limited_joints() {
         let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
         let [lo, hi] = m.jnt_range[j];
         let v_end = qvel[da] + h * dy.qacc[da];
         for (side, (dist, sign)) in [(qpos[qa] - lo, 1.0), (hi - qpos[qa], -1.0)].into_iter().enumerate() {
-            if dist + lever * sign * v_end < 0.0 && !has_row(j, sign) {
-                data.constraints.rows.limit_forced[2 * j + side] = true;
-                any = true;
+            if dist + lever * sign * v_end < 0.0 {
+                any |= without_row(j, side);
             }
         }
     }
@@ -84,9 +101,8 @@ pub fn missed_limits(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) -> boo
         let length = dy.ten.length[t];
         let [lo, hi] = m.tendon_range[t];
         for (side, (dist, sign)) in [(length - lo, 1.0), (hi - length, -1.0)].into_iter().enumerate() {
-            if dist + lever * sign * v_end < 0.0 && !has_row(m.njnt + t, sign) {
-                data.constraints.rows.limit_forced[2 * (m.njnt + t) + side] = true;
-                any = true;
+            if dist + lever * sign * v_end < 0.0 {
+                any |= without_row(m.njnt + t, side);
             }
         }
     }
