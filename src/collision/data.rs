@@ -3,7 +3,6 @@
 
 use glam::{DMat3, DVec3};
 
-use super::ellipsoid::Epa;
 use crate::dynamics::kinematics::KinData;
 use crate::model::{GeomType, JointType, Model, WORLD};
 
@@ -227,3 +226,19 @@ pub(super) struct SweepBox {
 
 /// Pairs fewer than this are all tested on their spheres; more are swept first ([`near_pairs`]).
 pub(super) const SWEEP_PAIRS: usize = 256;
+
+/// EPA's buffers, kept from one detection to the next (grown once, then reused).
+#[derive(Default)]
+pub(super) struct Epa(pub(super) parry3d_f64::query::epa::EPA);
+
+impl Clone for Epa {
+    fn clone(&self) -> Self {
+        Epa::default()
+    }
+}
+
+impl std::fmt::Debug for Epa {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Epa")
+    }
+}

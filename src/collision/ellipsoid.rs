@@ -13,28 +13,12 @@
 
 use glam::{DMat3, DVec3};
 use parry3d_f64::math::{Pose, Vector};
-use parry3d_f64::query::epa::EPA;
 use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
 use parry3d_f64::shape::SupportMap;
 
 use super::convex::Polytope;
+use super::data::Epa;
 use super::shapes::Shape;
-
-/// EPA's buffers, kept from one detection to the next (grown once, then reused).
-#[derive(Default)]
-pub(super) struct Epa(EPA);
-
-impl Clone for Epa {
-    fn clone(&self) -> Self {
-        Epa::default()
-    }
-}
-
-impl std::fmt::Debug for Epa {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("Epa")
-    }
-}
 
 /// (point midway between the surfaces, unit normal from shape 2 to shape 1, signed distance).
 pub(super) type Touch = (DVec3, DVec3, f64);

@@ -4,9 +4,9 @@
 use glam::DVec3;
 
 use super::convex::{on_plane, point_polytope, polytopes, Manifold, PosedBox, PosedHull, Segment};
-use super::ellipsoid::{self, Epa};
+use super::data::{pose_axes, CollisionData, Contact, Epa};
+use super::ellipsoid;
 use super::terrain::hfield_contacts;
-use super::data::{pose_axes, CollisionData, Contact};
 use super::shapes::{box_box, closest_on_segment, closest_segments, point_box, segment_box_points, shape, spheres, Shape};
 use crate::dynamics::kinematics::KinData;
 use crate::model::{GeomPair, Model};
