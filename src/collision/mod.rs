@@ -130,7 +130,7 @@ pub fn collide(m: &Model, dy: &DynamicsData, s: &WorldState<'_>, out: &mut Colli
         pair(m, kin, out, p, margin);
         // two moving geoms: only their relative motion can close the gap (bounded only where a
         // contact found lies farther than that could matter)
-        if !(fixed(m, p.g1) || fixed(m, p.g2)) && out.contacts[before..].iter().any(|c| c.dist > p.margin + fall(m)) {
+        if p.both_move && out.contacts[before..].iter().any(|c| c.dist > p.margin + fall(m)) {
             narrow(out, k, before, (p.margin + relative_reach(m, kin, aba, out, p)).min(margin));
         }
     }
@@ -274,7 +274,7 @@ fn test_again(m: &Model, kin: &KinData, v_end: &[Motion], out: &mut CollisionDat
         return None;
     }
     pair(m, kin, out, p, margin);
-    if !(fixed(m, p.g1) || fixed(m, p.g2)) && out.contacts[before..].iter().any(|c| c.dist > p.margin) {
+    if p.both_move && out.contacts[before..].iter().any(|c| c.dist > p.margin) {
         let relative = p.margin + relative_reach_end(m, kin, v_end, out, p);
         drop_beyond(&mut out.contacts, before, relative);
     }

@@ -6,7 +6,7 @@ use glam::DVec3;
 
 use crate::error::{Error, Result};
 use crate::mjcf::ModelSpec;
-use crate::model::{GeomPair, GeomType, Model, PairTest};
+use crate::model::{GeomPair, GeomType, Model, PairTest, WORLD};
 
 /// Bounding radius of a geom about its centre (planes: infinite).
 pub fn geom_rbound(kind: GeomType, s: [f64; 3]) -> f64 {
@@ -82,5 +82,6 @@ pub fn geom_pair(m: &Model, i: usize, j: usize) -> GeomPair {
         (true, false) if m.geom_type[j] == GeomType::Plane => (PairTest::Plane { plane: j, other: i, group: None }, ri),
         _ => (PairTest::Always, 0.0),
     };
-    GeomPair { g1: i, g2: j, test, margin, radii, friction: None }
+    let moves = |g: usize| m.body_node[m.geom_body[g]] != WORLD && m.geom_type[g] != GeomType::Plane;
+    GeomPair { g1: i, g2: j, test, margin, radii, friction: None, both_move: moves(i) && moves(j) }
 }

@@ -19,6 +19,9 @@ pub struct GeomPair {
     /// An explicit pair's (`<contact><pair>`) friction coefficient and whether friction applies;
     /// None: the geoms' ([`crate::collision::contact_friction`]).
     pub friction: Option<(f64, bool)>,
+    /// Whether both geoms move (neither is the world's nor a plane): their relative motion then
+    /// bounds how near the step can bring them.
+    pub both_move: bool,
 }
 
 /// A pair of two bounded geoms ([`PairTest::Spheres`]), which keeps a lower bound on its distance
