@@ -421,18 +421,33 @@ fn cascade(p: Problem<'_>, warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpW
         return;
     }
     // Lemke; once more with a stronger regulariser when its answer fails the check (redundant
-    // contacts sharing their demand can end the path on a ray), and once more covering every row,
-    // λ too (which ends some of those paths elsewhere); each answer polished and checked against
-    // the problem as posed; the best failing answer is kept in `best`
+    // contacts sharing their demand can end the path on a ray), once more covering every row,
+    // λ too (which ends some of those paths elsewhere), and once more with λ's and σ's diagonal
+    // stiffened as well: the matrix is then strictly copositive, for which Lemke's path cannot
+    // end on a ray (Cottle, Pang & Stone 1992, Thm 4.4.13) — the rays left were a λ with no
+    // friction force; each answer polished and checked against the problem as posed; the best
+    // failing answer is kept in `best`
     let mut stiff = std::mem::take(&mut work.stiff);
     let mut lemke_res = f64::INFINITY;
-    for attempt in 0..3 {
+    for attempt in 0..4 {
         let retry = attempt > 0;
         if attempt == 1 {
             stiff.clear();
             stiff.extend_from_slice(&m[..n * n]);
             for i in (0..n).filter(|&i| role[i] != Role::Lambda) {
                 stiff[i * n + i] += RETRY_REGULARISATION * m[i * n + i].abs();
+            }
+        }
+        if attempt == 3 {
+            // w_λ = μ f_n − Σ f_t + ε λ: the cone exceeded by ε λ while sliding, ε a millionth of
+            // the inverse of the friction row's own K (its force per unit acceleration)
+            for i in 0..n {
+                if let Role::Friction { lambda, .. } | Role::Bounded { lambda, .. } = role[i]
+                    && m[i * n + i] > 0.0
+                {
+                    let eps = RETRY_REGULARISATION / m[i * n + i];
+                    stiff[lambda * n + lambda] = stiff[lambda * n + lambda].max(eps);
+                }
             }
         }
         let uncovered = |i: usize| attempt < 2 && role[i] == Role::Lambda;
