@@ -46,7 +46,8 @@ pub struct LcpStats {
     pub pivots: u64,
     /// Solves settled by the previous step's active set, without pivoting.
     pub warm_starts: u64,
-    /// Solves settled by a later Lemke attempt (more strongly regularised; then also covering λ).
+    /// Solves settled by a later Lemke attempt (more strongly regularised; then also covering λ;
+    /// then with λ's diagonal stiffened too).
     pub retries: u64,
     /// Solves whose Lemke attempts failed the check, settled exactly (passing it) from projected
     /// Gauss–Seidel's answer.
@@ -406,7 +407,7 @@ pub(super) fn root(parent: &mut [usize], mut i: usize) -> usize {
 const LEFT_OUT_TOLERANCE: f64 = 1e-12;
 
 /// Solves with the cascade warm start → Lemke → Lemke more strongly regularised → Lemke covering
-/// λ → projected Gauss–Seidel, polished from its active set (or Lemke's inexact answer when that
+/// λ → Lemke with λ's diagonal stiffened → projected Gauss–Seidel, polished from its active set (or Lemke's inexact answer when that
 /// has the smaller residual) → zero; counts the path in `stats`. `warm`, when given, is the
 /// previous step's active set for the same rows: if solving on it directly passes the independent
 /// check, no pivoting is needed (resting contacts).
