@@ -15,10 +15,9 @@ from pathlib import Path
 
 import gymnasium
 
+from ab_base import ROOT, base_tree
 from emit import invocation
 
-ROOT = Path(__file__).resolve().parent.parent
-CACHE = Path.home() / ".cache" / "sinew-ab"
 ASSETS = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
 #: steps per run: about 10 s each under callgrind
 STEPS = {"hopper": 10_000, "walker2d": 10_000, "half_cheetah": 10_000, "ant": 8_000, "humanoid": 5_000}
@@ -30,12 +29,8 @@ def build(tree: Path) -> Path:
     return tree / "target" / "profiling" / "examples" / "profile_step"
 
 
-def base_tree(commit: str) -> Path:
-    """A worktree of `commit` (kept under ~/.cache/sinew-ab/<sha>/tree) with this tree's example."""
-    sha = subprocess.run(["git", "rev-parse", commit], cwd=ROOT, capture_output=True, text=True, check=True).stdout.strip()
-    tree = CACHE / sha / "tree"
-    if not tree.is_dir():
-        subprocess.run(["git", "worktree", "add", "--force", "--detach", str(tree), sha], cwd=ROOT, check=True)
+def with_example(tree: Path) -> Path:
+    """`tree` with this tree's `examples/profile_step.rs` (the same workload at both commits)."""
     shutil.copy(ROOT / "examples" / "profile_step.rs", tree / "examples" / "profile_step.rs")
     return tree
 
@@ -56,7 +51,7 @@ def main():
     args = ap.parse_args()
     if shutil.which("valgrind") is None:
         raise SystemExit("valgrind is needed (apt-get install valgrind)")
-    new, base = build(ROOT), build(base_tree(args.base))
+    new, base = build(ROOT), build(with_example(base_tree(args.base)))
     lines = ["| model | steps × seeds | new / base instructions | new (10⁶) | base (10⁶) |", "|---|---|---|---|---|"]
     print("\n".join(lines), flush=True)
     for model in args.models:

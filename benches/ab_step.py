@@ -1,5 +1,5 @@
 """A/B of the batched gym step against a given commit: builds that commit's wheel once (cached
-under ~/.cache/sinew-ab/<commit>), then times the native vector env's step loop (64 worlds,
+under ~/.cache/sinew-ab/<sha>, beside its worktree), then times the native vector env's step loop (64 worlds,
 seeded random actions) with the installed sinew and with the commit's, in alternating runs, on an
 Euler model and the RK4 ones, with 1 and 2 threads. Run it before a change to the step lands.
 
@@ -16,10 +16,9 @@ import subprocess
 import sys
 from pathlib import Path
 
+from ab_base import base_tree
 from emit import invocation
 
-CACHE = Path.home() / ".cache" / "sinew-ab"
-ROOT = Path(__file__).resolve().parent.parent
 STEPS = {"Hopper": 1500, "Walker2d": 1000, "HalfCheetah": 1000, "Ant": 600, "Humanoid": 500}
 
 LOOP = """
@@ -37,17 +36,12 @@ print(time.perf_counter() - t)
 
 
 def build(commit: str) -> Path:
-    """The package of `commit`, unpacked from its wheel (built once)."""
-    sha = subprocess.run(["git", "rev-parse", commit], cwd=ROOT, capture_output=True, text=True, check=True).stdout.strip()
-    pkg = CACHE / sha / "pkg"
+    """The package of `commit`, unpacked from its wheel (built once, from its worktree)."""
+    tree = base_tree(commit)
+    pkg, wheels = tree.parent / "pkg", tree.parent / "wheel"
     if (pkg / "sinew").is_dir():
         return pkg
-    src, wheels = CACHE / sha / "src", CACHE / sha / "wheel"
-    subprocess.run(["git", "worktree", "add", "--force", "--detach", str(src), sha], cwd=ROOT, check=True)
-    try:
-        subprocess.run([sys.executable, "-m", "pip", "wheel", ".", "--no-deps", "-q", "-w", str(wheels)], cwd=src, check=True)
-    finally:
-        subprocess.run(["git", "worktree", "remove", "--force", str(src)], cwd=ROOT)
+    subprocess.run([sys.executable, "-m", "pip", "wheel", ".", "--no-deps", "-q", "-w", str(wheels)], cwd=tree, check=True)
     wheel = next(wheels.glob("*.whl"))
     subprocess.run([sys.executable, "-m", "zipfile", "-e", str(wheel), str(pkg)], check=True)
     return pkg
