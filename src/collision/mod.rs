@@ -262,9 +262,13 @@ fn end_speeds(m: &Model, kin: &KinData, qvel_end: &[f64], v_end: &mut [Motion], 
 fn test_again(m: &Model, kin: &KinData, v_end: &[Motion], out: &mut CollisionData, k: usize, lever: f64) -> Option<bool> {
     let p = &m.collision_pairs[k];
     let reach = lever * (out.geom_speed_end[p.g1] + out.geom_speed_end[p.g2]);
-    // the first detection's margin: each geom's own bound, or a narrower one it noted
-    let first = out.narrowed.iter().find(|n| n.0 == k).map_or(p.margin + self::reach(out, p.g1) + self::reach(out, p.g2), |n| n.1);
-    let margin = p.margin + reach;
+    // the first detection's margin: each geom's own bound, or the relative one it narrowed the
+    // pair to, which then bounds this look too
+    let narrowed = out.narrowed.iter().find(|n| n.0 == k).map(|n| n.1);
+    let (first, margin) = match narrowed {
+        Some(first) => (first, p.margin + reach.min(relative_reach_end(m, kin, v_end, out, p))),
+        None => (p.margin + self::reach(out, p.g1) + self::reach(out, p.g2), p.margin + reach),
+    };
     if margin <= first || apart(out, p, margin) {
         return Some(false);
     }
@@ -274,7 +278,7 @@ fn test_again(m: &Model, kin: &KinData, v_end: &[Motion], out: &mut CollisionDat
         return None;
     }
     pair(m, kin, out, p, margin);
-    if p.both_move && out.contacts[before..].iter().any(|c| c.dist > p.margin) {
+    if p.both_move && narrowed.is_none() && out.contacts[before..].iter().any(|c| c.dist > p.margin) {
         let relative = p.margin + relative_reach_end(m, kin, v_end, out, p);
         drop_beyond(&mut out.contacts, before, relative);
     }
