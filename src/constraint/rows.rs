@@ -275,10 +275,13 @@ pub fn push_limit_rows(m: &Model, qpos: &[f64], qvel: &[f64], qacc0: &[f64], for
 }
 
 /// The active equalities' rows: a ± pair each, J = ∂x₁/∂q − poly′(x₂ − x₂⁰) ∂x₂/∂q over the
-/// terms' dofs, `dist` the error x₁ − x₁⁰ − poly(x₂ − x₂⁰) (negated on the − row).
+/// terms' dofs, `dist` the error x₁ − x₁⁰ − poly(x₂ − x₂⁰) (negated on the − row), `lift` the
+/// error's second-order change over the step's drift ([`second_order_lift`]): x₁ and x₂ move
+/// linearly in q, so the error's second derivative along q̇ is −poly″ ẋ₂².
 pub fn push_equality_rows(m: &Model, qpos: &[f64], qvel: &[f64], out: &mut ConstraintData) {
     for e in (0..m.neq).filter(|&e| m.eq_active[e]) {
-        let (error, slope) = equality_error(m, e, qpos);
+        let (error, slope, curvature) = equality_error(m, e, qpos);
+        let rate2 = Wrap::rate(m.eq_side(e, 1), qvel);
         for sign in [1.0, -1.0] {
             let r = out.len();
             let first = m.eq_side(e, 0).first().map_or(0, |w| w.dof);
@@ -291,6 +294,7 @@ pub fn push_equality_rows(m: &Model, qpos: &[f64], qvel: &[f64], out: &mut Const
             }
             out.dist[r] = sign * error;
             out.dist_start[r] = out.dist[r];
+            out.lift[r] = second_order_lift(-sign * curvature * rate2 * rate2, 0.0, m.opt.lever());
             let vel = row_velocity(out, r, &[], qvel);
             out.vel[r] = vel;
             if sign < 0.0 {
@@ -300,16 +304,28 @@ pub fn push_equality_rows(m: &Model, qpos: &[f64], qvel: &[f64], out: &mut Const
     }
 }
 
-/// Equality e's error x₁ − x₁⁰ − poly(x₂ − x₂⁰) at `qpos`, and poly′(x₂ − x₂⁰).
-pub fn equality_error(m: &Model, e: usize, qpos: &[f64]) -> (f64, f64) {
+/// The end-of-step target's term for a bilateral row whose error has second derivative `accel`
+/// along the step's velocities: q ← q ⊕ lever q̇⁺ moves the error by lever J q̇⁺ + ½ lever² accel,
+/// while the row's b already counts `accel` over `counted` (h for point and weld rows, whose b
+/// holds J̇ q̇; 0 for joint-space rows), so the target −dist / lever gains (counted − ½ lever)
+/// accel and the error left is of third order in lever q̇, not of second (`arc_lift` is the
+/// contacts' like).
+pub fn second_order_lift(accel: f64, counted: f64, lever: f64) -> f64 {
+    (counted - 0.5 * lever) * accel
+}
+
+/// Equality e's error x₁ − x₁⁰ − poly(x₂ − x₂⁰) at `qpos`, poly′(x₂ − x₂⁰) and poly″(x₂ − x₂⁰).
+pub fn equality_error(m: &Model, e: usize, qpos: &[f64]) -> (f64, f64, f64) {
     let value = |side: usize| Wrap::length(m.eq_side(e, side), qpos) - m.eq_ref[e][side];
     let (x1, x2) = (value(0), value(1));
     let c = m.eq_polycoef[e];
     if m.eq_side(e, 1).is_empty() {
-        return (x1 - c[0], 0.0);
+        return (x1 - c[0], 0.0, 0.0);
     }
     let poly = c[0] + x2 * (c[1] + x2 * (c[2] + x2 * (c[3] + x2 * c[4])));
-    (x1 - poly, c[1] + x2 * (2.0 * c[2] + x2 * (3.0 * c[3] + x2 * 4.0 * c[4])))
+    let slope = c[1] + x2 * (2.0 * c[2] + x2 * (3.0 * c[3] + x2 * 4.0 * c[4]));
+    let curvature = 2.0 * c[2] + x2 * (6.0 * c[3] + x2 * 12.0 * c[4]);
+    (x1 - poly, slope, curvature)
 }
 
 /// Connect c's errors in the kinematics `kin`: p₁ − p₂ (world), and for a weld the world rotation
@@ -345,12 +361,21 @@ pub struct ConnectError {
 /// The active connects' and welds' rows: a ± pair along each world axis d, J q̇ = d · (v₁(p₁) −
 /// v₂(p₂)) with `dist` the error d · (p₁ − p₂); and for a weld three more pairs, J q̇ = d · (ω₁ − ω₂)
 /// with `dist` d · θ, θ the world rotation vector taking R₂ R₂ᵀR₁(qpos0) to R₁ (negated on the −
-/// rows).
+/// rows). `lift` is the error's second-order change over the step's drift
+/// ([`second_order_lift`]): d · (J̇ q̇ of p₁ − of p₂), the points' velocity-product accelerations,
+/// and for a weld d · (α₁ − α₂), the bodies' (at θ = 0 the rotation vector's second derivative,
+/// the cross terms of the two rotations cancelling).
 pub fn push_connect_rows(m: &Model, kin: &KinData, out: &mut ConstraintData) {
+    if m.connects.iter().any(|c| c.active) {
+        velocity_products(m, kin, &mut out.a_vp);
+    }
     for (c, con) in m.connects.iter().enumerate().filter(|(_, c)| c.active) {
         let ConnectError { nodes, pts, r: [r1, r2], gap, turn } = connect_error(m, con, kin);
         let vrel = point_vel(kin, nodes[0], r1) - point_vel(kin, nodes[1], r2);
+        let arel = point_accel(kin, &out.a_vp, DVec3::ZERO, nodes[0], r1) - point_accel(kin, &out.a_vp, DVec3::ZERO, nodes[1], r2);
         let omega = |n: usize| if n == WORLD { DVec3::ZERO } else { kin.v[n].ang };
+        let alpha = |n: usize| if n == WORLD { DVec3::ZERO } else { out.a_vp[n].ang };
+        let alpha_rel = alpha(nodes[0]) - alpha(nodes[1]);
         let axes = [DVec3::X, DVec3::Y, DVec3::Z];
         let rows = axes.iter().map(|&d| (false, d)).chain(turn.iter().flat_map(|_| axes.iter().map(|&d| (true, d))));
         for (k, (angular, d)) in rows.enumerate() {
@@ -362,12 +387,14 @@ pub fn push_connect_rows(m: &Model, kin: &KinData, out: &mut ConstraintData) {
                     out.jac[r] = [couple(0, 1.0), couple(1, -1.0)];
                     out.vel[r] = dir.dot(omega(nodes[0]) - omega(nodes[1]));
                     out.dist[r] = dir.dot(turn.unwrap_or(DVec3::ZERO));
+                    out.lift[r] = second_order_lift(dir.dot(alpha_rel), m.opt.timestep, m.opt.lever());
                 } else {
                     out.jac[r] = jacobian(nodes, [r1, r2], [dir; 2]);
                     out.arm[r] = r1;
                     out.arm2[r] = r2;
                     out.vel[r] = dir.dot(vrel);
                     out.dist[r] = dir.dot(gap);
+                    out.lift[r] = second_order_lift(dir.dot(arel), m.opt.timestep, m.opt.lever());
                 }
                 out.dist_start[r] = out.dist[r];
                 if sign < 0.0 {
@@ -514,14 +541,30 @@ pub fn row_velocity(out: &ConstraintData, j: usize, v: &[Motion], qvel: &[f64]) 
 /// depend on the configuration only and are kept.
 pub fn refresh(m: &Model, dy: &DynamicsData, s: &WorldState<'_>, feedforward: &[f64], out: &mut ConstraintData) {
     let (kin, aba, qacc0, qpos, qvel, ctrl) = (&dy.kin, &dy.aba, &dy.qacc, &*s.qpos, &*s.qvel, s.ctrl);
-    if out.kind.contains(&RowKind::Normal) {
+    if out.kind.iter().any(|k| matches!(k, RowKind::Normal | RowKind::Connect { .. })) {
         velocity_products(m, kin, &mut out.a_vp);
     }
     let mut point = PointAccel::NONE;
     for j in 0..out.len() {
-        if out.kind[j] == RowKind::Normal {
-            out.lift[j] = arc_lift(kin, out, j, m.opt.timestep, m.opt.lever());
-        }
+        out.lift[j] = match out.kind[j] {
+            RowKind::Normal => arc_lift(kin, out, j, m.opt.timestep, m.opt.lever()),
+            RowKind::Connect { angular } => {
+                let [n1, n2] = out.node[j];
+                let accel = if angular {
+                    let alpha = |n: usize| if n == WORLD { DVec3::ZERO } else { out.a_vp[n].ang };
+                    alpha(n1) - alpha(n2)
+                } else {
+                    point_accel(kin, &out.a_vp, DVec3::ZERO, n1, out.arm[j]) - point_accel(kin, &out.a_vp, DVec3::ZERO, n2, out.arm2[j])
+                };
+                second_order_lift(out.dir[j].dot(accel), m.opt.timestep, m.opt.lever())
+            }
+            RowKind::Equality => {
+                let e = out.source[j];
+                let rate2 = Wrap::rate(m.eq_side(e, 1), qvel);
+                second_order_lift(-out.dof[j].1 * equality_error(m, e, qpos).2 * rate2 * rate2, 0.0, m.opt.lever())
+            }
+            _ => out.lift[j],
+        };
         out.vel[j] = row_velocity(out, j, &kin.v, qvel);
         if let (RowKind::Motion { .. }, Actuation::Trajectory { kp, kd }) = (out.kind[j], m.opt.actuation) {
             out.desired[j] = out.dof[j].1 * motion_target(m, out.source[j], (kp, kd), qpos, qvel, ctrl, feedforward);

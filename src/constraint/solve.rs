@@ -276,10 +276,10 @@ pub fn lcp_vector(m: &Model, data: &mut World<'_>, level: Level) -> Option<usize
             (RowKind::Motion { .. }, Level::Acceleration) => con.desired[j],
             (RowKind::Motion { .. }, Level::Velocity) => 0.0,
             (RowKind::Motion { .. }, Level::TimeStep) => h * (con.desired[j] - con.b[j]),
-            // an equality: its error x₁ − x₁⁰ − poly (in `dist`) gone at the step's end, which for
-            // linear terms the step keeps exactly
-            (RowKind::Equality | RowKind::Connect { .. }, Level::Acceleration) => (-dist / lever - vel) / h,
-            (RowKind::Equality | RowKind::Connect { .. }, Level::Velocity | Level::TimeStep) => -dist / lever - (vel + h * con.b[j]),
+            // an equality: its error (in `dist`) gone at the step's end, to second order in the
+            // drift (`lift`); linear terms the step keeps exactly
+            (RowKind::Equality | RowKind::Connect { .. }, Level::Acceleration) => (-dist / lever + con.lift[j] - vel) / h,
+            (RowKind::Equality | RowKind::Connect { .. }, Level::Velocity | Level::TimeStep) => -dist / lever + con.lift[j] - (vel + h * con.b[j]),
             // dry friction: the dof at rest at the step's end (no force in an instant's impact)
             (RowKind::DryFriction, Level::Acceleration) => -vel / h,
             (RowKind::DryFriction, Level::Velocity) => 0.0,

@@ -144,8 +144,10 @@ pub struct ConstraintData {
     /// The distance before leapfrog's opening drift, dist − (h − lever)·(the row's velocity at the
     /// step's starting q̇), which an impact does not change; = dist for the other integrators.
     pub dist_start: Vec<f64>,
-    /// Velocity added to a normal row's end-of-step target (zero for the other rows) so that the
-    /// gap after q ← q ⊕ lever q̇⁺ is at least the row's linear prediction (`arc_lift`).
+    /// Velocity added to a normal row's end-of-step target so that the gap after q ← q ⊕ lever q̇⁺
+    /// is at least the row's linear prediction (`arc_lift`); to an equality's or connect's, the
+    /// error's second-order change over that drift (`rows::second_order_lift`); zero for the
+    /// other rows.
     pub lift: Vec<f64>,
     /// Per side, the point whose motion the gap follows, in node coordinates (normal rows): a
     /// sphere's or capsule's centre of curvature, else the contact point itself.
