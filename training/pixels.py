@@ -260,7 +260,8 @@ def table(args):
     runs = [json.load(open(p)) for p in sorted(glob.glob(os.path.join(args.out, "*.json")))]
     lines = [f"<!-- python training/pixels.py --table {args.table} -->",
              "| task | simulator | seed | frames | return, first 5 episodes | return, last 5 episodes | best episode | "
-             "wall time (s) | of which environment (s) |", "|---|---|---|---|---|---|---|---|---|"]
+             "wall time (s) | of which environment (s) | CPU time (s) | of which environment (s) |",
+             "|---|---|---|---|---|---|---|---:|---:|---:|---:|"]
     tasks = sorted({r["task"] for r in runs})
     for task in tasks:
         mine = sorted((r for r in runs if r["task"] == task), key=lambda r: (r["sim"] != "sinew", r["seed"]))
@@ -268,8 +269,11 @@ def table(args):
         for r in mine:
             curve = [c for c in r["curve"] if c["frames"] <= budget]
             rets = [c["return"] for c in curve]
+            # CPU times are the whole run's: shown when the run ended at the budget
+            whole = r["frames"] == budget and "cpu_s" in r
+            cpu = f"{r['cpu_s']:,.0f} | {r['env_cpu_s']:,.0f}" if whole else "— | —"
             lines.append(f"| {task} | {r['sim']} | {r['seed']} | {budget:,} | {np.mean(rets[:5]):.1f} | {np.mean(rets[-5:]):.1f} | "
-                         f"{max(rets):.1f} | {curve[-1]['wall_s']:,.0f} | {curve[-1]['env_s']:,.0f} |")
+                         f"{max(rets):.1f} | {curve[-1]['wall_s']:,.0f} | {curve[-1]['env_s']:,.0f} | {cpu} |")
     text = "\n".join(lines) + "\n"
     with open(args.table, "w") as f:
         f.write(text)
