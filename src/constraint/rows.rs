@@ -280,8 +280,7 @@ pub fn push_limit_rows(m: &Model, qpos: &[f64], qvel: &[f64], qacc0: &[f64], for
 /// linearly in q, so the error's second derivative along q̇ is −poly″ ẋ₂².
 pub fn push_equality_rows(m: &Model, qpos: &[f64], qvel: &[f64], out: &mut ConstraintData) {
     for e in (0..m.neq).filter(|&e| m.eq_active[e]) {
-        let (error, slope, curvature) = equality_error(m, e, qpos);
-        let rate2 = Wrap::rate(m.eq_side(e, 1), qvel);
+        let (error, slope, _) = equality_error(m, e, qpos);
         for sign in [1.0, -1.0] {
             let r = out.len();
             let first = m.eq_side(e, 0).first().map_or(0, |w| w.dof);
@@ -294,7 +293,7 @@ pub fn push_equality_rows(m: &Model, qpos: &[f64], qvel: &[f64], out: &mut Const
             }
             out.dist[r] = sign * error;
             out.dist_start[r] = out.dist[r];
-            out.lift[r] = second_order_lift(-sign * curvature * rate2 * rate2, 0.0, m.opt.lever());
+            out.lift[r] = equality_lift(m, out, r, qpos, qvel);
             let vel = row_velocity(out, r, &[], qvel);
             out.vel[r] = vel;
             if sign < 0.0 {
@@ -312,6 +311,27 @@ pub fn push_equality_rows(m: &Model, qpos: &[f64], qvel: &[f64], out: &mut Const
 /// contacts' like).
 pub fn second_order_lift(accel: f64, counted: f64, lever: f64) -> f64 {
     (counted - 0.5 * lever) * accel
+}
+
+/// [`second_order_lift`] of connect row j, from its points' (for a weld's couples, its bodies')
+/// velocity-product accelerations in `out.a_vp`, computed for `kin`.
+fn connect_lift(m: &Model, kin: &KinData, out: &ConstraintData, j: usize) -> f64 {
+    let [n1, n2] = out.node[j];
+    let accel = if out.kind[j] == (RowKind::Connect { angular: true }) {
+        let alpha = |n: usize| if n == WORLD { DVec3::ZERO } else { out.a_vp[n].ang };
+        alpha(n1) - alpha(n2)
+    } else {
+        point_accel(kin, &out.a_vp, DVec3::ZERO, n1, out.arm[j]) - point_accel(kin, &out.a_vp, DVec3::ZERO, n2, out.arm2[j])
+    };
+    second_order_lift(out.dir[j].dot(accel), m.opt.timestep, m.opt.lever())
+}
+
+/// [`second_order_lift`] of equality row j at (`qpos`, `qvel`): its error's second derivative
+/// along q̇ is −poly″ ẋ₂² (times the row's sign).
+fn equality_lift(m: &Model, out: &ConstraintData, j: usize, qpos: &[f64], qvel: &[f64]) -> f64 {
+    let e = out.source[j];
+    let rate2 = Wrap::rate(m.eq_side(e, 1), qvel);
+    second_order_lift(-out.dof[j].1 * equality_error(m, e, qpos).2 * rate2 * rate2, 0.0, m.opt.lever())
 }
 
 /// Equality e's error x₁ − x₁⁰ − poly(x₂ − x₂⁰) at `qpos`, poly′(x₂ − x₂⁰) and poly″(x₂ − x₂⁰).
@@ -372,10 +392,7 @@ pub fn push_connect_rows(m: &Model, kin: &KinData, out: &mut ConstraintData) {
     for (c, con) in m.connects.iter().enumerate().filter(|(_, c)| c.active) {
         let ConnectError { nodes, pts, r: [r1, r2], gap, turn } = connect_error(m, con, kin);
         let vrel = point_vel(kin, nodes[0], r1) - point_vel(kin, nodes[1], r2);
-        let arel = point_accel(kin, &out.a_vp, DVec3::ZERO, nodes[0], r1) - point_accel(kin, &out.a_vp, DVec3::ZERO, nodes[1], r2);
         let omega = |n: usize| if n == WORLD { DVec3::ZERO } else { kin.v[n].ang };
-        let alpha = |n: usize| if n == WORLD { DVec3::ZERO } else { out.a_vp[n].ang };
-        let alpha_rel = alpha(nodes[0]) - alpha(nodes[1]);
         let axes = [DVec3::X, DVec3::Y, DVec3::Z];
         let rows = axes.iter().map(|&d| (false, d)).chain(turn.iter().flat_map(|_| axes.iter().map(|&d| (true, d))));
         for (k, (angular, d)) in rows.enumerate() {
@@ -387,15 +404,14 @@ pub fn push_connect_rows(m: &Model, kin: &KinData, out: &mut ConstraintData) {
                     out.jac[r] = [couple(0, 1.0), couple(1, -1.0)];
                     out.vel[r] = dir.dot(omega(nodes[0]) - omega(nodes[1]));
                     out.dist[r] = dir.dot(turn.unwrap_or(DVec3::ZERO));
-                    out.lift[r] = second_order_lift(dir.dot(alpha_rel), m.opt.timestep, m.opt.lever());
                 } else {
                     out.jac[r] = jacobian(nodes, [r1, r2], [dir; 2]);
                     out.arm[r] = r1;
                     out.arm2[r] = r2;
                     out.vel[r] = dir.dot(vrel);
                     out.dist[r] = dir.dot(gap);
-                    out.lift[r] = second_order_lift(dir.dot(arel), m.opt.timestep, m.opt.lever());
                 }
+                out.lift[r] = connect_lift(m, kin, out, r);
                 out.dist_start[r] = out.dist[r];
                 if sign < 0.0 {
                     out.mirror[r] = r - 1;
@@ -548,21 +564,8 @@ pub fn refresh(m: &Model, dy: &DynamicsData, s: &WorldState<'_>, feedforward: &[
     for j in 0..out.len() {
         out.lift[j] = match out.kind[j] {
             RowKind::Normal => arc_lift(kin, out, j, m.opt.timestep, m.opt.lever()),
-            RowKind::Connect { angular } => {
-                let [n1, n2] = out.node[j];
-                let accel = if angular {
-                    let alpha = |n: usize| if n == WORLD { DVec3::ZERO } else { out.a_vp[n].ang };
-                    alpha(n1) - alpha(n2)
-                } else {
-                    point_accel(kin, &out.a_vp, DVec3::ZERO, n1, out.arm[j]) - point_accel(kin, &out.a_vp, DVec3::ZERO, n2, out.arm2[j])
-                };
-                second_order_lift(out.dir[j].dot(accel), m.opt.timestep, m.opt.lever())
-            }
-            RowKind::Equality => {
-                let e = out.source[j];
-                let rate2 = Wrap::rate(m.eq_side(e, 1), qvel);
-                second_order_lift(-out.dof[j].1 * equality_error(m, e, qpos).2 * rate2 * rate2, 0.0, m.opt.lever())
-            }
+            RowKind::Connect { .. } => connect_lift(m, kin, out, j),
+            RowKind::Equality => equality_lift(m, out, j, qpos, qvel),
             _ => out.lift[j],
         };
         out.vel[j] = row_velocity(out, j, &kin.v, qvel);
