@@ -1,5 +1,5 @@
 //! Contacts of ellipsoids: against a plane in closed form (the deepest point along its normal),
-//! against every other convex shape (sphere, capsule, box, hull, ellipsoid, a height field's
+//! against every other convex shape (sphere, capsule, box, cylinder, hull, ellipsoid, a height field's
 //! prism) by GJK for the distance of shapes apart and EPA for the depth of shapes that overlap
 //! (parry's implementations of Gilbert, Johnson & Keerthi 1988 and van den Bergen 2001), each
 //! shape given by its support function h in world coordinates. Their normal is good to the square
@@ -9,7 +9,8 @@
 //! Hessian comes from each support function's (the surface's radii of curvature). One point per
 //! pair: an ellipsoid is strictly convex, so its contact with a convex shape is a point, placed at
 //! the ellipsoid's support point moved half the distance (as MuJoCo collides ellipsoids: by their
-//! support functions, one point).
+//! support functions, one point). A cylinder's closest point with any shape but a plane comes
+//! from here too (`cylinder.rs` adds its rim points).
 
 use glam::{DMat3, DVec3};
 use parry3d_f64::math::{Pose, Vector};
@@ -89,6 +90,16 @@ impl Convex for Shape<'_> {
             Shape::Box { c, rot, half } => c + rot * (half * (rot.transpose() * d).signum()),
             Shape::Hull { c, rot, hull } => c + rot * hull.vert[hull.support(rot.transpose() * d).0],
             Shape::Ellipsoid { c, rot, radii } => c + rot * ellipsoid_support(radii, rot.transpose() * d),
+            Shape::Cylinder { c, axis, half, r } => {
+                let along = axis.dot(d);
+                let end = if along >= 0.0 { half } else { -half };
+                // w projected twice: once leaves round-off along the axis as large as a w of a
+                // nearly axial d; along the axis to round-off, the cap's centre
+                let w = d - axis * along;
+                let w = w - axis * axis.dot(w);
+                let rim = if w.length_squared() > 1e-28 * d.length_squared() { w.normalize() * r } else { DVec3::ZERO };
+                c + axis * end + rim
+            }
             Shape::Plane { p, .. } | Shape::HField { p, .. } => p,
         }
     }
@@ -103,6 +114,16 @@ impl Convex for Shape<'_> {
                 let len = (radii * ul).length();
                 rot * (DMat3::from_diagonal(s2) / len - outer(s2 * ul, s2 * ul) / (len * len * len)) * rot.transpose()
             }
+            // the rim of radius r: w = P u (P = I − a aᵀ), s = r w / |w|, ∂s/∂u = r (P − ŵ ŵᵀ) / |w|
+            Shape::Cylinder { axis, r, .. } => {
+                let w = u - axis * axis.dot(u);
+                let rho = w.length();
+                if rho < KINK {
+                    return DMat3::ZERO;
+                }
+                let wh = w / rho;
+                (DMat3::IDENTITY - outer(axis, axis) - outer(wh, wh)) * (r / rho)
+            }
             _ => DMat3::ZERO,
         }
     }
@@ -110,6 +131,10 @@ impl Convex for Shape<'_> {
     fn kinks(&self, u: DVec3) -> [Option<Kink>; 3] {
         match *self {
             Shape::Segment { a, b, .. } => [(b - a).try_normalize().filter(|e| e.dot(u).abs() < KINK).map(Kink::Ridge), None, None],
+            // the side (the support jumps from cap to cap) and the nearer cap's face (it jumps
+            // around the rim), always tried: GJK's normal may lie farther from a face than
+            // `KINK`, and either is kept only if it separates more
+            Shape::Cylinder { axis, .. } => [Some(Kink::Ridge(axis)), Some(Kink::Face(axis * axis.dot(u).signum())), None],
             Shape::Box { rot, .. } => {
                 // an edge along each axis u is nearly normal to; a face where two are
                 let ul = rot.transpose() * u;
@@ -127,7 +152,7 @@ impl Convex for Shape<'_> {
 
     fn centre(&self) -> DVec3 {
         match *self {
-            Shape::Sphere { c, .. } | Shape::Box { c, .. } | Shape::Hull { c, .. } | Shape::Ellipsoid { c, .. } => c,
+            Shape::Sphere { c, .. } | Shape::Box { c, .. } | Shape::Hull { c, .. } | Shape::Ellipsoid { c, .. } | Shape::Cylinder { c, .. } => c,
             Shape::Segment { a, b, .. } => (a + b) * 0.5,
             Shape::Plane { p, .. } | Shape::HField { p, .. } => p,
         }
@@ -169,13 +194,21 @@ impl<C: Convex> SupportMap for Parry<'_, C> {
     }
 }
 
-/// Contact of shapes 1 and 2 (neither a plane nor a height field; one an ellipsoid) within `margin`.
+/// Contact of shapes 1 and 2 (neither a plane nor a height field; one an ellipsoid or a cylinder)
+/// within `margin`, placed at the support point of the shape whose support point is most
+/// nearly unique (an ellipsoid's or sphere's always is; a box's is a corner).
 pub(super) fn convex(s1: Shape, s2: Shape, margin: f64, epa: &mut Epa) -> Option<Touch> {
-    let on_first = matches!(s1, Shape::Ellipsoid { .. });
-    contact(&s1, &s2, on_first, margin, epa)
+    let rank = |s: &Shape| match s {
+        Shape::Ellipsoid { .. } => 4,
+        Shape::Sphere { .. } => 3,
+        Shape::Segment { .. } => 2,
+        Shape::Cylinder { .. } => 1,
+        _ => 0,
+    };
+    contact(&s1, &s2, rank(&s1) >= rank(&s2), margin, epa)
 }
 
-/// Contact of the ellipsoid `e` (shape 1) with the polytope `p` within `margin`.
+/// Contact of the ellipsoid or cylinder `e` (shape 1) with the polytope `p` within `margin`.
 pub(super) fn with_polytope<P: Polytope>(e: Shape, p: &P, margin: f64, epa: &mut Epa) -> Option<Touch> {
     contact(&e, &Vertices(p), true, margin, epa)
 }
@@ -184,7 +217,7 @@ pub(super) fn with_polytope<P: Polytope>(e: Shape, p: &P, margin: f64, epa: &mut
 const NEWTON: usize = 4;
 
 /// The contact of shapes 1 and 2 within `margin`, placed at the support point of shape 1
-/// (`on_first`) or 2, which is an ellipsoid.
+/// (`on_first`) or 2.
 fn contact<A: Convex, B: Convex>(a: &A, b: &B, on_first: bool, margin: f64, epa: &mut Epa) -> Option<Touch> {
     let n = first_normal(a, b, margin, epa)?;
     // the separation along n, and the support points

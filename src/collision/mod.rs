@@ -6,8 +6,9 @@
 //! a mesh's convex hull against a plane, a sphere, a capsule, a box or another hull, and a height
 //! field's triangle prisms against all but planes (`convex.rs`, `terrain.rs`); an ellipsoid against
 //! a plane in closed form and against every other shape by its support function
-//! (`ellipsoid.rs`). Cylinders collide as capsules of the same radius and half-length (a
-//! documented approximation). Filtering follows MuJoCo: contype/conaffinity
+//! (`ellipsoid.rs`); a cylinder against a plane in closed form and against every other shape by
+//! its support function's closest point and the rim points and vertices of a flat contact
+//! (`cylinder.rs`). Filtering follows MuJoCo: contype/conaffinity
 //! bits, no contact within a body or between a body and its parent (unless the parent is the
 //! world), `<exclude>` pairs. A contact's friction and condim are MuJoCo's: the higher-priority
 //! geom's, else the larger of each.
@@ -43,6 +44,7 @@ use crate::math::Motion;
 
 mod broadphase;
 mod convex;
+mod cylinder;
 mod ellipsoid;
 mod data;
 mod gaps;

@@ -5,6 +5,7 @@ use glam::DVec3;
 
 use super::convex::{on_plane, point_polytope, polytopes, Manifold, PosedBox, PosedHull, Segment};
 use super::data::{pose_axes, CollisionData, Contact, Epa};
+use super::cylinder::{self, Cyl};
 use super::ellipsoid;
 use super::terrain::hfield_contacts;
 use super::shapes::{box_box, closest_on_segment, closest_segments, point_box, segment_box_points, shape, spheres, Shape};
@@ -123,6 +124,22 @@ pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, p: &GeomPai
         (Shape::Ellipsoid { .. }, other) | (other, Shape::Ellipsoid { .. }) if !matches!(other, Shape::HField { .. }) => {
             if let Some((pos, n, d)) = ellipsoid::convex(s1, s2, margin, &mut cd.epa) {
                 add(cd, g1, g2, 0, pos, n, d);
+            }
+        }
+        (Shape::Cylinder { c, axis, half, r }, Shape::Plane { p, n }) => {
+            for &(feature, pos, n, d) in cylinder::on_plane(&Cyl { c, axis, half, r }, p, n, margin).iter() {
+                add(cd, g1, g2, feature, pos, n, d);
+            }
+        }
+        (Shape::Cylinder { c, axis, half, r }, other) if !matches!(other, Shape::HField { .. }) => {
+            for &(feature, pos, n, d) in cylinder::pair(&Cyl { c, axis, half, r }, other, margin, &mut cd.epa).iter() {
+                add(cd, g1, g2, feature, pos, n, d);
+            }
+        }
+        (other, Shape::Cylinder { c, axis, half, r }) if !matches!(other, Shape::HField { .. } | Shape::Plane { .. }) => {
+            // normals from geom 2 to geom 1
+            for &(feature, pos, n, d) in cylinder::pair(&Cyl { c, axis, half, r }, other, margin, &mut cd.epa).iter() {
+                add(cd, g1, g2, feature, pos, -n, d);
             }
         }
         (Shape::Hull { .. } | Shape::HField { .. }, _) | (_, Shape::Hull { .. } | Shape::HField { .. }) => {

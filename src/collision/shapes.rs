@@ -14,6 +14,8 @@ pub(super) enum Shape<'a> {
     Plane { p: DVec3, n: DVec3 },
     Sphere { c: DVec3, r: f64 },
     Segment { a: DVec3, b: DVec3, r: f64 },
+    /// Centre, unit axis, half-length, radius.
+    Cylinder { c: DVec3, axis: DVec3, half: f64, r: f64 },
     Box { c: DVec3, rot: DMat3, half: DVec3 },
     Ellipsoid { c: DVec3, rot: DMat3, radii: DVec3 },
     Hull { c: DVec3, rot: DMat3, hull: &'a Hull },
@@ -28,10 +30,11 @@ pub(super) fn shape<'a>(m: &'a Model, cd: &CollisionData, g: usize) -> Shape<'a>
         GeomType::Plane => Shape::Plane { p, n: r.col(2) },
         GeomType::Sphere => Shape::Sphere { c: p, r: s[0] },
         GeomType::Ellipsoid => Shape::Ellipsoid { c: p, rot: r, radii: DVec3::from_array(s) },
-        GeomType::Capsule | GeomType::Cylinder => {
+        GeomType::Capsule => {
             let h = r.col(2) * s[1];
             Shape::Segment { a: p - h, b: p + h, r: s[0] }
         }
+        GeomType::Cylinder => Shape::Cylinder { c: p, axis: r.col(2), half: s[1], r: s[0] },
         GeomType::Box => Shape::Box { c: p, rot: r, half: DVec3::from_array(s) },
         GeomType::Mesh => match m.geom_mesh[g] {
             Some(k) => Shape::Hull { c: p, rot: r, hull: &m.meshes[k].hull },
