@@ -18,16 +18,7 @@ use arrayvec::ArrayVec;
 use super::convex::{point_polytope, reduce, Manifold, Point, Polytope, PosedBox, PosedHull, Prism};
 use super::data::Epa;
 use super::ellipsoid;
-use super::shapes::Shape;
-
-/// A posed cylinder: centre, unit axis, half-length, radius.
-#[derive(Clone, Copy)]
-pub(super) struct Cyl {
-    pub(super) c: DVec3,
-    pub(super) axis: DVec3,
-    pub(super) half: f64,
-    pub(super) r: f64,
-}
+use super::shapes::{Cyl, Shape};
 
 impl Cyl {
     /// The unit direction normal to the axis nearest `d` (any normal one when `d` is along it).
@@ -48,10 +39,6 @@ impl Cyl {
             let end = if cap == 0 { -self.half } else { self.half };
             (1 + i, self.c + self.axis * end + dirs[k] * self.r)
         })
-    }
-
-    pub(super) fn shape(&self) -> Shape<'static> {
-        Shape::Cylinder { c: self.c, axis: self.axis, half: self.half, r: self.r }
     }
 
     /// The least projection of a point of the cylinder on unit `n`.
@@ -105,17 +92,13 @@ const MAX_GATHER: usize = 64;
 /// hull's vertices, a cylinder's rim points or a capsule's ends against the cylinder — reduced to
 /// at most [`MAX_MANIFOLD`].
 pub(super) fn pair(cyl: &Cyl, other: Shape, margin: f64, epa: &mut Epa) -> Manifold {
-    let Some(closest) = ellipsoid::convex(cyl.shape(), other, margin, epa) else { return Manifold::new() };
+    let Some(closest) = ellipsoid::convex(Shape::Cylinder(*cyl), other, margin, epa) else { return Manifold::new() };
     let mut pts = Gather::new(cyl, closest, margin);
     match other {
         Shape::Box { c, rot, half } => pts.polytope(&PosedBox { c, rot, half }),
         Shape::Hull { c, rot, hull } => pts.polytope(&PosedHull { hull, c, rot }),
-        Shape::Cylinder { c, axis, half, r } => {
-            let o = Cyl { c, axis, half, r };
-            for (f, at) in cyl.rim(-closest.1) {
-                let (normal, dist) = point_cylinder(&o, at);
-                pts.add(f, at, normal, dist);
-            }
+        Shape::Cylinder(o) => {
+            pts.rim_against(|at| point_cylinder(&o, at));
             for (f, at) in o.rim(closest.1) {
                 pts.against_cylinder(10 + f, at, 0.0);
             }
@@ -131,7 +114,7 @@ pub(super) fn pair(cyl: &Cyl, other: Shape, margin: f64, epa: &mut Epa) -> Manif
 
 /// Contacts of the cylinder with a height field's prism within `margin` (normals from the prism).
 pub(super) fn with_prism(cyl: &Cyl, prism: &Prism, margin: f64, epa: &mut Epa) -> Manifold {
-    let Some(closest) = ellipsoid::with_polytope(cyl.shape(), prism, margin, epa) else { return Manifold::new() };
+    let Some(closest) = ellipsoid::with_polytope(Shape::Cylinder(*cyl), prism, margin, epa) else { return Manifold::new() };
     let mut pts = Gather::new(cyl, closest, margin);
     pts.polytope(prism);
     pts.reduce()
@@ -169,12 +152,18 @@ impl<'a> Gather<'a> {
         self.add(feature, q - out * dist, -out, dist - r);
     }
 
-    /// The rim points against the polytope and its vertices (features from 19) against the cylinder.
-    fn polytope(&mut self, p: &impl Polytope) {
+    /// The rim points from the side facing the other shape, each at the signed distance and
+    /// normal `from_other` gives.
+    fn rim_against(&mut self, from_other: impl Fn(DVec3) -> (DVec3, f64)) {
         for (f, at) in self.cyl.rim(-self.normal) {
-            let (normal, dist) = point_polytope(p, at);
+            let (normal, dist) = from_other(at);
             self.add(f, at, normal, dist);
         }
+    }
+
+    /// The rim points against the polytope and its vertices (features from 19) against the cylinder.
+    fn polytope(&mut self, p: &impl Polytope) {
+        self.rim_against(|at| point_polytope(p, at));
         for i in 0..p.nvert() {
             self.against_cylinder(19 + i, p.vert(i), 0.0);
         }

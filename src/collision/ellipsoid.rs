@@ -19,7 +19,7 @@ use parry3d_f64::shape::SupportMap;
 
 use super::convex::Polytope;
 use super::data::Epa;
-use super::shapes::Shape;
+use super::shapes::{Cyl, Shape};
 
 /// (point midway between the surfaces, unit normal from shape 2 to shape 1, signed distance).
 pub(super) type Touch = (DVec3, DVec3, f64);
@@ -90,7 +90,7 @@ impl Convex for Shape<'_> {
             Shape::Box { c, rot, half } => c + rot * (half * (rot.transpose() * d).signum()),
             Shape::Hull { c, rot, hull } => c + rot * hull.vert[hull.support(rot.transpose() * d).0],
             Shape::Ellipsoid { c, rot, radii } => c + rot * ellipsoid_support(radii, rot.transpose() * d),
-            Shape::Cylinder { c, axis, half, r } => {
+            Shape::Cylinder(Cyl { c, axis, half, r }) => {
                 let along = axis.dot(d);
                 let end = if along >= 0.0 { half } else { -half };
                 // w projected twice: once leaves round-off along the axis as large as a w of a
@@ -115,7 +115,7 @@ impl Convex for Shape<'_> {
                 rot * (DMat3::from_diagonal(s2) / len - outer(s2 * ul, s2 * ul) / (len * len * len)) * rot.transpose()
             }
             // the rim of radius r: w = P u (P = I − a aᵀ), s = r w / |w|, ∂s/∂u = r (P − ŵ ŵᵀ) / |w|
-            Shape::Cylinder { axis, r, .. } => {
+            Shape::Cylinder(Cyl { axis, r, .. }) => {
                 let w = u - axis * axis.dot(u);
                 let rho = w.length();
                 if rho < KINK {
@@ -134,7 +134,7 @@ impl Convex for Shape<'_> {
             // the side (the support jumps from cap to cap) and the nearer cap's face (it jumps
             // around the rim), always tried: GJK's normal may lie farther from a face than
             // `KINK`, and either is kept only if it separates more
-            Shape::Cylinder { axis, .. } => [Some(Kink::Ridge(axis)), Some(Kink::Face(axis * axis.dot(u).signum())), None],
+            Shape::Cylinder(Cyl { axis, .. }) => [Some(Kink::Ridge(axis)), Some(Kink::Face(axis * axis.dot(u).signum())), None],
             Shape::Box { rot, .. } => {
                 // an edge along each axis u is nearly normal to; a face where two are
                 let ul = rot.transpose() * u;
@@ -152,7 +152,7 @@ impl Convex for Shape<'_> {
 
     fn centre(&self) -> DVec3 {
         match *self {
-            Shape::Sphere { c, .. } | Shape::Box { c, .. } | Shape::Hull { c, .. } | Shape::Ellipsoid { c, .. } | Shape::Cylinder { c, .. } => c,
+            Shape::Sphere { c, .. } | Shape::Box { c, .. } | Shape::Hull { c, .. } | Shape::Ellipsoid { c, .. } | Shape::Cylinder(Cyl { c, .. }) => c,
             Shape::Segment { a, b, .. } => (a + b) * 0.5,
             Shape::Plane { p, .. } | Shape::HField { p, .. } => p,
         }
@@ -202,7 +202,7 @@ pub(super) fn convex(s1: Shape, s2: Shape, margin: f64, epa: &mut Epa) -> Option
         Shape::Ellipsoid { .. } => 4,
         Shape::Sphere { .. } => 3,
         Shape::Segment { .. } => 2,
-        Shape::Cylinder { .. } => 1,
+        Shape::Cylinder(_) => 1,
         _ => 0,
     };
     contact(&s1, &s2, rank(&s1) >= rank(&s2), margin, epa)

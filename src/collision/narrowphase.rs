@@ -5,7 +5,7 @@ use glam::DVec3;
 
 use super::convex::{on_plane, point_polytope, polytopes, Manifold, PosedBox, PosedHull, Segment};
 use super::data::{pose_axes, CollisionData, Contact, Epa};
-use super::cylinder::{self, Cyl};
+use super::cylinder;
 use super::ellipsoid;
 use super::terrain::hfield_contacts;
 use super::shapes::{box_box, closest_on_segment, closest_segments, point_box, segment_box_points, shape, spheres, Shape};
@@ -126,19 +126,19 @@ pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, p: &GeomPai
                 add(cd, g1, g2, 0, pos, n, d);
             }
         }
-        (Shape::Cylinder { c, axis, half, r }, Shape::Plane { p, n }) => {
-            for &(feature, pos, n, d) in cylinder::on_plane(&Cyl { c, axis, half, r }, p, n, margin).iter() {
+        (Shape::Cylinder(cyl), Shape::Plane { p, n }) => {
+            for &(feature, pos, n, d) in cylinder::on_plane(&cyl, p, n, margin).iter() {
                 add(cd, g1, g2, feature, pos, n, d);
             }
         }
-        (Shape::Cylinder { c, axis, half, r }, other) if !matches!(other, Shape::HField { .. }) => {
-            for &(feature, pos, n, d) in cylinder::pair(&Cyl { c, axis, half, r }, other, margin, &mut cd.epa).iter() {
+        (Shape::Cylinder(cyl), other) if !matches!(other, Shape::HField { .. }) => {
+            for &(feature, pos, n, d) in cylinder::pair(&cyl, other, margin, &mut cd.epa).iter() {
                 add(cd, g1, g2, feature, pos, n, d);
             }
         }
-        (other, Shape::Cylinder { c, axis, half, r }) if !matches!(other, Shape::HField { .. } | Shape::Plane { .. }) => {
-            // normals from geom 2 to geom 1
-            for &(feature, pos, n, d) in cylinder::pair(&Cyl { c, axis, half, r }, other, margin, &mut cd.epa).iter() {
+        (other, Shape::Cylinder(cyl)) => {
+            // normals from geom 2 to geom 1 (a plane or height field is geom 2 already)
+            for &(feature, pos, n, d) in cylinder::pair(&cyl, other, margin, &mut cd.epa).iter() {
                 add(cd, g1, g2, feature, pos, -n, d);
             }
         }

@@ -14,12 +14,20 @@ pub(super) enum Shape<'a> {
     Plane { p: DVec3, n: DVec3 },
     Sphere { c: DVec3, r: f64 },
     Segment { a: DVec3, b: DVec3, r: f64 },
-    /// Centre, unit axis, half-length, radius.
-    Cylinder { c: DVec3, axis: DVec3, half: f64, r: f64 },
+    Cylinder(Cyl),
     Box { c: DVec3, rot: DMat3, half: DVec3 },
     Ellipsoid { c: DVec3, rot: DMat3, radii: DVec3 },
     Hull { c: DVec3, rot: DMat3, hull: &'a Hull },
     HField { p: DVec3, rot: DMat3, field: &'a HField },
+}
+
+/// A posed cylinder: centre, unit axis, half-length, radius (its geometry in `cylinder.rs`).
+#[derive(Clone, Copy)]
+pub(super) struct Cyl {
+    pub(super) c: DVec3,
+    pub(super) axis: DVec3,
+    pub(super) half: f64,
+    pub(super) r: f64,
 }
 
 /// Geom g as a shape at its pose in `cd` (a mesh or height-field geom always has its asset:
@@ -34,7 +42,7 @@ pub(super) fn shape<'a>(m: &'a Model, cd: &CollisionData, g: usize) -> Shape<'a>
             let h = r.col(2) * s[1];
             Shape::Segment { a: p - h, b: p + h, r: s[0] }
         }
-        GeomType::Cylinder => Shape::Cylinder { c: p, axis: r.col(2), half: s[1], r: s[0] },
+        GeomType::Cylinder => Shape::Cylinder(Cyl { c: p, axis: r.col(2), half: s[1], r: s[0] }),
         GeomType::Box => Shape::Box { c: p, rot: r, half: DVec3::from_array(s) },
         GeomType::Mesh => match m.geom_mesh[g] {
             Some(k) => Shape::Hull { c: p, rot: r, hull: &m.meshes[k].hull },

@@ -6,7 +6,7 @@
 use arrayvec::ArrayVec;
 use glam::{DMat3, DVec3};
 
-use super::cylinder::{self, Cyl};
+use super::cylinder;
 use super::convex::{point_polytope, polytopes, reduce, Manifold, Point, PosedBox, PosedHull, Prism, Segment, MAX_MANIFOLD};
 use super::data::Epa;
 use super::ellipsoid::{half_width, with_polytope};
@@ -32,10 +32,7 @@ pub(super) fn hfield_contacts(h: &HField, p: DVec3, rot: DMat3, other: Shape, ma
             (c + x * mid(x) + y * mid(y), [reach(x), reach(y)])
         }
         Shape::Ellipsoid { c, rot: er, radii } => (c, [half_width(er, radii, x), half_width(er, radii, y)]),
-        Shape::Cylinder { c, axis, half, r } => {
-            let cyl = Cyl { c, axis, half, r };
-            (c, [c.dot(x) - cyl.lowest_along(x), c.dot(y) - cyl.lowest_along(y)])
-        }
+        Shape::Cylinder(cyl) => (cyl.c, [cyl.c.dot(x) - cyl.lowest_along(x), cyl.c.dot(y) - cyl.lowest_along(y)]),
         Shape::Plane { .. } | Shape::HField { .. } => return Manifold::new(),
     };
     let lowest = lowest_along(other, up);
@@ -86,7 +83,7 @@ fn lowest_along(shape: Shape, n: DVec3) -> f64 {
         Shape::Box { c, rot, half } => c.dot(n) - (rot.transpose() * n).abs().dot(half),
         Shape::Hull { c, rot, hull } => c.dot(n) - hull.support(rot.transpose() * -n).1,
         Shape::Ellipsoid { c, rot, radii } => c.dot(n) - half_width(rot, radii, n),
-        Shape::Cylinder { c, axis, half, r } => Cyl { c, axis, half, r }.lowest_along(n),
+        Shape::Cylinder(cyl) => cyl.lowest_along(n),
         Shape::Plane { .. } | Shape::HField { .. } => f64::NEG_INFINITY,
     }
 }
@@ -121,7 +118,7 @@ fn prism_contacts(prism: &Prism, other: Shape, margin: f64, epa: &mut Epa) -> Ma
         Shape::Box { c, rot, half } => polytopes(&PosedBox { c, rot, half }, prism, margin, scale),
         Shape::Hull { c, rot, hull } => polytopes(&PosedHull { hull, c, rot }, prism, margin, scale),
         Shape::Ellipsoid { .. } => with_polytope(other, prism, margin, epa).into_iter().map(|(at, n, d)| (0, at, n, d)).collect(),
-        Shape::Cylinder { c, axis, half, r } => cylinder::with_prism(&Cyl { c, axis, half, r }, prism, margin, epa),
+        Shape::Cylinder(cyl) => cylinder::with_prism(&cyl, prism, margin, epa),
         Shape::Plane { .. } | Shape::HField { .. } => Manifold::new(),
     }
 }

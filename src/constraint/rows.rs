@@ -280,7 +280,7 @@ pub fn push_limit_rows(m: &Model, qpos: &[f64], qvel: &[f64], qacc0: &[f64], for
 /// linearly in q, so the error's second derivative along q̇ is −poly″ ẋ₂².
 pub fn push_equality_rows(m: &Model, qpos: &[f64], qvel: &[f64], out: &mut ConstraintData) {
     for e in (0..m.neq).filter(|&e| m.eq_active[e]) {
-        let (error, slope, _) = equality_error(m, e, qpos);
+        let (error, slope, curvature) = equality_error(m, e, qpos);
         for sign in [1.0, -1.0] {
             let r = out.len();
             let first = m.eq_side(e, 0).first().map_or(0, |w| w.dof);
@@ -293,7 +293,7 @@ pub fn push_equality_rows(m: &Model, qpos: &[f64], qvel: &[f64], out: &mut Const
             }
             out.dist[r] = sign * error;
             out.dist_start[r] = out.dist[r];
-            out.lift[r] = equality_lift(m, out, r, qpos, qvel);
+            out.lift[r] = equality_lift(m, out, r, curvature, qvel);
             let vel = row_velocity(out, r, &[], qvel);
             out.vel[r] = vel;
             if sign < 0.0 {
@@ -326,12 +326,11 @@ fn connect_lift(m: &Model, kin: &KinData, out: &ConstraintData, j: usize) -> f64
     second_order_lift(out.dir[j].dot(accel), m.opt.timestep, m.opt.lever())
 }
 
-/// [`second_order_lift`] of equality row j at (`qpos`, `qvel`): its error's second derivative
-/// along q̇ is −poly″ ẋ₂² (times the row's sign).
-fn equality_lift(m: &Model, out: &ConstraintData, j: usize, qpos: &[f64], qvel: &[f64]) -> f64 {
-    let e = out.source[j];
-    let rate2 = Wrap::rate(m.eq_side(e, 1), qvel);
-    second_order_lift(-out.dof[j].1 * equality_error(m, e, qpos).2 * rate2 * rate2, 0.0, m.opt.lever())
+/// [`second_order_lift`] of equality row j at `qvel`, `curvature` its poly″: the error's second
+/// derivative along q̇ is −poly″ ẋ₂² (times the row's sign).
+fn equality_lift(m: &Model, out: &ConstraintData, j: usize, curvature: f64, qvel: &[f64]) -> f64 {
+    let rate2 = Wrap::rate(m.eq_side(out.source[j], 1), qvel);
+    second_order_lift(-out.dof[j].1 * curvature * rate2 * rate2, 0.0, m.opt.lever())
 }
 
 /// Equality e's error x₁ − x₁⁰ − poly(x₂ − x₂⁰) at `qpos`, poly′(x₂ − x₂⁰) and poly″(x₂ − x₂⁰).
@@ -565,7 +564,7 @@ pub fn refresh(m: &Model, dy: &DynamicsData, s: &WorldState<'_>, feedforward: &[
         out.lift[j] = match out.kind[j] {
             RowKind::Normal => arc_lift(kin, out, j, m.opt.timestep, m.opt.lever()),
             RowKind::Connect { .. } => connect_lift(m, kin, out, j),
-            RowKind::Equality => equality_lift(m, out, j, qpos, qvel),
+            RowKind::Equality => equality_lift(m, out, j, equality_error(m, out.source[j], qpos).2, qvel),
             _ => out.lift[j],
         };
         out.vel[j] = row_velocity(out, j, &kin.v, qvel);

@@ -93,6 +93,26 @@ def test_a_meshed_model_pickles_and_loads_from_anywhere(tmp_path, monkeypatch):
     np.testing.assert_array_equal(again.body_mass, dog.body_mass)
 
 
+def random_poses(mj, sim, d, seed, spread, n=1000):
+    """`n` random poses of a scene of one or two free bodies at (0, 0, 1): the first moved within
+    ±0.2, the second within ±`spread` of it, both turned at random; each is forwarded in MuJoCo
+    (`d`) and stepped once in sinew (`sim`, at rest) before it is yielded."""
+    rng = np.random.default_rng(seed)
+    for _ in range(n):
+        q = mj.qpos0.copy()
+        q[0:3] += rng.uniform(-0.2, 0.2, 3)
+        for a in range(3, mj.nq, 7):
+            quat = rng.normal(size=4)
+            q[a:a + 4] = quat / np.linalg.norm(quat)
+        if mj.nq > 7:
+            q[7:10] = q[0:3] + rng.uniform(-spread, spread, 3)
+        d.qpos[:] = q
+        mujoco.mj_forward(mj, d)
+        sim.qpos, sim.qvel = q, np.zeros(mj.nv)
+        sim.step()
+        yield q
+
+
 ELLIPSOID_PARTNERS = {
     "plane": 'type="plane" size="2 2 0.1"',
     "sphere": 'type="sphere" size="0.1"',
@@ -114,20 +134,8 @@ def test_ellipsoid_contacts_are_mujocos(other):
     <worldbody><body pos="0 0 1"><freejoint/><geom type="ellipsoid" size="0.16 0.1 0.07"/></body>{partner}</worldbody></mujoco>"""
     m, mj = sinew.Model.from_mjcf_string(xml), mujoco.MjModel.from_xml_string(xml)
     sim, d = sinew.Sim(m), mujoco.MjData(mj)
-    rng = np.random.default_rng(3)
     compared = 0
-    for _ in range(1000):
-        q = mj.qpos0.copy()
-        q[0:3] += rng.uniform(-0.2, 0.2, 3)
-        for a in range(3, mj.nq, 7):
-            quat = rng.normal(size=4)
-            q[a:a + 4] = quat / np.linalg.norm(quat)
-        if mj.nq > 7:
-            q[7:10] = q[0:3] + rng.uniform(-0.25, 0.25, 3)
-        d.qpos[:] = q
-        mujoco.mj_forward(mj, d)
-        sim.qpos, sim.qvel = q, np.zeros(mj.nv)
-        sim.step()
+    for q in random_poses(mj, sim, d, seed=3, spread=0.25):
         ours = [c for c in sim.contacts if c["dist"] <= 0]
         if d.ncon and d.contact.dist[0] < -0.02:
             continue  # deep overlaps: MuJoCo's depth is not the least translation there
@@ -162,20 +170,8 @@ def test_cylinder_contacts_are_mujocos(other):
     <worldbody><body pos="0 0 1"><freejoint/><geom type="cylinder" size="0.1 0.15"/></body>{partner}</worldbody></mujoco>"""
     m, mj = sinew.Model.from_mjcf_string(xml), mujoco.MjModel.from_xml_string(xml)
     sim, d = sinew.Sim(m), mujoco.MjData(mj)
-    rng = np.random.default_rng(4)
     compared = 0
-    for _ in range(1000):
-        q = mj.qpos0.copy()
-        q[0:3] += rng.uniform(-0.2, 0.2, 3)
-        for a in range(3, mj.nq, 7):
-            quat = rng.normal(size=4)
-            q[a:a + 4] = quat / np.linalg.norm(quat)
-        if mj.nq > 7:
-            q[7:10] = q[0:3] + rng.uniform(-0.3, 0.3, 3)
-        d.qpos[:] = q
-        mujoco.mj_forward(mj, d)
-        sim.qpos, sim.qvel = q, np.zeros(mj.nv)
-        sim.step()
+    for q in random_poses(mj, sim, d, seed=4, spread=0.3):
         ours = min((c["dist"] for c in sim.contacts), default=None)
         theirs = d.contact.dist[:d.ncon].min() if d.ncon else None
         if theirs is None or theirs < -0.002 or theirs > 0.045:
