@@ -61,10 +61,14 @@ def sinew_returns(name: str, episodes: int = EPISODES) -> list:
 
 def reference(names: list) -> dict:
     """dm_control's numbers, measured in this script run under MuJoCo 3.17 (``--reference``)."""
-    if not os.path.exists(os.path.join(MUJOCO_317, "mujoco")):
-        subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--target", MUJOCO_317,
-                        "mujoco==3.17.0"], check=True)
-    env = dict(os.environ, PYTHONPATH=MUJOCO_317, MUJOCO_GL=os.environ.get("MUJOCO_GL", "egl"))
+    env = dict(os.environ, MUJOCO_GL=os.environ.get("MUJOCO_GL", "egl"))
+    loads = [sys.executable, "-c", "from dm_control import suite; suite.load('acrobot', 'swingup')"]
+    if subprocess.run(loads, env=env, capture_output=True).returncode != 0:
+        # dm-control 1.0.50 loads its tasks under MuJoCo 3.17 only (1.0.52 under MuJoCo 4)
+        if not os.path.exists(os.path.join(MUJOCO_317, "mujoco")):
+            subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--target", MUJOCO_317,
+                            "mujoco==3.17.0"], check=True)
+        env["PYTHONPATH"] = MUJOCO_317
     out = subprocess.run([sys.executable, __file__, "--reference", *names], check=True, env=env, capture_output=True, text=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 

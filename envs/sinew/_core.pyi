@@ -246,6 +246,9 @@ class Sim:
     def contacts(self) -> list[dict[str, Any]]: ...
     @property
     def constraint_stats(self) -> dict[str, Union[int, float]]: ...
+    @property
+    def energy(self) -> NDArray[np.float64]:
+        """[potential, kinetic] of the current state, as MuJoCo's data.energy."""
     def constraint_system(self) -> dict[str, Any]:
         """kind, J, K, b and M of the rows a step from the current state starts with."""
     def forward(self) -> None: ...

@@ -9,7 +9,7 @@ use super::lcp::{LcpStats, LcpWork};
 use super::lcp;
 use super::system::{ConstraintData, RowKind};
 use super::test_forces::{add_response, clear_k_block, prepare, responses};
-use super::{closing_velocity, impact_speed, Constraints, World};
+use super::{closing_velocity, correction_velocity, impact_speed, Constraints, World};
 use crate::collision;
 use crate::model::{Model, WORLD};
 
@@ -552,6 +552,34 @@ pub fn row_key(con: &ConstraintData, contacts: &[collision::Contact], j: usize) 
             RowKey::Contact { geom1: c.geom1, geom2: c.geom2, feature: c.feature, within }
         }
     }
+}
+
+/// The work the last solve's rows do over the step toward targets that ask for energy: a
+/// contact or limit removing the penetration the step began with (impulse times the correction
+/// velocity), an equality removing its error (impulse times −d/lever), and motion control, whose
+/// work Σ p (v + v⁺) / 2 is counted whole (v⁺ its end-of-step velocity, w = 0 where it
+/// pushes). The rows' other work (stopping an approach, friction, the arc terms that keep a
+/// turning body's point on the surface) is not positive in the exact motion. `level`: the
+/// solve applied (acceleration or time step).
+pub fn correction_work(m: &Model, data: &World<'_>, level: Level) -> f64 {
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
+    let (con, solve) = (&data.constraints.con, &data.constraints.solve);
+    let mut work = 0.0;
+    for j in (0..con.len()).filter(|&j| solve.force[j] != 0.0) {
+        let impulse = if level == Level::Acceleration { h * solve.force[j] } else { solve.force[j] };
+        work += impulse * match con.kind[j] {
+            RowKind::Normal | RowKind::Limit if con.dist[j] <= 0.0 => correction_velocity(con.dist_start[j].min(0.0), h),
+            RowKind::Equality | RowKind::Connect { .. } => -con.dist[j] / lever,
+            RowKind::Motion { .. } => {
+                // a = K f + b = b − q where the row pushes
+                let (vel, b, q) = (con.vel[j], con.b[j], solve.q[j]);
+                let end = if level == Level::Acceleration { vel + h * (b - q) } else { vel + h * b - q };
+                0.5 * (vel + end)
+            }
+            _ => 0.0,
+        };
+    }
+    work
 }
 
 /// q̈ += scale · Σ_k f_k Δq̈⁽ᵏ⁾.

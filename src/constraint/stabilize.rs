@@ -110,9 +110,8 @@ pub fn project(m: &Model, data: &mut World<'_>, s: &mut WorldState<'_>) {
         return;
     }
     for _ in 0..PASSES {
+        // the check's kinematics stay in `ahead`, the next step's when they are the last
         if !gather(m, data, qpos, qvel) {
-            // the check's kinematics are the next step's: kept for it
-            data.dynamics.ahead.keep(qpos, qvel);
             return;
         }
         solve(m, data, qpos);
@@ -158,9 +157,9 @@ fn gather(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]) -> bool {
     let ahead = &mut data.dynamics.ahead;
     let Constraints { con, post, .. } = &mut *data.constraints;
     let nv = m.nv;
-    kinematics::forward(m, qpos, qvel, &mut ahead.kin);
-    collision::penetrations(m, &ahead.kin, &mut post.coll);
-    tendon::evaluate(m, &ahead.kin, qpos, &mut post.ten);
+    let new = ahead.at(m, qpos, qvel);
+    collision::penetrations(m, new, &mut post.coll);
+    tendon::evaluate(m, new, qpos, &mut post.ten);
     let tendon_violated = m.limited_tendons().any(|t| {
         let ([lo, hi], l) = (m.tendon_range[t], post.ten.length[t]);
         l < lo - LIMIT_SLOP || l > hi + LIMIT_SLOP
@@ -179,7 +178,6 @@ fn gather(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]) -> bool {
     post.row.clear();
     // the step's contact rows, their points carried by each side's node:
     // d' = d + n'·(p₁' − p₂'), n' turned with side 2 (a first-order estimate)
-    let new = &ahead.kin;
     for j in (0..con.len()).filter(|&j| con.kind[j] == RowKind::Normal) {
         let moved = |side: usize| {
             let n = con.node[j][side];

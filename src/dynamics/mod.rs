@@ -1,9 +1,10 @@
 //! Featherstone's dynamics of a kinematic tree: kinematics, tendons, applied forces, the articulated-body
-//! algorithm (the step's), and CRBA and RNEA (checks of it).
+//! algorithm (the step's), CRBA and RNEA (checks of it), and the energy of a state.
 
 pub mod aba;
 pub mod activation;
 pub mod crba;
+pub mod energy;
 pub mod muscle;
 pub mod fluid;
 pub mod forces;

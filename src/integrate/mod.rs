@@ -1,7 +1,8 @@
 //! Stage 8 — time integration: semi-implicit Euler (MuJoCo's `Euler`), leapfrog (position
 //! Verlet) and classical RK4 (MuJoCo's `RK4`, same tableau). Quaternions move on the manifold and
-//! stay unit.
+//! stay unit. A step with contacts closes with its energy bound (`energy_bound`).
 
+pub mod energy_bound;
 pub mod rk4;
 
 use crate::math::{quat_integrate, quat_wxyz, DVec3};

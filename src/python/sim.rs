@@ -10,7 +10,7 @@ use super::arrays::{as_f64, checked_values, first_nonfinite};
 use super::errors::{diverged, to_py};
 use super::model::PyModel;
 use crate::model::Model;
-use crate::dynamics::{kinematics, tendon};
+use crate::dynamics::{energy, kinematics, tendon};
 use crate::sensordata;
 use crate::constraint::History;
 use crate::state::WorldState;
@@ -182,6 +182,17 @@ impl PySim {
     fn ten_J<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         self.tendons(py)?;
         PyArray1::from_vec(py, self.data.dynamics.ten.jac.clone()).reshape([self.model.ntendon, self.model.nv])
+    }
+
+    /// Potential (gravity and springs) and kinetic energy of the current state, as MuJoCo's
+    /// `energy` (with `enableflags` energy on).
+    #[getter]
+    fn energy<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.tendons(py)?;
+        let (qpos, qvel) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly());
+        let (m, dy) = (&*self.model, &self.data.dynamics);
+        let potential = energy::gravity_potential(m, &dy.kin) + energy::spring_potential(m, &dy.ten, qpos.as_slice()?);
+        Ok(PyArray1::from_vec(py, vec![potential, energy::kinetic(m, &dy.kin, qvel.as_slice()?)]))
     }
 
     /// Draws the world: rgb (H, W, 3) uint8 and/or depth (H, W) float32 (MuJoCo's z-buffer
@@ -397,7 +408,7 @@ impl PySim {
     /// retries, solves rescued from a failed Lemke, fallbacks, steps solved as impulses where
     /// the force LCP had no exact answer, rows left out of solves as
     /// separating (summed) and times one was brought back, residual, impacts, post-stabilisation
-    /// projections.
+    /// projections, steps whose velocities the energy bound scaled.
     #[getter]
     fn constraint_stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
         let s = &self.data.constraints.solve.stats;
@@ -417,6 +428,7 @@ impl PySim {
         d.set_item("residual", s.residual)?;
         d.set_item("impacts", self.data.constraints.solve.impacts)?;
         d.set_item("projections", self.data.constraints.post.projections)?;
+        d.set_item("energy_bounded", self.data.energy.bounded)?;
         Ok(d)
     }
 

@@ -8,6 +8,7 @@ use crate::constraint::{Constraints, History, SolveBuffers, World};
 use crate::dynamics::aba::AbaData;
 use crate::dynamics::kinematics::KinData;
 use crate::dynamics::DynamicsData;
+use crate::integrate::energy_bound::EnergyBound;
 use crate::integrate::Rk4Scratch;
 use crate::model::Model;
 use crate::state::WorldState;
@@ -19,6 +20,8 @@ pub struct Data {
     pub dynamics: DynamicsData,
     /// RK4 stage buffers.
     pub rk4: Rk4Scratch,
+    /// The energy budget of a step with contacts.
+    pub energy: EnergyBound,
     /// Geom poses and contacts.
     pub coll: CollisionData,
     /// Rows, K, b, the solve, post-stabilisation and the history the next step reads.
@@ -47,6 +50,7 @@ impl Data {
         Data {
             dynamics: DynamicsData::new(m),
             rk4: Rk4Scratch::new(m),
+            energy: EnergyBound::new(m),
             coll: CollisionData::new(m),
             constraints: Constraints::new(m),
             sensors: SensorScratch { root_com: vec![(DVec3::ZERO, 0.0); m.nbody], node_force: vec![crate::math::Force::ZERO; m.nnode] },

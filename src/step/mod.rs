@@ -10,7 +10,7 @@ mod impacts;
 
 use impacts::impacts;
 use crate::constraint::rows::{build_rows, missed_contacts, missed_limits};
-use crate::constraint::solve::{apply_to_qacc, solve_rows, Level};
+use crate::constraint::solve::{apply_to_qacc, correction_work, solve_rows, Level};
 use crate::constraint::{stabilize, test_forces, RowKind};
 use crate::dynamics::{self, activation, kinematics};
 use crate::integrate::{self, rk4::{rk4, rk4_activations}};
@@ -52,16 +52,28 @@ pub fn step(m: &Model, data: &mut Data, s: &mut WorldState<'_>) {
         free_step(m, data, s, h_damp);
     } else {
         // 5–7. b, K, impacts and the constraint solve, into q̈ (and q̇ for impacts)
-        constrain(m, data, s, h_damp);
+        let level = constrain(m, data, s, h_damp);
         // 8. integrate: semi-implicit Euler (the seed's scheme; RK4's constrained steps too), or
-        // leapfrog's closing kick and drift
+        // leapfrog's closing kick and drift; a semi-implicit step with contacts is held to the
+        // energy it began with plus the work of the applied forces and of the rows' corrections
+        let bounded = !leapfrog && data.constraints.con.kind.contains(&RowKind::Normal);
+        if bounded {
+            let rows = correction_work(m, &data.world(), level);
+            timed!(data, Stage::Integration, data.energy.begin(m, &data.dynamics.kin, s.qvel, rows));
+        }
         timed!(data, Stage::Integration, integrate::kick_drift(m, s.qpos, s.qvel, &data.dynamics.qacc, h, lever));
+        if bounded {
+            timed!(data, Stage::Integration, data.energy.bound(m, &mut data.dynamics, s.qpos, s.qvel));
+        }
         advance_activations(m, data, s);
         // 9. limits leapfrog's drift crossed, penetration and limits the linearised rows missed
         if leapfrog {
             timed!(data, Stage::Projection, stabilize::hold_limits(m, &data.constraints.start, s.qpos));
         }
         timed!(data, Stage::Projection, stabilize::project(m, &mut data.world(), s));
+        if bounded {
+            timed!(data, Stage::Projection, data.energy.lifted(m, &mut data.dynamics, s.qpos, s.qvel));
+        }
     }
     *s.time += h;
 }
@@ -114,14 +126,15 @@ fn free_step(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) {
 /// Stages 5–7 with the rows of stage 4: b, impacts, the constraint solve into q̈ (impacts into
 /// q̇). A limit or contact without a row that the constrained motion would reach (pushed there
 /// by contact forces, say) gets its row and the solve runs once more from the constraint-free
-/// accelerations.
-fn constrain(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) {
+/// accelerations. The level of the solve applied: forces, or impulses over the step.
+fn constrain(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) -> Level {
     let h = m.opt.timestep;
     // with constraints the step is semi-implicit Euler: damping implicit over the step
     if h_damp != h {
         timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, s.act, h));
     }
     let mut redo = false;
+    let mut level;
     data.constraints.solve.impact_warm.clear();
     loop {
         // 5. b; K by test forces once a solve needs it (rows that the constraint-free motion
@@ -131,7 +144,8 @@ fn constrain(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) {
         let impacted = impacts(m, &mut data.world(), s);
         if m.opt.constraint_mode == ConstraintMode::Velocity {
             // 7'. one impulse solve: q̈ = q̈₀ + Σ p_k Δq̈⁽ᵏ⁾ / h
-            solve_rows(m, &mut data.world(), Level::TimeStep);
+            level = Level::TimeStep;
+            solve_rows(m, &mut data.world(), level);
             apply_to_qacc(m, &mut data.world(), 1.0 / h);
         } else {
             // 7. constraint forces at the acceleration level, added to q̈; where that LCP has no
@@ -139,12 +153,14 @@ fn constrain(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) {
             // impulses instead, as in 7', whose LCP always has one (Stewart & Trinkle 1996;
             // Anitescu & Potra 1997)
             let before = data.constraints.solve.stats;
-            solve_rows(m, &mut data.world(), Level::Acceleration);
+            level = Level::Acceleration;
+            solve_rows(m, &mut data.world(), level);
             if data.constraints.solve.stats.inexact_since(&before) {
                 let stats = &mut data.constraints.solve.stats;
                 (stats.fallback_pgs, stats.inexact, stats.fallback_zero) = (before.fallback_pgs, before.inexact, before.fallback_zero);
                 stats.impulse_steps += 1;
-                solve_rows(m, &mut data.world(), Level::TimeStep);
+                level = Level::TimeStep;
+                solve_rows(m, &mut data.world(), level);
                 apply_to_qacc(m, &mut data.world(), 1.0 / h);
             } else {
                 apply_to_qacc(m, &mut data.world(), 1.0);
@@ -170,6 +186,7 @@ fn constrain(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) {
     if redo {
         data.constraints.rows.limit_forced.fill(false);
     }
+    level
 }
 
 /// The constraint system a step from (qpos, qvel, ctrl) starts with, for inspection (MuJoCo's

@@ -3,8 +3,9 @@ dm_control's at the same states (the sensors that read contact forces given sine
 its initial states come from the same distributions, and the envs behave as gymnasium envs
 (spaces, truncation, pixels, determinism, pickling).
 
-dm_control itself runs in a subprocess (tests/python/dmc_reference.py) on MuJoCo 3.17, installed
-once into ~/.cache/sinew-tests: dm-control 1.0.50 cannot load its tasks under MuJoCo 4."""
+dm_control itself runs in a subprocess (tests/python/dmc_reference.py) on the installed MuJoCo
+when the installed dm-control loads its tasks under it (1.0.52 and MuJoCo 4), else on MuJoCo 3.17,
+installed once into ~/.cache/sinew-tests (dm-control 1.0.50 cannot load its tasks under MuJoCo 4)."""
 
 import os
 import pathlib
@@ -32,11 +33,15 @@ SETTLED = {"cheetah-run"}
 def reference(tmp_path_factory):
     """dm_control's observations and rewards at the states sinew's random rollouts reach, and its
     initial states of STARTS episodes per task; with sinew's own."""
-    cache = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    target = pathlib.Path(cache) / "sinew-tests" / "mujoco-3.17.0"
-    if not (target / "mujoco" / "__init__.py").exists():
-        subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--target", str(target),
-                        "mujoco==3.17.0"], check=True)
+    env = dict(os.environ, MUJOCO_GL="disable")
+    loads = [sys.executable, "-c", "from dm_control import suite; suite.load('acrobot', 'swingup')"]
+    if subprocess.run(loads, env=env, capture_output=True).returncode != 0:
+        cache = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+        target = pathlib.Path(cache) / "sinew-tests" / "mujoco-3.17.0"
+        if not (target / "mujoco" / "__init__.py").exists():
+            subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--target", str(target),
+                            "mujoco==3.17.0"], check=True)
+        env["PYTHONPATH"] = str(target)
     data, mine = {}, {}
     for name in TASKS:
         key = name[4:]
@@ -82,7 +87,6 @@ def reference(tmp_path_factory):
         mine[key] = (np.concatenate(obs), np.concatenate(rewards), np.hstack([starts.batch.qpos, starts.batch.qvel]))
     src, dst = tmp_path_factory.mktemp("dmc") / "in.npz", tmp_path_factory.mktemp("dmc") / "out.npz"
     np.savez(src, **data)
-    env = dict(os.environ, PYTHONPATH=str(target), MUJOCO_GL="disable")
     script = os.path.join(os.path.dirname(__file__), "dmc_reference.py")
     subprocess.run([sys.executable, script, str(src), str(dst)], check=True, env=env)
     return mine, dict(np.load(dst))

@@ -156,6 +156,29 @@ CYLINDER_PARTNERS = {
 }
 
 
+def least_distance(mj, d):
+    """The least distance between geoms 0 and 1 (cylinder, box, capsule), from a few starts of
+    SLSQP over a point in each."""
+    from scipy.optimize import minimize
+
+    def inside(g):
+        size, pos, rot = mj.geom_size[g], d.geom_xpos[g].copy(), d.geom_xmat[g].reshape(3, 3).copy()
+        local = lambda x: rot.T @ (x - pos)
+        if mj.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX:
+            return [lambda x: size - np.abs(local(x))]
+        if mj.geom_type[g] == mujoco.mjtGeom.mjGEOM_CYLINDER:
+            return [lambda x: size[1] - abs(local(x)[2]), lambda x: size[0] ** 2 - local(x)[:2] @ local(x)[:2]]
+        # capsule: within its radius of its segment
+        return [lambda x: size[0] ** 2 - np.sum((local(x) - [0, 0, np.clip(local(x)[2], -size[1], size[1])]) ** 2)]
+
+    cons = [{"type": "ineq", "fun": lambda z, c=c: c(z[:3])} for c in inside(0)]
+    cons += [{"type": "ineq", "fun": lambda z, c=c: c(z[3:])} for c in inside(1)]
+    rng = np.random.default_rng(0)
+    runs = [minimize(lambda z: np.sum((z[:3] - z[3:]) ** 2), np.concatenate([d.geom_xpos[0], d.geom_xpos[1]]) + rng.normal(0, 0.02, 6),
+                     constraints=cons, method="SLSQP", options={"ftol": 1e-15, "maxiter": 500}) for _ in range(5)]
+    return np.sqrt(min(r.fun for r in runs if r.success))
+
+
 @pytest.mark.parametrize("other", sorted(CYLINDER_PARTNERS))
 def test_cylinder_contacts_are_mujocos(other):
     # a cylinder (not the capsule of its size) against every primitive at random poses, every
@@ -179,9 +202,13 @@ def test_cylinder_contacts_are_mujocos(other):
         assert ours is not None, (q, theirs)
         if other in ("plane", "sphere"):
             assert abs(ours - theirs) < 1e-5, (q, ours, theirs)
-        else:
+        elif theirs - 1e-6 < ours + 1e-3 and ours < theirs + 1e-6:
             # sinew's distance is a separation along a direction, never more than the true one;
             # MuJoCo's, the distance of two points, never less: within 1 mm of each other
-            assert theirs - 1e-6 < ours + 1e-3 and ours < theirs + 1e-6, (q, ours, theirs)
+            pass
+        else:
+            # where they are not (MuJoCo 4.0.1 finds a cylinder 1.6 mm farther from a box than
+            # it is), apart shapes' distance by a solver of its own
+            assert ours > 0 and abs(ours - least_distance(mj, d)) < 1e-6, (q, ours, theirs)
         compared += 1
     assert compared > 50

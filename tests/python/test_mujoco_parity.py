@@ -1,6 +1,7 @@
 """sinew against the mujoco package on gymnasium's own model files: compiled mass properties,
 body frames, qpos0, and accelerations at random states with constraints switched off."""
 
+import os
 import warnings
 
 import mujoco
@@ -69,6 +70,32 @@ def test_accelerations_match_mj_forward_without_constraints(gym_model):
         assert np.abs(sim.qacc - d.qacc).max() / scale <= 1e-8
         np.testing.assert_allclose(sim.xpos, d.xpos, atol=1e-9)
         np.testing.assert_allclose(sim.xmat.reshape(-1, 9), d.xmat, atol=1e-9)
+
+
+def assert_energy_equals_mujocos(path):
+    """Potential (gravity, joint and tendon springs) and kinetic energy (armature included) at
+    random states."""
+    mj, sm = load_both(path)
+    mj.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_ENERGY
+    d, sim = mujoco.MjData(mj), sinew.Sim(sm)
+    rng = np.random.default_rng(1)
+    for _ in range(5):
+        q, v, u = random_state(mj, rng)
+        forward_both(mj, d, sim, q, v, u)
+        mujoco.mj_energyPos(mj, d)
+        mujoco.mj_energyVel(mj, d)
+        np.testing.assert_allclose(sim.energy, d.energy, rtol=1e-12, atol=1e-12)
+
+
+def test_energy_equals_mujocos(gym_model):
+    assert_energy_equals_mujocos(gym_model[1])
+
+
+@pytest.mark.parametrize("name", ["fish", "swimmer", "manipulator", "humanoid_CMU"])
+def test_energy_equals_mujocos_with_springs(name):
+    # dm_control's models with joint and tendon springs
+    import dm_control
+    assert_energy_equals_mujocos(os.path.join(os.path.dirname(dm_control.__file__), "suite", f"{name}.xml"))
 
 
 def test_batch_body_quantities_match_mujoco(gym_model):
