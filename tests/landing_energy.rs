@@ -30,7 +30,7 @@ fn chain(restitution: f64, mode: ConstraintMode) -> Model {
 fn energies(m: &Model, s: &State) -> (f64, f64) {
     let mut kin = kinematics::KinData::new(m);
     kinematics::forward(m, &s.qpos, &s.qvel, &mut kin);
-    let e = energy::kinetic(m, &kin, &s.qvel) + energy::gravity_potential(m, &kin);
+    let e = energy::kinetic_and_gravity_power(m, &kin, &s.qvel).0 + energy::gravity_potential(m, &kin);
     let (_, p) = world_momentum(m, &kin);
     (e + 0.5 * m.opt.timestep * m.opt.gravity.dot(p), e)
 }

@@ -100,22 +100,23 @@ impl StabilizeData {
 
 /// Projects `qpos` (after the step, with `qvel` after the step) out of penetration, using the rows
 /// and Δq̈ in `data.constraints.con` and the kinematics and ABA quantities of the step's start. The
-/// projection's LCP counts in `data.stats`.
-pub fn project(m: &Model, data: &mut World<'_>, s: &mut WorldState<'_>) {
+/// projection's LCP counts in `data.stats`. Whether it moved `qpos`.
+pub fn project(m: &Model, data: &mut World<'_>, s: &mut WorldState<'_>) -> bool {
     let (qpos, qvel) = (&mut *s.qpos, &*s.qvel);
     let con = &data.constraints.con;
     // a tendon's length after the step needs its kinematics: a step with a tendon limit row checks
     let checked = |j: usize| con.kind[j] == RowKind::Normal || (con.kind[j] == RowKind::Limit && con.source[j] >= m.njnt);
     if !(0..con.len()).any(checked) && !m.limited_joints().any(|j| violation(m, qpos, j).is_some()) {
-        return;
+        return false;
     }
-    for _ in 0..PASSES {
+    for pass in 0..PASSES {
         // the check's kinematics stay in `ahead`, the next step's when they are the last
         if !gather(m, data, qpos, qvel) {
-            return;
+            return pass > 0;
         }
         solve(m, data, qpos);
     }
+    true
 }
 
 /// Leapfrog's opening drift can carry a joint past its limit before any row acts (the rows see

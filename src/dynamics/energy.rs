@@ -37,16 +37,14 @@ pub fn spring_potential(m: &Model, ten: &TendonData, qpos: &[f64]) -> f64 {
     e
 }
 
-/// Kinetic energy ½ q̇ᵀ M q̇ = ½ Σ vᵢ·(Iᵢ vᵢ) + ½ Σ armature q̇², from the node velocities in
-/// `kin` (those of `qvel`).
-pub fn kinetic(m: &Model, kin: &KinData, qvel: &[f64]) -> f64 {
-    let bodies: f64 = kin.v.iter().zip(&kin.inertia).map(|(v, i)| v.dot(&i.mul_motion(v))).sum();
+/// Kinetic energy ½ q̇ᵀ M q̇ = ½ Σ vᵢ·(Iᵢ vᵢ) + ½ Σ armature q̇², and gravity's power g·P (P the
+/// bodies' total linear momentum), from the node velocities in `kin` (those of `qvel`).
+pub fn kinetic_and_gravity_power(m: &Model, kin: &KinData, qvel: &[f64]) -> (f64, f64) {
+    let (mut bodies, mut momentum) = (0.0, DVec3::ZERO);
+    for (v, i) in kin.v.iter().zip(&kin.inertia) {
+        let h = i.mul_motion(v);
+        (bodies, momentum) = (bodies + v.dot(&h), momentum + h.lin);
+    }
     let armature: f64 = qvel.iter().zip(&m.dof_armature).map(|(v, a)| a * v * v).sum();
-    0.5 * (bodies + armature)
-}
-
-/// Gravity's power g·P: the rate of work of gravity, P the bodies' total linear momentum.
-pub fn gravity_power(m: &Model, kin: &KinData) -> f64 {
-    let momentum = kin.v.iter().zip(&kin.inertia).fold(DVec3::ZERO, |s, (v, i)| s + i.mul_motion(v).lin);
-    m.opt.gravity.dot(momentum)
+    (0.5 * (bodies + armature), m.opt.gravity.dot(momentum))
 }

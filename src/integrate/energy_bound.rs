@@ -25,7 +25,8 @@
 //! 0.4% in a second): it is reported in [`EnergyBound::allowance`]. Only steps with contact rows are
 //! bounded: without contacts the chain's momentum is conserved, which scaling would not keep.
 
-use crate::dynamics::{energy, kinematics::KinData, DynamicsData};
+use crate::dynamics::kinematics::{self, KinData};
+use crate::dynamics::{energy, DynamicsData};
 use crate::model::Model;
 
 /// What the bound keeps of a step: the modified energy and the velocities its force phase began
@@ -66,20 +67,19 @@ impl EnergyBound {
     /// the work `rows` the constraint rows' corrections do over the step
     /// ([`crate::constraint::solve::correction_work`]).
     pub fn begin(&mut self, m: &Model, kin: &KinData, qvel: &[f64], rows: f64) {
-        let (t, u) = (energy::kinetic(m, kin, qvel), energy::gravity_potential(m, kin));
-        self.start = t + u + 0.5 * m.opt.timestep * energy::gravity_power(m, kin) + rows;
+        let (t, u, g) = terms(m, kin, qvel);
+        self.start = t + u + 0.5 * m.opt.timestep * g + rows;
         self.allowance = rows;
         self.scale = t.abs() + u.abs();
         self.qvel.copy_from_slice(qvel);
     }
 
     /// Scales `qvel` (after the step, at `qpos`) onto the budget if the step exceeded it, with the
-    /// end state's kinematics computed into `dy.ahead` (post-stabilisation's check takes them;
-    /// forgotten when q̇ is scaled). Whether it scaled.
+    /// end state's kinematics computed into `dy.ahead` (post-stabilisation's check takes them).
+    /// Whether it scaled.
     pub fn bound(&mut self, m: &Model, dy: &mut DynamicsData, qpos: &[f64], qvel: &mut [f64]) -> bool {
         let h = m.opt.timestep;
-        let kin = dy.ahead.at(m, qpos, qvel);
-        let (t1, u1, g1) = (energy::kinetic(m, kin, qvel), energy::gravity_potential(m, kin), energy::gravity_power(m, kin));
+        let (t1, u1, g1) = terms(m, dy.ahead.at(m, qpos, qvel), qvel);
         self.end = t1 + u1 + 0.5 * h * g1;
         // f(α) = H(α q̇⁺) − budget(α) = a α² + b α + c, with the applied forces τ_e (damping
         // excluded: its force is −B q̇⁺ over the implicit step)
@@ -108,17 +108,23 @@ impl EnergyBound {
             *v *= alpha;
         }
         self.end = alpha * alpha * t1 + u1 + alpha * 0.5 * h * g1;
-        dy.ahead.forget();
+        // the configuration is the same: only the velocities are new
+        kinematics::forward_velocity(m, qvel, &mut dy.ahead.kin);
+        dy.ahead.keep(qpos, qvel);
         self.bounded += 1;
         true
     }
 
     /// Adds to [`EnergyBound::allowance`] the energy post-stabilisation's move out of a
-    /// penetration gave the end state (`qpos`, `qvel`), whose kinematics `dy.ahead` holds when it
-    /// moved nothing.
+    /// penetration gave the end state (`qpos`, `qvel`).
     pub fn lifted(&mut self, m: &Model, dy: &mut DynamicsData, qpos: &[f64], qvel: &[f64]) {
-        let kin = dy.ahead.at(m, qpos, qvel);
-        let end = energy::kinetic(m, kin, qvel) + energy::gravity_potential(m, kin) + 0.5 * m.opt.timestep * energy::gravity_power(m, kin);
-        self.allowance += (end - self.end).max(0.0);
+        let (t, u, g) = terms(m, dy.ahead.at(m, qpos, qvel), qvel);
+        self.allowance += (t + u + 0.5 * m.opt.timestep * g - self.end).max(0.0);
     }
+}
+
+/// T, U and g·P of a state from its kinematics `kin` and `qvel`.
+fn terms(m: &Model, kin: &KinData, qvel: &[f64]) -> (f64, f64, f64) {
+    let (t, g) = energy::kinetic_and_gravity_power(m, kin, qvel);
+    (t, energy::gravity_potential(m, kin), g)
 }

@@ -192,7 +192,8 @@ impl PySim {
         let (qpos, qvel) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly());
         let (m, dy) = (&*self.model, &self.data.dynamics);
         let potential = energy::gravity_potential(m, &dy.kin) + energy::spring_potential(m, &dy.ten, qpos.as_slice()?);
-        Ok(PyArray1::from_vec(py, vec![potential, energy::kinetic(m, &dy.kin, qvel.as_slice()?)]))
+        let (kinetic, _) = energy::kinetic_and_gravity_power(m, &dy.kin, qvel.as_slice()?);
+        Ok(PyArray1::from_vec(py, vec![potential, kinetic]))
     }
 
     /// Draws the world: rgb (H, W, 3) uint8 and/or depth (H, W) float32 (MuJoCo's z-buffer

@@ -70,8 +70,8 @@ pub fn step(m: &Model, data: &mut Data, s: &mut WorldState<'_>) {
         if leapfrog {
             timed!(data, Stage::Projection, stabilize::hold_limits(m, &data.constraints.start, s.qpos));
         }
-        timed!(data, Stage::Projection, stabilize::project(m, &mut data.world(), s));
-        if bounded {
+        let moved = timed!(data, Stage::Projection, stabilize::project(m, &mut data.world(), s));
+        if bounded && moved {
             timed!(data, Stage::Projection, data.energy.lifted(m, &mut data.dynamics, s.qpos, s.qvel));
         }
     }
