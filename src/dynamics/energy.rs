@@ -14,6 +14,13 @@ pub fn gravity_potential(m: &Model, kin: &KinData) -> f64 {
     -m.opt.gravity.dot(first_moment)
 }
 
+/// [`gravity_potential`] of the bodies that move (the nodes'), less the static bodies' constant:
+/// for differences of U, without the bodies' poses.
+pub fn moving_gravity_potential(m: &Model, kin: &KinData) -> f64 {
+    let (first_moment, mass) = kin.inertia.iter().fold((DVec3::ZERO, 0.0), |(s, total), i| (s + i.com * i.mass, total + i.mass));
+    -m.opt.gravity.dot(first_moment + kin.origin * mass)
+}
+
 /// The springs' potential energy: ½ k d² per joint (d the displacement from `qpos_spring`, a
 /// ball's or free joint's rotation as its rotation vector) and per tendon beyond its rest
 /// deadband.
@@ -40,10 +47,12 @@ pub fn spring_potential(m: &Model, ten: &TendonData, qpos: &[f64]) -> f64 {
 /// Kinetic energy ½ q̇ᵀ M q̇ = ½ Σ vᵢ·(Iᵢ vᵢ) + ½ Σ armature q̇², and gravity's power g·P (P the
 /// bodies' total linear momentum), from the node velocities in `kin` (those of `qvel`).
 pub fn kinetic_and_gravity_power(m: &Model, kin: &KinData, qvel: &[f64]) -> (f64, f64) {
+    // per node: m |v_c|² + ωᵀ I_c ω, v_c the centre of mass's velocity
     let (mut bodies, mut momentum) = (0.0, DVec3::ZERO);
     for (v, i) in kin.v.iter().zip(&kin.inertia) {
-        let h = i.mul_motion(v);
-        (bodies, momentum) = (bodies + v.dot(&h), momentum + h.lin);
+        let vc = v.lin + v.ang.cross(i.com);
+        bodies += i.mass * vc.length_squared() + v.ang.dot(i.ic * v.ang);
+        momentum += vc * i.mass;
     }
     let armature: f64 = qvel.iter().zip(&m.dof_armature).map(|(v, a)| a * v * v).sum();
     (0.5 * (bodies + armature), m.opt.gravity.dot(momentum))

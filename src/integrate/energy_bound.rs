@@ -123,8 +123,8 @@ impl EnergyBound {
     }
 }
 
-/// T, U and g·P of a state from its kinematics `kin` and `qvel`.
+/// T, U (of the moving bodies) and g·P of a state from its kinematics `kin` and `qvel`.
 fn terms(m: &Model, kin: &KinData, qvel: &[f64]) -> (f64, f64, f64) {
     let (t, g) = energy::kinetic_and_gravity_power(m, kin, qvel);
-    (t, energy::gravity_potential(m, kin), g)
+    (t, energy::moving_gravity_potential(m, kin), g)
 }
