@@ -4,7 +4,7 @@
 //! Why: the constrained step is semi-implicit Euler with the velocity-product (gyroscopic and
 //! Coriolis) forces taken at the step's start. Its energy error grows with the cube of the
 //! speeds, and a landing can turn a light link fast (an 8-link chain dropped at h = 0.01 gained
-//! 3 J of its 27 J in one step, 1.6 J of it without the contacts: `benches/landing_energy.py`).
+//! 3.1 J of its 27 J in one step: `benches/landing_energy.py` before this bound).
 //! Implicit velocity products would need the coupled ∂c/∂q̇, which the ABA (and with it K by test
 //! forces) cannot carry. Instead the step's energy is budgeted and the velocities after the
 //! step are scaled onto the budget when they exceed it (energy projection: Dinev, Liu & Kavan
