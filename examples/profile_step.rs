@@ -31,5 +31,5 @@ fn main() {
         s.step(&m);
         if k % 5000 == 0 { s.qpos.copy_from_slice(&m.qpos0); s.qvel.fill(0.0); }
     }
-    println!("{:?} {:?}", &s.qpos[..m.nq.min(3)], s.data.constraints.solve.stats);
+    println!("{:?} {:?}", &s.qpos[..m.nq.min(3)], s.data.constraints.stats);
 }

@@ -36,5 +36,5 @@ fn main() {
     let wall = start.elapsed().as_secs_f64();
     let per = steps.max(1);
     println!("{steps} steps in {wall:.3} s ({:.1} us/step), {} rows and {} contacts a step", wall * 1e6 / per as f64, rows / per, contacts / per);
-    println!("{:?}", s.data.constraints.solve.stats);
+    println!("{:?}", s.data.constraints.stats);
 }

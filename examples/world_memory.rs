@@ -60,10 +60,9 @@ fn main() {
     free("rest of the dynamics", std::mem::take(&mut d.dynamics));
     free("contacts", std::mem::take(&mut d.coll.contacts));
     free("collision poses and caches", std::mem::take(&mut d.coll));
-    free("rows (what sensors read)", std::mem::take(&mut d.constraints.con));
-    free("solve: forces, q, roles, islands", std::mem::take(&mut d.constraints.solve));
-    free("post-stabilisation's check", std::mem::take(&mut d.constraints.post));
+    free("forces the rows applied", std::mem::take(&mut d.constraints.applied));
     free("history", std::mem::take(&mut d.constraints.history));
-    free("row building, feed-forward, start", std::mem::take(&mut d.constraints));
-    free("sensor scratch, fault record", (std::mem::take(&mut d.sensors), std::mem::take(&mut d.fault)));
+    free("feed-forward, counters", std::mem::take(&mut d.constraints));
+    free("energy bound", std::mem::take(&mut d.energy));
+    free("fault record", std::mem::take(&mut d.fault));
 }

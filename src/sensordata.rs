@@ -11,13 +11,13 @@ use glam::{DMat3, DVec3};
 
 use crate::collision::ray::ray_primitive;
 use crate::collision::Contact;
-use crate::constraint::{Constraints, RowKind};
+use crate::constraint::AppliedForces;
 use crate::dynamics::kinematics::{self, point_accel, KinData};
 use crate::dynamics::tendon::{self, geom_pose, TendonData};
 use crate::dynamics::{self, aba};
 use crate::math::{Force, Motion, SpatialInertia};
 use crate::step::data::Data;
-use crate::model::{ConstraintMode, Model, SensorFrame, SensorKind, Transmission, WORLD};
+use crate::model::{Model, SensorFrame, SensorKind, Transmission, WORLD};
 
 /// Writes the sensors `which` (indices, in order) of world state `s` into `out`, one after
 /// another (every sensor: `sensordata`'s layout): kinematics, tendons and, when a sensor reads
@@ -29,7 +29,7 @@ pub fn read(m: &Model, d: &mut Data, s: State<'_>, which: &[usize], out: &mut [f
     tendon::compute(m, &dy.kin, s.qpos, &mut dy.ten);
     let acc = which.iter().any(|&k| m.sensor_kind[k].reads_accelerations()).then(|| accelerations(m, d, s));
     let dy = &d.dynamics;
-    compute(m, &dy.kin, &dy.ten, s, (&d.constraints, &d.coll.contacts), acc.as_ref(), (which, out));
+    compute(m, &dy.kin, &dy.ten, s, (&d.constraints.applied, &d.coll.contacts), acc.as_ref(), (which, out));
 }
 
 /// A world's state as the sensors read it.
@@ -63,7 +63,7 @@ fn accelerations(m: &Model, d: &mut Data, s: State<'_>) -> Accelerations {
     let (origin, mut qfrc_c) = (dy.kin.origin, vec![0.0; m.nv]);
     let mut f_ext = vec![Force::ZERO; m.nbody];
     let mut node_f = vec![Force::ZERO; m.nnode];
-    let last = (&d.constraints, &d.coll.contacts[..]);
+    let last = (&d.constraints.applied, &d.coll.contacts[..]);
     generalized_constraint_force(m, &dy.kin, last, &mut node_f, &mut qfrc_c, |b, at, f| f_ext[b] += Force::at_point(at - origin, f));
     let tau: Vec<f64> = dy.qfrc_applied.iter().zip(&qfrc_c).map(|(a, c)| a + c).collect();
     aba::backward(m, &dy.kin, &tau, 0.0, &mut dy.aba);
@@ -90,7 +90,7 @@ fn accelerations(m: &Model, d: &mut Data, s: State<'_>) -> Accelerations {
 /// Writes the sensors `which` of state `st` with kinematics `kin`, tendons `ten` and, for the
 /// sensors that read them, accelerations `acc` into `out`, one after another; touch from the last
 /// step's contacts and constraint forces.
-fn compute(m: &Model, kin: &KinData, ten: &TendonData, st: State<'_>, last: (&Constraints, &[Contact]), acc: Option<&Accelerations>, (which, out): (&[usize], &mut [f64])) {
+fn compute(m: &Model, kin: &KinData, ten: &TendonData, st: State<'_>, last: (&AppliedForces, &[Contact]), acc: Option<&Accelerations>, (which, out): (&[usize], &mut [f64])) {
     let (qpos, qvel) = (st.qpos, st.qvel);
     let mut at = 0;
     for &s in which {
@@ -248,53 +248,38 @@ fn subtree(m: &Model, kin: &KinData, root: usize) -> Subtree {
 /// The normal force of the last step's contacts on site `site`'s body whose ray — from the contact
 /// point along its normal, away from that body — meets the site's volume (MuJoCo's rule: a contact
 /// within the volume counts, and so does one whose normal points into it).
-fn touch(m: &Model, kin: &KinData, site: usize, (constraints, contacts): (&Constraints, &[Contact])) -> f64 {
-    let (con, force) = (&constraints.con, &constraints.solve.force);
-    if force.len() < con.len() {
-        return 0.0;
-    }
+fn touch(m: &Model, kin: &KinData, site: usize, (forces, contacts): (&AppliedForces, &[Contact])) -> f64 {
     let body = m.site_body[site];
     let (rot, centre) = pose(m, kin, SensorFrame::Site(site));
-    // velocity-level time stepping solves for impulses over the step
-    let per_force = if m.opt.constraint_mode == ConstraintMode::Velocity { 1.0 / m.opt.timestep } else { 1.0 };
     let mut total = 0.0;
-    for j in (0..con.len()).filter(|&j| con.kind[j] == RowKind::Normal) {
-        let c = &contacts[con.source[j]];
+    for (c, f) in contacts.iter().zip(&forces.contact) {
         if m.geom_body[c.geom1] != body && m.geom_body[c.geom2] != body {
             continue;
         }
         // the normal points into body 1 (from geom2 to geom1): away from body 1 is −n
         let away = if m.geom_body[c.geom1] == body { -c.normal } else { c.normal };
         let (p, d) = (rot.transpose() * (c.pos - centre), rot.transpose() * away);
-        if force[j] > 0.0 && ray_primitive(m.site_type[site], m.site_size[site], p, d).is_some() {
-            total += force[j] * per_force;
+        if f.normal > 0.0 && ray_primitive(m.site_type[site], m.site_size[site], p, d).is_some() {
+            total += f.normal;
         }
     }
     total
 }
 
-/// The last step's constraint forces (`last`: its constraints and contacts) as generalised forces
-/// `qfrc` (Jᵀ f, nv), with each contact force on a body passed to `on_body(body, point, force)`;
-/// `node_f` (nnode) is scratch.
+/// The last step's constraint forces (`last`: what its rows applied, and its contacts) as
+/// generalised forces `qfrc` (Jᵀ f, nv), with each contact force on a body passed to
+/// `on_body(body, point, force)`; `node_f` (nnode) is scratch.
 pub fn generalized_constraint_force(
-    m: &Model, kin: &KinData, (c, contacts): (&Constraints, &[Contact]), node_f: &mut [Force], qfrc: &mut [f64], mut on_body: impl FnMut(usize, DVec3, DVec3),
+    m: &Model, kin: &KinData, (forces, contacts): (&AppliedForces, &[Contact]), node_f: &mut [Force], qfrc: &mut [f64], mut on_body: impl FnMut(usize, DVec3, DVec3),
 ) {
-    let (con, force) = (&c.con, &c.solve.force);
     qfrc.fill(0.0);
-    if con.is_empty() || force.len() < con.len() {
+    if forces.contact.is_empty() && forces.connect.is_empty() && forces.joint.is_empty() {
         return;
     }
-    // velocity-level time stepping solves for impulses over the step
-    let per_force = if m.opt.constraint_mode == ConstraintMode::Velocity { 1.0 / m.opt.timestep } else { 1.0 };
     // spatial constraint forces per node (world coordinates about the kinematics' origin), for Jᵀ f
     node_f.fill(Force::ZERO);
-    for (ci, c) in contacts.iter().enumerate() {
-        let mut f_c = DVec3::ZERO;
-        for j in 0..con.len() {
-            if con.source[j] == ci && con.kind[j].is_contact() {
-                f_c += con.dir[j] * force[j] * per_force;
-            }
-        }
+    for (c, f) in contacts.iter().zip(&forces.contact) {
+        let f_c = f.total;
         if f_c == DVec3::ZERO {
             continue;
         }
@@ -309,16 +294,14 @@ pub fn generalized_constraint_force(
         }
     }
     // connects pull their two points together
-    for j in 0..con.len() {
-        let RowKind::Connect { angular } = con.kind[j] else { continue };
-        let fs = con.dir[j] * (force[j] * per_force);
-        let [n0, n1] = con.node[j];
-        let at = |r: DVec3| if angular { Force { ang: fs, lin: DVec3::ZERO } } else { Force::at_point(r, fs) };
+    for c in &forces.connect {
+        let at = |r: DVec3| if c.angular { Force { ang: c.force, lin: DVec3::ZERO } } else { Force::at_point(r, c.force) };
+        let [n0, n1] = c.node;
         if n0 != WORLD {
-            node_f[n0] += at(con.arm[j]);
+            node_f[n0] += at(c.arm[0]);
         }
         if n1 != WORLD {
-            node_f[n1] -= at(con.arm2[j]);
+            node_f[n1] -= at(c.arm[1]);
         }
     }
     // τ = Jᵀ f: leaves to root, as RNEA's second pass (Featherstone 2008, Table 5.1)
@@ -332,11 +315,7 @@ pub fn generalized_constraint_force(
             node_f[p] += fp;
         }
     }
-    for j in 0..con.len() {
-        if !con.kind[j].is_point() {
-            for &(dof, c) in con.joint_terms(j) {
-                qfrc[dof] += c * force[j] * per_force;
-            }
-        }
+    for &(dof, f) in &forces.joint {
+        qfrc[dof] += f;
     }
 }

@@ -6,7 +6,7 @@
 use glam::DVec3;
 
 use crate::collision::Contact;
-use crate::constraint::Constraints;
+use crate::constraint::AppliedForces;
 use crate::step::data::{Data, SensorScratch};
 use crate::dynamics::kinematics::KinData;
 use crate::math::{Force, SpatialInertia};
@@ -114,7 +114,7 @@ pub fn write(m: &Model, root: &[usize], d: &mut Data, qpos: &[f64], qvel: &[f64]
     }
     let world = Frame { m, kin, root, root_com };
     com_based(&world, &mut out);
-    constraint_forces(&world, constraints, &coll.contacts, node_force, &mut out);
+    constraint_forces(&world, &constraints.applied, &coll.contacts, node_force, &mut out);
 }
 
 /// What every output of a world reads: the model, the kinematics of its state, each body's root
@@ -181,7 +181,7 @@ fn com_based(f: &Frame<'_>, out: &mut Sensors<'_>) {
 
 /// cfrc_ext (each contact's force on its two bodies, about their root subtree's centre of mass)
 /// and qfrc_constraint (Jᵀ f) from the last step's constraint forces.
-fn constraint_forces(f: &Frame<'_>, c: &Constraints, contacts: &[Contact], node_f: &mut [Force], out: &mut Sensors<'_>) {
+fn constraint_forces(f: &Frame<'_>, c: &AppliedForces, contacts: &[Contact], node_f: &mut [Force], out: &mut Sensors<'_>) {
     out.cfrc_ext.fill(0.0);
     let cfrc_ext = &mut *out.cfrc_ext;
     generalized_constraint_force(f.m, f.kin, (c, contacts), node_f, out.qfrc_constraint, |b, at, fs| {

@@ -103,9 +103,9 @@ fn a_step_allocates_nothing_once_its_buffers_are_sized() {
         let start = ALLOCATIONS.load(Ordering::Relaxed);
         run(&m, &mut s, 1000);
         assert!(ALLOCATIONS.load(Ordering::Relaxed) > start, "the first run sizes the buffers (and the count sees it)");
-        let (first, stats) = (s.qpos.clone(), s.data.constraints.solve.stats);
+        let (first, stats) = (s.qpos.clone(), s.data.constraints.stats);
         assert!(stats.solves > 500 && stats.pivots > 0, "the workload exercises the LCP: {stats:?}");
-        assert!(s.data.constraints.solve.impacts > 0 || mode == ConstraintMode::Velocity, "and impacts");
+        assert!(s.data.constraints.impacts > 0 || mode == ConstraintMode::Velocity, "and impacts");
         let before = ALLOCATIONS.load(Ordering::Relaxed);
         run(&m, &mut s, 1000);
         let during = ALLOCATIONS.load(Ordering::Relaxed) - before;

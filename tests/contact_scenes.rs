@@ -203,14 +203,14 @@ fn a_box_at_rest_holds_a_load_that_comes_later_and_slides_past_it() {
                 for _ in 0..(0.5 / dt).round() as usize {
                     s.step(&m);
                 }
-                let (rest, x0) = (s.data.constraints.solve.stats, s.qpos[0]);
+                let (rest, x0) = (s.data.constraints.stats, s.qpos[0]);
                 let theta = ratio * 0.5f64.atan();
                 m.opt.gravity = glam::DVec3::new(9.81 * theta.sin(), 0.0, -9.81 * theta.cos());
                 let seconds = 1.0;
                 for _ in 0..(seconds / dt).round() as usize {
                     s.step(&m);
                 }
-                let st = s.data.constraints.solve.stats;
+                let st = s.data.constraints.stats;
                 let exact = (9.81 * (theta.sin() - 0.5 * theta.cos())).max(0.0);
                 let a = s.qvel[0] / seconds;
                 let scheme = format!("slope {ratio} × friction angle {mode:?} dt {dt}");
@@ -374,7 +374,7 @@ fn a_tower_of_cubes_rests_on_its_warm_starts() {
             for _ in 0..300 {
                 s.step(&m);
             }
-            let st = s.data.constraints.solve.stats;
+            let st = s.data.constraints.stats;
             let moved = (s.qpos[63] - top0[0]).hypot(s.qpos[64] - top0[1]);
             eprintln!("{friction:?}: {} of {} solves warm, {} pivots; top cube moved {moved:.1e} m sideways", st.warm_starts, st.solves, st.pivots);
             assert_eq!((st.fallback_pgs, st.inexact, st.fallback_zero), (0, 0, 0), "{friction:?}: {st:?}");

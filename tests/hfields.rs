@@ -39,7 +39,7 @@ fn every_shape_rests_on_a_flat_field_as_on_a_plane() {
         let (a, b) = (settle(&on_field, 1000), settle(&on_plane, 1000));
         assert!((a.qpos[2] - b.qpos[2]).abs() < 1e-6, "{geom}: rests at z = {} on the field, {} on a plane", a.qpos[2], b.qpos[2]);
         assert!(a.qvel.iter().all(|v| v.abs() < 1e-5), "{geom}: still moving on the field: {:?}", a.qvel);
-        let stats = a.data.constraints.solve.stats;
+        let stats = a.data.constraints.stats;
         assert_eq!(stats.fallback_pgs + stats.fallback_zero, 0, "{geom}: fallback solves");
     }
 }

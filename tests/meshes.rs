@@ -69,7 +69,7 @@ fn a_box_mesh_rests_slides_and_tips_as_the_primitive_box() {
         let (p, m) = box_pair(pos, quat);
         let (worst, s) = run_pair(&p, &m, qvel, 1000);
         assert!(worst < 1e-9, "{what}: the mesh box's qpos differs from the primitive's by {worst:e}");
-        let stats = s.data.constraints.solve.stats;
+        let stats = s.data.constraints.stats;
         assert_eq!(stats.fallback_pgs + stats.fallback_zero, 0, "{what}: fallback solves");
         assert!(s.qvel.iter().all(|v| v.abs() < 1e-6), "{what}: not at rest after 2 s: {:?}", s.qvel);
     }
@@ -105,7 +105,7 @@ fn a_convex_mesh_holds_on_a_slope_below_its_friction_angle_and_slides_above() {
         } else {
             assert!(moved > 0.05, "{deg}°: the gem held ({moved} m) above the friction angle");
         }
-        let stats = st.data.constraints.solve.stats;
+        let stats = st.data.constraints.stats;
         assert_eq!(stats.fallback_pgs + stats.fallback_zero, 0, "{deg}°: fallback solves");
     }
 }
@@ -152,7 +152,7 @@ fn ten_convex_meshes_dropped_into_a_bin_settle_without_penetration() {
     }
     // every LCP of the pile solved exactly: Lemke (strictly copositive on its last attempt) or,
     // where the force LCP has no exact answer, the step's impulses
-    let stats = s.data.constraints.solve.stats;
+    let stats = s.data.constraints.stats;
     eprintln!("{stats:?}");
     assert!(stats.fallback_zero == 0 && stats.inexact == 0 && stats.fallback_pgs == 0, "fallback solves: {stats:?}");
 }

@@ -18,7 +18,7 @@ fn a_ball_started_5_mm_inside_the_floor_is_out_after_one_step() {
     // the correction term's velocity d / T and no more
     let expected = 0.005 / sinew::constraint::CORRECTION_TIME;
     assert!((s.qvel[2] - expected).abs() < 1e-6 * expected, "vz = {}", s.qvel[2]);
-    assert_eq!(s.data.constraints.post.projections, 1);
+    assert_eq!(s.data.constraints.projections, 1);
     // it hops a quarter millimetre on that velocity and comes to rest on the floor
     for _ in 0..1000 {
         s.step(&m);

@@ -4,8 +4,9 @@
 //!
 //! Files in the order a step uses them: `system` (the rows as arrays), `rows` (building them),
 //! `test_forces` (K and b), `impact`, `solve` (posing the LCP per island), `lcp` (solving it),
-//! `stabilize`; `history` is what the next step reads.
+//! `stabilize`; `history` is what the next step reads, `applied` what is read after the step.
 
+pub mod applied;
 pub mod history;
 pub mod impact;
 pub mod lcp;
@@ -19,27 +20,37 @@ use crate::collision::CollisionData;
 use crate::dynamics::DynamicsData;
 use crate::model::Model;
 
+pub use applied::AppliedForces;
 pub use history::{History, RowKey};
 pub use system::{closing_velocity, correction_velocity, impact_speed, jacobian, ConstraintData, RowKind, CORRECTION_TIME, IMPACT_SPEED, SLIDING_SPEED};
 
-/// What the constraint stages keep for one world: the rows, the solve, post-stabilisation, the
-/// history the next step reads, and motion control's feed-forward.
+/// What the constraint stages keep for one world — the history the next step reads, the forces
+/// read after the step, motion control's feed-forward and the counters — and their scratch: the
+/// rows, the solve and post-stabilisation, which a batch lends ([`crate::step::data::Lent`]).
 #[derive(Clone, Debug, Default)]
 pub struct Constraints {
     /// Constraint rows, K, b.
     pub con: ConstraintData,
-    /// The constraint solves' LCP, answer, warm start and counters.
+    /// The constraint solves' LCP, answer and warm start.
     pub solve: solve::SolveData,
     /// What building the rows needs besides them.
     pub rows: rows::RowScratch,
-    /// Post-stabilisation scratch and counters.
+    /// Post-stabilisation scratch.
     pub post: stabilize::StabilizeData,
-    /// What the next step reads from the steps before it.
-    pub history: History,
-    /// Trajectory feed-forward for motion control: reference velocities then accelerations (2 × nu).
-    pub feedforward: Vec<f64>,
     /// The state a leapfrog step began with, before its opening drift.
     pub start: StepStart,
+    /// What the next step reads from the steps before it.
+    pub history: History,
+    /// The forces the last step's rows applied.
+    pub applied: AppliedForces,
+    /// Trajectory feed-forward for motion control: reference velocities then accelerations (2 × nu).
+    pub feedforward: Vec<f64>,
+    /// LCP solver statistics, of the force, impact and projection solves alike.
+    pub stats: lcp::LcpStats,
+    /// Impact solves run.
+    pub impacts: u64,
+    /// Projections run.
+    pub projections: u64,
 }
 
 /// The state a leapfrog step began with: its rows' gaps are taken before the opening drift, and
@@ -57,12 +68,11 @@ impl Constraints {
     pub fn new(m: &Model) -> Self {
         Constraints {
             con: ConstraintData::new(m),
-            solve: solve::SolveData::default(),
             rows: rows::RowScratch::new(m),
             post: stabilize::StabilizeData::new(m),
-            history: History::new(),
-            feedforward: vec![0.0; 2 * m.nu],
             start: StepStart { qpos: vec![0.0; m.nq], qvel: vec![0.0; m.nv] },
+            feedforward: vec![0.0; 2 * m.nu],
+            ..Default::default()
         }
     }
 
@@ -71,33 +81,40 @@ impl Constraints {
         self.solve.force.clear();
         self.solve.impact_warm.clear();
         self.con.clear();
+        self.applied.clear();
     }
 
-    /// Exchanges the buffers a step's solve sizes to its rows with `b`: a batch lends a thread's
-    /// to each world for its step and takes them back after ([`SolveBuffers`]).
-    pub fn swap_buffers(&mut self, b: &mut SolveBuffers) {
-        std::mem::swap(&mut self.con.k, &mut b.k);
-        std::mem::swap(&mut self.con.zeroed_trees, &mut b.zeroed_trees);
-        std::mem::swap(&mut self.con.dqdd, &mut b.dqdd);
-        std::mem::swap(&mut self.solve.m, &mut b.m);
-        std::mem::swap(&mut self.solve.work, &mut b.work);
-        self.post.swap_buffers(&mut b.post);
+    /// Exchanges the scratch (rows, solve, post-stabilisation, the leapfrog start) with `s`'s.
+    pub fn swap_scratch(&mut self, s: &mut ConstraintScratch) {
+        std::mem::swap(&mut self.con, &mut s.con);
+        std::mem::swap(&mut self.solve, &mut s.solve);
+        std::mem::swap(&mut self.rows, &mut s.rows);
+        std::mem::swap(&mut self.post, &mut s.post);
+        std::mem::swap(&mut self.start, &mut s.start);
     }
 }
 
-/// The buffers a step's constraint solve sizes to its rows — K (with the rows' trees it was
-/// zeroed for) and Δq̈, the LCP's matrix and work, post-stabilisation's rows and LCP — which grow
-/// with a world's contacts to several times the rest of its scratch. Nothing reads them from one
-/// step to the next, so a batch keeps one set per thread and lends it to each world for its step
-/// ([`Constraints::swap_buffers`]) instead of keeping one per world.
+/// The constraint stages' scratch: written by a step before it is read, and read by no later
+/// step (the next step reads [`History`]; what is read after the step is in [`AppliedForces`]).
+/// It grows with a world's contacts to several times the rest of its memory, so a batch keeps
+/// one set per thread and lends it to each world for its step instead of keeping one per world.
 #[derive(Clone, Debug, Default)]
-pub struct SolveBuffers {
-    k: Vec<f64>,
-    zeroed_trees: Vec<[usize; 2]>,
-    dqdd: Vec<f64>,
-    m: Vec<f64>,
-    work: lcp::LcpWork,
-    post: stabilize::PostBuffers,
+pub struct ConstraintScratch {
+    con: ConstraintData,
+    solve: solve::SolveData,
+    rows: rows::RowScratch,
+    post: stabilize::StabilizeData,
+    start: StepStart,
+}
+
+impl ConstraintScratch {
+    /// Buffers sized for `m`.
+    pub fn new(m: &Model) -> Self {
+        let mut c = Constraints::new(m);
+        let mut s = ConstraintScratch::default();
+        c.swap_scratch(&mut s);
+        s
+    }
 }
 
 /// One world as the constraint stages see it: its dynamics (which an impact re-evaluates), its

@@ -5,7 +5,7 @@
 use crate::timing::{timed, Stage};
 use super::history::RowKey;
 use super::impact::{approaching, rebound, INERT_ROW};
-use super::lcp::{LcpStats, LcpWork};
+use super::lcp::LcpWork;
 use super::lcp;
 use super::system::{ConstraintData, RowKind};
 use super::test_forces::{add_response, clear_k_block, prepare, responses};
@@ -57,10 +57,6 @@ pub struct SolveData {
     pub warm_lambda: Vec<usize>,
     /// Lemke tableau.
     pub work: LcpWork,
-    /// Solver statistics.
-    pub stats: LcpStats,
-    /// Impact solves run.
-    pub impacts: u64,
 }
 
 /// Which solve the rows are posed for.
@@ -81,8 +77,8 @@ pub fn solve_rows(m: &Model, data: &mut World<'_>, level: Level) {
     let Some((n, warm)) = n else {
         // every row already satisfied without force (a limit at rest, contacts separating):
         // f = 0 solves the LCP (a friction row's λ takes up its demand) and K is not needed
-        data.constraints.solve.stats.solves += 1;
-        data.constraints.solve.stats.residual = 0.0;
+        data.constraints.stats.solves += 1;
+        data.constraints.stats.residual = 0.0;
         record_warm(data, level);
         return;
     };
@@ -347,9 +343,9 @@ fn apart(m: &Model, con: &ConstraintData, j: usize, impact: f64) -> bool {
 /// when the solve brought back rows left out, whose K columns it needs.
 pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, island: std::ops::Range<usize>, warm: bool) -> bool {
     let h = m.opt.timestep;
-    let Constraints { con, solve, .. } = &mut *data.constraints;
+    let Constraints { con, solve, stats, .. } = &mut *data.constraints;
     let nr = con.len();
-    let SolveData { m: mm, q: all_q, out: all_out, warm: all_warm, force, role, lambda, order, local, island_q, island_out, island_warm, island_z, unpushed, work, stats, .. } = solve;
+    let SolveData { m: mm, q: all_q, out: all_out, warm: all_warm, force, role, lambda, order, local, island_q, island_out, island_warm, island_z, unpushed, work, .. } = solve;
     let vars = &order[island];
     let k = vars.len();
     // one island of every variable (a single character) is solved in place; an island of some is

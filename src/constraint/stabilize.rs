@@ -16,7 +16,6 @@
 use glam::DVec3;
 
 use super::lcp::{self, LcpWork, Role};
-use super::solve::SolveData;
 use super::system::{self as constraint, RowKind};
 use super::test_forces::{add_response, delta_pass, responses, tree_dofs};
 use super::{Constraints, StepStart, World};
@@ -64,28 +63,9 @@ pub struct StabilizeData {
     ten: TendonData,
     /// Variables the solve leaves out.
     left_out: Vec<bool>,
-    /// Projections run.
-    pub projections: u64,
-}
-
-/// The projection's buffers sized to its rows, lent with [`crate::constraint::SolveBuffers`].
-#[derive(Clone, Debug, Default)]
-pub struct PostBuffers {
-    jac: Vec<f64>,
-    dqdd: Vec<f64>,
-    m: Vec<f64>,
-    work: LcpWork,
 }
 
 impl StabilizeData {
-    /// Exchanges the buffers sized to the projection's rows with `b`.
-    pub(super) fn swap_buffers(&mut self, b: &mut PostBuffers) {
-        std::mem::swap(&mut self.jac, &mut b.jac);
-        std::mem::swap(&mut self.dqdd, &mut b.dqdd);
-        std::mem::swap(&mut self.m, &mut b.m);
-        std::mem::swap(&mut self.work, &mut b.work);
-    }
-
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
         StabilizeData {
@@ -315,8 +295,8 @@ fn push_jacobian(m: &Model, kin: &KinData, nodes: [usize; 2], jac: [Force; 2], o
 /// crossed after that, the step is shortened to stop at it.
 fn solve(m: &Model, data: &mut World<'_>, qpos: &mut [f64]) {
     let (kin, aba) = (&data.dynamics.kin, &data.dynamics.aba);
-    let Constraints { con, post, solve: SolveData { stats, .. }, .. } = &mut *data.constraints;
-    post.projections += 1;
+    let Constraints { con, post, stats, projections, .. } = &mut *data.constraints;
+    *projections += 1;
     let (nv, nr) = (m.nv, con.len());
     for attempt in 0..=LIMIT_PASSES {
         let k = post.gap.len();

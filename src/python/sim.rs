@@ -336,23 +336,10 @@ impl PySim {
     /// negative when penetrating), normal_force and friction_force (world vector, N).
     #[getter]
     fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, pyo3::types::PyDict>>> {
-        use crate::constraint::RowKind;
         let m = &*self.model;
-        let con = &self.data.constraints.con;
-        let per_force = if m.opt.constraint_mode == crate::model::ConstraintMode::Velocity { 1.0 / m.opt.timestep } else { 1.0 };
         let mut out = Vec::new();
         for (ci, c) in self.data.coll.contacts.iter().enumerate() {
-            let mut fnormal = 0.0;
-            let mut ffric = glam::DVec3::ZERO;
-            for j in 0..con.len() {
-                if con.source[j] == ci && con.kind[j].is_contact() {
-                    let f = self.data.constraints.solve.force.get(j).copied().unwrap_or(0.0) * per_force;
-                    match con.kind[j] {
-                        RowKind::Normal => fnormal = f,
-                        _ => ffric += con.dir[j] * f,
-                    }
-                }
-            }
+            let f = self.data.constraints.applied.contact.get(ci).copied().unwrap_or_default();
             let d = pyo3::types::PyDict::new(py);
             d.set_item("geom1", c.geom1)?;
             d.set_item("geom2", c.geom2)?;
@@ -361,8 +348,8 @@ impl PySim {
             d.set_item("pos", c.pos.to_array())?;
             d.set_item("normal", c.normal.to_array())?;
             d.set_item("dist", c.dist)?;
-            d.set_item("normal_force", fnormal)?;
-            d.set_item("friction_force", ffric.to_array())?;
+            d.set_item("normal_force", f.normal)?;
+            d.set_item("friction_force", f.friction.to_array())?;
             out.push(d);
         }
         Ok(out)
@@ -412,7 +399,7 @@ impl PySim {
     /// projections, steps whose velocities the energy bound scaled.
     #[getter]
     fn constraint_stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
-        let s = &self.data.constraints.solve.stats;
+        let s = &self.data.constraints.stats;
         let d = pyo3::types::PyDict::new(py);
         d.set_item("rows", self.data.constraints.con.len())?;
         d.set_item("solves", s.solves)?;
@@ -427,8 +414,8 @@ impl PySim {
         d.set_item("left_out", s.left_out)?;
         d.set_item("regrown", s.regrown)?;
         d.set_item("residual", s.residual)?;
-        d.set_item("impacts", self.data.constraints.solve.impacts)?;
-        d.set_item("projections", self.data.constraints.post.projections)?;
+        d.set_item("impacts", self.data.constraints.impacts)?;
+        d.set_item("projections", self.data.constraints.projections)?;
         d.set_item("energy_bounded", self.data.energy.bounded)?;
         Ok(d)
     }

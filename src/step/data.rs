@@ -4,7 +4,7 @@
 use glam::DVec3;
 
 use crate::collision::CollisionData;
-use crate::constraint::{Constraints, History, SolveBuffers, World};
+use crate::constraint::{ConstraintScratch, Constraints, History, World};
 use crate::dynamics::aba::AbaData;
 use crate::dynamics::kinematics::KinData;
 use crate::dynamics::DynamicsData;
@@ -44,6 +44,13 @@ pub struct SensorScratch {
     pub node_force: Vec<crate::math::Force>,
 }
 
+impl SensorScratch {
+    /// Buffers sized for `m`.
+    pub fn new(m: &Model) -> Self {
+        SensorScratch { root_com: vec![(DVec3::ZERO, 0.0); m.nbody], node_force: vec![crate::math::Force::ZERO; m.nnode] }
+    }
+}
+
 impl Data {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
@@ -53,7 +60,7 @@ impl Data {
             energy: EnergyBound::new(m),
             coll: CollisionData::new(m),
             constraints: Constraints::new(m),
-            sensors: SensorScratch { root_com: vec![(DVec3::ZERO, 0.0); m.nbody], node_force: vec![crate::math::Force::ZERO; m.nnode] },
+            sensors: SensorScratch::new(m),
             fault: Fault { qpos: vec![0.0; m.nq], qvel: vec![0.0; m.nv], act: vec![0.0; m.na], time: 0.0, message: None },
             #[cfg(feature = "stage-timing")]
             stage_ns: [0; crate::timing::STAGES],
@@ -82,7 +89,8 @@ impl Data {
         std::mem::swap(&mut self.dynamics.kin, &mut l.kin);
         std::mem::swap(&mut self.dynamics.aba, &mut l.aba);
         std::mem::swap(&mut self.rk4, &mut l.rk4);
-        self.constraints.swap_buffers(&mut l.solve);
+        std::mem::swap(&mut self.sensors, &mut l.sensors);
+        self.constraints.swap_scratch(&mut l.constraints);
     }
 
     /// Forgets what the last steps leave for the next (friction tangents, the LCP's warm start and
@@ -121,21 +129,23 @@ impl Data {
 
 /// The scratch a step writes before it reads and no later step reads: the kinematics being
 /// evaluated (the next step's, computed ahead, stay the world's: `DynamicsData::ahead`), the ABA
-/// quantities, RK4's stages and the solve's buffers sized to its rows ([`SolveBuffers`]). They
-/// are most of a world's scratch, so a batch keeps one set per thread and lends it to each world
-/// for its step ([`Data::with_lent`]) instead of keeping one per world; a `Sim` keeps its own.
+/// quantities, RK4's stages, the sensor outputs' and the constraint stages' ([`ConstraintScratch`]:
+/// rows, solve, post-stabilisation). They are most of a world's memory, so a batch keeps one set
+/// per thread and lends it to each world for its step ([`Data::with_lent`]) instead of keeping one
+/// per world; a `Sim` keeps its own.
 #[derive(Clone, Debug, Default)]
 pub struct Lent {
     kin: KinData,
     aba: AbaData,
     rk4: Rk4Scratch,
-    solve: SolveBuffers,
+    sensors: SensorScratch,
+    constraints: ConstraintScratch,
 }
 
 impl Lent {
     /// Buffers sized for `m` (and for any world's own copy of it).
     pub fn new(m: &Model) -> Self {
-        Lent { kin: KinData::new(m), aba: AbaData::new(m), rk4: Rk4Scratch::new(m), solve: SolveBuffers::default() }
+        Lent { kin: KinData::new(m), aba: AbaData::new(m), rk4: Rk4Scratch::new(m), sensors: SensorScratch::new(m), constraints: ConstraintScratch::new(m) }
     }
 }
 

@@ -28,7 +28,7 @@ pub(super) fn impacts(m: &Model, data: &mut World<'_>, s: &mut WorldState<'_>) -
             break;
         }
         impacted = true;
-        data.constraints.solve.impacts += 1;
+        data.constraints.impacts += 1;
         solve_rows(m, data, Level::Velocity);
         apply(m, data, s.qvel, 1.0);
         timed!(data, Stage::Impact, new_velocities(m, data, s));

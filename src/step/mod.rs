@@ -74,6 +74,8 @@ pub fn step(m: &Model, data: &mut Data, s: &mut WorldState<'_>) {
         if bounded && moved {
             timed!(data, Stage::Projection, data.energy.lifted(m, &mut data.dynamics, s.qpos, s.qvel));
         }
+        let c = &mut data.constraints;
+        c.applied.record(m, &c.con, &c.solve.force, data.coll.contacts.len());
     }
     *s.time += h;
 }
@@ -109,6 +111,7 @@ fn advance_activations(m: &Model, data: &mut Data, s: &mut WorldState<'_>) {
 fn free_step(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) {
     let (h, lever) = (m.opt.timestep, m.opt.lever());
     data.constraints.solve.force.clear();
+    data.constraints.applied.clear();
     match m.opt.integrator {
         Integrator::Euler | Integrator::Leapfrog => {
             timed!(data, Stage::Integration, integrate::kick_drift(m, s.qpos, s.qvel, &data.dynamics.qacc, h, lever));
@@ -152,11 +155,11 @@ fn constrain(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) ->
             // exact answer (Painlevé's configurations, a pile's redundant contacts), the step's
             // impulses instead, as in 7', whose LCP always has one (Stewart & Trinkle 1996;
             // Anitescu & Potra 1997)
-            let before = data.constraints.solve.stats;
+            let before = data.constraints.stats;
             level = Level::Acceleration;
             solve_rows(m, &mut data.world(), level);
-            if data.constraints.solve.stats.inexact_since(&before) {
-                let stats = &mut data.constraints.solve.stats;
+            if data.constraints.stats.inexact_since(&before) {
+                let stats = &mut data.constraints.stats;
                 (stats.fallback_pgs, stats.inexact, stats.fallback_zero) = (before.fallback_pgs, before.inexact, before.fallback_zero);
                 stats.impulse_steps += 1;
                 level = Level::TimeStep;
