@@ -1,5 +1,5 @@
-//! Heap bytes of one world's scratch by part, after 300 steps under random controls: what a
-//! batch lends from its threads (`step::data::Lent`) and what each world keeps.
+//! Heap bytes of one world's data by part, after 300 steps under random controls: the scratch a
+//! batch's threads hold and what each world keeps (`step::data::Kept`).
 //! `cargo run --release --example world_memory -- model.xml`
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicIsize, Ordering};
@@ -53,9 +53,11 @@ fn main() {
         s.step(&m);
     }
     let d = &mut s.data;
-    let mut lent = sinew::step::data::Lent::default();
-    d.swap_lent(&mut lent);
-    free("lent by the batch's threads", lent);
+    let mut kept = sinew::step::data::Kept::default();
+    d.swap_kept(&mut kept);
+    free("scratch held by the batch's threads", std::mem::take(d));
+    println!("{:>34} {:6.1} kB", "a world's keeping itself", std::mem::size_of::<sinew::step::data::Kept>() as f64 / 1024.0);
+    d.swap_kept(&mut kept);
     free("kinematics computed ahead", std::mem::take(&mut d.dynamics.ahead));
     free("rest of the dynamics", std::mem::take(&mut d.dynamics));
     free("contacts", std::mem::take(&mut d.coll.contacts));

@@ -2,11 +2,12 @@
 //! worlds one at a time from the front of a shared queue, the workers of a rayon pool from its
 //! back.
 //!
-//! Worlds are independent: each has its own [`Data`] (scratch and its seeded random stream) and
-//! its own rows of the flat (N × nq), (N × nv), (N × nu) state arrays, so the result is
-//! bit-identical for any thread count and any batch size. Most of a step's scratch is the
-//! threads', lent to each world for its step ([`Lent`]). A world whose state leaves the finite
-//! range is reset alone to qpos0 and flagged.
+//! Worlds are independent: each keeps its own [`Kept`] (its history with its seeded random stream,
+//! the caches its next step reads, the forces read after its step) and its own rows of the flat
+//! (N × nq), (N × nv), (N × nu) state arrays, so the result is bit-identical for any thread count
+//! and any batch size. A step's scratch is the threads': each has one [`Data`], which takes a
+//! world's keeping for the world's step ([`Data::with_kept`]). A world whose state leaves the
+//! finite range is reset alone to qpos0 and flagged.
 
 use std::sync::{Arc, Mutex};
 
@@ -14,7 +15,7 @@ use crate::collision::{self, CollisionData};
 use crate::compile::params::{self, Param};
 use crate::dynamics::kinematics::{self, KinData};
 use crate::sensordata;
-use crate::step::data::{Data, Lent};
+use crate::step::data::{Data, Kept};
 use crate::model::Model;
 use crate::sensors::{self, Sensors};
 use crate::state::WorldState;
@@ -36,15 +37,15 @@ pub const MAX_WORLDS: usize = 1 << 20;
 pub struct Batch {
     /// The shared model.
     pub model: Arc<Model>,
-    /// Per-world scratch (N).
-    pub data: Vec<Data>,
+    /// What each world keeps between its steps (N).
+    pub data: Vec<Kept>,
     /// The worlds' own models, where [`Batch::set_param`] gave them values of their own (N).
     own: Vec<Option<Box<Model>>>,
     root: Vec<usize>,
     /// Threads that step worlds, the calling one included.
     threads: usize,
-    /// The scratch each thread lends the worlds it steps (one set per thread).
-    lent: Mutex<Vec<Lent>>,
+    /// The scratch of each thread, which takes a world's keeping for its step (one per thread).
+    scratch: Mutex<Vec<Data>>,
     /// The `threads − 1` workers beside the calling thread (None for one thread).
     workers: Option<Workers>,
     /// One zero control per world, for models without actuators (the chunk iterators need a slot).
@@ -100,14 +101,7 @@ impl Batch {
         if num_threads.is_some_and(|t| t > MAX_THREADS) {
             return Err(crate::error::Error::Input(format!("num_threads must be at most {MAX_THREADS}, got {}", num_threads.unwrap_or(0))));
         }
-        let data: Vec<Data> = seeds
-            .iter()
-            .map(|&s| {
-                let mut d = Data::lending(&model);
-                d.constraints.history.rng = crate::math::splitmix64(s);
-                d
-            })
-            .collect();
+        let data: Vec<Kept> = seeds.iter().map(|&s| Kept::new(&model, s)).collect();
         // no more threads than worlds: a thread with no world would only wake and linger
         let threads = num_threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).clamp(1, seeds.len().max(1));
         // the calling thread steps worlds too: a pool of one fewer, none for one thread (waking a
@@ -116,8 +110,8 @@ impl Batch {
         let no_ctrl = vec![0.0; if model.nu == 0 { data.len() } else { 0 }];
         let no_act = vec![0.0; if model.na == 0 { data.len() } else { 0 }];
         let (no_task, no_task_flag) = (vec![0.0; 3 * data.len()], vec![false; data.len()]);
-        let lent = Mutex::new((0..threads).map(|_| Lent::new(&model)).collect());
-        Ok(Batch { root: sensors::body_root(&model), own: (0..seeds.len()).map(|_| None).collect(), model, data, threads, lent, workers, no_ctrl, no_act, no_task, no_task_flag })
+        let scratch = Mutex::new((0..threads).map(|_| Data::new(&model)).collect());
+        Ok(Batch { root: sensors::body_root(&model), own: (0..seeds.len()).map(|_| None).collect(), model, data, threads, scratch, workers, no_ctrl, no_act, no_task, no_task_flag })
     }
 
     /// Number of worlds.
@@ -202,8 +196,7 @@ impl Batch {
 
     /// Re-seeds world `i`'s random stream.
     pub fn seed(&mut self, i: usize, seed: u64) {
-        self.data[i].constraints.history.rng = crate::math::splitmix64(seed);
-        self.data[i].constraints.history.tangents.clear();
+        self.data[i].seed(seed);
     }
 
     /// Advances the active worlds `n` steps in parallel, then writes their sensor outputs and, with
@@ -252,9 +245,9 @@ impl Batch {
                     info,
                 }),
         );
-        let pool = &self.lent;
+        let pool = &self.scratch;
         let work = |from_back: bool| {
-            let mut lent = pool.lock().unwrap_or_else(|e| e.into_inner()).pop().unwrap_or_else(|| Lent::new(m));
+            let mut scratch = pool.lock().unwrap_or_else(|e| e.into_inner()).pop().unwrap_or_else(|| Data::new(m));
             loop {
                 // the lock is held only to take the next world (a guard in a `while let`
                 // scrutinee would live through the loop body)
@@ -262,9 +255,9 @@ impl Batch {
                 let next = if from_back { queue.next_back() } else { queue.next() };
                 drop(queue);
                 let Some(w) = next else { break };
-                env_step(root, spec, n, w, &mut lent);
+                env_step(root, spec, n, w, &mut scratch);
             }
-            pool.lock().unwrap_or_else(|e| e.into_inner()).push(lent);
+            pool.lock().unwrap_or_else(|e| e.into_inner()).push(scratch);
         };
         match &self.workers {
             Some(workers) => workers.run(&work),
@@ -274,7 +267,8 @@ impl Batch {
 
     /// Resets world `i` to qpos0 at rest (its constraint forces cleared) in the given rows.
     pub fn reset(&mut self, i: usize, qpos: &mut [f64], qvel: &mut [f64], act: &mut [f64]) {
-        reset_world(world_model(&self.own, &self.model, i), &mut self.data[i], qpos, qvel, act);
+        reset_state(world_model(&self.own, &self.model, i), qpos, qvel, act);
+        self.data[i].forget_history();
     }
 
     /// The readings of the file sensors `which` (indices) of every world at the state in `st`
@@ -283,7 +277,7 @@ impl Batch {
         let m = &*self.model;
         let dim: usize = which.iter().map(|&k| m.sensor_kind[k].dim()).sum();
         let mut out = vec![0.0; self.data.len() * dim];
-        let lent = lent_here(&mut self.lent, m);
+        let scratch = scratch_here(&mut self.scratch, m);
         for (i, (d, row)) in self.data.iter_mut().zip(out.chunks_mut(dim.max(1))).enumerate() {
             let s = sensordata::State {
                 qpos: &st.qpos[i * m.nq..(i + 1) * m.nq],
@@ -291,7 +285,7 @@ impl Batch {
                 ctrl: &st.ctrl[i * m.nu..(i + 1) * m.nu],
                 act: &st.act[i * m.na..(i + 1) * m.na],
             };
-            d.with_lent(lent, |d| sensordata::read(world_model(&self.own, m, i), d, s, which, row));
+            scratch.with_kept(d, |d| sensordata::read(world_model(&self.own, m, i), d, s, which, row));
         }
         out
     }
@@ -317,19 +311,19 @@ impl Batch {
     /// state written from Python), and a task's observation `obs` of it.
     pub fn sense(&mut self, i: usize, qpos: &[f64], qvel: &[f64], ctrl: &[f64], mut out: Sensors<'_>, task: Option<(&dyn Task, &mut [f64])>) {
         let m = world_model(&self.own, &self.model, i);
-        let (d, lent) = (&mut self.data[i], lent_here(&mut self.lent, &self.model));
-        d.with_lent(lent, |d| sensors::write(m, &self.root, d, qpos, qvel, out.reborrow()));
+        let (d, scratch) = (&mut self.data[i], scratch_here(&mut self.scratch, &self.model));
+        scratch.with_kept(d, |d| sensors::write(m, &self.root, d, qpos, qvel, out.reborrow()));
         if let Some((t, obs)) = task {
             t.observe(m, &out.world_view(qpos, qvel, ctrl), obs);
         }
     }
 }
 
-/// A thread's scratch to lend a world outside a step call (there is always one per thread).
-fn lent_here<'a>(pool: &'a mut Mutex<Vec<Lent>>, m: &Model) -> &'a mut Lent {
+/// A thread's scratch for a world outside a step call (there is always one per thread).
+fn scratch_here<'a>(pool: &'a mut Mutex<Vec<Data>>, m: &Model) -> &'a mut Data {
     let pool = pool.get_mut().unwrap_or_else(|e| e.into_inner());
     if pool.is_empty() {
-        pool.push(Lent::new(m));
+        pool.push(Data::new(m));
     }
     &mut pool[0]
 }
@@ -343,7 +337,7 @@ fn world_model<'a>(own: &'a [Option<Box<Model>>], shared: &'a Model, i: usize) -
 /// One world's rows of a batch's arrays, for one call of [`Batch::step`].
 struct World<'a> {
     model: &'a Model,
-    data: &'a mut Data,
+    data: &'a mut Kept,
     state: WorldState<'a>,
     diverged: &'a mut bool,
     active: bool,
@@ -354,23 +348,24 @@ struct World<'a> {
     info: &'a mut [f64],
 }
 
-/// `n` steps of one world (reset alone if it diverges) with the thread's scratch `lent`,
+/// `n` steps of one world (reset alone if it diverges) in the thread's scratch `scratch`,
 /// then its sensor outputs and, with a task, its observation, reward terms and termination, under
 /// the step's panic guard: a panic (a bug)
 /// leaves the world as the call found it, its history forgotten, and its message in
-/// [`Data::fault`].
-fn env_step(root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>, lent: &mut Lent) {
+/// [`Kept::fault`].
+fn env_step(root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>, scratch: &mut Data) {
     let World { model: m, data, mut state, diverged, active, mut out, obs, reward, terminated, info } = w;
     *diverged = false;
     data.fault.message = None;
     if !active {
         return;
     }
-    let outcome = data.with_lent(lent, |data| guarded(data, &mut state, |data, s| {
+    let outcome = scratch.with_kept(data, |data| guarded(data, &mut state, |data, s| {
         // the rewarded position before the env step, from the outputs of the state it starts in
         let before = task.map(|t| t.position(m, &out.world_view(s.qpos, s.qvel, s.ctrl)));
         if advance(m, data, s, n).is_some() {
-            reset_world(m, data, s.qpos, s.qvel, s.act);
+            reset_state(m, s.qpos, s.qvel, s.act);
+            data.forget_history();
             *s.time = 0.0;
             *diverged = true;
         }
@@ -392,11 +387,10 @@ fn env_step(root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>, len
     }
 }
 
-/// Back to qpos0 at rest, with nothing carried over from before: no friction tangents, LCP warm
-/// start or cached kinematics (a reset world steps exactly as a new one).
-fn reset_world(m: &Model, d: &mut Data, qpos: &mut [f64], qvel: &mut [f64], act: &mut [f64]) {
+/// Back to qpos0 at rest; with the world's history forgotten (no friction tangents, LCP warm
+/// start or cached kinematics) a reset world steps exactly as a new one.
+fn reset_state(m: &Model, qpos: &mut [f64], qvel: &mut [f64], act: &mut [f64]) {
     qpos.copy_from_slice(&m.qpos0);
     qvel.fill(0.0);
     act.fill(0.0);
-    d.forget_history();
 }

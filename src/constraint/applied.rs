@@ -1,6 +1,7 @@
 //! The forces the last step's rows applied, kept past the step for what reads them after it
 //! (cfrc_ext, qfrc_constraint, touch and the accelerations of the sensors, `Sim.contacts`): the
-//! rows themselves are scratch that a batch lends its worlds ([`crate::step::data::Lent`]).
+//! rows themselves are scratch that a batch's worlds borrow from its threads
+//! ([`crate::step::data::Kept`]).
 
 use glam::DVec3;
 

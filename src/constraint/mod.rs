@@ -26,7 +26,8 @@ pub use system::{closing_velocity, correction_velocity, impact_speed, jacobian, 
 
 /// What the constraint stages keep for one world — the history the next step reads, the forces
 /// read after the step, motion control's feed-forward and the counters — and their scratch: the
-/// rows, the solve and post-stabilisation, which a batch lends ([`crate::step::data::Lent`]).
+/// rows, the solve and post-stabilisation, which a batch's worlds borrow from its threads
+/// ([`crate::step::data::Kept`]).
 #[derive(Clone, Debug, Default)]
 pub struct Constraints {
     /// Constraint rows, K, b.
@@ -82,38 +83,6 @@ impl Constraints {
         self.solve.impact_warm.clear();
         self.con.clear();
         self.applied.clear();
-    }
-
-    /// Exchanges the scratch (rows, solve, post-stabilisation, the leapfrog start) with `s`'s.
-    pub fn swap_scratch(&mut self, s: &mut ConstraintScratch) {
-        std::mem::swap(&mut self.con, &mut s.con);
-        std::mem::swap(&mut self.solve, &mut s.solve);
-        std::mem::swap(&mut self.rows, &mut s.rows);
-        std::mem::swap(&mut self.post, &mut s.post);
-        std::mem::swap(&mut self.start, &mut s.start);
-    }
-}
-
-/// The constraint stages' scratch: written by a step before it is read, and read by no later
-/// step (the next step reads [`History`]; what is read after the step is in [`AppliedForces`]).
-/// It grows with a world's contacts to several times the rest of its memory, so a batch keeps
-/// one set per thread and lends it to each world for its step instead of keeping one per world.
-#[derive(Clone, Debug, Default)]
-pub struct ConstraintScratch {
-    con: ConstraintData,
-    solve: solve::SolveData,
-    rows: rows::RowScratch,
-    post: stabilize::StabilizeData,
-    start: StepStart,
-}
-
-impl ConstraintScratch {
-    /// Buffers sized for `m`.
-    pub fn new(m: &Model) -> Self {
-        let mut c = Constraints::new(m);
-        let mut s = ConstraintScratch::default();
-        c.swap_scratch(&mut s);
-        s
     }
 }
 

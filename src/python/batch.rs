@@ -414,7 +414,7 @@ impl PyBatch {
             let mut out = Vec::with_capacity(1 + m.nq + m.nv + m.na + m.nu);
             let d = &self.inner.data[i];
             let world = (&q[i * m.nq..(i + 1) * m.nq], &v[i * m.nv..(i + 1) * m.nv], &a[i * m.na..(i + 1) * m.na]);
-            FlatState::write(t[i], world, &c[i * m.nu..(i + 1) * m.nu], full.then_some(d), &mut out);
+            FlatState::write(t[i], world, &c[i * m.nu..(i + 1) * m.nu], full.then(|| d.full_state()), &mut out);
             out
         };
         match i {
@@ -468,7 +468,8 @@ impl PyBatch {
                 v[k * m.nv..(k + 1) * m.nv].copy_from_slice(st.qvel);
                 a[k * m.na..(k + 1) * m.na].copy_from_slice(st.act);
                 c[k * m.nu..(k + 1) * m.nu].copy_from_slice(st.ctrl);
-                st.restore(&mut self.inner.data[*k]);
+                let (ff, history) = st.kept();
+                self.inner.data[*k].restore(ff, &history);
             }
             let mut div = self.diverged.bind(py).readwrite();
             for (k, _) in &states {

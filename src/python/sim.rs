@@ -305,7 +305,7 @@ impl PySim {
     fn get_state<'py>(&self, py: Python<'py>, full: bool) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let mut v = Vec::with_capacity(1 + self.model.nq + self.model.nv + self.model.nu);
         let (qpos, qvel, ctrl, act) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly(), self.act.bind(py).readonly());
-        FlatState::write(self.time, (qpos.as_slice()?, qvel.as_slice()?, act.as_slice()?), ctrl.as_slice()?, full.then_some(&self.data), &mut v);
+        FlatState::write(self.time, (qpos.as_slice()?, qvel.as_slice()?, act.as_slice()?), ctrl.as_slice()?, full.then(|| self.data.full_state()), &mut v);
         Ok(PyArray1::from_vec(py, v))
     }
 
@@ -322,7 +322,8 @@ impl PySim {
         self.qvel.bind(py).readwrite().as_slice_mut()?.copy_from_slice(st.qvel);
         self.ctrl.bind(py).readwrite().as_slice_mut()?.copy_from_slice(st.ctrl);
         self.act.bind(py).readwrite().as_slice_mut()?.copy_from_slice(st.act);
-        st.restore(&mut self.data);
+        let (ff, history) = st.kept();
+        self.data.restore(ff, &history);
         Ok(())
     }
 

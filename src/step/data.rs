@@ -1,15 +1,17 @@
-//! Per-world scratch: everything a step derives, one field per room, allocated once per model so
-//! that stepping never allocates.
+//! A world's derived data: everything a step derives, one field per room, allocated once per model
+//! so that stepping never allocates; and the part of it a batch keeps per world ([`Kept`]).
 
 use glam::DVec3;
 
 use crate::collision::CollisionData;
-use crate::constraint::{ConstraintScratch, Constraints, History, World};
-use crate::dynamics::aba::AbaData;
-use crate::dynamics::kinematics::KinData;
+use crate::constraint::lcp::LcpStats;
+use crate::constraint::{AppliedForces, Constraints, History, World};
+use crate::dynamics::kinematics::KinCache;
+use crate::dynamics::tendon::TendonData;
 use crate::dynamics::DynamicsData;
 use crate::integrate::energy_bound::EnergyBound;
 use crate::integrate::Rk4Scratch;
+use crate::math::Motion;
 use crate::model::Model;
 use crate::state::WorldState;
 
@@ -67,30 +69,33 @@ impl Data {
         }
     }
 
-    /// A batch world's: without the scratch the batch's threads lend it ([`Lent`]).
-    pub fn lending(m: &Model) -> Self {
-        let mut d = Data::new(m);
-        // its own sized buffers go to a set that is dropped
-        d.swap_lent(&mut Lent::default());
-        d
-    }
-
-    /// Runs `f` on this world with the thread's scratch `l` lent to it, and takes it back after,
-    /// also when `f` panics (the panic then goes on).
-    pub fn with_lent<R>(&mut self, l: &mut Lent, f: impl FnOnce(&mut Data) -> R) -> R {
-        self.swap_lent(l);
+    /// Runs `f` on the world whose keeping is `k` (this `Data`, a batch thread's, lends it the
+    /// scratch) and takes the keeping back after, also when `f` panics (the panic then goes on).
+    pub fn with_kept<R>(&mut self, k: &mut Kept, f: impl FnOnce(&mut Data) -> R) -> R {
+        self.swap_kept(k);
         let out = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(self)));
-        self.swap_lent(l);
+        self.swap_kept(k);
         out.unwrap_or_else(|e| std::panic::resume_unwind(e))
     }
 
-    /// Exchanges the scratch of [`Lent`] with `l` (a batch world's is none between its steps).
-    pub fn swap_lent(&mut self, l: &mut Lent) {
-        std::mem::swap(&mut self.dynamics.kin, &mut l.kin);
-        std::mem::swap(&mut self.dynamics.aba, &mut l.aba);
-        std::mem::swap(&mut self.rk4, &mut l.rk4);
-        std::mem::swap(&mut self.sensors, &mut l.sensors);
-        self.constraints.swap_scratch(&mut l.constraints);
+    /// Exchanges what a world keeps ([`Kept`]) with `k`.
+    pub fn swap_kept(&mut self, k: &mut Kept) {
+        let (dy, c) = (&mut self.dynamics, &mut self.constraints);
+        std::mem::swap(&mut dy.ahead, &mut k.ahead);
+        std::mem::swap(&mut dy.ten, &mut k.ten);
+        std::mem::swap(&mut dy.qfrc_applied, &mut k.qfrc_applied);
+        std::mem::swap(&mut dy.qacc, &mut k.qacc);
+        std::mem::swap(&mut dy.act_dot, &mut k.act_dot);
+        std::mem::swap(&mut dy.v_other, &mut k.v_other);
+        std::mem::swap(&mut self.coll, &mut k.coll);
+        std::mem::swap(&mut self.energy, &mut k.energy);
+        std::mem::swap(&mut c.history, &mut k.history);
+        std::mem::swap(&mut c.applied, &mut k.applied);
+        std::mem::swap(&mut c.feedforward, &mut k.feedforward);
+        std::mem::swap(&mut c.stats, &mut k.stats);
+        std::mem::swap(&mut c.impacts, &mut k.impacts);
+        std::mem::swap(&mut c.projections, &mut k.projections);
+        std::mem::swap(&mut self.fault, &mut k.fault);
     }
 
     /// Forgets what the last steps leave for the next (friction tangents, the LCP's warm start and
@@ -106,6 +111,20 @@ impl Data {
     pub fn restore_history(&mut self, history: &History) {
         self.constraints.history.clone_from(history);
         self.forget_scratch();
+    }
+
+    /// The feed-forward and history a full state carries ([`crate::step::state::FlatState`]).
+    pub fn full_state(&self) -> (&[f64], &History) {
+        (&self.constraints.feedforward, &self.constraints.history)
+    }
+
+    /// Gives the world the feed-forward `ff` (none: zero) and `history`.
+    pub fn restore(&mut self, ff: Option<&[f64]>, history: &History) {
+        match ff {
+            Some(ff) => self.constraints.feedforward.copy_from_slice(ff),
+            None => self.constraints.feedforward.fill(0.0),
+        }
+        self.restore_history(history);
     }
 
     /// Drops the rows, forces, contacts and cached kinematics of the last step.
@@ -127,25 +146,75 @@ impl Data {
     }
 }
 
-/// The scratch a step writes before it reads and no later step reads: the kinematics being
-/// evaluated (the next step's, computed ahead, stay the world's: `DynamicsData::ahead`), the ABA
-/// quantities, RK4's stages, the sensor outputs' and the constraint stages' ([`ConstraintScratch`]:
-/// rows, solve, post-stabilisation). They are most of a world's memory, so a batch keeps one set
-/// per thread and lends it to each world for its step ([`Data::with_lent`]) instead of keeping one
-/// per world; a `Sim` keeps its own.
+/// What a world keeps from one step to the next, and what is read after a step: the kinematics
+/// computed ahead for the next step, the tendons, applied forces and accelerations of the last
+/// evaluation, collision's poses, caches and contacts, the energy bound, the constraint history,
+/// the forces the rows applied, motion control's feed-forward, the counters and the fault record.
+/// The rest of a [`Data`] — the kinematics being evaluated, the ABA quantities, RK4's stages, the
+/// constraint stages' rows, solve and post-stabilisation, the sensors' — is scratch a step writes
+/// before it reads, and most of a world's memory: a batch keeps a `Kept` per world and one `Data`
+/// per thread, which takes each world's keeping for its step ([`Data::with_kept`]).
 #[derive(Clone, Debug, Default)]
-pub struct Lent {
-    kin: KinData,
-    aba: AbaData,
-    rk4: Rk4Scratch,
-    sensors: SensorScratch,
-    constraints: ConstraintScratch,
+pub struct Kept {
+    ahead: KinCache,
+    ten: TendonData,
+    qfrc_applied: Vec<f64>,
+    qacc: Vec<f64>,
+    act_dot: Vec<f64>,
+    v_other: Vec<Motion>,
+    coll: CollisionData,
+    energy: EnergyBound,
+    history: History,
+    applied: AppliedForces,
+    feedforward: Vec<f64>,
+    stats: LcpStats,
+    impacts: u64,
+    projections: u64,
+    /// Where the world's last guarded call began, and the panic's message if it met one.
+    pub fault: Fault,
 }
 
-impl Lent {
-    /// Buffers sized for `m` (and for any world's own copy of it).
-    pub fn new(m: &Model) -> Self {
-        Lent { kin: KinData::new(m), aba: AbaData::new(m), rk4: Rk4Scratch::new(m), sensors: SensorScratch::new(m), constraints: ConstraintScratch::new(m) }
+impl Kept {
+    /// A new world's of `m`, with its random stream seeded by `seed`.
+    pub fn new(m: &Model, seed: u64) -> Self {
+        let mut k = Kept::default();
+        Data::new(m).swap_kept(&mut k);
+        k.history.rng = crate::math::splitmix64(seed);
+        k
+    }
+
+    /// Re-seeds the world's random stream (its friction tangents, drawn from it, are redrawn).
+    pub fn seed(&mut self, seed: u64) {
+        self.history.rng = crate::math::splitmix64(seed);
+        self.history.tangents.clear();
+    }
+
+    /// [`Data::forget_history`] for a world between its steps.
+    pub fn forget_history(&mut self) {
+        let fresh = History { rng: self.history.rng, ..History::new() };
+        self.restore_history(&fresh);
+    }
+
+    /// [`Data::restore_history`] for a world between its steps.
+    pub fn restore_history(&mut self, history: &History) {
+        self.history.clone_from(history);
+        self.coll.forget();
+        self.ahead.forget();
+        self.applied.clear();
+    }
+
+    /// The feed-forward and history a full state carries ([`crate::step::state::FlatState`]).
+    pub fn full_state(&self) -> (&[f64], &History) {
+        (&self.feedforward, &self.history)
+    }
+
+    /// Gives the world the feed-forward `ff` (none: zero) and `history`.
+    pub fn restore(&mut self, ff: Option<&[f64]>, history: &History) {
+        match ff {
+            Some(ff) => self.feedforward.copy_from_slice(ff),
+            None => self.feedforward.fill(0.0),
+        }
+        self.restore_history(history);
     }
 }
 

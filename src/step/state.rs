@@ -66,16 +66,16 @@ pub struct FlatState<'a> {
 }
 
 impl<'a> FlatState<'a> {
-    /// Appends the state of a world (`data` given: the full state) to `out`.
-    pub fn write(time: f64, (qpos, qvel, act): (&[f64], &[f64], &[f64]), ctrl: &[f64], data: Option<&Data>, out: &mut Vec<f64>) {
+    /// Appends the state of a world (with its feed-forward and history: the full state) to `out`.
+    pub fn write(time: f64, (qpos, qvel, act): (&[f64], &[f64], &[f64]), ctrl: &[f64], full: Option<(&[f64], &crate::constraint::History)>, out: &mut Vec<f64>) {
         out.push(time);
         out.extend_from_slice(qpos);
         out.extend_from_slice(qvel);
         out.extend_from_slice(act);
         out.extend_from_slice(ctrl);
-        if let Some(d) = data {
-            out.extend_from_slice(&d.constraints.feedforward);
-            d.constraints.history.to_flat(out);
+        if let Some((feedforward, history)) = full {
+            out.extend_from_slice(feedforward);
+            history.to_flat(out);
         }
     }
 
@@ -106,17 +106,12 @@ impl<'a> FlatState<'a> {
         Ok(FlatState { time: v[0], qpos: &v[1..q], qvel: &v[q..a], act: &v[a..a + na], ctrl: &v[a + na..short], full })
     }
 
-    /// Makes `data` the state's (feed-forward and history; a short state leaves none).
-    pub fn restore(&self, data: &mut Data) {
+    /// The feed-forward and history the state gives a world (a short state: none, and a new
+    /// world's history).
+    pub fn kept(&self) -> (Option<&'a [f64]>, crate::constraint::History) {
         match &self.full {
-            Some((ff, history)) => {
-                data.constraints.feedforward.copy_from_slice(ff);
-                data.restore_history(history);
-            }
-            None => {
-                data.constraints.feedforward.fill(0.0);
-                data.restore_history(&crate::constraint::History::new());
-            }
+            Some((ff, history)) => (Some(*ff), history.clone()),
+            None => (None, crate::constraint::History::new()),
         }
     }
 }

@@ -240,7 +240,7 @@ pub fn saved_state(m: &Model, steps: usize, seed: u64) -> Vec<f64> {
     let mut t = Tally::default();
     run_steps(m, &mut s, steps, &mut rng, &mut t, "seed state");
     let mut v = vec![];
-    FlatState::write(s.time, (&s.qpos, &s.qvel, &s.act), &s.ctrl, Some(&s.data), &mut v);
+    FlatState::write(s.time, (&s.qpos, &s.qvel, &s.act), &s.ctrl, Some(s.data.full_state()), &mut v);
     v
 }
 
@@ -286,7 +286,8 @@ pub fn state_input(m: &Model, saved: &[f64], input_seed: u64, steps: usize) -> T
             s.qpos.copy_from_slice(st.qpos);
             s.qvel.copy_from_slice(st.qvel);
             s.ctrl.copy_from_slice(st.ctrl);
-            st.restore(&mut s.data);
+            let (ff, history) = st.kept();
+            s.data.restore(ff, &history);
             run_steps(m, &mut s, steps, &mut rng, &mut inner, &format!("state input {input_seed}"));
         }
         inner
