@@ -3,8 +3,9 @@
 
 sinew: the native vector env (``gym.make_vec(..., vectorization_mode="vector_entry_point")``),
 64 worlds from state and 16 from pixels, all cores; dm_control: its own ``env.step`` loop, one
-env (MuJoCo 3.17, which dm-control 1.0.50 needs, run in a subprocess; pixels by
-``physics.render`` through mesa's EGL). Returns: mean ± sd over 16 episodes of each
+env, in a subprocess, on the installed MuJoCo (on MuJoCo 3.17 where the installed dm-control,
+1.0.50, cannot load its tasks under MuJoCo 4; the table names the version); pixels by
+``physics.render`` through mesa's EGL. Returns: mean ± sd over 16 episodes of each
 (fewer hide the tasks whose returns are bimodal: a quadruped that lands on its feet and stands
 scores ~500, one that does not ~5), actions uniform in the action box (within ±1 where it is unbounded);
 lqr's episodes never truncate and are left out of the returns.
@@ -60,7 +61,8 @@ def sinew_returns(name: str, episodes: int = EPISODES) -> list:
 
 
 def reference(names: list) -> dict:
-    """dm_control's numbers, measured in this script run under MuJoCo 3.17 (``--reference``)."""
+    """dm_control's numbers, measured in this script run in a subprocess (``--reference``), and
+    the MuJoCo version they ran on (``"mujoco"``)."""
     env = dict(os.environ, MUJOCO_GL=os.environ.get("MUJOCO_GL", "egl"))
     loads = [sys.executable, "-c", "from dm_control import suite; suite.load('acrobot', 'swingup')"]
     if subprocess.run(loads, env=env, capture_output=True).returncode != 0:
@@ -103,7 +105,8 @@ def measure_dm_control(names: list, seconds: float = 1.5) -> None:
                 total += ts.reward
             returns.append(total)
         rows[name] = {"state": rates[0], "pixels": rates[1], "returns": returns}
-    print(json.dumps(rows))
+    import mujoco
+    print(json.dumps({"mujoco": mujoco.__version__, "tasks": rows}))
 
 
 def stills(path: str) -> None:
@@ -140,11 +143,12 @@ def main() -> None:
         return measure_dm_control(a.reference)
     from sinew.dmc import TASKS
     names = a.tasks or list(TASKS)
-    ref = reference(names)
+    measured = reference(names)
+    ref = measured["tasks"]
     lines = ["# dm_control's suite: sinew beside dm_control", "",
              "`MUJOCO_GL=egl python benches/dmc.py --out results/dmc.md` (2 cores; sinew's native vector env, 64 "
-             "worlds from state, 16 from 84 × 84 pixels; dm_control's own loop, one env, MuJoCo 3.17, pixels by "
-             f"mesa's EGL; random-policy returns over {EPISODES} episodes of each)", "",
+             "worlds from state, 16 from 84 × 84 pixels; dm_control's own loop, one env, MuJoCo "
+             f"{measured['mujoco']}, pixels by mesa's EGL; random-policy returns over {EPISODES} episodes of each)", "",
              "| task | state steps/s sinew | dm_control | × | pixels steps/s sinew | dm_control | × | random return sinew | dm_control |",
              "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for name in names:
