@@ -7,6 +7,7 @@
 //! [`Poses`] is one world's body poses; [`Renderer::draw`] draws many frames in parallel.
 
 pub mod camera;
+mod hfield_grid;
 mod raycast;
 mod surface;
 mod shade;
@@ -147,8 +148,7 @@ pub type Surfaces = std::sync::Arc<[Option<std::sync::Arc<surface::Surface>>]>;
 
 /// A height field's surface as drawn.
 fn hfield_surface(h: &crate::geometry::HField) -> Option<std::sync::Arc<surface::Surface>> {
-    let vert: Vec<DVec3> = (0..h.nrow * h.ncol).map(|i| h.vertex(i / h.ncol, i % h.ncol)).collect();
-    surface::Surface::new(&vert, &h.triangles(), &[]).map(std::sync::Arc::new)
+    Some(std::sync::Arc::new(surface::Surface::height_field(h)))
 }
 
 /// What to draw into: either buffer may be empty (not wanted).
