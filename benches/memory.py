@@ -1,7 +1,7 @@
 """Bytes per world of a batch: the growth of the process's resident memory from 1 to N worlds
 (one thread, after 300 steps under random controls, which grow the buffers sized to a step's
 contacts and rows), split into the state and output arrays Python sees (their sizes
-from their shapes) and the rest (each world's scratch, history and caches), and the extra a
+from their shapes) and the rest (what each world keeps between steps: history, caches, the forces its rows applied; the threads hold the scratch), and the extra a
 world pays once it holds model values of its own (`set_params`: its own copy of the model).
 
     python benches/memory.py [--worlds 1024] [--out results/memory.md]
@@ -53,7 +53,7 @@ def main():
     ap.add_argument("--worlds", type=int, default=1024)
     ap.add_argument("--out", default=None)
     args = ap.parse_args()
-    lines = [f"| task | kB per world ({args.worlds} worlds) | of which state and output arrays | scratch, history, caches | "
+    lines = [f"| task | kB per world ({args.worlds} worlds) | of which state and output arrays | kept between steps (history, caches, forces) | "
              "a world with its own model values, extra |", "|---|---|---|---|---|"]
     for task, xml in TASKS.items():
         plain, own = probe(xml, args.worlds, False), probe(xml, args.worlds, True)
