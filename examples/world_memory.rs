@@ -59,12 +59,10 @@ fn main() {
     println!("{:>34} {:6.1} kB", "a world's keeping itself", std::mem::size_of::<sinew::step::data::Kept>() as f64 / 1024.0);
     d.swap_kept(&mut kept);
     free("kinematics computed ahead", std::mem::take(&mut d.dynamics.ahead));
-    free("rest of the dynamics", std::mem::take(&mut d.dynamics));
     free("contacts", std::mem::take(&mut d.coll.contacts));
     free("collision poses and caches", std::mem::take(&mut d.coll));
     free("forces the rows applied", std::mem::take(&mut d.constraints.applied));
     free("history", std::mem::take(&mut d.constraints.history));
     free("feed-forward, counters", std::mem::take(&mut d.constraints));
     free("energy bound", std::mem::take(&mut d.energy));
-    free("fault record", std::mem::take(&mut d.fault));
 }

@@ -356,7 +356,7 @@ struct World<'a> {
 fn env_step(root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>, scratch: &mut Data) {
     let World { model: m, data, mut state, diverged, active, mut out, obs, reward, terminated, info } = w;
     *diverged = false;
-    data.fault.message = None;
+    data.fault = None;
     if !active {
         return;
     }
@@ -383,7 +383,7 @@ fn env_step(root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>, scr
         }
     }));
     if let Err(message) = outcome {
-        data.fault.message = Some(message);
+        data.fault = Some(message);
     }
 }
 

@@ -4,7 +4,7 @@
 use glam::{DMat3, DVec3};
 
 use crate::dynamics::kinematics::KinData;
-use crate::model::{GeomType, JointType, Model, WORLD};
+use crate::model::{GeomType, Model, WORLD};
 
 /// One contact point. The normal points from geom2 to geom1: pushing body1 along +n and body2
 /// along −n separates them.
@@ -70,13 +70,6 @@ pub struct CollisionData {
     pub(super) body_travel: Vec<f64>,
     /// `body_travel` of the child of the world each body descends from (nbody).
     pub(super) top_travel: Vec<f64>,
-    /// Whether every gap pair's common ancestor is below the world, so that the joints above a
-    /// child of the world move both its geoms alike.
-    pub(super) gaps_within_trees: bool,
-    /// (qpos address, arm) of each joint that can move a gap pair's geoms relative to each other
-    /// (with `gaps_within_trees`, those below the children of the world), when all are hinges or
-    /// slides: [`quick_travel`] then bounds how far the gaps shrank in one pass over them.
-    pub(super) quick_arms: Option<Vec<(usize, f64)>>,
     /// Whether `pair_gap` less `shrink` bounds the distances at the configuration of the last
     /// detection (which keeps the gaps only while every plane group is apart).
     pub(super) gaps_current: bool,
@@ -109,7 +102,6 @@ pub struct CollisionData {
 impl CollisionData {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
-        let gaps_within_trees = m.gap_pairs.iter().all(|gp| gp.ancestor != 0);
         CollisionData {
             // world geoms never move: their poses are set here once (the world frame is the identity)
             geom_xmat: m.geom_mat.clone(),
@@ -127,8 +119,6 @@ impl CollisionData {
             qpos_gap: m.qpos0.clone(),
             body_travel: vec![0.0; m.nbody],
             top_travel: vec![0.0; m.nbody],
-            gaps_within_trees,
-            quick_arms: quick_arms(m, gaps_within_trees),
             gaps_current: false,
             least_slack: f64::NEG_INFINITY,
             shrink: 0.0,
@@ -206,14 +196,6 @@ pub(super) fn pose_axes(m: &Model, kin: &KinData, cd: &mut CollisionData, g: usi
 /// Whether geom g never moves (a world geom, or a plane: a plane's motion is not tracked).
 pub(super) fn fixed(m: &Model, g: usize) -> bool {
     m.body_node[m.geom_body[g]] == WORLD || m.geom_type[g] == GeomType::Plane
-}
-
-/// The joints [`quick_travel`] sums over, or None when one of them is a ball or free joint.
-pub(super) fn quick_arms(m: &Model, within_trees: bool) -> Option<Vec<(usize, f64)>> {
-    let counted = (0..m.njnt).filter(|&j| !(within_trees && m.body_parent[m.jnt_body[j]] == 0));
-    counted
-        .map(|j| matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide).then(|| (m.jnt_qposadr[j], m.dof_arm[m.jnt_dofadr[j]])))
-        .collect()
 }
 
 /// A geom's box in the sweep ([`near_pairs`]): its corners and the geom.

@@ -67,7 +67,7 @@ pub(super) fn travel(m: &Model, qpos: &[f64], out: &mut CollisionData) -> f64 {
         out.top_travel[b] = if parent == 0 { t } else { out.top_travel[parent] };
         // a pair's decrease is its two bodies' travel below their ancestor: at most twice the
         // largest, less what the joints above a child of the world add to both when it is below
-        let own = if out.gaps_within_trees { t - out.top_travel[b] } else { t };
+        let own = if m.gaps_within_trees { t - out.top_travel[b] } else { t };
         most = most.max(own);
         unbounded |= own.is_nan();
     }
@@ -76,11 +76,11 @@ pub(super) fn travel(m: &Model, qpos: &[f64], out: &mut CollisionData) -> f64 {
 }
 
 /// A bound on how much any gap shrank since `qpos_gap`, without the bodies' travel: Σ arm |Δq|
-/// over [`CollisionData::quick_arms`] (a pair's distance changes only through the joints on the
+/// over [`Model::gap_arms`] (a pair's distance changes only through the joints on the
 /// paths from its common ancestor to its two bodies, disjoint sets among them); ∞ when there is
 /// no such list.
-pub(super) fn quick_travel(qpos: &[f64], out: &CollisionData) -> f64 {
-    let Some(arms) = &out.quick_arms else { return f64::INFINITY };
+pub(super) fn quick_travel(m: &Model, qpos: &[f64], out: &CollisionData) -> f64 {
+    let Some(arms) = &m.gap_arms else { return f64::INFINITY };
     let s: f64 = arms.iter().map(|&(qa, arm)| arm * (qpos[qa] - out.qpos_gap[qa]).abs()).sum();
     if s.is_nan() { f64::INFINITY } else { s }
 }

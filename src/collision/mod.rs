@@ -100,7 +100,7 @@ pub fn collide(m: &Model, dy: &DynamicsData, s: &WorldState<'_>, out: &mut Colli
         // the margin is at most p.margin + 2 shared: a larger gap spares the test
         let spare = 2.0 * shared + GAP_TOLERANCE;
         if !m.gap_pairs.is_empty() {
-            let quick = quick_travel(qpos, out);
+            let quick = quick_travel(m, qpos, out);
             let shrink = if out.least_slack - quick > spare { quick } else { travel(m, qpos, out) };
             if out.least_slack - shrink > spare {
                 // every gap pair settled at once; the gaps stay those of `qpos_gap`

@@ -141,6 +141,8 @@ fn compile(mut spec: ModelSpec, dir: &std::path::Path) -> Result<Model> {
     m.body_reach = body_reaches(&m);
     m.dof_arm = dof_arms(&m);
     m.plane_groups = plane_groups(&mut m);
+    m.gaps_within_trees = m.gap_pairs.iter().all(|gp| gp.ancestor != 0);
+    m.gap_arms = gap_arms(&m);
     // the forward dynamics at qpos0, as MuJoCo's mj_setConst runs it
     let mut dy = DynamicsData::new(&m);
     crate::dynamics::forward(&m, &mut dy, &m.qpos0, &vec![0.0; m.nv], &vec![0.0; m.nu], &vec![0.0; m.na]);
@@ -547,6 +549,14 @@ fn dof_arms(m: &Model) -> Vec<f64> {
         }
     }
     arm
+}
+
+/// [`Model::gap_arms`]: None when one of the joints is a ball or free joint.
+fn gap_arms(m: &Model) -> Option<Vec<(usize, f64)>> {
+    let counted = (0..m.njnt).filter(|&j| !(m.gaps_within_trees && m.body_parent[m.jnt_body[j]] == 0));
+    counted
+        .map(|j| matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide).then(|| (m.jnt_qposadr[j], m.dof_arm[m.jnt_dofadr[j]])))
+        .collect()
 }
 
 /// Groups each pair of a world plane and a geom under a child of the world with a bounded reach

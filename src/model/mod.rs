@@ -578,6 +578,13 @@ pub struct Model {
     pub plane_groups: Vec<PlaneGroup>,
     /// The pairs of two bounded geoms.
     pub gap_pairs: Vec<GapPair>,
+    /// Whether every gap pair's common ancestor is below the world, so that the joints above a
+    /// child of the world move both its geoms alike.
+    pub gaps_within_trees: bool,
+    /// (qpos address, arm) of each joint that can move a gap pair's geoms relative to each other
+    /// (with `gaps_within_trees`, those below the children of the world), when all are hinges or
+    /// slides: `collision::gaps::quick_travel` then bounds how far the gaps shrank in one pass.
+    pub gap_arms: Option<Vec<(usize, f64)>>,
     /// Per geom (ngeom + 1): the first of its pairs in `collision_pairs` as the lower geom; the
     /// pairs are in (g1, g2) order, so geom i's are `geom_first_pair[i]..geom_first_pair[i + 1]`
     /// by increasing g2.

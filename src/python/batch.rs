@@ -246,7 +246,7 @@ impl PyBatch {
         let inner = &mut self.inner;
         py.detach(|| super::errors::guard("Batch.step", || inner.step(st, n, run)))?;
         let faults: Vec<String> = (0..self.inner.len())
-            .filter_map(|i| self.inner.data[i].fault.message.take().map(|msg| format!("world {i}: {msg}")))
+            .filter_map(|i| self.inner.data[i].fault.take().map(|msg| format!("world {i}: {msg}")))
             .collect();
         if !faults.is_empty() {
             return Err(super::errors::internal("Batch.step", format!("{}; those worlds are back where this call found them", faults.join("; "))));

@@ -7,11 +7,9 @@ use crate::collision::CollisionData;
 use crate::constraint::lcp::LcpStats;
 use crate::constraint::{AppliedForces, Constraints, History, World};
 use crate::dynamics::kinematics::KinCache;
-use crate::dynamics::tendon::TendonData;
 use crate::dynamics::DynamicsData;
 use crate::integrate::energy_bound::EnergyBound;
 use crate::integrate::Rk4Scratch;
-use crate::math::Motion;
 use crate::model::Model;
 use crate::state::WorldState;
 
@@ -80,13 +78,8 @@ impl Data {
 
     /// Exchanges what a world keeps ([`Kept`]) with `k`.
     pub fn swap_kept(&mut self, k: &mut Kept) {
-        let (dy, c) = (&mut self.dynamics, &mut self.constraints);
-        std::mem::swap(&mut dy.ahead, &mut k.ahead);
-        std::mem::swap(&mut dy.ten, &mut k.ten);
-        std::mem::swap(&mut dy.qfrc_applied, &mut k.qfrc_applied);
-        std::mem::swap(&mut dy.qacc, &mut k.qacc);
-        std::mem::swap(&mut dy.act_dot, &mut k.act_dot);
-        std::mem::swap(&mut dy.v_other, &mut k.v_other);
+        let c = &mut self.constraints;
+        std::mem::swap(&mut self.dynamics.ahead, &mut k.ahead);
         std::mem::swap(&mut self.coll, &mut k.coll);
         std::mem::swap(&mut self.energy, &mut k.energy);
         std::mem::swap(&mut c.history, &mut k.history);
@@ -95,7 +88,7 @@ impl Data {
         std::mem::swap(&mut c.stats, &mut k.stats);
         std::mem::swap(&mut c.impacts, &mut k.impacts);
         std::mem::swap(&mut c.projections, &mut k.projections);
-        std::mem::swap(&mut self.fault, &mut k.fault);
+        std::mem::swap(&mut self.fault.message, &mut k.fault);
     }
 
     /// Forgets what the last steps leave for the next (friction tangents, the LCP's warm start and
@@ -147,21 +140,17 @@ impl Data {
 }
 
 /// What a world keeps from one step to the next, and what is read after a step: the kinematics
-/// computed ahead for the next step, the tendons, applied forces and accelerations of the last
-/// evaluation, collision's poses, caches and contacts, the energy bound, the constraint history,
-/// the forces the rows applied, motion control's feed-forward, the counters and the fault record.
-/// The rest of a [`Data`] — the kinematics being evaluated, the ABA quantities, RK4's stages, the
-/// constraint stages' rows, solve and post-stabilisation, the sensors' — is scratch a step writes
-/// before it reads, and most of a world's memory: a batch keeps a `Kept` per world and one `Data`
-/// per thread, which takes each world's keeping for its step ([`Data::with_kept`]).
+/// computed ahead for the next step, collision's poses, caches and contacts, the energy bound,
+/// the constraint history, the forces the rows applied, motion control's feed-forward, the
+/// counters and the last fault's message. The rest of a [`Data`] — the kinematics being
+/// evaluated, the tendons, applied forces, ABA quantities and accelerations, RK4's stages, the
+/// constraint stages' rows, solve and post-stabilisation, the sensors', the state a guarded call
+/// began with — is scratch a step writes before it reads, and most of a world's memory: a batch
+/// keeps a `Kept` per world and one `Data` per thread, which takes each world's keeping for its
+/// step ([`Data::with_kept`]).
 #[derive(Clone, Debug, Default)]
 pub struct Kept {
     ahead: KinCache,
-    ten: TendonData,
-    qfrc_applied: Vec<f64>,
-    qacc: Vec<f64>,
-    act_dot: Vec<f64>,
-    v_other: Vec<Motion>,
     coll: CollisionData,
     energy: EnergyBound,
     history: History,
@@ -170,8 +159,8 @@ pub struct Kept {
     stats: LcpStats,
     impacts: u64,
     projections: u64,
-    /// Where the world's last guarded call began, and the panic's message if it met one.
-    pub fault: Fault,
+    /// The message of the panic the world's last guarded call met, if any ([`Fault`]).
+    pub fault: Option<String>,
 }
 
 impl Kept {
