@@ -37,4 +37,11 @@ fn main() {
     let per = steps.max(1);
     println!("{steps} steps in {wall:.3} s ({:.1} us/step), {} rows and {} contacts a step", wall * 1e6 / per as f64, rows / per, contacts / per);
     println!("{:?}", s.data.constraints.stats);
+    #[cfg(feature = "stage-timing")]
+    {
+        let total: u64 = s.data.stage_ns.iter().sum();
+        for (name, t) in sinew::step::STAGE_NAMES.iter().zip(&s.data.stage_ns) {
+            println!("{name}: {:.1}%", 100.0 * *t as f64 / total as f64);
+        }
+    }
 }

@@ -109,8 +109,14 @@ fn sweep_axis(out: &CollisionData, sweep: &[SweepBox]) -> usize {
 /// The index in `m.collision_pairs` of the pair of geoms i < j, if they make one.
 pub(super) fn pair_of(m: &Model, i: usize, j: usize) -> Option<usize> {
     let bit = i * m.ngeom + j;
-    if !m.pair_bits.is_empty() && m.pair_bits[bit / 64] & (1 << (bit % 64)) == 0 {
-        return None;
+    if !m.pair_bits.is_empty() {
+        let (word, mask) = (m.pair_bits[bit / 64], 1u64 << (bit % 64));
+        if word & mask == 0 {
+            return None;
+        }
+        if let Some(&before) = m.pair_rank.get(bit / 64) {
+            return Some(before as usize + (word & (mask - 1)).count_ones() as usize);
+        }
     }
     let first = m.geom_first_pair[i];
     let partners = &m.pair_partner[first..m.geom_first_pair[i + 1]];
@@ -209,4 +215,32 @@ fn smaller_first(m: &Model, p: &GeomPair) -> (usize, usize, usize) {
 pub(super) fn arm_speed(m: &Model, speeds: impl Iterator<Item = f64>) -> f64 {
     let s: f64 = m.dof_arm.iter().zip(speeds).map(|(c, v)| c * v).sum();
     if s.is_nan() { f64::INFINITY } else { s }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::pair_of;
+    use crate::Model;
+
+    /// A pair's index by its bit's rank is its index in the pairs, and geoms that make no pair
+    /// (a body and its parent's) have none: six capsule–sphere chains on a plane.
+    #[test]
+    fn pair_of_finds_each_pair_by_rank() {
+        let mut bodies = String::new();
+        for c in 0..6 {
+            bodies += &format!(
+                "<body pos='{c} 0 1'><freejoint/><geom type='capsule' size='.05 .2'/>\
+                 <body pos='0 0 .5'><joint type='hinge'/><geom type='sphere' size='.1'/></body></body>"
+            );
+        }
+        let xml = format!("<mujoco><worldbody><geom type='plane' size='5 5 .1'/>{bodies}</worldbody></mujoco>");
+        let m = Model::from_mjcf(&xml).expect("the scene compiles");
+        assert!(!m.pair_rank.is_empty());
+        for i in 0..m.ngeom {
+            for j in i + 1..m.ngeom {
+                let k = m.collision_pairs.iter().position(|p| (p.g1, p.g2) == (i, j));
+                assert_eq!(pair_of(&m, i, j), k, "geoms {i}, {j}");
+            }
+        }
+    }
 }

@@ -476,11 +476,20 @@ fn sweep_lists(m: &mut Model) {
     m.geom_first_pair = first;
     m.pair_partner = m.collision_pairs.iter().map(|p| p.g2 as u32).collect();
     m.pair_bits.clear();
+    m.pair_rank.clear();
     if m.ngeom <= crate::model::PAIR_BITS_GEOMS {
         m.pair_bits.resize((m.ngeom * m.ngeom).div_ceil(64), 0);
         for p in &m.collision_pairs {
             let bit = p.g1 * m.ngeom + p.g2;
             m.pair_bits[bit / 64] |= 1 << (bit % 64);
+        }
+        // a pair's index is its bit's rank when no two pairs share their geoms
+        if m.collision_pairs.windows(2).all(|w| (w[0].g1, w[0].g2) < (w[1].g1, w[1].g2)) {
+            let mut before = 0;
+            for &word in &m.pair_bits {
+                m.pair_rank.push(before);
+                before += word.count_ones();
+            }
         }
     }
     m.sweep_geoms = (0..m.ngeom).filter(|&g| swept[g]).collect();

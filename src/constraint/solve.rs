@@ -8,10 +8,10 @@ use super::impact::{approaching, rebound, INERT_ROW};
 use super::lcp::LcpWork;
 use super::lcp;
 use super::system::{ConstraintData, RowKind};
-use super::test_forces::{add_response, clear_k_block, prepare, responses};
+use super::test_forces::{add_response, prepare, responses};
 use super::{closing_velocity, correction_velocity, impact_speed, Constraints, World};
 use crate::collision;
-use crate::model::{Model, WORLD};
+use crate::model::Model;
 
 /// The LCP of a step's constraint solves (`constraint::solve`): its matrix and vector, each
 /// variable's role, the answer, the warm start, Lemke's tableau and counters.
@@ -31,6 +31,8 @@ pub struct SolveData {
     pub group: Vec<usize>,
     /// The LCP variables island by island (by label, each island's in their order).
     pub order: Vec<usize>,
+    /// Where each island ends in `order` (scratch for it).
+    pub island_end: Vec<usize>,
     /// Number of each variable in its island's LCP while that is posed (else usize::MAX).
     pub local: Vec<usize>,
     /// The island's q, variables left out, warm set and answer.
@@ -44,8 +46,6 @@ pub struct SolveData {
     /// The island's rows whose test forces are not pushed, with their numbers in its LCP (in
     /// increasing row order): scratch for the matrix.
     pub unpushed: Vec<(usize, usize)>,
-    /// Union–find forest over the nodes' trees, scratch for the labels (nnode).
-    pub tree_link: Vec<usize>,
     /// LCP variables left out of the solve (held at zero force) and of K.
     pub out: Vec<bool>,
     /// Active set of this step's impact solve, which warm-starts the force solve on the same rows
@@ -86,24 +86,28 @@ pub fn solve_rows(m: &Model, data: &mut World<'_>, level: Level) {
     // left out
     let left_any = data.constraints.solve.out.contains(&true);
     let mut brought_back = false;
+    prepare(m, &mut data.constraints.con);
     island_labels(data, n);
-    let SolveData { group, order, .. } = &mut data.constraints.solve;
+    // the variables island by island, each island's in their order (counted out by label)
+    let SolveData { group, order, island_end: end, .. } = &mut data.constraints.solve;
+    end.clear();
+    end.resize(data.constraints.con.k_size.len() + 1, 0);
+    for &g in group.iter() {
+        end[g + 1] += 1;
+    }
+    for b in 1..end.len() {
+        end[b] += end[b - 1];
+    }
     order.clear();
-    order.extend(0..n);
-    // one island (a single character) keeps the variables' order
-    if group.iter().any(|&g| g != group[0]) {
-        order.sort_unstable_by_key(|&i| (group[i], i));
+    order.resize(n, 0);
+    for (i, &g) in group.iter().enumerate() {
+        order[end[g]] = i;
+        end[g] += 1;
     }
     let mut start = 0;
     while start < n {
         let label = data.constraints.solve.group[data.constraints.solve.order[start]];
         let end = (start..n).find(|&k| data.constraints.solve.group[data.constraints.solve.order[k]] != label).unwrap_or(n);
-        // the island's block of K, whose pushed rows its M reads (its rows come first among its
-        // variables, in order)
-        let island = &data.constraints.solve.order[start..end];
-        let rows = island.partition_point(|&v| v < data.constraints.con.len());
-        prepare(m, &mut data.constraints.con);
-        clear_k_block(&mut data.constraints.con, &island[..rows]);
         loop {
             let (kin, aba) = (&data.dynamics.kin, &data.dynamics.aba);
             let Constraints { con, solve: SolveData { out: lcp_out, group, .. }, .. } = &mut *data.constraints;
@@ -372,15 +376,16 @@ pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, islan
     // only as rows, at the columns computed: each computed row's measures are scattered into them
     // below (their own K rows are not written)
     let done = &con.column_done;
-    let k_max = vars[..rows].iter().filter(|&&j| done[j]).map(|&j| con.k[j * nr + j]).fold(0.0, f64::max);
+    let k_max = vars[..rows].iter().filter(|&&j| done[j]).map(|&j| con.k[con.k_index(j, j)]).fold(0.0, f64::max);
     let impact = impact_speed(h, m.opt.gravity.length());
-    // the island's rows one run of rows (one island, a tree's alone): each row of K is copied whole
-    let contiguous = rows > 0 && vars[rows - 1] - vars[0] + 1 == rows;
+    // the island's rows are its block's, in order (K's block row copied whole), unless some are
+    // missing from it
+    let whole_block = rows > 0 && con.k_size[con.k_block[vars[0]]] == rows;
     // the λ and σ rows hold only the couplings their rows set
     mm[rows * k..].fill(0.0);
     unpushed.clear();
     for (a, &j) in vars[..rows].iter().enumerate() {
-        if (done[j] && con.k[j * nr + j] <= INERT_ROW * k_max) || (level == Level::Velocity && apart(m, con, j, impact)) {
+        if (done[j] && con.k[con.k_index(j, j)] <= INERT_ROW * k_max) || (level == Level::Velocity && apart(m, con, j, impact)) {
             mm[a * k..(a + 1) * k].fill(0.0);
             mm[a * k + a] = 1.0;
             q[a] = 0.0;
@@ -388,19 +393,19 @@ pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, islan
             out[a] = true;
             continue;
         }
-        let krow = &con.k[j * nr..(j + 1) * nr];
+        let krow = con.k_row(j);
         if !done[j] {
             mm[a * k..a * k + rows].fill(0.0);
             unpushed.push((j, a));
-        } else if contiguous {
-            mm[a * k..a * k + rows].copy_from_slice(&krow[vars[0]..vars[0] + rows]);
+        } else if whole_block {
+            mm[a * k..a * k + rows].copy_from_slice(krow);
         } else {
             for (x, &jj) in mm[a * k..a * k + rows].iter_mut().zip(&vars[..rows]) {
-                *x = krow[jj];
+                *x = con.k_at(j, jj);
             }
         }
         mm[a * k + rows..(a + 1) * k].fill(0.0);
-        let kjj = if done[j] { krow[j] } else { 0.0 };
+        let kjj = if done[j] { krow[con.k_pos[j]] } else { 0.0 };
         mm[a * k + a] = kjj + lcp::REGULARISATION * kjj.abs().max(1e-300);
         match con.kind[j] {
             RowKind::Tangent { normal } => {
@@ -465,51 +470,29 @@ fn scatter_unpushed(con: &ConstraintData, rows: &[usize], unpushed: &[(usize, us
     if unpushed.is_empty() {
         return;
     }
-    let (nr, done) = (con.len(), &con.column_done);
+    let done = &con.column_done;
     for (b, &jj) in rows.iter().enumerate().filter(|&(_, &jj)| done[jj]) {
         let (lo, hi) = con.sharing_span(jj);
         let from = unpushed.partition_point(|&(j, _)| j < lo);
         for &(j, a) in unpushed[from..].iter().take_while(|&&(j, _)| j <= hi) {
-            mm[a * k + b] = con.k[jj * nr + j];
+            mm[a * k + b] = con.k[con.k_index(jj, j)];
         }
     }
 }
 
-/// Labels each of the n LCP variables with its island into `data.constraints.solve.group`: the trees its row
-/// touches joined with every tree a contact connects them to (union–find over the rows), named
-/// by the root node of the least tree; a λ or σ takes its row's. Rows of different labels share
-/// no body, so K (and M) has no entry between them.
+/// Labels each of the n LCP variables with its island into `data.constraints.solve.group`: a
+/// row's block of K (the trees it touches joined with every tree a row connects them to), which
+/// a λ or σ takes from its row. Rows of different labels share no body, so K (and M) has no
+/// entry between them.
 fn island_labels(data: &mut World<'_>, n: usize) {
-    let SolveData { group, tree_link: link, lambda, .. } = &mut data.constraints.solve;
+    let SolveData { group, lambda, .. } = &mut data.constraints.solve;
     let con = &data.constraints.con;
     group.clear();
-    // rows that name one tree alone (one character's) make one island
-    let first = con.tree.first().map_or(WORLD, |t| if t[0] != WORLD { t[0] } else { t[1] });
-    if con.tree.iter().all(|t| t.iter().all(|&x| x == first || x == WORLD)) {
-        group.resize(n, first);
-        return;
-    }
-    let root = lcp::root;
-    // only the trees the rows name are linked: reset them alone
-    let nodes = con.tree.iter().flatten().filter(|&&t| t != WORLD).fold(0, |a, &t| a.max(t + 1));
-    if link.len() < nodes {
-        link.resize(nodes, 0);
-    }
-    for &t in con.tree.iter().flatten().filter(|&&t| t != WORLD) {
-        link[t] = t;
-    }
-    for &[a, b] in &con.tree {
-        if a != WORLD && b != WORLD {
-            let (a, b) = (root(link, a), root(link, b));
-            link[a.max(b)] = a.min(b);
-        }
-    }
     group.resize(n, usize::MAX);
-    for (j, &[a, b]) in con.tree.iter().enumerate() {
-        let t = if a != WORLD { a } else { b };
-        group[j] = if t == WORLD { usize::MAX } else { root(link, t) };
+    for (j, &block) in con.k_block.iter().enumerate() {
+        group[j] = block;
         if lambda[j] != usize::MAX {
-            group[lambda[j]] = group[j];
+            group[lambda[j]] = block;
         }
     }
 }

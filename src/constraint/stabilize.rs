@@ -297,7 +297,7 @@ fn solve(m: &Model, data: &mut World<'_>, qpos: &mut [f64]) {
     let (kin, aba) = (&data.dynamics.kin, &data.dynamics.aba);
     let Constraints { con, post, stats, projections, .. } = &mut *data.constraints;
     *projections += 1;
-    let (nv, nr) = (m.nv, con.len());
+    let nv = m.nv;
     for attempt in 0..=LIMIT_PASSES {
         let k = post.gap.len();
         // K_ab = J_a · Δq̈_b over the dofs of the trees both rows move (J_a is zero off a's
@@ -318,7 +318,7 @@ fn solve(m: &Model, data: &mut World<'_>, qpos: &mut [f64]) {
                 let (ja, jb) = (post.row[a], post.row[b]);
                 let mut dot = 0.0;
                 if ja != usize::MAX && jb != usize::MAX {
-                    dot = con.k[jb * nr + ja];
+                    dot = con.k[con.k_index(jb, ja)];
                 } else {
                     for r in tree_dofs(m, trees) {
                         dot += post.jac[a * nv + r.start..a * nv + r.end].iter().zip(&post.dqdd[b * nv + r.start..b * nv + r.end]).map(|(x, y)| x * y).sum::<f64>();

@@ -157,12 +157,22 @@ pub struct ConstraintData {
     /// Row whose force direction is the negation of this one's (pyramid ±t), or usize::MAX: its
     /// K column and Δq̈ are that row's, negated, with no test force pushed.
     pub mirror: Vec<usize>,
-    /// K, row-major (m × m): `K[j][k]` = acceleration of row j per unit force of row k = `K[k][j]`
-    /// (K is symmetric). Row k is written, between rows that share a tree, when row k's test force
-    /// is pushed ([`column_done`](Self::column_done)): the row of a row not pushed is read as its
-    /// column. Zero between rows of no shared tree once their block is cleared
-    /// ([`clear_k_block`]; [`assemble`] clears all).
+    /// K by blocks: the rows of trees that rows link (a character and what touches it) make one
+    /// block, K being zero between blocks; each block is kept whole, row-major over its rows in
+    /// row order ([`k_index`](Self::k_index)). `K_jk` = acceleration of row j per unit force of
+    /// row k = `K_kj` (K is symmetric). Row k is written, between rows that share a tree, when
+    /// row k's test force is pushed ([`column_done`](Self::column_done)): the row of a row not
+    /// pushed is read as its column. A block of several trees is zeroed when the blocks are laid
+    /// out ([`prepare`]), so that its entries between rows of no shared tree read zero.
     pub k: Vec<f64>,
+    /// Block of each row in `k`.
+    pub k_block: Vec<usize>,
+    /// Place of each row among its block's rows.
+    pub k_pos: Vec<usize>,
+    /// Per block: where it starts in `k`, and its number of rows.
+    pub k_start: Vec<usize>,
+    /// See `k_start`.
+    pub k_size: Vec<usize>,
     /// Constraint acceleration with zero constraint force.
     pub b: Vec<f64>,
     /// Δq̈ per unit force of each row (m × nv), meaningful on the dofs of the row's trees only
@@ -181,9 +191,13 @@ pub struct ConstraintData {
     /// `tree_rows[tree_row_start[t]..tree_row_start[t + 1]]`, built with K.
     pub(super) tree_row_start: Vec<usize>,
     pub(super) tree_rows: Vec<usize>,
-    /// The rows' trees when K was last zeroed whole ([`clear_k_block`]), or empty: test forces
-    /// write K only between rows that share a tree, so for the same trees the rest is still zero.
-    pub(crate) zeroed_trees: Vec<[usize; 2]>,
+    /// Per node: the block of the rows whose trees are rooted in its union–find set (scratch for
+    /// [`prepare`]), and the union–find forest itself.
+    pub(super) block_of_root: Vec<usize>,
+    pub(super) tree_link: Vec<usize>,
+    /// Per block: its first row's tree, and whether a row of another tree is in it (scratch for
+    /// [`prepare`]).
+    pub(super) block_tree: Vec<(usize, bool)>,
 }
 
 impl ConstraintData {
@@ -223,6 +237,32 @@ impl ConstraintData {
         if self.tree[j][0] != tree && self.tree[j][1] == WORLD {
             self.tree[j][1] = tree;
         }
+    }
+
+    /// Index in [`k`](Self::k) of `K_jk`, for rows j and k of one block.
+    #[inline(always)]
+    pub fn k_index(&self, j: usize, k: usize) -> usize {
+        let b = self.k_block[j];
+        self.k_start[b] + self.k_pos[j] * self.k_size[b] + self.k_pos[k]
+    }
+
+    /// `K_jk` (zero between blocks).
+    #[inline]
+    pub fn k_at(&self, j: usize, k: usize) -> f64 {
+        if self.k_block[j] == self.k_block[k] { self.k[self.k_index(j, k)] } else { 0.0 }
+    }
+
+    /// Row j of K over its block's rows (in row order).
+    #[inline]
+    pub fn k_row(&self, j: usize) -> &[f64] {
+        let start = self.k_index(j, j) - self.k_pos[j];
+        &self.k[start..start + self.k_size[self.k_block[j]]]
+    }
+
+    /// K whole (rows × rows, row-major), for inspection.
+    pub fn k_dense(&self) -> Vec<f64> {
+        let nr = self.len();
+        (0..nr * nr).map(|i| self.k_at(i / nr, i % nr)).collect()
     }
 
     /// Number of rows.

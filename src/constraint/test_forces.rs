@@ -4,6 +4,7 @@
 
 use glam::DVec3;
 
+use super::lcp;
 use super::system::{tree_lists, ConstraintData, RowKind};
 use crate::dynamics::aba;
 use crate::dynamics::aba::{AbaData, DeltaScratch};
@@ -74,20 +75,24 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     };
     delta_pass(m, kin, aba, trees, dtau, &mut out.delta, &mut out.dqdd[k * nv..(k + 1) * nv]);
     // K is symmetric (J M⁻¹ Jᵀ): this force's measures at the rows of its trees are row k (and
-    // its mirror's, negated), written whole (contiguous); a row pushed before holds its own
-    // measure of this force; rows of other trees are not written (zero, once their block is
-    // cleared: `clear_k_block`)
+    // its mirror's, negated); a row pushed before holds its own measure of this force; rows of
+    // other trees are not written (zero: their block was zeroed when laid out)
     let mut kk = std::mem::take(&mut out.k);
     let dqdd = &out.dqdd[k * nv..(k + 1) * nv];
     let (first, second, a) = tree_lists(out, trees);
     let mut point = PointAccel::NONE;
+    // the block's rows: K_jk of row j at `start + pos_j·size + pos_k`
+    let (block, pos) = (out.k_block[k], out.k_pos[k]);
+    let (start, size) = (out.k_start[block], out.k_size[block]);
+    let row = start + pos * size;
     // a row of both trees is in both lists: read once
     for &j in first.iter().chain(second.iter().filter(|&&j| a == WORLD || !out.tree[j].contains(&a))) {
-        let v = k_entry(out, &kk, trees, dqdd, j, k, &mut point);
-        kk[k * nr + j] = v;
+        let pj = out.k_pos[j];
+        let v = if out.column_done[j] { kk[start + pj * size + pos] } else { delta_accel(out, trees, dqdd, j, &mut point) };
+        kk[row + pj] = v;
         if mirrored {
-            // (−d)·a = −(d·a) exactly: the mirror row's own measure
-            kk[(k + 1) * nr + j] = -v;
+            // (−d)·a = −(d·a) exactly: the mirror row's own measure (the block's next row)
+            kk[row + size + pj] = -v;
         }
     }
     out.k = kk;
@@ -103,20 +108,16 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     }
 }
 
-/// Sizes K and Δq̈ for the rows and lists each tree's rows, once per set of rows. Test forces
-/// write K only between rows that share a tree (and Δq̈ on the row's trees' dofs); the other
-/// entries keep what they held: a reader of a block of K zeroes it first ([`clear_k_block`]).
+/// Lays K out in blocks ([`ConstraintData::k`]), sizes Δq̈ and lists each tree's rows, once per
+/// set of rows. Test forces write K only between rows that share a tree (and Δq̈ on the row's
+/// trees' dofs): a block of several trees is zeroed here, a block of one tree is written whole
+/// by the test forces of its rows.
 pub fn prepare(m: &Model, out: &mut ConstraintData) {
     if out.assembled {
         return;
     }
     let (nr, nv) = (out.len(), m.nv);
-    // K's zeros are known only for the trees it was zeroed for: test forces of other rows' trees
-    // write where those are zero
-    if out.zeroed_trees != out.tree {
-        out.zeroed_trees.clear();
-    }
-    out.k.resize(nr * nr, 0.0);
+    lay_out_blocks(m.nnode, out);
     if out.dqdd.len() < nr * nv {
         out.dqdd.resize(nr * nv, 0.0);
     }
@@ -126,33 +127,53 @@ pub fn prepare(m: &Model, out: &mut ConstraintData) {
     out.assembled = true;
 }
 
-/// Zeroes K between the rows `rows` (an island's, increasing), unless a column of theirs is
-/// computed already (they were zeroed for an earlier solve of the same rows), or they are every
-/// row, with the trees K was last zeroed whole for (K between rows of no shared tree is still
-/// zero: test forces write only between rows that share one). K is then zero between those of
-/// separate trees, and the row of each row pushed holds its measures.
-pub fn clear_k_block(out: &mut ConstraintData, rows: &[usize]) {
-    let (Some(&first), Some(&last)) = (rows.first(), rows.last()) else { return };
-    if rows.iter().any(|&j| out.column_done[j]) {
-        return;
+/// The blocks of K: rows whose trees rows link (union–find over the trees) share a block,
+/// numbered in the order of their first rows, as are the rows within each (rows on no tree share
+/// one); zeroes each block of more than one tree.
+fn lay_out_blocks(nnode: usize, out: &mut ConstraintData) {
+    let ConstraintData { tree, k, k_block, k_pos, k_start, k_size, block_tree, block_of_root, tree_link: link, .. } = out;
+    link.resize(nnode, 0);
+    block_of_root.resize(nnode, usize::MAX);
+    for &t in tree.iter().flatten().filter(|&&t| t != WORLD) {
+        link[t] = t;
+        block_of_root[t] = usize::MAX;
     }
-    let nr = out.len();
-    let whole = rows.len() == nr;
-    if whole && out.zeroed_trees == out.tree {
-        return;
+    for &[a, b] in tree.iter() {
+        if a != WORLD && b != WORLD {
+            let (a, b) = (lcp::root(link, a), lcp::root(link, b));
+            link[a.max(b)] = a.min(b);
+        }
     }
-    out.zeroed_trees.clear();
-    if whole {
-        out.zeroed_trees.extend_from_slice(&out.tree);
+    k_block.clear();
+    k_pos.clear();
+    k_size.clear();
+    block_tree.clear();
+    let mut treeless = usize::MAX;
+    for &[a, b] in tree.iter() {
+        let t = if a != WORLD { a } else { b };
+        let slot = if t == WORLD { &mut treeless } else { &mut block_of_root[lcp::root(link, t)] };
+        if *slot == usize::MAX {
+            *slot = k_size.len();
+            k_size.push(0);
+            block_tree.push((t, false));
+        }
+        let blk = *slot;
+        k_block.push(blk);
+        k_pos.push(k_size[blk]);
+        k_size[blk] += 1;
+        let (first, several) = &mut block_tree[blk];
+        *several |= [a, b].iter().any(|&x| x != WORLD && x != *first);
     }
-    for &j in rows {
-        let row = &mut out.k[j * nr..(j + 1) * nr];
-        if last - first + 1 == rows.len() {
-            row[first..=last].fill(0.0);
-        } else {
-            for &jj in rows {
-                row[jj] = 0.0;
-            }
+    let mut start = 0;
+    k_start.clear();
+    for &size in k_size.iter() {
+        k_start.push(start);
+        start += size * size;
+    }
+    k.resize(start, 0.0);
+    for (blk, &(_, several)) in block_tree.iter().enumerate() {
+        if several {
+            k[k_start[blk]..k_start[blk] + k_size[blk] * k_size[blk]].fill(0.0);
         }
     }
 }
@@ -189,14 +210,6 @@ fn list_tree_rows(nnode: usize, out: &mut ConstraintData) {
     // so the array is shifted by one
     start.rotate_left(1);
     start[nnode] = out.tree_rows.len();
-}
-
-/// K_jk, with K's rows so far in `kk`, the test force of row k on the trees `trees` having
-/// left its responses in `cd.da` and `dqdd`; `point` carries the last contact's point
-/// acceleration from row to row.
-#[inline(always)]
-fn k_entry(cd: &ConstraintData, kk: &[f64], trees: [usize; 2], dqdd: &[f64], j: usize, k: usize, point: &mut PointAccel) -> f64 {
-    if cd.column_done[j] { kk[j * cd.len() + k] } else { delta_accel(cd, trees, dqdd, j, point) }
 }
 
 /// The relative acceleration of a contact's point (side 1's less side 2's), under a test force

@@ -594,6 +594,9 @@ pub struct Model {
     /// Bit i · ngeom + j set when geoms i < j make a pair (empty for models of more than
     /// [`PAIR_BITS_GEOMS`] geoms): the sweep's overlapping boxes that are no pair cost one load.
     pub pair_bits: Vec<u64>,
+    /// Per word of [`Model::pair_bits`], the pairs of the words before it (empty when two pairs
+    /// share their geoms): the index of a pair is then its bit's rank, found without a search.
+    pub pair_rank: Vec<u32>,
     /// The geoms of [`PairTest::Spheres`] pairs, which the sweep of the broadphase bounds by
     /// boxes (within a tree too: dm_control's dog has 5,438 pairs of its own geoms).
     pub sweep_geoms: Vec<usize>,

@@ -226,5 +226,5 @@ pub fn constraint_system(m: &Model, data: &Data, s: &WorldState<'_>) -> Constrai
     for (k, damping) in m.dof_damping.iter().enumerate() {
         inertia[k * m.nv + k] += h * damping;
     }
-    ConstraintSystem { kind: d.constraints.con.kind.clone(), jac: crate::constraint::rows::dense_jacobian(m, &d.dynamics.kin, &d.constraints.con), k: d.constraints.con.k.clone(), b: d.constraints.con.b.clone(), inertia }
+    ConstraintSystem { kind: d.constraints.con.kind.clone(), jac: crate::constraint::rows::dense_jacobian(m, &d.dynamics.kin, &d.constraints.con), k: d.constraints.con.k_dense(), b: d.constraints.con.b.clone(), inertia }
 }
