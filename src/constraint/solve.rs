@@ -87,22 +87,18 @@ pub fn solve_rows(m: &Model, data: &mut World<'_>, level: Level) {
     let left_any = data.constraints.solve.out.contains(&true);
     let mut brought_back = false;
     prepare(m, &mut data.constraints.con);
-    island_labels(data, n);
-    // the variables island by island, each island's in their order (counted out by label)
-    let SolveData { group, order, island_end: end, .. } = &mut data.constraints.solve;
-    end.clear();
-    end.resize(data.constraints.con.k_size.len() + 1, 0);
-    for &g in group.iter() {
-        end[g + 1] += 1;
-    }
-    for b in 1..end.len() {
-        end[b] += end[b - 1];
-    }
-    order.clear();
-    order.resize(n, 0);
-    for (i, &g) in group.iter().enumerate() {
-        order[end[g]] = i;
-        end[g] += 1;
+    // the variables island by island, each island's in their order (one island, a single
+    // character's, in place)
+    if data.constraints.con.k_size.len() == 1 {
+        let SolveData { group, order, .. } = &mut data.constraints.solve;
+        group.clear();
+        group.resize(n, 0);
+        order.clear();
+        order.extend(0..n);
+    } else {
+        island_labels(data, n);
+        let SolveData { group, order, island_end, .. } = &mut data.constraints.solve;
+        island_order(group, order, island_end, data.constraints.con.k_size.len());
     }
     let mut start = 0;
     while start < n {
@@ -385,7 +381,9 @@ pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, islan
     mm[rows * k..].fill(0.0);
     unpushed.clear();
     for (a, &j) in vars[..rows].iter().enumerate() {
-        if (done[j] && con.k[con.k_index(j, j)] <= INERT_ROW * k_max) || (level == Level::Velocity && apart(m, con, j, impact)) {
+        let krow = con.k_row(j);
+        let kjj = if done[j] { krow[con.k_pos[j]] } else { 0.0 };
+        if (done[j] && kjj <= INERT_ROW * k_max) || (level == Level::Velocity && apart(m, con, j, impact)) {
             mm[a * k..(a + 1) * k].fill(0.0);
             mm[a * k + a] = 1.0;
             q[a] = 0.0;
@@ -393,7 +391,6 @@ pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, islan
             out[a] = true;
             continue;
         }
-        let krow = con.k_row(j);
         if !done[j] {
             mm[a * k..a * k + rows].fill(0.0);
             unpushed.push((j, a));
@@ -405,7 +402,6 @@ pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, islan
             }
         }
         mm[a * k + rows..(a + 1) * k].fill(0.0);
-        let kjj = if done[j] { krow[con.k_pos[j]] } else { 0.0 };
         mm[a * k + a] = kjj + lcp::REGULARISATION * kjj.abs().max(1e-300);
         match con.kind[j] {
             RowKind::Tangent { normal } => {
@@ -474,9 +470,29 @@ fn scatter_unpushed(con: &ConstraintData, rows: &[usize], unpushed: &[(usize, us
     for (b, &jj) in rows.iter().enumerate().filter(|&(_, &jj)| done[jj]) {
         let (lo, hi) = con.sharing_span(jj);
         let from = unpushed.partition_point(|&(j, _)| j < lo);
+        let krow = con.k_row(jj);
         for &(j, a) in unpushed[from..].iter().take_while(|&&(j, _)| j <= hi) {
-            mm[a * k + b] = con.k[con.k_index(jj, j)];
+            mm[a * k + b] = krow[con.k_pos[j]];
         }
+    }
+}
+
+/// The variables island by island into `order`, each island's in their order (counted out by
+/// their labels `group`, `blocks` of them), `end` left holding where each island ends.
+fn island_order(group: &[usize], order: &mut Vec<usize>, end: &mut Vec<usize>, blocks: usize) {
+    end.clear();
+    end.resize(blocks + 1, 0);
+    for &g in group {
+        end[g + 1] += 1;
+    }
+    for b in 1..end.len() {
+        end[b] += end[b - 1];
+    }
+    order.clear();
+    order.resize(group.len(), 0);
+    for (i, &g) in group.iter().enumerate() {
+        order[end[g]] = i;
+        end[g] += 1;
     }
 }
 

@@ -85,9 +85,11 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     let (block, pos) = (out.k_block[k], out.k_pos[k]);
     let (start, size) = (out.k_start[block], out.k_size[block]);
     let row = start + pos * size;
+    // one block of every row (a single character): a row's place is its number
+    let whole = size == nr;
     // a row of both trees is in both lists: read once
     for &j in first.iter().chain(second.iter().filter(|&&j| a == WORLD || !out.tree[j].contains(&a))) {
-        let pj = out.k_pos[j];
+        let pj = if whole { j } else { out.k_pos[j] };
         let v = if out.column_done[j] { kk[start + pj * size + pos] } else { delta_accel(out, trees, dqdd, j, &mut point) };
         kk[row + pj] = v;
         if mirrored {
@@ -132,6 +134,21 @@ pub fn prepare(m: &Model, out: &mut ConstraintData) {
 /// one); zeroes each block of more than one tree.
 fn lay_out_blocks(nnode: usize, out: &mut ConstraintData) {
     let ConstraintData { tree, k, k_block, k_pos, k_start, k_size, block_tree, block_of_root, tree_link: link, .. } = out;
+    let nr = tree.len();
+    // rows on one tree (a single character's): one block, the rows in place
+    let first = tree.first().map_or(WORLD, |t| if t[0] != WORLD { t[0] } else { t[1] });
+    if tree.iter().all(|t| t.iter().all(|&x| x == first || x == WORLD)) {
+        k_block.clear();
+        k_block.resize(nr, 0);
+        k_pos.clear();
+        k_pos.extend(0..nr);
+        k_size.clear();
+        k_size.push(nr);
+        k_start.clear();
+        k_start.push(0);
+        k.resize(nr * nr, 0.0);
+        return;
+    }
     link.resize(nnode, 0);
     block_of_root.resize(nnode, usize::MAX);
     for &t in tree.iter().flatten().filter(|&&t| t != WORLD) {
