@@ -8,6 +8,7 @@ use glam::DVec3;
 
 use crate::dynamics::kinematics::KinData;
 use crate::dynamics::tendon::geom_pose;
+use crate::geometry::grid_walk::{clip, triangle, walk};
 use crate::geometry::HField;
 use crate::model::{GeomType, Model};
 
@@ -140,28 +141,13 @@ fn boxed(p: DVec3, d: DVec3, h: DVec3) -> Option<f64> {
     Some(if near >= 0.0 { near } else { far })
 }
 
-/// A triangle (either side; Möller–Trumbore).
-fn triangle(p: DVec3, d: DVec3, [a, b, c]: [DVec3; 3]) -> Option<f64> {
-    let (e1, e2) = (b - a, c - a);
-    let q = d.cross(e2);
-    let det = e1.dot(q);
-    if det.abs() < 1e-30 {
-        return None;
-    }
-    let s = p - a;
-    let u = s.dot(q) / det;
-    let r = s.cross(e1);
-    let v = d.dot(r) / det;
-    (u >= 0.0 && v >= 0.0 && u + v <= 1.0).then(|| e2.dot(r) / det)
-}
-
 /// A height field: its base box and its surface's triangles, the cells visited in order along
 /// the ray's path over the grid.
 fn hfield(h: &HField, p: DVec3, d: DVec3) -> Option<f64> {
     let [sx, sy, sz, base] = h.size;
     let base_hit = boxed(p - DVec3::new(0.0, 0.0, -0.5 * base), d, DVec3::new(sx, sy, 0.5 * base));
     // the part of the ray over the grid, within the field's height
-    let span = clip(p, d, DVec3::new(-sx, -sy, 0.0), DVec3::new(sx, sy, sz));
+    let span = clip(p, d, (0.0, f64::INFINITY), [-sx, -sy, 0.0], [sx, sy, sz]);
     let surface = span.and_then(|(t0, t1)| surface_hit(h, p, d, t0, t1));
     min_of([base_hit, surface].into_iter().chain((0..4).map(|k| wall_hit(h, p, d, k))))
 }
@@ -191,65 +177,21 @@ fn wall_hit(h: &HField, p: DVec3, d: DVec3, k: usize) -> Option<f64> {
     (hit.z <= at(i) * (1.0 - f) + at(i + 1) * f).then_some(t)
 }
 
-/// The ray's parameter interval inside the box [lo, hi], if any part of it lies ahead.
-fn clip(p: DVec3, d: DVec3, lo: DVec3, hi: DVec3) -> Option<(f64, f64)> {
-    let (mut t0, mut t1) = (0.0_f64, f64::INFINITY);
-    for k in 0..3 {
-        if d[k].abs() < 1e-30 {
-            if p[k] < lo[k] || p[k] > hi[k] {
-                return None;
-            }
-            continue;
-        }
-        let (a, b) = ((lo[k] - p[k]) / d[k], (hi[k] - p[k]) / d[k]);
-        t0 = t0.max(a.min(b));
-        t1 = t1.min(a.max(b));
-    }
-    (t0 <= t1).then_some((t0, t1))
-}
-
 /// The first surface triangle the ray meets between t0 and t1, walking the grid's cells in the
-/// order the ray crosses them (Amanatides and Woo's traversal).
+/// order the ray crosses them; a hit a rounding beyond its cell's exit is kept until a nearer one
+/// or the walk's end.
 fn surface_hit(h: &HField, p: DVec3, d: DVec3, t0: f64, t1: f64) -> Option<f64> {
     let [sx, sy, ..] = h.size;
-    let (cw, ch) = (2.0 * sx / (h.ncol - 1) as f64, 2.0 * sy / (h.nrow - 1) as f64);
-    let cell = |v: f64, size: f64, w: f64, n: usize| (((v + size) / w).floor().max(0.0) as usize).min(n - 2);
-    let start = p + t0 * d;
-    let (mut c, mut r) = (cell(start.x, sx, cw, h.ncol), cell(start.y, sy, ch, h.nrow));
-    // the parameter at which the ray crosses the next cell line in x and in y, and the step
-    let next = |v: f64, dv: f64, size: f64, w: f64, i: usize| -> (f64, f64) {
-        if dv.abs() < 1e-30 {
-            return (f64::INFINITY, f64::INFINITY);
-        }
-        let edge = -size + w * (i as f64 + if dv > 0.0 { 1.0 } else { 0.0 });
-        ((edge - v) / dv, w / dv.abs())
-    };
-    let (mut tx, dtx) = next(p.x, d.x, sx, cw, c);
-    let (mut ty, dty) = next(p.y, d.y, sy, ch, r);
+    let cells = (h.ncol - 1, h.nrow - 1);
+    let size = (2.0 * sx / cells.0 as f64, 2.0 * sy / cells.1 as f64);
     let mut best = f64::INFINITY;
-    loop {
+    let hit = walk(cells, (-sx, -sy), size, p, d, (t0, t1), |c, r, _, exit| {
         for tri in h.cell_triangles(r, c) {
             if let Some(t) = triangle(p, d, tri).filter(|&t| t >= 0.0) {
                 best = best.min(t);
             }
         }
-        let exit = tx.min(ty);
-        if best <= exit || exit > t1 {
-            break;
-        }
-        if tx < ty {
-            tx += dtx;
-            if d.x > 0.0 { c += 1 } else if c > 0 { c -= 1 } else { break }
-            if c > h.ncol - 2 {
-                break;
-            }
-        } else {
-            ty += dty;
-            if d.y > 0.0 { r += 1 } else if r > 0 { r -= 1 } else { break }
-            if r > h.nrow - 2 {
-                break;
-            }
-        }
-    }
-    best.is_finite().then_some(best)
+        (best <= exit).then_some(best)
+    });
+    hit.or(best.is_finite().then_some(best))
 }

@@ -1,13 +1,13 @@
-//! A ray's first hit on a height field's top surface by walking its grid: the ray's footprint
-//! crosses blocks of cells in order of distance (Amanatides & Woo 1987, *A Fast Voxel Traversal
-//! Algorithm for Ray Tracing*), a block whose highest point the ray passes above is skipped, and
-//! in the others the cells are walked the same way, each cell's two triangles tested
-//! (Möller & Trumbore 1997). The first cell with a hit holds the nearest. A tree over the
+//! A ray's first hit on a height field's top surface by walking its grid
+//! ([`crate::geometry::grid_walk`]): the ray's footprint crosses blocks of cells in order of
+//! distance, a block whose highest point the ray passes above is skipped, and in the others the
+//! cells are walked the same way, each cell's two triangles tested. The first cell with a hit holds the nearest. A tree over the
 //! triangles (`surface.rs`) costs a log of the triangle count per ray and a rebuild whenever a
 //! world draws new terrain; this costs the cells the ray passes near the surface.
 
 use glam::Vec3A;
 
+use crate::geometry::grid_walk::{clip, triangle, walk};
 use crate::geometry::HField;
 
 /// Cells per block side.
@@ -65,7 +65,7 @@ impl Grid {
     /// The first hit of the ray `o + t d` with t in [t0, t1), either side of the surface.
     pub fn first_hit(&self, o: Vec3A, d: Vec3A, t0: f32, t1: f32) -> Option<GridHit> {
         let (x1, y1) = (self.x0 + self.dx * (self.ncol - 1) as f32, self.y0 + self.dy * (self.nrow - 1) as f32);
-        let (ta, tb) = clip(o, d, t0, t1, [self.x0, self.y0, self.zmin], [x1, y1, self.zmax])?;
+        let (ta, tb) = clip(o, d, (t0, t1), [self.x0, self.y0, self.zmin], [x1, y1, self.zmax])?;
         let (bw, bh) = (self.dx * BLOCK as f32, self.dy * BLOCK as f32);
         walk((self.bcol, self.brow), (self.x0, self.y0), (bw, bh), o, d, (ta, tb), |bc, br, tin, tout| {
             // the ray is straight: over the block its lowest point is at an end
@@ -92,95 +92,12 @@ impl Grid {
         let first = 2 * (r * (self.ncol - 1) + c);
         let mut best: Option<GridHit> = None;
         for (k, [u, v, w]) in [[a, b, cc], [a, cc, dd]].into_iter().enumerate() {
-            if let Some(t) = triangle(o, d, u, v, w).filter(|&t| t >= t0 && t < t1 && best.is_none_or(|(tb, _, _)| t < tb)) {
+            if let Some(t) = triangle(o, d, [u, v, w]).filter(|&t| t >= t0 && t < t1 && best.is_none_or(|(tb, _, _)| t < tb)) {
                 best = Some((t, first + k, (v - u).cross(w - u).normalize_or_zero()));
             }
         }
         best
     }
-}
-
-/// The part of [t0, t1) in which `o + t d` is inside the box [lo, hi] (slabs), if any.
-fn clip(o: Vec3A, d: Vec3A, t0: f32, t1: f32, lo: [f32; 3], hi: [f32; 3]) -> Option<(f32, f32)> {
-    let (mut ta, mut tb) = (t0, t1);
-    for k in 0..3 {
-        if d[k] == 0.0 {
-            if o[k] < lo[k] || o[k] > hi[k] {
-                return None;
-            }
-            continue;
-        }
-        let (u, v) = ((lo[k] - o[k]) / d[k], (hi[k] - o[k]) / d[k]);
-        ta = ta.max(u.min(v));
-        tb = tb.min(u.max(v));
-    }
-    (ta <= tb).then_some((ta, tb))
-}
-
-/// Visits the cells of an n.0 × n.1 grid (corner `origin`, cell size `size`) that the ray's
-/// footprint crosses for t in [ta, tb], nearest first, each with the t it enters and leaves
-/// by, until `visit` returns a value.
-fn walk<R>(n: (usize, usize), origin: (f32, f32), size: (f32, f32), o: Vec3A, d: Vec3A, (ta, tb): (f32, f32), mut visit: impl FnMut(usize, usize, f32, f32) -> Option<R>) -> Option<R> {
-    let start = |k: usize, n: usize, origin: f32, size: f32| (((o[k] + d[k] * ta - origin) / size).floor().max(0.0) as usize).min(n - 1);
-    let (mut i, mut j) = (start(0, n.0, origin.0, size.0), start(1, n.1, origin.1, size.1));
-    // the t at which the footprint crosses the next line of each axis, and between lines
-    let next = |k: usize, cell: usize, origin: f32, size: f32| match d[k] {
-        v if v > 0.0 => (origin + size * (cell + 1) as f32 - o[k]) / v,
-        v if v < 0.0 => (origin + size * cell as f32 - o[k]) / v,
-        _ => f32::INFINITY,
-    };
-    let (mut nx, mut ny) = (next(0, i, origin.0, size.0), next(1, j, origin.1, size.1));
-    let (sx, sy) = (size.0 / d.x.abs(), size.1 / d.y.abs());
-    let mut t = ta;
-    loop {
-        let out = nx.min(ny).min(tb);
-        if let Some(r) = visit(i, j, t, out) {
-            return Some(r);
-        }
-        if out >= tb {
-            return None;
-        }
-        t = out;
-        if nx <= ny {
-            i = match (d.x > 0.0, i) {
-                (true, i) if i + 1 < n.0 => i + 1,
-                (false, i) if i > 0 => i - 1,
-                _ => return None,
-            };
-            nx += sx;
-        } else {
-            j = match (d.y > 0.0, j) {
-                (true, j) if j + 1 < n.1 => j + 1,
-                (false, j) if j > 0 => j - 1,
-                _ => return None,
-            };
-            ny += sy;
-        }
-    }
-}
-
-/// The distance along `o + t d` to triangle (a, b, c), from either side (Möller & Trumbore 1997).
-#[inline]
-fn triangle(o: Vec3A, d: Vec3A, a: Vec3A, b: Vec3A, c: Vec3A) -> Option<f32> {
-    let (e1, e2) = (b - a, c - a);
-    let p = d.cross(e2);
-    let det = e1.dot(p);
-    // parallel to the plane (to rounding)
-    if det * det <= f32::EPSILON * f32::EPSILON * e1.length_squared() * e2.length_squared() * d.length_squared() {
-        return None;
-    }
-    let inv = 1.0 / det;
-    let s = o - a;
-    let u = s.dot(p) * inv;
-    if !(0.0..=1.0).contains(&u) {
-        return None;
-    }
-    let q = s.cross(e1);
-    let v = d.dot(q) * inv;
-    if v < 0.0 || u + v > 1.0 {
-        return None;
-    }
-    Some(e2.dot(q) * inv)
 }
 
 #[cfg(test)]
