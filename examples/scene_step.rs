@@ -2,6 +2,7 @@
 //! model given) and prints the wall time per step, the mean rows and contacts per step and the
 //! LCP counters: a workload for timing and `perf` on scenes of many bodies (a tower, a pile).
 //! `cargo build --profile profiling --example scene_step && target/profiling/examples/scene_step scene.xml 3 pyramid`
+//! (with `--features stage-timing`, each stage's share of the step's time as well).
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     if args.len() != 4 {
