@@ -255,8 +255,9 @@ impl ConstraintData {
     /// Row j of K over its block's rows (in row order).
     #[inline]
     pub fn k_row(&self, j: usize) -> &[f64] {
-        let start = self.k_index(j, j) - self.k_pos[j];
-        &self.k[start..start + self.k_size[self.k_block[j]]]
+        let (b, pos) = (self.k_block[j], self.k_pos[j]);
+        let start = self.k_start[b] + pos * self.k_size[b];
+        &self.k[start..start + self.k_size[b]]
     }
 
     /// K whole (rows × rows, row-major), for inspection.

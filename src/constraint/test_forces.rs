@@ -85,11 +85,9 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     let (block, pos) = (out.k_block[k], out.k_pos[k]);
     let (start, size) = (out.k_start[block], out.k_size[block]);
     let row = start + pos * size;
-    // one block of every row (a single character): a row's place is its number
-    let whole = size == nr;
     // a row of both trees is in both lists: read once
     for &j in first.iter().chain(second.iter().filter(|&&j| a == WORLD || !out.tree[j].contains(&a))) {
-        let pj = if whole { j } else { out.k_pos[j] };
+        let pj = out.k_pos[j];
         let v = if out.column_done[j] { kk[start + pj * size + pos] } else { delta_accel(out, trees, dqdd, j, &mut point) };
         kk[row + pj] = v;
         if mirrored {
