@@ -91,7 +91,8 @@ pub struct CollisionData {
     pub(super) swept: Vec<usize>,
     /// The pairs the sweep leaves to test, in order ([`near_pairs`]).
     pub(super) near: Vec<usize>,
-    /// Pairs the detection narrowed to their relative motion's margin, with that margin.
+    /// Pairs the detection narrowed to their relative motion's margin, with that margin, in the
+    /// pairs' order.
     pub(super) narrowed: Vec<(usize, f64)>,
     /// EPA's buffers, for pairs with an ellipsoid.
     pub(super) epa: Epa,

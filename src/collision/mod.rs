@@ -143,6 +143,8 @@ pub fn collide(m: &Model, dy: &DynamicsData, s: &WorldState<'_>, out: &mut Colli
 /// narrower margin for [`reach_again`] if it dropped any.
 fn narrow(out: &mut CollisionData, k: usize, before: usize, margin: f64) {
     if drop_beyond(&mut out.contacts, before, margin) {
+        // in the pairs' order, as `near` is: [`test_again`] searches it by halves
+        debug_assert!(out.narrowed.last().is_none_or(|n| n.0 < k));
         out.narrowed.push((k, margin));
     }
 }
@@ -266,7 +268,7 @@ fn test_again(m: &Model, kin: &KinData, v_end: &[Motion], out: &mut CollisionDat
     let reach = lever * (out.geom_speed_end[p.g1] + out.geom_speed_end[p.g2]);
     // the first detection's margin: each geom's own bound, or the relative one it narrowed the
     // pair to, which then bounds this look too
-    let narrowed = out.narrowed.iter().find(|n| n.0 == k).map(|n| n.1);
+    let narrowed = out.narrowed.binary_search_by_key(&k, |n| n.0).ok().map(|i| out.narrowed[i].1);
     let (first, margin) = match narrowed {
         Some(first) => (first, p.margin + reach.min(relative_reach_end(m, kin, v_end, out, p))),
         None => (p.margin + self::reach(out, p.g1) + self::reach(out, p.g2), p.margin + reach),
