@@ -37,6 +37,57 @@ fn sphere_points(m: &Model, kin: &KinData, g: usize, r: &mut Rng) -> Vec<DVec3> 
     pts
 }
 
+/// Points of geom g's surface in its own frame: a box's corners, a capsule's or cylinder's rim
+/// and caps, an ellipsoid's surface (random directions).
+fn surface_points(m: &Model, g: usize, r: &mut Rng) -> Vec<DVec3> {
+    let s = m.geom_size[g];
+    let unit = |r: &mut Rng| DVec3::new(r.uniform(-1.0, 1.0), r.uniform(-1.0, 1.0), r.uniform(-1.0, 1.0)).normalize();
+    (0..32)
+        .map(|k| match m.geom_type[g] {
+            GeomType::Box => DVec3::new(s[0], s[1], s[2]) * DVec3::new([1.0, -1.0][k % 2], [1.0, -1.0][k / 2 % 2], [1.0, -1.0][k / 4 % 2]),
+            GeomType::Capsule => DVec3::new(0.0, 0.0, s[1] * [1.0, -1.0][k % 2]) + unit(r) * s[0],
+            GeomType::Cylinder => {
+                let t = r.uniform(0.0, std::f64::consts::TAU);
+                DVec3::new(s[0] * t.cos(), s[0] * t.sin(), s[1] * [1.0, -1.0][k % 2])
+            }
+            GeomType::Ellipsoid => unit(r) * DVec3::new(s[0], s[1], s[2]),
+            _ => unit(r) * m.geom_rbound[g],
+        })
+        .collect()
+}
+
+/// The broadphase's box of a geom (`Model::geom_body_box` turned into world axes, |R| h about the
+/// geom's centre) holds every point of the geom, at random states of random trees, and is smaller
+/// than the bounding sphere's box along every world axis for many of them.
+#[test]
+fn body_boxes_hold_their_geoms() {
+    let mut r = Rng(11);
+    let (mut checked, mut tighter) = (0, 0);
+    for m in trees() {
+        let mut kin = KinData::new(&m);
+        for _ in 0..5 {
+            let (q, v) = random_state(&m, &mut r);
+            forward(&m, &q, &v, &mut kin);
+            for g in (0..m.ngeom).filter(|&g| m.geom_type[g] != GeomType::Plane) {
+                let Some(half) = m.geom_body_box[g] else {
+                    assert_eq!(m.geom_type[g], GeomType::Sphere, "{}: geom {g} has no box", m.name);
+                    continue;
+                };
+                let rot = kin.xmat[m.geom_body[g]];
+                let world = rot.x_axis.abs() * half.x + rot.y_axis.abs() * half.y + rot.z_axis.abs() * half.z;
+                let centre = rot * m.geom_pos[g];
+                for p in surface_points(&m, g, &mut r) {
+                    let d = (rot * (m.geom_pos[g] + m.geom_mat[g] * p) - centre).abs();
+                    assert!(d.cmple(world + 1e-12).all(), "{}: geom {g}'s point {d} outside its box {world}", m.name);
+                }
+                checked += 1;
+                tighter += (world.min_element() < 0.99 * m.geom_rbound[g]) as usize;
+            }
+        }
+    }
+    assert!(checked > 500 && tighter > checked / 3, "{checked} geoms checked, {tighter} with a box tighter than their sphere's");
+}
+
 #[test]
 fn dof_arms_bound_every_geom_point_speed_and_body_reach_its_distance() {
     let mut r = Rng(7);

@@ -7,6 +7,7 @@ use super::data::{has_own_reach, CollisionData, SweepBox, SWEEP_PAIRS};
 use crate::dynamics::aba::AbaData;
 use crate::dynamics::kinematics::KinData;
 use crate::math::Motion;
+use crate::compile::pairs;
 use crate::model::{GeomPair, Model, PairTest};
 
 /// Decides each plane group: apart when its subtree's sphere stays farther above the plane than
@@ -21,13 +22,14 @@ pub(super) fn judge_groups(m: &Model, kin: &KinData, out: &mut CollisionData, re
 /// The pairs a detection with every geom posed tests on their bounds, in order, taken from
 /// `out.near` (the caller puts it back): every pair of a model with fewer than [`SWEEP_PAIRS`],
 /// else [`Model::pairs_unswept`] and the sphere pairs whose boxes overlap.
-/// Each geom's box holds its bounding sphere grown by its margin and `reach(out, g)`; a sphere
-/// pair that is not apart has overlapping boxes, so the tests that follow find the contacts the
-/// test of every pair finds. The boxes are swept along the axis their centres spread most along
+/// Each geom's box holds the geom grown by its margin and `reach(out, g)` (the box of its bounding
+/// sphere, cut to [`Model::geom_body_box`] turned into world axes); boxes that do not overlap are
+/// farther apart than the pair's margin, so the tests that follow find the contacts the test of
+/// every pair finds. The boxes are swept along the axis their centres spread most along
 /// (sort and sweep, Baraff 1992, §6.2; [`sweep_axis`]), from the last sweep's order: an
 /// insertion sort then costs little. Geoms of non-finite boxes (a diverging world) send every pair
 /// to its test.
-pub(super) fn near_pairs(m: &Model, out: &mut CollisionData, reach: impl Fn(&CollisionData, usize) -> f64) -> Vec<usize> {
+pub(super) fn near_pairs(m: &Model, kin: &KinData, out: &mut CollisionData, reach: impl Fn(&CollisionData, usize) -> f64) -> Vec<usize> {
     let mut near = std::mem::take(&mut out.near);
     if m.collision_pairs.len() < SWEEP_PAIRS {
         return near;
@@ -45,8 +47,11 @@ pub(super) fn near_pairs(m: &Model, out: &mut CollisionData, reach: impl Fn(&Col
     };
     for b in sweep.iter_mut() {
         let g = b.geom;
-        let e = m.geom_rbound[g] + m.geom_margin[g] + reach(out, g);
-        let c = rotate(out.geom_xpos[g]);
+        // the box of the geom's bounding sphere, cut down to its own box turned into world axes
+        let grow = m.geom_margin[g] + reach(out, g);
+        let sphere = DVec3::splat(m.geom_rbound[g]);
+        let e = m.geom_body_box[g].map_or(sphere, |half| sphere.min(pairs::turned_box(kin.xmat[m.geom_body[g]], half))) + grow;
+        let (c, e) = (rotate(out.geom_xpos[g]), rotate(e));
         (b.lo, b.hi) = (c - e, c + e);
         finite &= c.is_finite() && e.is_finite();
     }

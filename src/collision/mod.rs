@@ -118,7 +118,7 @@ pub fn collide(m: &Model, dy: &DynamicsData, s: &WorldState<'_>, out: &mut Colli
     for g in 0..m.ngeom {
         own_reach_of(m, kin, aba, out, g);
     }
-    let near = near_pairs(m, out, reach);
+    let near = near_pairs(m, kin, out, reach);
     for &k in &near {
         let p = &m.collision_pairs[k];
         // speculative: pairs that could close within this step (which moves a point by
@@ -168,7 +168,7 @@ fn drop_beyond(contacts: &mut Vec<Contact>, before: usize, margin: f64) -> bool 
 pub fn penetrations(m: &Model, kin: &KinData, out: &mut CollisionData) {
     let Some(all_apart) = begin(m, kin, out, 0.0) else { return };
     if !all_apart {
-        let near = near_pairs(m, out, |_, _| 0.0);
+        let near = near_pairs(m, kin, out, |_, _| 0.0);
         for &k in &near {
             let p = &m.collision_pairs[k];
             if !apart(out, p, 0.0) {
@@ -209,7 +209,7 @@ pub fn reach_again(m: &Model, kin: &KinData, qvel_end: &[f64], v_end: &mut [Moti
     let mut found = false;
     if !out.group_apart.iter().all(|&a| a) {
         end_speeds(m, kin, qvel_end, v_end, out);
-        let near = near_pairs(m, out, |out, g| lever * out.geom_speed_end[g]);
+        let near = near_pairs(m, kin, out, |out, g| lever * out.geom_speed_end[g]);
         for &k in &near {
             let Some(more) = test_again(m, kin, v_end, out, k, lever) else { break };
             found |= more;

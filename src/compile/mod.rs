@@ -6,7 +6,7 @@ use glam::{DMat3, DVec3};
 mod assets;
 mod fluid;
 mod inertia;
-mod pairs;
+pub(crate) mod pairs;
 pub mod params;
 mod sensors;
 mod tendons;
@@ -263,6 +263,13 @@ fn geoms_and_sites(m: &mut Model, spec: &ModelSpec, meshes: &[crate::geometry::M
                 _ => pairs::geom_rbound(g.kind, g.size),
             };
             m.geom_rbound.push(rbound);
+            let half = match (mesh, hfield) {
+                (Some(k), _) => meshes[k].vert.iter().fold(DVec3::ZERO, |h, v| h.max(v.abs())),
+                (_, Some(_)) => DVec3::splat(rbound),
+                _ => pairs::geom_half_extents(g.kind, g.size),
+            };
+            let smaller = half.min_element() < rbound;
+            m.geom_body_box.push(smaller.then(|| pairs::turned_box(m.geom_mat[m.geom_mat.len() - 1], half)));
             m.geom_friction.push(g.friction);
             m.geom_contype.push(g.contype);
             m.geom_conaffinity.push(g.conaffinity);

@@ -424,6 +424,10 @@ pub struct Model {
     pub geom_mat: Vec<DMat3>,
     /// Bounding radius about the geom centre; infinite for planes (ngeom).
     pub geom_rbound: Vec<f64>,
+    /// Half extents about the geom centre of a box that holds the geom, along its body's axes
+    /// (ngeom): the broadphase turns it into world axes (|R| h) within the bounding sphere's box.
+    /// None where no turn makes it smaller than the sphere's (a sphere's).
+    pub geom_body_box: Vec<Option<DVec3>>,
     /// Mesh of each geom (mesh geoms), an index into `meshes`.
     pub geom_mesh: Vec<Option<usize>>,
     /// Mesh assets, in the frames their geoms use.
