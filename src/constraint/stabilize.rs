@@ -17,10 +17,10 @@ use glam::DVec3;
 
 use super::lcp::{self, LcpWork, Role};
 use super::system::{self as constraint, RowKind};
-use super::test_forces::{add_response, delta_pass, responses, tree_dofs};
+use super::test_forces::{add_response, delta_pass, responses, tree_dofs, DeltaScratch, LANES};
 use super::{Constraints, StepStart, World};
 use crate::collision::{self, CollisionData, Contact};
-use crate::dynamics::aba::{AbaData, DeltaScratch};
+use crate::dynamics::aba::AbaData;
 use crate::dynamics::kinematics::{self, KinData};
 use crate::dynamics::tendon::{self, TendonData};
 use crate::integrate::integrate_pos;
@@ -248,16 +248,16 @@ fn push_contact_row(m: &Model, kin: &KinData, aba: &AbaData, new: &KinData, post
     let jac = constraint::jacobian(nodes, [r1, r2], [n1, n2]);
     post.gap.push(c.dist);
     push_jacobian(m, kin, nodes, jac, &mut post.jac);
-    post.delta.pa.fill(Force::ZERO);
+    let trees = nodes.map(|n| if n == WORLD { WORLD } else { m.node_tree[n] });
+    post.delta.clear(m, trees);
     for side in 0..2 {
         if nodes[side] != WORLD {
-            post.delta.pa[nodes[side]] -= jac[side];
+            post.delta.sub_force(nodes[side], 0, &jac[side]);
         }
     }
     let start = post.dqdd.len();
     post.dqdd.resize(start + nv, 0.0);
-    let trees = nodes.map(|n| if n == WORLD { WORLD } else { m.node_tree[n] });
-    delta_pass(m, kin, aba, trees, &[], &mut post.delta, &mut post.dqdd[start..]);
+    delta_pass(m, kin, aba, trees, [&[]; LANES], &mut post.delta, &mut post.dqdd, lane_zero(start));
     post.limit.push(None);
     post.tree.push(trees);
     post.row.push(usize::MAX);
@@ -271,13 +271,23 @@ fn push_limit_row(m: &Model, kin: &KinData, aba: &AbaData, post: &mut StabilizeD
     let start = post.jac.len();
     post.jac.resize(start + nv, 0.0);
     post.jac[start + dof] = sign;
-    post.delta.pa.fill(Force::ZERO);
     post.dqdd.resize(start + nv, 0.0);
     let tree = m.node_tree[m.jnt_node[joint]];
-    delta_pass(m, kin, aba, [tree, WORLD], &[(dof, sign)], &mut post.delta, &mut post.dqdd[start..]);
+    post.delta.clear(m, [tree, WORLD]);
+    let mut dtau: [&[(usize, f64)]; LANES] = [&[]; LANES];
+    let torque = [(dof, sign)];
+    dtau[0] = &torque;
+    delta_pass(m, kin, aba, [tree, WORLD], dtau, &mut post.delta, &mut post.dqdd, lane_zero(start));
     post.limit.push(Some((joint, sign)));
     post.tree.push([tree, WORLD]);
     post.row.push(usize::MAX);
+}
+
+/// A delta pass's Δq̈ destinations with lane 0's at `start` and no other lane used.
+fn lane_zero(start: usize) -> [Option<usize>; LANES] {
+    let mut at = [None; LANES];
+    at[0] = Some(start);
+    at
 }
 
 /// Appends the row's J (nv) for node forces `jac`: τ = Jᵀ f, carried to the root as RNEA's

@@ -3,7 +3,6 @@
 
 use glam::DVec3;
 
-use crate::dynamics::aba::DeltaScratch;
 use crate::dynamics::kinematics::{point_accel, KinData};
 use crate::math::{Force, Motion};
 use crate::model::{Model, WORLD};
@@ -183,8 +182,8 @@ pub struct ConstraintData {
     /// Whether column k of K and Δq̈ of row k hold row k's test-force response (computed only
     /// for the rows a solve needs: [`responses`]).
     pub column_done: Vec<bool>,
-    /// A test force's delta pass.
-    pub(super) delta: DeltaScratch,
+    /// The test forces' delta pass.
+    pub(super) delta: super::test_forces::DeltaScratch,
     /// Per node: spatial acceleration with q̈ = 0 and no gravity (velocity products alone).
     pub(super) a_vp: Vec<Motion>,
     /// The rows of each tree (by its root node; a row touching two trees is in both lists):
@@ -204,7 +203,7 @@ impl ConstraintData {
     /// Empty rows, scratch sized for `m`.
     pub fn new(m: &Model) -> Self {
         ConstraintData {
-            delta: DeltaScratch::new(m),
+            delta: super::test_forces::DeltaScratch::new(m),
             a_vp: vec![Motion::ZERO; m.nnode],
             ..Default::default()
         }

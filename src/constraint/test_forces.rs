@@ -6,8 +6,7 @@ use glam::DVec3;
 
 use super::lcp;
 use super::system::{tree_lists, ConstraintData, RowKind};
-use crate::dynamics::aba;
-use crate::dynamics::aba::{AbaData, DeltaScratch};
+use crate::dynamics::aba::AbaData;
 use crate::dynamics::kinematics::{point_accel, KinData};
 use crate::math::{Force, Motion};
 use crate::model::{Model, WORLD};
@@ -33,50 +32,76 @@ pub fn bias(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], out: &mut Co
 
 /// K's columns and Δq̈ of the rows `needed` (by index and kind) not yet computed, by test forces (they depend on the
 /// configuration, not on velocities). Each column is measured at every row, so a row left out
-/// still has its accelerations under the forces of the rows computed.
+/// still has its accelerations under the forces of the rows computed. Consecutive columns on the
+/// same trees are pushed together, one per lane of a delta pass, and written in row order.
 pub fn responses(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintData, needed: impl Fn(usize, RowKind) -> bool) {
     prepare(m, out);
+    let (mut group, mut n) = ([0; LANES], 0);
     for k in 0..out.len() {
         if out.column_done[k] || !needed(k, out.kind[k]) {
             continue;
         }
         // a mirror row's column comes with its mirrored row's
         let pushed = if out.mirror[k] == usize::MAX { k } else { out.mirror[k] };
-        if !out.column_done[pushed] {
-            push_test_force(m, kin, aba, out, pushed);
+        if out.column_done[pushed] || group[..n].contains(&pushed) {
+            continue;
         }
+        let [a, b] = out.tree[pushed];
+        if n == LANES || (n > 0 && out.tree[group[0]] != [a, b] && out.tree[group[0]] != [b, a]) {
+            push_test_forces(m, kin, aba, out, &group[..n]);
+            n = 0;
+        }
+        group[n] = pushed;
+        n += 1;
+    }
+    if n > 0 {
+        push_test_forces(m, kin, aba, out, &group[..n]);
     }
 }
 
-/// Column k of K and Δq̈ of row k, from a unit test force of row k (Kokkevis 2004; δp^A = −f at
-/// the point's node), and those of the row mirroring k (the next row, if it is k's mirror), their
-/// negations.
-fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintData, k: usize) {
-    let (nr, nv) = (out.len(), m.nv);
-    let mirrored = k + 1 < nr && out.mirror[k + 1] == k;
-    // the force moves only the nodes of the row's trees
-    let trees = out.tree[k];
+/// Columns `cols` of K and Δq̈ of those rows (at most [`LANES`], on the same trees), from a unit
+/// test force of each (Kokkevis 2004; δp^A = −f at the point's node) in one lane of a delta pass,
+/// and those of the rows mirroring them (the next row, if it is its mirror), their negations.
+fn push_test_forces(m: &Model, kin: &KinData, aba: &AbaData, out: &mut ConstraintData, cols: &[usize]) {
+    let nv = m.nv;
+    // the forces move only the nodes of the rows' trees
+    let trees = out.tree[cols[0]];
     for range in tree_ranges(m, trees) {
-        out.delta.pa[range].fill(Force::ZERO);
+        out.delta.pa[range].fill(ZERO_LANES);
     }
-    if out.kind[k].is_point() {
-        for side in 0..2 {
-            let n = out.node[k][side];
-            if n != WORLD {
-                out.delta.pa[n] -= out.jac[k][side];
+    let mut dtau: [&[(usize, f64)]; LANES] = [&[]; LANES];
+    let mut at = [None; LANES];
+    for (lane, &k) in cols.iter().enumerate() {
+        at[lane] = Some(k * nv);
+        if out.kind[k].is_point() {
+            for side in 0..2 {
+                let n = out.node[k][side];
+                if n != WORLD {
+                    out.delta.sub_force(n, lane, &out.jac[k][side]);
+                }
             }
+        } else {
+            // a joint row's test torque: a unit torque on its dof, or on its terms
+            dtau[lane] = match out.term_span[k] {
+                (_, 0) => std::slice::from_ref(&out.dof[k]),
+                (start, len) => &out.terms[start..start + len],
+            };
         }
     }
-    // a joint row's test torque: a unit torque on its dof, or on its terms
-    let dtau: &[(usize, f64)] = match (out.kind[k].is_point(), out.term_span[k]) {
-        (true, _) => &[],
-        (false, (_, 0)) => std::slice::from_ref(&out.dof[k]),
-        (false, (start, len)) => &out.terms[start..start + len],
-    };
-    delta_pass(m, kin, aba, trees, dtau, &mut out.delta, &mut out.dqdd[k * nv..(k + 1) * nv]);
-    // K is symmetric (J M⁻¹ Jᵀ): this force's measures at the rows of its trees are row k (and
-    // its mirror's, negated); a row pushed before holds its own measure of this force; rows of
-    // other trees are not written (zero: their block was zeroed when laid out)
+    delta_pass(m, kin, aba, trees, dtau, &mut out.delta, &mut out.dqdd, at);
+    for (lane, &k) in cols.iter().enumerate() {
+        write_column(m, out, k, lane);
+    }
+}
+
+/// Column k of K from lane `lane` of the delta pass (K is symmetric, J M⁻¹ Jᵀ: this force's
+/// measures at the rows of its trees are row k, and its mirror's, negated; a row pushed before
+/// holds its own measure of this force; rows of other trees are not written: zero, their block was
+/// zeroed when laid out), and the mirror's Δq̈.
+fn write_column(m: &Model, out: &mut ConstraintData, k: usize, lane: usize) {
+    let (nr, nv) = (out.len(), m.nv);
+    let mirrored = k + 1 < nr && out.mirror[k + 1] == k;
+    let trees = out.tree[k];
     let mut kk = std::mem::take(&mut out.k);
     let dqdd = &out.dqdd[k * nv..(k + 1) * nv];
     let (first, second, a) = tree_lists(out, trees);
@@ -88,7 +113,7 @@ fn push_test_force(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constraint
     // a row of both trees is in both lists: read once
     for &j in first.iter().chain(second.iter().filter(|&&j| a == WORLD || !out.tree[j].contains(&a))) {
         let pj = out.k_pos[j];
-        let v = if out.column_done[j] { kk[start + pj * size + pos] } else { delta_accel(out, trees, dqdd, j, &mut point) };
+        let v = if out.column_done[j] { kk[start + pj * size + pos] } else { delta_accel(out, trees, lane, dqdd, j, &mut point) };
         kk[row + pj] = v;
         if mirrored {
             // (−d)·a = −(d·a) exactly: the mirror row's own measure (the block's next row)
@@ -263,25 +288,25 @@ fn moves(trees: [usize; 2], t: usize) -> bool {
     t != WORLD && (t == trees[0] || t == trees[1])
 }
 
-/// Acceleration of row j under the test force on the trees `trees` whose responses are in
-/// `cd.da` and `dqdd` (a K entry): a contact's delta point acceleration (δa_n's at the point, over
+/// Acceleration of row j under the test force on the trees `trees` whose responses are in lane
+/// `lane` of `cd.delta.a` and in `dqdd` (a K entry): a contact's delta point acceleration (δa_n's at the point, over
 /// the sides in those trees: the others do not move) along its direction, the point's computed
 /// once for the rows of a contact (`point`), or a joint row's δq̈.
 #[inline(always)]
-fn delta_accel(cd: &ConstraintData, trees: [usize; 2], dqdd: &[f64], j: usize, point: &mut PointAccel) -> f64 {
+fn delta_accel(cd: &ConstraintData, trees: [usize; 2], lane: usize, dqdd: &[f64], j: usize, point: &mut PointAccel) -> f64 {
     point.row(cd, j, dqdd, || {
         let ([n0, n1], [t0, t1], r) = (cd.node[j], cd.tree[j], cd.arm[j]);
         if cd.kind[j] == (RowKind::Connect { angular: true }) {
-            let side = |n: usize, t: usize| if moves(trees, t) { cd.delta.a[n].ang } else { DVec3::ZERO };
+            let side = |n: usize, t: usize| if moves(trees, t) { cd.delta.motion(n, lane).ang } else { DVec3::ZERO };
             return side(n0, t0) - side(n1, t1);
         }
         let r1 = if cd.kind[j] == (RowKind::Connect { angular: false }) { cd.arm2[j] } else { r };
         let mut accel = DVec3::ZERO;
         if moves(trees, t0) {
-            accel += cd.delta.a[n0].point_velocity(r);
+            accel += cd.delta.motion(n0, lane).point_velocity(r);
         }
         if moves(trees, t1) {
-            accel -= cd.delta.a[n1].point_velocity(r1);
+            accel -= cd.delta.motion(n1, lane).point_velocity(r1);
         }
         accel
     })
@@ -329,47 +354,219 @@ pub fn tree_dofs(m: &Model, trees: [usize; 2]) -> impl Iterator<Item = std::ops:
     tree_ranges(m, trees).into_iter().filter(|r| !r.is_empty()).map(|r| m.node_dofadr[r.start]..m.node_dofadr[r.end - 1] + m.node_nv[r.end - 1])
 }
 
-/// Response of the articulated system to the test forces in `dpa` (world coordinates) or the
-/// joint torques `dtau` (dof, value) on the nodes of the trees `trees` (the others do not move):
-/// a delta ABA with the inertias of the main pass (velocity terms cancel). Writes Δq̈ of those
-/// trees' dofs into `dqdd` and spatial Δa of their nodes into `da`; leaves `dpa` modified.
-pub fn delta_pass(m: &Model, kin: &KinData, aba: &AbaData, trees: [usize; 2], dtau: &[(usize, f64)], delta: &mut DeltaScratch, dqdd: &mut [f64]) {
+/// Test forces one delta pass carries, one per lane: the columns of K it measures at once.
+pub const LANES: usize = 4;
+
+/// One number per lane, the arithmetic lane by lane (each lane's operations those of its test
+/// force pushed alone; the compiler keeps the lanes in vector registers).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Lanes([f64; LANES]);
+
+impl Lanes {
+    const ZERO: Lanes = Lanes([0.0; LANES]);
+
+    #[inline(always)]
+    fn splat(x: f64) -> Lanes {
+        Lanes([x; LANES])
+    }
+
+    /// `self` in the lanes of `mask`, `other` in the rest.
+    #[inline(always)]
+    fn select(self, mask: [bool; LANES], other: Lanes) -> Lanes {
+        Lanes(std::array::from_fn(|l| if mask[l] { self.0[l] } else { other.0[l] }))
+    }
+}
+
+impl std::ops::Add for Lanes {
+    type Output = Lanes;
+    #[inline(always)]
+    fn add(self, o: Lanes) -> Lanes {
+        Lanes([self.0[0] + o.0[0], self.0[1] + o.0[1], self.0[2] + o.0[2], self.0[3] + o.0[3]])
+    }
+}
+
+impl std::ops::Sub for Lanes {
+    type Output = Lanes;
+    #[inline(always)]
+    fn sub(self, o: Lanes) -> Lanes {
+        Lanes([self.0[0] - o.0[0], self.0[1] - o.0[1], self.0[2] - o.0[2], self.0[3] - o.0[3]])
+    }
+}
+
+impl std::ops::Mul<f64> for Lanes {
+    type Output = Lanes;
+    #[inline(always)]
+    fn mul(self, s: f64) -> Lanes {
+        Lanes([self.0[0] * s, self.0[1] * s, self.0[2] * s, self.0[3] * s])
+    }
+}
+
+/// A spatial vector per lane, by component: angular x, y, z, then linear x, y, z.
+type Spatial = [Lanes; 6];
+
+const ZERO_LANES: Spatial = [Lanes::ZERO; 6];
+
+/// A delta pass's scratch (Kokkevis 2004, §5: the response to a test force through the ABA's
+/// quantities): per node δp^A (the test forces, then their articulated sums), δu (per dof) and δa,
+/// each lane one test force's.
+#[derive(Clone, Debug, Default)]
+pub struct DeltaScratch {
+    /// δp^A per node (nnode): the test forces in world coordinates going in.
+    pa: Vec<Spatial>,
+    /// δu per node (nnode), a row per dof.
+    u: Vec<Spatial>,
+    /// Spatial δa per node (nnode).
+    a: Vec<Spatial>,
+}
+
+impl DeltaScratch {
+    /// Buffers sized for `m`.
+    pub fn new(m: &Model) -> Self {
+        DeltaScratch { pa: vec![ZERO_LANES; m.nnode], u: vec![ZERO_LANES; m.nnode], a: vec![ZERO_LANES; m.nnode] }
+    }
+
+    /// No test force on the nodes of the trees `trees`.
+    pub fn clear(&mut self, m: &Model, trees: [usize; 2]) {
+        for range in tree_ranges(m, trees) {
+            self.pa[range].fill(ZERO_LANES);
+        }
+    }
+
+    /// δp^A of node n in lane `lane` −= f: the test force f on the node.
+    pub fn sub_force(&mut self, n: usize, lane: usize, f: &Force) {
+        for (c, v) in parts(f.ang, f.lin).into_iter().enumerate() {
+            self.pa[n][c].0[lane] -= v;
+        }
+    }
+
+    /// δa of node n in lane `lane`.
+    #[inline(always)]
+    fn motion(&self, n: usize, lane: usize) -> Motion {
+        let a = &self.a[n];
+        Motion::new(DVec3::new(a[0].0[lane], a[1].0[lane], a[2].0[lane]), DVec3::new(a[3].0[lane], a[4].0[lane], a[5].0[lane]))
+    }
+}
+
+/// A spatial vector's six components, angular first.
+#[inline(always)]
+fn parts(ang: DVec3, lin: DVec3) -> [f64; 6] {
+    [ang.x, ang.y, ang.z, lin.x, lin.y, lin.z]
+}
+
+/// s · v in every lane, summed as `Motion::dot` sums (each half's three products in order, then
+/// the halves).
+#[inline(always)]
+fn dot(s: &[f64; 6], v: &Spatial) -> Lanes {
+    (v[0] * s[0] + v[1] * s[1] + v[2] * s[2]) + (v[3] * s[3] + v[4] * s[4] + v[5] * s[5])
+}
+
+/// x = D⁻¹ b (k × k, row-major in a 6 × 6 block) in every lane, each row's products summed in
+/// order as the ABA's solves sum them.
+#[inline(always)]
+fn solve_lanes(k: usize, d: &[f64; 36], b: &Spatial) -> Spatial {
+    let mut x = ZERO_LANES;
+    for r in 0..k {
+        let mut sum = b[0] * d[r * 6];
+        for c in 1..k {
+            sum = sum + b[c] * d[r * 6 + c];
+        }
+        x[r] = sum;
+    }
+    x
+}
+
+/// Response of the articulated system to the test forces in `delta.pa` (world coordinates) or
+/// the joint torques `dtau` (dof, value), a set per lane, on the nodes of the trees `trees` (the
+/// others do not move): a delta ABA with the inertias of the main pass (velocity terms cancel),
+/// each lane's arithmetic that of its force pushed alone. Writes lane l's Δq̈ of those trees'
+/// dofs into `dqdd[at[l]..]` (None: a lane not used) and spatial Δa of their nodes into
+/// `delta.a`; leaves `delta.pa` modified.
+#[allow(clippy::too_many_arguments)]
+pub fn delta_pass(m: &Model, kin: &KinData, aba: &AbaData, trees: [usize; 2], dtau: [&[(usize, f64)]; LANES], delta: &mut DeltaScratch, dqdd: &mut [f64], at: [Option<usize>; LANES]) {
+    // compiled for AVX2 as well: a lane operation is then one instruction with its broadcast
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        #[target_feature(enable = "avx2")]
+        #[allow(clippy::too_many_arguments)]
+        fn avx2(m: &Model, kin: &KinData, aba: &AbaData, trees: [usize; 2], dtau: [&[(usize, f64)]; LANES], delta: &mut DeltaScratch, dqdd: &mut [f64], at: [Option<usize>; LANES]) {
+            delta_lanes(m, kin, aba, trees, dtau, delta, dqdd, at)
+        }
+        // SAFETY: the processor has AVX2, checked just above
+        return unsafe { avx2(m, kin, aba, trees, dtau, delta, dqdd, at) };
+    }
+    delta_lanes(m, kin, aba, trees, dtau, delta, dqdd, at)
+}
+
+/// [`delta_pass`]'s body.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn delta_lanes(m: &Model, kin: &KinData, aba: &AbaData, trees: [usize; 2], dtau: [&[(usize, f64)]; LANES], delta: &mut DeltaScratch, dqdd: &mut [f64], at: [Option<usize>; LANES]) {
     let DeltaScratch { pa: dpa, u: du, a: da } = delta;
-    // inward: δu_i = δτ_i − S_iᵀ δp^A_i;  δp^A_λ += δp^A_i + U_i D_i⁻¹ δu_i; nodes off the
-    // test force's path to the root have δp^A = 0 and δu = 0
+    let s_parts = |i: usize, r: usize| parts(kin.s[i][r].ang, kin.s[i][r].lin);
+    let u_parts = |i: usize, r: usize| parts(aba.u_mat[i][r].ang, aba.u_mat[i][r].lin);
+    let torques = dtau.iter().any(|t| !t.is_empty());
+    // inward: δu_i = δτ_i − S_iᵀ δp^A_i;  δp^A_λ += δp^A_i + U_i D_i⁻¹ δu_i; a lane whose force
+    // is off node i (δp^A = 0, no torque there) keeps δu = 0 and hands nothing on
     let ranges = tree_ranges(m, trees);
     for part in [1, 0] {
         for i in ranges[part].clone().rev() {
             let k = m.node_nv[i];
             let d0 = m.node_dofadr[i];
-            let torqued = dtau.iter().any(|&(dof, _)| dof >= d0 && dof < d0 + k);
-            if !torqued && dpa[i] == Force::ZERO {
-                du[i] = [0.0; 6];
+            let torqued = |l: usize| torques && dtau[l].iter().any(|&(dof, _)| dof >= d0 && dof < d0 + k);
+            let active: [bool; LANES] = std::array::from_fn(|l| torqued(l) || dpa[i].iter().any(|c| c.0[l] != 0.0));
+            du[i] = ZERO_LANES;
+            if !active.contains(&true) {
                 continue;
             }
             for r in 0..k {
-                let t: f64 = dtau.iter().filter(|&&(dof, _)| dof == d0 + r).map(|&(_, v)| v).sum();
-                du[i][r] = t - kin.s[i][r].dot(&dpa[i]);
+                // τ: an empty sum is −0, as a lane pushed alone sums it
+                let t = if torques {
+                    Lanes(std::array::from_fn(|l| dtau[l].iter().filter(|&&(dof, _)| dof == d0 + r).map(|&(_, v)| v).sum()))
+                } else {
+                    Lanes::splat(-0.0)
+                };
+                du[i][r] = (t - dot(&s_parts(i, r), &dpa[i])).select(active, Lanes::ZERO);
             }
             let p = m.node_parent[i];
             if p == WORLD {
                 continue;
             }
+            let w = solve_lanes(k, &aba.d_inv[i], &du[i]);
             let mut pa = dpa[i];
-            let mut w = du[i];
-            aba::solve_d(k, &aba.d_inv[i], &mut w);
             for r in 0..k {
-                pa += aba.u_mat[i][r] * w[r];
+                let u = u_parts(i, r);
+                for c in 0..6 {
+                    pa[c] = pa[c] + w[r] * u[c];
+                }
             }
-            dpa[p] += pa;
+            for c in 0..6 {
+                dpa[p][c] = (dpa[p][c] + pa[c]).select(active, dpa[p][c]);
+            }
         }
     }
     // outward: δa'_i = δa_λ;  δq̈_i = D⁻¹(δu_i − Uᵀ δa'_i);  δa_i = δa'_i + S δq̈_i
     for part in [0, 1] {
         for i in ranges[part].clone() {
             let p = m.node_parent[i];
-            let a = if p == WORLD { Motion::ZERO } else { da[p] };
-            da[i] = aba::joint_accel(m, kin, aba, i, &du[i], a, dqdd);
+            let (k, d0) = (m.node_nv[i], m.node_dofadr[i]);
+            let mut a = if p == WORLD { ZERO_LANES } else { da[p] };
+            let mut rhs = ZERO_LANES;
+            for r in 0..k {
+                rhs[r] = du[i][r] - dot(&u_parts(i, r), &a);
+            }
+            let qdd = solve_lanes(k, &aba.d_inv[i], &rhs);
+            for r in 0..k {
+                let s = s_parts(i, r);
+                for c in 0..6 {
+                    a[c] = a[c] + qdd[r] * s[c];
+                }
+                for (l, start) in at.iter().enumerate() {
+                    if let Some(start) = start {
+                        dqdd[start + d0 + r] = qdd[r].0[l];
+                    }
+                }
+            }
+            da[i] = a;
         }
     }
 }

@@ -35,25 +35,6 @@ macro_rules! sized {
     };
 }
 
-/// A delta pass's scratch (Kokkevis 2004, §5: the response to a test force through the ABA's
-/// quantities): per node δp^A (the test forces, then their articulated sums), δu and δa.
-#[derive(Clone, Debug, Default)]
-pub struct DeltaScratch {
-    /// δp^A per node (nnode): the test forces in world coordinates going in.
-    pub pa: Vec<Force>,
-    /// δu per node (nnode).
-    pub u: Vec<[f64; 6]>,
-    /// Spatial δa per node (nnode).
-    pub a: Vec<Motion>,
-}
-
-impl DeltaScratch {
-    /// Buffers sized for `m`.
-    pub fn new(m: &Model) -> Self {
-        DeltaScratch { pa: vec![Force::ZERO; m.nnode], u: vec![[0.0; 6]; m.nnode], a: vec![Motion::ZERO; m.nnode] }
-    }
-}
-
 /// Quantities of the inward pass, kept for the outward pass and for test forces.
 #[derive(Clone, Debug, Default)]
 pub struct AbaData {
@@ -63,7 +44,7 @@ pub struct AbaData {
     pub pa: Vec<Force>,
     /// U_i columns (nnode × 6).
     pub u_mat: Vec<[Force; 6]>,
-    /// D_i⁻¹ for [`solve_d`] (k × k, row-major in a 6 × 6 block) (nnode).
+    /// D_i⁻¹, inverted once so that each solve is a product (k × k, row-major in a 6 × 6 block) (nnode).
     pub d_inv: Vec<[f64; 36]>,
     /// u_i (nnode × 6).
     pub u: Vec<[f64; 6]>,
@@ -237,7 +218,7 @@ fn outward<const K: usize>(m: &Model, kin: &KinData, aba: &AbaData, i: usize, u:
 }
 
 /// Inverts a symmetric positive-definite k × k matrix D (row-major in a 6 × 6 block) in place for
-/// [`solve_d`], so that every later solve is one matrix–vector product. Returns false, leaving
+/// its solves, so that every later solve is one matrix–vector product. Returns false, leaving
 /// zeros, when D is not positive definite.
 pub fn invert_d(k: usize, d: &mut [f64; 36]) -> bool {
     if k == 1 {
@@ -303,13 +284,8 @@ fn invert_sized<const K: usize>(d: &mut [f64; 36]) -> bool {
     true
 }
 
-/// x ← D⁻¹ x on the first k entries, D⁻¹ as [`invert_d`] left it.
-#[inline]
-pub fn solve_d(k: usize, d: &[f64; 36], x: &mut [f64; 6]) {
-    sized!(k, solve_sized(d, x))
-}
-
-/// [`solve_d`] for k = K.
+/// x ← D⁻¹ x on the first K entries, D⁻¹ as [`invert_d`] left it: each entry's products
+/// summed in order.
 #[inline(always)]
 fn solve_sized<const K: usize>(d: &[f64; 36], x: &mut [f64; 6]) {
     let b = *x;
