@@ -8,7 +8,7 @@ use super::lcp;
 use super::system::{tree_lists, ConstraintData, RowKind};
 use crate::dynamics::aba::AbaData;
 use crate::dynamics::kinematics::{point_accel, KinData};
-use crate::math::{Force, Motion};
+use crate::math::Force;
 use crate::model::{Model, WORLD};
 
 /// Fills K (every entry: zero between rows of separate trees; by test forces), Δq̈ per unit
@@ -89,47 +89,67 @@ fn push_test_forces(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constrain
         }
     }
     delta_pass(m, kin, aba, trees, dtau, &mut out.delta, &mut out.dqdd, at);
-    for (lane, &k) in cols.iter().enumerate() {
-        write_column(m, out, k, lane);
-    }
+    write_columns(m, out, cols);
 }
 
-/// Column k of K from lane `lane` of the delta pass (K is symmetric, J M⁻¹ Jᵀ: this force's
-/// measures at the rows of its trees are row k, and its mirror's, negated; a row pushed before
-/// holds its own measure of this force; rows of other trees are not written: zero, their block was
-/// zeroed when laid out), and the mirror's Δq̈.
-fn write_column(m: &Model, out: &mut ConstraintData, k: usize, lane: usize) {
+/// Columns `cols` of K from the delta pass's lanes, as if written one after another in row order
+/// (K is symmetric, J M⁻¹ Jᵀ: a force's measures at the rows of its trees are its row, and its
+/// mirror's, negated; a row pushed before holds its own measure of the force, and so does a
+/// column of `cols` for the ones after it; rows of other trees are not written: zero, their block
+/// was zeroed when laid out), and the mirrors' Δq̈.
+fn write_columns(m: &Model, out: &mut ConstraintData, cols: &[usize]) {
     let (nr, nv) = (out.len(), m.nv);
-    let mirrored = k + 1 < nr && out.mirror[k + 1] == k;
-    let trees = out.tree[k];
+    let trees = out.tree[cols[0]];
+    let mirrored = |k: usize| k + 1 < nr && out.mirror[k + 1] == k;
+    // the block's rows, shared by the columns: K_jk of row j at `start + pos_j·size + pos_k`
+    let (start, size) = (out.k_start[out.k_block[cols[0]]], out.k_size[out.k_block[cols[0]]]);
+    let pos: [usize; LANES] = std::array::from_fn(|l| cols.get(l).map_or(0, |&k| out.k_pos[k]));
     let mut kk = std::mem::take(&mut out.k);
-    let dqdd = &out.dqdd[k * nv..(k + 1) * nv];
     let (first, second, a) = tree_lists(out, trees);
-    let mut point = PointAccel::NONE;
-    // the block's rows: K_jk of row j at `start + pos_j·size + pos_k`
-    let (block, pos) = (out.k_block[k], out.k_pos[k]);
-    let (start, size) = (out.k_start[block], out.k_size[block]);
-    let row = start + pos * size;
-    // a row of both trees is in both lists: read once
-    for &j in first.iter().chain(second.iter().filter(|&&j| a == WORLD || !out.tree[j].contains(&a))) {
-        let pj = out.k_pos[j];
-        let v = if out.column_done[j] { kk[start + pj * size + pos] } else { delta_accel(out, trees, lane, dqdd, j, &mut point) };
+    let mut point = PointLanes::NONE;
+    // every row's measures (rows pushed before: their own, copied), then each column's entries at
+    // the columns before it and their mirrors, copied from theirs
+    let write = |kk: &mut [f64], l: usize, pj: usize, v: f64| {
+        let row = start + pos[l] * size;
         kk[row + pj] = v;
-        if mirrored {
+        if mirrored(cols[l]) {
             // (−d)·a = −(d·a) exactly: the mirror row's own measure (the block's next row)
             kk[row + size + pj] = -v;
         }
+    };
+    // a row of both trees is in both lists: read once
+    for &j in first.iter().chain(second.iter().filter(|&&j| a == WORLD || !out.tree[j].contains(&a))) {
+        let pj = out.k_pos[j];
+        let v = if out.column_done[j] {
+            Lanes(std::array::from_fn(|l| kk[start + pj * size + pos[l]]))
+        } else {
+            delta_accels(out, nv, trees, cols, j, &mut point)
+        };
+        for l in 0..cols.len() {
+            write(&mut kk, l, pj, v.0[l]);
+        }
     }
-    out.k = kk;
-    out.column_done[k] = true;
-    if mirrored {
-        let (done, rest) = out.dqdd.split_at_mut((k + 1) * nv);
-        for r in tree_dofs(m, trees) {
-            for (d, s) in rest[r.clone()].iter_mut().zip(&done[k * nv + r.start..k * nv + r.end]) {
-                *d = -s;
+    for l in 1..cols.len() {
+        for &c in &cols[..l] {
+            for j in if mirrored(c) { c..c + 2 } else { c..c + 1 } {
+                let pj = out.k_pos[j];
+                let v = kk[start + pj * size + pos[l]];
+                write(&mut kk, l, pj, v);
             }
         }
-        out.column_done[k + 1] = true;
+    }
+    out.k = kk;
+    for &k in cols {
+        out.column_done[k] = true;
+        if mirrored(k) {
+            let (done, rest) = out.dqdd.split_at_mut((k + 1) * nv);
+            for r in tree_dofs(m, trees) {
+                for (d, s) in rest[r.clone()].iter_mut().zip(&done[k * nv + r.start..k * nv + r.end]) {
+                    *d = -s;
+                }
+            }
+            out.column_done[k + 1] = true;
+        }
     }
 }
 
@@ -252,8 +272,8 @@ fn list_tree_rows(nnode: usize, out: &mut ConstraintData) {
     start[nnode] = out.tree_rows.len();
 }
 
-/// The relative acceleration of a contact's point (side 1's less side 2's), under a test force
-/// ([`delta_accel`]) or with no constraint force ([`measure`]), kept while the rows of that contact
+/// The relative acceleration of a contact's point (side 1's less side 2's) with no constraint
+/// force ([`measure`]; under test forces, [`PointLanes`]), kept while the rows of that contact
 /// (its normal row `normal` and the friction rows after it) are read in turn.
 pub(super) struct PointAccel {
     normal: usize,
@@ -288,28 +308,70 @@ fn moves(trees: [usize; 2], t: usize) -> bool {
     t != WORLD && (t == trees[0] || t == trees[1])
 }
 
-/// Acceleration of row j under the test force on the trees `trees` whose responses are in lane
-/// `lane` of `cd.delta.a` and in `dqdd` (a K entry): a contact's delta point acceleration (δa_n's at the point, over
-/// the sides in those trees: the others do not move) along its direction, the point's computed
-/// once for the rows of a contact (`point`), or a joint row's δq̈.
+/// [`PointAccel`] for the test forces of a delta pass's lanes.
+struct PointLanes {
+    normal: usize,
+    accel: [Lanes; 3],
+}
+
+impl PointLanes {
+    const NONE: PointLanes = PointLanes { normal: usize::MAX, accel: [Lanes::ZERO; 3] };
+}
+
+/// d · a in every lane, as `DVec3::dot` sums.
 #[inline(always)]
-fn delta_accel(cd: &ConstraintData, trees: [usize; 2], lane: usize, dqdd: &[f64], j: usize, point: &mut PointAccel) -> f64 {
-    point.row(cd, j, dqdd, || {
-        let ([n0, n1], [t0, t1], r) = (cd.node[j], cd.tree[j], cd.arm[j]);
-        if cd.kind[j] == (RowKind::Connect { angular: true }) {
-            let side = |n: usize, t: usize| if moves(trees, t) { cd.delta.motion(n, lane).ang } else { DVec3::ZERO };
-            return side(n0, t0) - side(n1, t1);
+fn dot3(d: DVec3, a: &[Lanes; 3]) -> Lanes {
+    a[0] * d.x + a[1] * d.y + a[2] * d.z
+}
+
+/// Accelerations of row j under the test forces `cols` on the trees `trees`, one per lane, whose
+/// responses are in `cd.delta.a` and their Δq̈ rows (nv each) (K entries): a contact's delta point
+/// acceleration (δa_n's at the point, over the sides in those trees: the others do not move)
+/// along its direction, the point's computed once for the rows of a contact (`point`), or a joint
+/// row's δq̈. Each lane's arithmetic is that of its force alone, as [`PointAccel::row`] reads a row.
+#[inline(always)]
+fn delta_accels(cd: &ConstraintData, nv: usize, trees: [usize; 2], cols: &[usize], j: usize, point: &mut PointLanes) -> Lanes {
+    let normal = match cd.kind[j] {
+        RowKind::Normal => j,
+        RowKind::Tangent { normal } => normal,
+        RowKind::Connect { .. } => return dot3(cd.dir[j], &point_accels(cd, trees, j)),
+        RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction | RowKind::Equality => {
+            return Lanes(std::array::from_fn(|l| cols.get(l).map_or(0.0, |&k| cd.joint_rate(j, &cd.dqdd[k * nv..(k + 1) * nv]))));
         }
-        let r1 = if cd.kind[j] == (RowKind::Connect { angular: false }) { cd.arm2[j] } else { r };
-        let mut accel = DVec3::ZERO;
-        if moves(trees, t0) {
-            accel += cd.delta.motion(n0, lane).point_velocity(r);
-        }
-        if moves(trees, t1) {
-            accel -= cd.delta.motion(n1, lane).point_velocity(r1);
-        }
-        accel
-    })
+    };
+    if point.normal != normal {
+        *point = PointLanes { normal, accel: point_accels(cd, trees, j) };
+    }
+    dot3(cd.dir[j], &point.accel)
+}
+
+/// The relative acceleration of row j's points (a weld's couple: its bodies' relative angular
+/// acceleration) in every lane, as [`delta_accels`] reads it.
+#[inline(always)]
+fn point_accels(cd: &ConstraintData, trees: [usize; 2], j: usize) -> [Lanes; 3] {
+    let ([n0, n1], [t0, t1], r) = (cd.node[j], cd.tree[j], cd.arm[j]);
+    let a = &cd.delta.a;
+    if cd.kind[j] == (RowKind::Connect { angular: true }) {
+        let side = |n: usize, t: usize| if moves(trees, t) { [a[n][0], a[n][1], a[n][2]] } else { [Lanes::ZERO; 3] };
+        let (s0, s1) = (side(n0, t0), side(n1, t1));
+        return [s0[0] - s1[0], s0[1] - s1[1], s0[2] - s1[2]];
+    }
+    // δa's point velocity lin + ang × r, as `Motion::point_velocity` and `DVec3::cross` compute it
+    let at = |n: usize, r: DVec3| {
+        let v = &a[n];
+        [v[3] + (v[1] * r.z - v[2] * r.y), v[4] + (v[2] * r.x - v[0] * r.z), v[5] + (v[0] * r.y - v[1] * r.x)]
+    };
+    let r1 = if cd.kind[j] == (RowKind::Connect { angular: false }) { cd.arm2[j] } else { r };
+    let mut accel = [Lanes::ZERO; 3];
+    if moves(trees, t0) {
+        let p = at(n0, r);
+        accel = [accel[0] + p[0], accel[1] + p[1], accel[2] + p[2]];
+    }
+    if moves(trees, t1) {
+        let p = at(n1, r1);
+        accel = [accel[0] - p[0], accel[1] - p[1], accel[2] - p[2]];
+    }
+    accel
 }
 
 /// Acceleration of row j with zero constraint force (its b): from the actual accelerations, with
@@ -437,13 +499,6 @@ impl DeltaScratch {
         for (c, v) in parts(f.ang, f.lin).into_iter().enumerate() {
             self.pa[n][c].0[lane] -= v;
         }
-    }
-
-    /// δa of node n in lane `lane`.
-    #[inline(always)]
-    fn motion(&self, n: usize, lane: usize) -> Motion {
-        let a = &self.a[n];
-        Motion::new(DVec3::new(a[0].0[lane], a[1].0[lane], a[2].0[lane]), DVec3::new(a[3].0[lane], a[4].0[lane], a[5].0[lane]))
     }
 }
 
