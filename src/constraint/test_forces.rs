@@ -121,7 +121,7 @@ fn write_columns(m: &Model, out: &mut ConstraintData, cols: &[usize]) {
     for &j in first.iter().chain(second.iter().filter(|&&j| a == WORLD || !out.tree[j].contains(&a))) {
         let pj = out.k_pos[j];
         let v = if out.column_done[j] {
-            Lanes(std::array::from_fn(|l| kk[start + pj * size + pos[l]]))
+            Lanes([0, 1, 2, 3].map(|l| kk[start + pj * size + pos[l]]))
         } else {
             delta_accels(out, nv, trees, cols, j, &mut point)
         };
@@ -435,7 +435,13 @@ impl Lanes {
     /// `self` in the lanes of `mask`, `other` in the rest.
     #[inline(always)]
     fn select(self, mask: [bool; LANES], other: Lanes) -> Lanes {
-        Lanes(std::array::from_fn(|l| if mask[l] { self.0[l] } else { other.0[l] }))
+        let mut out = other;
+        for l in 0..LANES {
+            if mask[l] {
+                out.0[l] = self.0[l];
+            }
+        }
+        out
     }
 }
 
@@ -567,8 +573,18 @@ fn delta_lanes(m: &Model, kin: &KinData, aba: &AbaData, trees: [usize; 2], dtau:
         for i in ranges[part].clone().rev() {
             let k = m.node_nv[i];
             let d0 = m.node_dofadr[i];
-            let torqued = |l: usize| torques && dtau[l].iter().any(|&(dof, _)| dof >= d0 && dof < d0 + k);
-            let active: [bool; LANES] = std::array::from_fn(|l| torqued(l) || dpa[i].iter().any(|c| c.0[l] != 0.0));
+            let torqued = |l: usize| dtau[l].iter().any(|&(dof, _)| dof >= d0 && dof < d0 + k);
+            let mut active = [false; LANES];
+            for c in &dpa[i] {
+                for l in 0..LANES {
+                    active[l] |= c.0[l] != 0.0;
+                }
+            }
+            if torques {
+                for (l, a) in active.iter_mut().enumerate() {
+                    *a |= torqued(l);
+                }
+            }
             du[i] = ZERO_LANES;
             if !active.contains(&true) {
                 continue;
