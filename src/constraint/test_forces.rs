@@ -109,10 +109,12 @@ fn write_columns(m: &Model, out: &mut ConstraintData, cols: &[usize]) {
     let mut point = PointLanes::NONE;
     // every row's measures (rows pushed before: their own, copied), then each column's entries at
     // the columns before it and their mirrors, copied from theirs
+    let row: [usize; LANES] = pos.map(|p| start + p * size);
+    let mirror: [bool; LANES] = std::array::from_fn(|l| cols.get(l).is_some_and(|&k| mirrored(k)));
     let write = |kk: &mut [f64], l: usize, pj: usize, v: f64| {
-        let row = start + pos[l] * size;
+        let row = row[l];
         kk[row + pj] = v;
-        if mirrored(cols[l]) {
+        if mirror[l] {
             // (−d)·a = −(d·a) exactly: the mirror row's own measure (the block's next row)
             kk[row + size + pj] = -v;
         }
