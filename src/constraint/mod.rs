@@ -3,10 +3,11 @@
 //! the forces, and post-stabilisation.
 //!
 //! Files in the order a step uses them: `system` (the rows as arrays), `rows` (building them),
-//! `test_forces` (K and b), `impact`, `solve` (posing the LCP per island), `lcp` (solving it),
+//! `test_forces` (K and b, through `delta_pass`), `impact`, `solve` (posing the LCP per island), `lcp` (solving it),
 //! `stabilize`; `history` is what the next step reads, `applied` what is read after the step.
 
 pub mod applied;
+pub mod delta_pass;
 pub mod history;
 pub mod impact;
 pub mod lcp;

@@ -17,7 +17,8 @@ use glam::DVec3;
 
 use super::lcp::{self, LcpWork, Role};
 use super::system::{self as constraint, RowKind};
-use super::test_forces::{add_response, delta_pass, responses, tree_dofs, DeltaScratch, LANES};
+use super::delta_pass::{delta_pass, DeltaScratch, LANES};
+use super::test_forces::{add_response, responses, tree_dofs};
 use super::{Constraints, StepStart, World};
 use crate::collision::{self, CollisionData, Contact};
 use crate::dynamics::aba::AbaData;

@@ -183,7 +183,7 @@ pub struct ConstraintData {
     /// for the rows a solve needs: [`responses`]).
     pub column_done: Vec<bool>,
     /// The test forces' delta pass.
-    pub(super) delta: super::test_forces::DeltaScratch,
+    pub(super) delta: super::delta_pass::DeltaScratch,
     /// Per node: spatial acceleration with q̈ = 0 and no gravity (velocity products alone).
     pub(super) a_vp: Vec<Motion>,
     /// The rows of each tree (by its root node; a row touching two trees is in both lists):
@@ -203,7 +203,7 @@ impl ConstraintData {
     /// Empty rows, scratch sized for `m`.
     pub fn new(m: &Model) -> Self {
         ConstraintData {
-            delta: super::test_forces::DeltaScratch::new(m),
+            delta: super::delta_pass::DeltaScratch::new(m),
             a_vp: vec![Motion::ZERO; m.nnode],
             ..Default::default()
         }
