@@ -209,6 +209,16 @@ pub fn reach_again(m: &Model, kin: &KinData, qvel_end: &[f64], v_end: &mut [Moti
     let mut found = false;
     if !out.group_apart.iter().all(|&a| a) {
         end_speeds(m, kin, qvel_end, v_end, out);
+        // no geom reaching as far as the first detection looked (a millionth of a millionth to
+        // spare for the pairs' sums): only the pairs narrowed to their relative motion can find
+        // more, and each pair whose boxes no longer overlap finds nothing within its margin
+        if (0..m.ngeom).all(|g| lever * out.geom_speed_end[g] <= data::reach(out, g) * (1.0 - 1e-12)) {
+            for i in 0..out.narrowed.len() {
+                let Some(more) = test_again(m, kin, v_end, out, out.narrowed[i].0, lever) else { break };
+                found |= more;
+            }
+            return found;
+        }
         let near = near_pairs(m, kin, out, |out, g| lever * out.geom_speed_end[g]);
         for &k in &near {
             let Some(more) = test_again(m, kin, v_end, out, k, lever) else { break };
