@@ -19,7 +19,7 @@ use crate::model::Model;
 pub struct SolveData {
     /// Constraint force (acceleration solve) or impulse (impact solve) per row and λ.
     pub force: Vec<f64>,
-    /// LCP matrix of the island being solved (row-major).
+    /// LCP matrix of the island being solved (row-major, its first k² entries).
     pub m: Vec<f64>,
     /// LCP vector.
     pub q: Vec<f64>,
@@ -360,8 +360,11 @@ pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, islan
         (&mut *island_q, &mut *island_out, &mut *island_z, &*island_warm)
     };
     let at = |v: usize| if whole { v } else { local[v] };
-    // every entry of M is written below, once (no clearing first)
-    mm.resize(k * k, 0.0);
+    // every entry of M is written below, once (no clearing first; the buffer only grows)
+    if mm.len() < k * k {
+        mm.resize(k * k, 0.0);
+    }
+    let mm = &mut mm[..k * k];
     role.clear();
     role.resize(k, lcp::Role::Lambda);
     // the island's rows come first among its variables (rows are numbered before every λ)
