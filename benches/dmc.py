@@ -3,7 +3,7 @@
 
 sinew: the native vector env (``gym.make_vec(..., vectorization_mode="vector_entry_point")``),
 64 worlds from state and 16 from pixels, all cores; dm_control: its own ``env.step`` loop, one
-env, in a subprocess, on the installed MuJoCo (on MuJoCo 3.17 where the installed dm-control,
+env, in a subprocess per task just before sinew's (a shared machine's speed drifts), on the installed MuJoCo (on MuJoCo 3.17 where the installed dm-control,
 1.0.50, cannot load its tasks under MuJoCo 4; the table names the version); pixels by
 ``physics.render`` through mesa's EGL. Returns: mean ± sd over 16 episodes of each
 (fewer hide the tasks whose returns are bimodal: a quadruped that lands on its feet and stands
@@ -97,6 +97,9 @@ def measure_dm_control(names: list, seconds: float = 1.5) -> None:
                     env.reset()
                 steps += 1
             rates.append(steps / (time.perf_counter() - t0))
+        # returns from their own seeds, not from what the timed loops left
+        env = suite.load(domain, task, task_kwargs={"random": 1})
+        rng = np.random.default_rng(1)
         returns = []
         for _ in range(0 if domain == "lqr" else EPISODES):
             ts, total = env.reset(), 0.0
@@ -143,24 +146,26 @@ def main() -> None:
         return measure_dm_control(a.reference)
     from sinew.dmc import TASKS
     names = a.tasks or list(TASKS)
-    measured = reference(names)
-    ref = measured["tasks"]
-    lines = ["# dm_control's suite: sinew beside dm_control", "",
-             "`MUJOCO_GL=egl python benches/dmc.py --out results/dmc.md` (2 cores; sinew's native vector env, 64 "
-             "worlds from state, 16 from 84 × 84 pixels; dm_control's own loop, one env, MuJoCo "
-             f"{measured['mujoco']}, pixels by mesa's EGL; random-policy returns over {EPISODES} episodes of each)", "",
-             "| task | state steps/s sinew | dm_control | × | pixels steps/s sinew | dm_control | × | random return sinew | dm_control |",
-             "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    rows, version = [], None
     for name in names:
+        # each task's dm_control numbers just before sinew's: a shared machine's speed drifts
+        measured = reference([name])
+        version, r = measured["mujoco"], measured["tasks"][name]
         s, px = sinew_rate(name, False), sinew_rate(name, True)
-        r = ref[name]
         returns = "| — | — |"
         if r["returns"]:
             ours, theirs = sinew_returns(name), r["returns"]
             returns = f"| {np.mean(ours):.1f} ± {np.std(ours):.1f} | {np.mean(theirs):.1f} ± {np.std(theirs):.1f} |"
-        lines.append(f"| {name[4:]} | {s:,.0f} | {r['state']:,.0f} | {s / r['state']:.1f} | {px:,.0f} | {r['pixels']:,.0f} | "
-                     f"{px / r['pixels']:.1f} " + returns)
-        print(lines[-1], flush=True)
+        rows.append(f"| {name[4:]} | {s:,.0f} | {r['state']:,.0f} | {s / r['state']:.1f} | {px:,.0f} | {r['pixels']:,.0f} | "
+                    f"{px / r['pixels']:.1f} " + returns)
+        print(rows[-1], flush=True)
+    lines = ["# dm_control's suite: sinew beside dm_control", "",
+             "`MUJOCO_GL=egl python benches/dmc.py --out results/dmc.md` (2 cores; sinew's native vector env, 64 "
+             "worlds from state, 16 from 84 × 84 pixels; dm_control's own loop, one env, MuJoCo "
+             f"{version}, each task's measured just before sinew's, pixels by mesa's EGL; random-policy returns over "
+             f"{EPISODES} episodes of each)", "",
+             "| task | state steps/s sinew | dm_control | × | pixels steps/s sinew | dm_control | × | random return sinew | dm_control |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|", *rows]
     with open(a.out, "w") as f:
         f.write("\n".join(lines) + "\n")
 
