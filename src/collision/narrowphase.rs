@@ -203,11 +203,13 @@ fn hull_pair(s1: Shape, s2: Shape, margin: f64, scale: f64) -> Manifold {
 pub(super) fn repeats_joint_contact(m: &Model, contacts: &[Contact], c: &Contact) -> bool {
     let b = m.geom_body[c.geom1];
     let tol = 1e-9 * m.geom_rbound[c.geom1];
+    // |Δx| > tol already puts the points farther apart than tol (√(x²) is |x| in floating point,
+    // and the other squares only add): most contacts fail that before their bodies are read
     contacts.iter().any(|o| {
-        let ob = m.geom_body[o.geom1];
         o.geom2 == c.geom2
-            && (m.body_parent[ob] == b || m.body_parent[b] == ob)
+            && (o.pos.x - c.pos.x).abs() <= tol
             && o.pos.distance(c.pos) <= tol
+            && (m.body_parent[m.geom_body[o.geom1]] == b || m.body_parent[b] == m.geom_body[o.geom1])
             && o.normal.dot(c.normal) > 1.0 - 1e-12
     })
 }
