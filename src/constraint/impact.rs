@@ -11,7 +11,7 @@ pub fn needs_impact(con: &ConstraintData, h: f64, lever: f64, speed: f64) -> boo
     })
 }
 
-/// A row moving into its constraint faster than `speed` (see [`impact_speed`]) that
+/// A row moving into its constraint faster than `speed` (see [`impact_speed`](super::impact_speed)) that
 /// would close within this step, given its velocity now and predicted at the step's end
 /// (`lever`: [`crate::model::Options::lever`]).
 pub fn approaching(vel: f64, dist: f64, vel_end: f64, lever: f64, speed: f64) -> bool {

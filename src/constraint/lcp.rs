@@ -170,7 +170,7 @@ pub fn residual(n: usize, m: &[f64], q: &[f64], z: &[f64], (w, nz): (&mut Vec<f6
 
 /// Solves the LCP on the variables not marked in `out` (which the caller sizes to n or leaves
 /// empty: nothing left out), holding the others at zero (module docs); a contact's friction rows
-/// and λ follow its normal. With `split`, the problem is solved island by island ([`islands`]);
+/// and λ follow its normal. With `split`, the problem is solved island by island (`islands`);
 /// a caller that already solves each island alone (the step, by its rows' trees) passes false. False when the answer pushed into a left-out normal: that row and its contact are then
 /// unmarked in `out` (every row, if this was already such a second solve), their columns of M
 /// are needed, and the caller solves again, which starts from this answer's active set plus the

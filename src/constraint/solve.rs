@@ -143,7 +143,7 @@ pub(super) const MAX_REGROW_RATE: f64 = 0.5;
 /// checks; their test forces are then never pushed.
 /// Limit rows stay: contact forces push joints into their limits too often (leaving out those
 /// with q ≥ 0 too had many brought back on Ant, for no gain). Nothing is left out while the recent
-/// share of solves that had to bring a contact back exceeds [`MAX_REGROW_RATE`]. Returns whether
+/// share of solves that had to bring a contact back exceeds `MAX_REGROW_RATE`. Returns whether
 /// a warm set applies ([`warm_guess`]).
 pub fn leave_out(data: &mut World<'_>, level: Level, n: usize) -> bool {
     let warm = warm_guess(data, level, n);

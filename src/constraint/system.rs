@@ -162,7 +162,7 @@ pub struct ConstraintData {
     /// row k = `K_kj` (K is symmetric). Row k is written, between rows that share a tree, when
     /// row k's test force is pushed ([`column_done`](Self::column_done)): the row of a row not
     /// pushed is read as its column. A block of several trees is zeroed when the blocks are laid
-    /// out ([`prepare`]), so that its entries between rows of no shared tree read zero.
+    /// out ([`prepare`](super::test_forces::prepare)), so that its entries between rows of no shared tree read zero.
     pub k: Vec<f64>,
     /// Block of each row in `k`.
     pub k_block: Vec<usize>,
@@ -175,12 +175,12 @@ pub struct ConstraintData {
     /// Constraint acceleration with zero constraint force.
     pub b: Vec<f64>,
     /// Δq̈ per unit force of each row (m × nv), meaningful on the dofs of the row's trees only
-    /// ([`tree_dofs`]; it is zero elsewhere and those entries are not kept).
+    /// ([`tree_dofs`](super::test_forces::tree_dofs); it is zero elsewhere and those entries are not kept).
     pub dqdd: Vec<f64>,
     /// Whether `k`, `dqdd` and `column_done` are sized for the current rows.
     pub assembled: bool,
     /// Whether column k of K and Δq̈ of row k hold row k's test-force response (computed only
-    /// for the rows a solve needs: [`responses`]).
+    /// for the rows a solve needs: [`responses`](super::test_forces::responses)).
     pub column_done: Vec<bool>,
     /// The test forces' delta pass.
     pub(super) delta: super::delta_pass::DeltaScratch,
@@ -217,7 +217,7 @@ impl ConstraintData {
         }
     }
 
-    /// Joint row j's rate over its terms: a single dof's, signed, or Σ coef · x[dof].
+    /// Joint row j's rate over its terms: a single dof's, signed, or Σ coef · x\[dof\].
     #[inline]
     pub fn joint_rate(&self, j: usize, x: &[f64]) -> f64 {
         match self.term_span[j].1 {
@@ -276,7 +276,7 @@ impl ConstraintData {
     }
 
     /// The least and the greatest row that shares a tree with row j (K_jk is zero for every k
-    /// outside them); valid once [`prepare`]d.
+    /// outside them); valid once [`prepare`](super::test_forces::prepare)d.
     pub fn sharing_span(&self, j: usize) -> (usize, usize) {
         let (first, second, _) = tree_lists(self, self.tree[j]);
         let ends = |l: &[usize]| (l.first().copied().unwrap_or(usize::MAX), l.last().copied().unwrap_or(0));

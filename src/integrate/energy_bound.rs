@@ -19,7 +19,7 @@
 //! damping −B q̇⁺ of the implicit step, q̄̇ the mean of the velocities before and after; and the
 //! constraint rows' work toward the targets that ask for energy (a penetration's or an
 //! equality's error removed, a motion-control trajectory: `constraint::solve::correction_work`).
-//! What a step adds beyond these, less [`SLACK`] of the kinetic energy left for the budget's own
+//! What a step adds beyond these, less `SLACK` of the kinetic energy left for the budget's own
 //! linearisation, is the integrator's error. Post-stabilisation's lift out of a penetration that
 //! follows is not paid from the velocities (it slowed a cylinder rolling on a line contact by
 //! 0.4% in a second): it is reported in [`EnergyBound::allowance`]. Only steps with contact rows are

@@ -379,8 +379,8 @@ pub struct MuscleSpec {
     pub lengthrange: Option<[f64; 2]>,
 }
 
-/// A `<joint>` or `<tendon>` equality: x₁ − x₁⁰ = Σₖ polycoef[k] (x₂ − x₂⁰)ᵏ, x a joint's
-/// position or a fixed tendon's length and x⁰ its value at qpos0 (x₁ − x₁⁰ = polycoef[0] without
+/// A `<joint>` or `<tendon>` equality: x₁ − x₁⁰ = Σₖ polycoef\[k\] (x₂ − x₂⁰)ᵏ, x a joint's
+/// position or a fixed tendon's length and x⁰ its value at qpos0 (x₁ − x₁⁰ = polycoef\[0\] without
 /// a second object).
 #[derive(Clone, Debug, PartialEq)]
 pub struct EqualitySpec {

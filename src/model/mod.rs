@@ -146,7 +146,7 @@ pub struct Keyframe {
     pub act: Vec<f64>,
 }
 
-/// One term of a linear length: coef · qpos[qpos] along dof `dof` (a hinge's or slide's).
+/// One term of a linear length: coef · qpos\[qpos\] along dof `dof` (a hinge's or slide's).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Wrap {
     /// The joint's dof.
@@ -158,12 +158,12 @@ pub struct Wrap {
 }
 
 impl Wrap {
-    /// The length Σ coef · x[qpos] of `terms` at positions `x`.
+    /// The length Σ coef · x\[qpos\] of `terms` at positions `x`.
     pub fn length(terms: &[Wrap], x: &[f64]) -> f64 {
         terms.iter().map(|w| w.coef * x[w.qpos]).sum()
     }
 
-    /// Its rate Σ coef · qvel[dof].
+    /// Its rate Σ coef · qvel\[dof\].
     pub fn rate(terms: &[Wrap], qvel: &[f64]) -> f64 {
         terms.iter().map(|w| w.coef * qvel[w.dof]).sum()
     }
@@ -405,7 +405,7 @@ pub struct Model {
     /// joint, so a force on one moves no other (their rows' K entries are zero).
     pub node_tree: Vec<usize>,
     /// Per node: one past the last node of its subtree (nnode). Nodes are numbered parents first
-    /// and depth first, so a tree rooted at r is the nodes r..node_end[r].
+    /// and depth first, so a tree rooted at r is the nodes r..node_end\[r\].
     pub node_end: Vec<usize>,
 
     /// Geom names (ngeom).
