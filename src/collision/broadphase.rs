@@ -6,8 +6,7 @@ use glam::DVec3;
 use super::data::{has_own_reach, CollisionData, SweepBox, SWEEP_PAIRS};
 use crate::dynamics::aba::AbaData;
 use crate::dynamics::kinematics::KinData;
-use crate::math::Motion;
-use crate::compile::pairs;
+use crate::math::{turned_box, Motion};
 use crate::model::{GeomPair, Model, PairTest};
 
 /// Decides each plane group: apart when its subtree's sphere stays farther above the plane than
@@ -50,7 +49,7 @@ pub(super) fn near_pairs(m: &Model, kin: &KinData, out: &mut CollisionData, reac
         // the box of the geom's bounding sphere, cut down to its own box turned into world axes
         let grow = m.geom_margin[g] + reach(out, g);
         let sphere = DVec3::splat(m.geom_rbound[g]);
-        let e = m.geom_body_box[g].map_or(sphere, |half| sphere.min(pairs::turned_box(kin.xmat[m.geom_body[g]], half))) + grow;
+        let e = m.geom_body_box[g].map_or(sphere, |half| sphere.min(turned_box(kin.xmat[m.geom_body[g]], half))) + grow;
         let (c, e) = (rotate(out.geom_xpos[g]), rotate(e));
         (b.lo, b.hi) = (c - e, c + e);
         finite &= c.is_finite() && e.is_finite();

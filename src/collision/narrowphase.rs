@@ -209,7 +209,7 @@ pub(super) fn repeats_joint_contact(m: &Model, contacts: &[Contact], c: &Contact
         o.geom2 == c.geom2
             && (o.pos.x - c.pos.x).abs() <= tol
             && o.pos.distance(c.pos) <= tol
-            && (m.body_parent[m.geom_body[o.geom1]] == b || m.body_parent[b] == m.geom_body[o.geom1])
+            && { let ob = m.geom_body[o.geom1]; m.body_parent[ob] == b || m.body_parent[b] == ob }
             && o.normal.dot(c.normal) > 1.0 - 1e-12
     })
 }

@@ -6,7 +6,7 @@ use glam::{DMat3, DVec3};
 mod assets;
 mod fluid;
 mod inertia;
-pub(crate) mod pairs;
+mod pairs;
 pub mod params;
 mod sensors;
 mod tendons;
@@ -269,7 +269,7 @@ fn geoms_and_sites(m: &mut Model, spec: &ModelSpec, meshes: &[crate::geometry::M
                 _ => pairs::geom_half_extents(g.kind, g.size),
             };
             let smaller = half.min_element() < rbound;
-            m.geom_body_box.push(smaller.then(|| pairs::turned_box(m.geom_mat[m.geom_mat.len() - 1], half)));
+            m.geom_body_box.push(smaller.then(|| crate::math::turned_box(m.geom_mat[m.geom_mat.len() - 1], half)));
             m.geom_friction.push(g.friction);
             m.geom_contype.push(g.contype);
             m.geom_conaffinity.push(g.conaffinity);

@@ -31,13 +31,6 @@ pub fn geom_half_extents(kind: GeomType, s: [f64; 3]) -> DVec3 {
     }
 }
 
-/// Half extents of the box, along the axes of a frame, that holds a box of half extents `half`
-/// turned by `rot` in it: |rot| half, grown by a relative 1e-12 so that rounding in the same
-/// product at run time never leaves part of the geom outside.
-pub fn turned_box(rot: glam::DMat3, half: DVec3) -> DVec3 {
-    (rot.x_axis.abs() * half.x + rot.y_axis.abs() * half.y + rot.z_axis.abs() * half.z) * (1.0 + 1e-12)
-}
-
 /// Whether geoms i and j may collide at all (independent of configuration), by MuJoCo's filters
 /// (`filterBodyPair`, `canCollide`): never within one weld (bodies joined without a joint, the
 /// world and what is welded to it included) nor between a weld and its parent weld (unless that

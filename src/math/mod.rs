@@ -31,6 +31,13 @@ pub fn out_of_range(x: f64) -> bool {
     x.is_nan() || x.abs() > MAX_STATE
 }
 
+/// Half extents of the box, along the axes of a frame, that holds a box of half extents `half`
+/// turned by `rot` in it: |rot| half, grown by a relative 1e-12 so that the same product rounded
+/// differently never leaves part of what the box holds outside.
+pub fn turned_box(rot: DMat3, half: DVec3) -> DVec3 {
+    (rot.x_axis.abs() * half.x + rot.y_axis.abs() * half.y + rot.z_axis.abs() * half.z) * (1.0 + 1e-12)
+}
+
 /// Skew-symmetric cross-product matrix: `skew(a) * b == a.cross(b)`.
 #[inline]
 pub fn skew(a: DVec3) -> DMat3 {
