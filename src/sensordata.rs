@@ -20,16 +20,24 @@ use crate::step::data::Data;
 use crate::model::{Model, SensorFrame, SensorKind, Transmission, WORLD};
 
 /// Writes the sensors `which` (indices, in order) of world state `s` into `out`, one after
-/// another (every sensor: `sensordata`'s layout): kinematics, tendons and, when a sensor reads
-/// them, accelerations are computed into `d`; touch, force and torque read the last step's
-/// constraint forces there.
+/// another (every sensor: `sensordata`'s layout): kinematics (those a step computed ahead for the
+/// state it reached, when they are of `s`), tendons and, when a sensor reads them, accelerations
+/// are computed into `d`; touch, force and torque read the last step's constraint forces there.
 pub fn read(m: &Model, d: &mut Data, s: State<'_>, which: &[usize], out: &mut [f64]) {
+    let last = (&d.constraints.applied, &d.coll.contacts[..]);
+    if !which.iter().any(|&k| m.sensor_kind[k].reads_accelerations()) {
+        let dy = &mut d.dynamics;
+        let kin = dy.ahead.at(m, s.qpos, s.qvel);
+        tendon::compute(m, kin, s.qpos, &mut dy.ten);
+        compute(m, kin, &dy.ten, s, last, None, (which, out));
+        return;
+    }
     let dy = &mut d.dynamics;
     kinematics::forward(m, s.qpos, s.qvel, &mut dy.kin);
     tendon::compute(m, &dy.kin, s.qpos, &mut dy.ten);
-    let acc = which.iter().any(|&k| m.sensor_kind[k].reads_accelerations()).then(|| accelerations(m, d, s));
+    let acc = accelerations(m, d, s);
     let dy = &d.dynamics;
-    compute(m, &dy.kin, &dy.ten, s, (&d.constraints.applied, &d.coll.contacts), acc.as_ref(), (which, out));
+    compute(m, &dy.kin, &dy.ten, s, (&d.constraints.applied, &d.coll.contacts), Some(&acc), (which, out));
 }
 
 /// A world's state as the sensors read it.

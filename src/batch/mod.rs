@@ -220,49 +220,30 @@ impl Batch {
                 (None, 1, 1, a, b, &mut self.no_task_flag[..], c)
             }
         };
-        // one world per item; the calling thread takes them from the front, the workers from the
-        // back, so that each keeps to its own end of the batch from call to call
-        let worlds = Mutex::new(
-            data.iter_mut()
-                .enumerate()
-                .map(|(i, d)| (d, world_model(own, m, i)))
-                .zip(qpos.chunks_mut(nq).zip(qvel.chunks_mut(nv)).zip(ctrl.chunks(nu)).zip(act.chunks_mut(na)))
-                .zip(time.iter_mut().zip(diverged.iter_mut()).zip(active.iter()))
-                .zip(out.xpos.chunks_mut(3 * nb).zip(out.xmat.chunks_mut(9 * nb)).zip(out.xipos.chunks_mut(3 * nb)))
-                .zip(out.xvel.chunks_mut(6 * nb).zip(out.cfrc_ext.chunks_mut(6 * nb)).zip(out.qfrc_constraint.chunks_mut(nv)))
-                .zip(out.cinert.chunks_mut(10 * nb).zip(out.cvel.chunks_mut(6 * nb)))
-                .zip(obs.chunks_mut(obs_dim.max(1)).zip(reward.iter_mut()).zip(terminated.iter_mut()).zip(info.chunks_mut(ninfo.max(1))))
-                .map(|(((((((d, model), (((qpos, qvel), ctrl), act)), ((time, diverged), &active)), ((xpos, xmat), xipos)), ((xvel, cfrc_ext), qfrc_constraint)), (cinert, cvel)), (((obs, reward), terminated), info))| World {
-                    model,
-                    data: d,
-                    state: WorldState { time, qpos: &mut qpos[..m.nq], qvel: &mut qvel[..m.nv], ctrl: &ctrl[..m.nu], act: &mut act[..m.na] },
-                    diverged,
-                    active,
-                    out: Sensors { xpos, xmat, xipos, xvel, cfrc_ext, qfrc_constraint: &mut qfrc_constraint[..m.nv], cinert, cvel },
-                    obs,
-                    reward,
-                    terminated,
-                    info,
-                }),
-        );
-        let pool = &self.scratch;
-        let work = |from_back: bool| {
-            let mut scratch = pool.lock().unwrap_or_else(|e| e.into_inner()).pop().unwrap_or_else(|| Data::new(m));
-            loop {
-                // the lock is held only to take the next world (a guard in a `while let`
-                // scrutinee would live through the loop body)
-                let mut queue = worlds.lock().unwrap_or_else(|e| e.into_inner());
-                let next = if from_back { queue.next_back() } else { queue.next() };
-                drop(queue);
-                let Some(w) = next else { break };
-                env_step(root, spec, n, w, &mut scratch);
-            }
-            pool.lock().unwrap_or_else(|e| e.into_inner()).push(scratch);
-        };
-        match &self.workers {
-            Some(workers) => workers.run(&work),
-            None => work(false),
-        }
+        // one world per item
+        let worlds = data
+            .iter_mut()
+            .enumerate()
+            .map(|(i, d)| (d, world_model(own, m, i)))
+            .zip(qpos.chunks_mut(nq).zip(qvel.chunks_mut(nv)).zip(ctrl.chunks(nu)).zip(act.chunks_mut(na)))
+            .zip(time.iter_mut().zip(diverged.iter_mut()).zip(active.iter()))
+            .zip(out.xpos.chunks_mut(3 * nb).zip(out.xmat.chunks_mut(9 * nb)).zip(out.xipos.chunks_mut(3 * nb)))
+            .zip(out.xvel.chunks_mut(6 * nb).zip(out.cfrc_ext.chunks_mut(6 * nb)).zip(out.qfrc_constraint.chunks_mut(nv)))
+            .zip(out.cinert.chunks_mut(10 * nb).zip(out.cvel.chunks_mut(6 * nb)))
+            .zip(obs.chunks_mut(obs_dim.max(1)).zip(reward.iter_mut()).zip(terminated.iter_mut()).zip(info.chunks_mut(ninfo.max(1))))
+            .map(|(((((((d, model), (((qpos, qvel), ctrl), act)), ((time, diverged), &active)), ((xpos, xmat), xipos)), ((xvel, cfrc_ext), qfrc_constraint)), (cinert, cvel)), (((obs, reward), terminated), info))| World {
+                model,
+                data: d,
+                state: WorldState { time, qpos: &mut qpos[..m.nq], qvel: &mut qvel[..m.nv], ctrl: &ctrl[..m.nu], act: &mut act[..m.na] },
+                diverged,
+                active,
+                out: Sensors { xpos, xmat, xipos, xvel, cfrc_ext, qfrc_constraint: &mut qfrc_constraint[..m.nv], cinert, cvel },
+                obs,
+                reward,
+                terminated,
+                info,
+            });
+        share_out(self.workers.as_ref(), &self.scratch, m, worlds, |w, scratch| env_step(root, spec, n, w, scratch));
     }
 
     /// Resets world `i` to qpos0 at rest (its constraint forces cleared) in the given rows.
@@ -272,21 +253,23 @@ impl Batch {
     }
 
     /// The readings of the file sensors `which` (indices) of every world at the state in `st`
-    /// (every world's rows one after another), one world after another.
+    /// (every world's rows one after another), the worlds in parallel.
     pub fn read_sensors(&mut self, st: sensordata::State<'_>, which: &[usize]) -> Vec<f64> {
         let m = &*self.model;
         let dim: usize = which.iter().map(|&k| m.sensor_kind[k].dim()).sum();
         let mut out = vec![0.0; self.data.len() * dim];
-        let scratch = scratch_here(&mut self.scratch, m);
-        for (i, (d, row)) in self.data.iter_mut().zip(out.chunks_mut(dim.max(1))).enumerate() {
+        let own = &self.own;
+        let worlds = self.data.iter_mut().zip(out.chunks_mut(dim.max(1))).enumerate();
+        share_out(self.workers.as_ref(), &self.scratch, m, worlds, |(i, (d, row)), scratch| {
+            let m = world_model(own, m, i);
             let s = sensordata::State {
                 qpos: &st.qpos[i * m.nq..(i + 1) * m.nq],
                 qvel: &st.qvel[i * m.nv..(i + 1) * m.nv],
                 ctrl: &st.ctrl[i * m.nu..(i + 1) * m.nu],
                 act: &st.act[i * m.na..(i + 1) * m.na],
             };
-            scratch.with_kept(d, |d| sensordata::read(world_model(&self.own, m, i), d, s, which, row));
-        }
+            scratch.with_kept(d, |d| sensordata::read(m, d, s, which, row));
+        });
         out
     }
 
@@ -316,6 +299,33 @@ impl Batch {
         if let Some((t, obs)) = task {
             t.observe(m, &out.world_view(qpos, qvel, ctrl), obs);
         }
+    }
+}
+
+/// Calls `each` on every item of `items` with a thread's scratch: the calling thread takes items
+/// from the front, the workers (when there are any) from the back, so that each keeps to its own
+/// end of the batch from call to call.
+fn share_out<I>(workers: Option<&Workers>, pool: &Mutex<Vec<Data>>, m: &Model, items: I, each: impl Fn(I::Item, &mut Data) + Sync)
+where
+    I: DoubleEndedIterator + Send,
+{
+    let queue = Mutex::new(items);
+    let work = |from_back: bool| {
+        let mut scratch = pool.lock().unwrap_or_else(|e| e.into_inner()).pop().unwrap_or_else(|| Data::new(m));
+        loop {
+            // the lock is held only to take the next item (a guard in a `while let` scrutinee
+            // would live through the loop body)
+            let mut q = queue.lock().unwrap_or_else(|e| e.into_inner());
+            let next = if from_back { q.next_back() } else { q.next() };
+            drop(q);
+            let Some(item) = next else { break };
+            each(item, &mut scratch);
+        }
+        pool.lock().unwrap_or_else(|e| e.into_inner()).push(scratch);
+    };
+    match workers {
+        Some(workers) => workers.run(&work),
+        None => work(false),
     }
 }
 
