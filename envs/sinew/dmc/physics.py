@@ -51,16 +51,19 @@ class Names:
 
 class Physics:
     """Named reads of a batch's worlds: every method returns one row per world of ``rows``
-    (all worlds when None). Sensor readings are computed once per state (``refresh`` forgets them)."""
+    (all worlds when None). Sensor readings and site and geom positions are computed once per state
+    (``refresh`` forgets them), and read-only."""
 
     def __init__(self, batch, names: Names, rows=None):
         self.batch, self.names = batch, names
         self.rows = slice(None) if rows is None else np.asarray(rows)
         self._sensors: dict = {}
+        self._points: dict = {}
 
     def refresh(self) -> None:
         """Forgets readings of an earlier state."""
         self._sensors = {}
+        self._points = {}
 
     def _mask(self) -> np.ndarray:
         mask = np.zeros(self.batch.num_envs, dtype=bool)
@@ -81,6 +84,7 @@ class Physics:
         """Gives the worlds values of their own of a model field (``Batch.set_params``; one row per
         world, in world order), as a task that edits ``physics.model`` at each episode does."""
         self.batch.set_params(field, values, self._mask())
+        self.refresh()
 
     def step(self, n: int) -> None:
         """Advances the worlds `n` physics steps with their current controls."""
@@ -121,13 +125,22 @@ class Physics:
 
     def site_xpos(self, site: str) -> np.ndarray:
         """The site's position (n, 3), where each world placed it (``set_site_pos``)."""
-        s = self.names.index("site", site)
-        return self._point(self.names.site_body[s], self.batch.site_pos(s)[self.rows])
+        return self._placed("site", site)
 
     def geom_xpos(self, geom: str) -> np.ndarray:
         """The geom's centre (n, 3), where each world placed it (``set_geom_pos``)."""
-        g = self.names.index("geom", geom)
-        return self._point(self.names.geom_body[g], self.batch.geom_pos(g)[self.rows])
+        return self._placed("geom", geom)
+
+    def _placed(self, kind: str, name: str) -> np.ndarray:
+        """A site's or geom's world position, once per state."""
+        if (kind, name) not in self._points:
+            i = self.names.index(kind, name)
+            body = (self.names.site_body if kind == "site" else self.names.geom_body)[i]
+            local = (self.batch.site_pos if kind == "site" else self.batch.geom_pos)(i)[self.rows]
+            x = self._point(body, local)
+            x.flags.writeable = False
+            self._points[kind, name] = x
+        return self._points[kind, name]
 
     def site_xmat(self, site: str) -> np.ndarray:
         """The site's rotation (n, 3, 3)."""
@@ -155,10 +168,12 @@ class Physics:
     def set_geom_pos(self, geom: str, pos: np.ndarray) -> None:
         """Places a geom without contacts (a target) in each world: (n, 3) in its body's frame."""
         self.batch.set_geom_pos(self.names.index("geom", geom), pos, self._mask())
+        self._points = {}
 
     def set_site_pos(self, site: str, pos: np.ndarray) -> None:
         """Places a site in each world: (n, 3) in its body's frame."""
         self.batch.set_site_pos(self.names.index("site", site), pos, self._mask())
+        self._points = {}
 
     def _point(self, body: int, local: np.ndarray) -> np.ndarray:
         """The world position of `local` (3,) or one per world (n, 3), points in `body`'s frame,

@@ -64,11 +64,11 @@ class Swimmer6(Task):
         return ("head_vel", "head_gyro", *(f"{kind}_{k}" for k in range(self.bodies - 1) for kind in ("velocimeter", "gyro")))
 
     def observation(self, phys):
-        sensors = list(zip(self.sensors[::2], self.sensors[1::2]))
-        # each link's local forward and sideways velocity and its turning rate
-        velocities = [np.stack([phys.sensor(v)[:, 0], phys.sensor(v)[:, 1], phys.sensor(g)[:, 2]], axis=1) for v, g in sensors]
+        # each link's velocimeter and gyro side by side (n, links, 6): its local forward and
+        # sideways velocity and its turning rate
+        readings = np.stack([phys.sensor(s) for s in self.sensors], axis=1).reshape(-1, self.bodies, 6)
         return OrderedDict(joints=phys.position()[:, 3:].copy(), to_target=self.nose_to_target(phys),
-                           body_velocities=np.concatenate(velocities, axis=1))
+                           body_velocities=readings[:, :, [0, 1, 5]].reshape(-1, 3 * self.bodies))
 
     def reward(self, phys):
         size = phys.geom_size("target")[0]
