@@ -152,11 +152,10 @@ pub(super) fn pivot_wide(tab: &mut [f64], cols: usize, n: usize, r: usize, c: us
     pivot(tab, cols, n, r, c);
 }
 
-/// y −= f·x over the shorter of the two (the eliminations' inner loop).
+/// y −= f·x over the shorter of the two (a pivot's inner loop).
 #[inline(always)]
-pub(super) fn sub_scaled(y: &mut [f64], f: f64, x: &[f64]) {
+fn sub_scaled(y: &mut [f64], f: f64, x: &[f64]) {
     for (a, b) in y.iter_mut().zip(x) {
         *a -= f * b;
     }
 }
-
