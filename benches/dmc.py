@@ -3,9 +3,11 @@
 
 sinew: the native vector env (``gym.make_vec(..., vectorization_mode="vector_entry_point")``),
 64 worlds from state and 16 from pixels, all cores; dm_control: its own ``env.step`` loop, one
-env, in a subprocess per task just before sinew's (a shared machine's speed drifts), on the installed MuJoCo (on MuJoCo 3.17 where the installed dm-control,
-1.0.50, cannot load its tasks under MuJoCo 4; the table names the version); pixels by
-``physics.render`` through mesa's EGL. Returns: mean ± sd over 16 episodes of each
+env, on the installed MuJoCo (on MuJoCo 3.17 where the installed dm-control, 1.0.50, cannot load
+its tasks under MuJoCo 4; the table names the version); pixels by ``physics.render`` through
+mesa's EGL. Each task is timed in a subprocess of its own, the two sides' windows alternating
+(``--rounds`` state windows of each, then one pixel window of each): a shared machine's speed
+drifts, and the state ratio is the median of the rounds' ratios. Returns: mean ± sd over 16 episodes of each
 (fewer hide the tasks whose returns are bimodal: a quadruped that lands on its feet and stands
 scores ~500, one that does not ~5), actions uniform in the action box (within ±1 where it is unbounded);
 lqr's episodes never truncate and are left out of the returns.
@@ -60,9 +62,9 @@ def sinew_returns(name: str, episodes: int = EPISODES) -> list:
     return total.tolist()
 
 
-def reference(names: list) -> dict:
-    """dm_control's numbers, measured in this script run in a subprocess (``--reference``), and
-    the MuJoCo version they ran on (``"mujoco"``)."""
+def reference(names: list, rounds: int) -> dict:
+    """Both sides' rates and dm_control's returns, measured in this script run in a subprocess
+    (``--reference``), and the MuJoCo version dm_control ran on (``"mujoco"``)."""
     env = dict(os.environ, MUJOCO_GL=os.environ.get("MUJOCO_GL", "egl"))
     loads = [sys.executable, "-c", "from dm_control import suite; suite.load('acrobot', 'swingup')"]
     if subprocess.run(loads, env=env, capture_output=True).returncode != 0:
@@ -71,11 +73,11 @@ def reference(names: list) -> dict:
             subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--target", MUJOCO_317,
                             "mujoco==3.17.0"], check=True)
         env["PYTHONPATH"] = MUJOCO_317
-    out = subprocess.run([sys.executable, __file__, "--reference", *names], check=True, env=env, capture_output=True, text=True)
+    out = subprocess.run([sys.executable, __file__, "--rounds", str(rounds), "--reference", *names], check=True, env=env, capture_output=True, text=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
-def measure_dm_control(names: list, seconds: float = 1.5) -> None:
+def measure_dm_control(names: list, rounds: int, seconds: float = 1.5) -> None:
     from dm_control import suite
     rows = {}
     for name in names:
@@ -84,8 +86,8 @@ def measure_dm_control(names: list, seconds: float = 1.5) -> None:
         spec = env.action_spec()
         lo, hi = np.clip(spec.minimum, -1, 1), np.clip(spec.maximum, -1, 1)
         rng = np.random.default_rng(0)
-        rates = []
-        for pixels in (False, True):
+
+        def rate(pixels: bool) -> float:
             env.reset()
             camera = 2 if domain == "quadruped" else 0
             steps, t0 = 0, time.perf_counter()
@@ -96,7 +98,10 @@ def measure_dm_control(names: list, seconds: float = 1.5) -> None:
                 if ts.last():
                     env.reset()
                 steps += 1
-            rates.append(steps / (time.perf_counter() - t0))
+            return steps / (time.perf_counter() - t0)
+
+        state = [(rate(False), sinew_rate(name, False)) for _ in range(rounds)]
+        pixels = (rate(True), sinew_rate(name, True))
         # returns from their own seeds, not from what the timed loops left
         env = suite.load(domain, task, task_kwargs={"random": 1})
         rng = np.random.default_rng(1)
@@ -107,7 +112,7 @@ def measure_dm_control(names: list, seconds: float = 1.5) -> None:
                 ts = env.step(rng.uniform(lo, hi))
                 total += ts.reward
             returns.append(total)
-        rows[name] = {"state": rates[0], "pixels": rates[1], "returns": returns}
+        rows[name] = {"state": state, "pixels": pixels, "returns": returns}
     import mujoco
     print(json.dumps({"mujoco": mujoco.__version__, "tasks": rows}))
 
@@ -138,32 +143,35 @@ def main() -> None:
     p.add_argument("--out", default="results/dmc.md")
     p.add_argument("--tasks", nargs="*")
     p.add_argument("--reference", nargs="*")
+    p.add_argument("--rounds", type=int, default=3, help="alternating state windows of each side per task")
     p.add_argument("--stills")
     a = p.parse_args()
     if a.stills:
         return stills(a.stills)
     if a.reference is not None:
-        return measure_dm_control(a.reference)
+        return measure_dm_control(a.reference, a.rounds)
     from sinew.dmc import TASKS
     names = a.tasks or list(TASKS)
     rows, version = [], None
     for name in names:
-        # each task's dm_control numbers just before sinew's: a shared machine's speed drifts
-        measured = reference([name])
+        measured = reference([name], a.rounds)
         version, r = measured["mujoco"], measured["tasks"][name]
-        s, px = sinew_rate(name, False), sinew_rate(name, True)
+        theirs_state, ours_state = np.median(r["state"], axis=0)
+        ratio = np.median([o / t for t, o in r["state"]])
+        theirs_px, px = r["pixels"]
         returns = "| — | — |"
         if r["returns"]:
             ours, theirs = sinew_returns(name), r["returns"]
             returns = f"| {np.mean(ours):.1f} ± {np.std(ours):.1f} | {np.mean(theirs):.1f} ± {np.std(theirs):.1f} |"
-        rows.append(f"| {name[4:]} | {s:,.0f} | {r['state']:,.0f} | {s / r['state']:.1f} | {px:,.0f} | {r['pixels']:,.0f} | "
-                    f"{px / r['pixels']:.1f} " + returns)
+        rows.append(f"| {name[4:]} | {ours_state:,.0f} | {theirs_state:,.0f} | {ratio:.1f} | {px:,.0f} | {theirs_px:,.0f} | "
+                    f"{px / theirs_px:.1f} " + returns)
         print(rows[-1], flush=True)
     lines = ["# dm_control's suite: sinew beside dm_control", "",
              "`MUJOCO_GL=egl python benches/dmc.py --out results/dmc.md` (2 cores; sinew's native vector env, 64 "
              "worlds from state, 16 from 84 × 84 pixels; dm_control's own loop, one env, MuJoCo "
-             f"{version}, each task's measured just before sinew's, pixels by mesa's EGL; random-policy returns over "
-             f"{EPISODES} episodes of each)", "",
+             f"{version}; each task in a process of its own, the sides' 1.5 s windows alternating: state steps/s are "
+             f"medians of {a.rounds} rounds and × the median of the rounds' ratios, pixels one window each, by mesa's "
+             f"EGL for dm_control; random-policy returns over {EPISODES} episodes of each)", "",
              "| task | state steps/s sinew | dm_control | × | pixels steps/s sinew | dm_control | × | random return sinew | dm_control |",
              "|---|---:|---:|---:|---:|---:|---:|---:|---:|", *rows]
     with open(a.out, "w") as f:
