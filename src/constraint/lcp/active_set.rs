@@ -1,6 +1,7 @@
 //! Solving on a guessed active set: the warm start from the last step's set, and the polish of
 //! a pivoting answer (the rows with force solved as equations, checked independently).
 
+use super::lemke::sub_scaled;
 use super::{residual, LcpWork, Role, ACCEPT_RESIDUAL};
 
 /// Scaled w (as in [`residual`]) below which [`settle`] adds an inactive friction row. Redundant
@@ -137,15 +138,13 @@ fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
     let k = active.len();
     trial.clear();
     trial.resize(n, 0.0);
-    // augmented k × (k + 1) system in the tableau buffer, each row padded with zeros to whole
-    // blocks of four
-    let w = (k + 1).next_multiple_of(4);
+    // augmented k × (k + 1) system in the tableau buffer
+    let w = k + 1;
     a.clear();
     for &i in active.iter() {
         let row = &m[i * n..(i + 1) * n];
         a.extend(active.iter().map(|&j| row[j]));
         a.push(-q[i]);
-        a.resize(a.len() + w - k - 1, 0.0);
     }
     if !eliminate_wide(a, k) {
         return false;
@@ -162,15 +161,11 @@ fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
     trial.iter().all(|x| x.is_finite())
 }
 
-/// Forward elimination with partial pivoting of the augmented k × (k + 1) system `a`, its rows
-/// padded to whole blocks of four (a stride of k + 1 rounded up to a multiple of 4), each pivot
-/// replaced by its reciprocal (for the back substitution); false when singular. A row below the
-/// pivot is updated from the block holding the pivot's column: the few entries left of that
-/// column are no longer read (nor is the padding), and every entry read gets exactly the
-/// operations, in the order, of an update starting at the column.
+/// Forward elimination with partial pivoting of the augmented k × (k + 1) system `a`, each pivot
+/// replaced by its reciprocal (for the back substitution); false when singular.
 #[inline(always)]
 pub(super) fn eliminate(a: &mut [f64], k: usize) -> bool {
-    let w = (k + 1).next_multiple_of(4);
+    let w = k + 1;
     for c in 0..k {
         let p = (c..k).max_by(|&x, &y| a[x * w + c].abs().total_cmp(&a[y * w + c].abs())).unwrap();
         if a[p * w + c].abs() < 1e-300 {
@@ -180,22 +175,17 @@ pub(super) fn eliminate(a: &mut [f64], k: usize) -> bool {
             let (top, bottom) = a.split_at_mut(p * w);
             top[c * w..(c + 1) * w].swap_with_slice(&mut bottom[..w]);
         }
-        // eliminate column c below the pivot, a block of four at a time
-        let from = c / 4 * 4;
+        // eliminate column c below the pivot
         let (upper, lower) = a[..k * w].split_at_mut((c + 1) * w);
-        let prow = &mut upper[c * w..(c + 1) * w];
-        let inv = 1.0 / prow[c];
-        let (pivot_blocks, _) = prow[from..].as_chunks::<4>();
+        let prow = &mut upper[c * w + c..(c + 1) * w];
+        let inv = 1.0 / prow[0];
         for row in lower.chunks_exact_mut(w) {
             let f = row[c] * inv;
             if f != 0.0 {
-                let (blocks, _) = row[from..].as_chunks_mut::<4>();
-                for (y, x) in blocks.iter_mut().zip(pivot_blocks) {
-                    *y = [y[0] - f * x[0], y[1] - f * x[1], y[2] - f * x[2], y[3] - f * x[3]];
-                }
+                sub_scaled(&mut row[c..], f, prow);
             }
         }
-        prow[c] = inv;
+        prow[0] = inv;
     }
     true
 }

@@ -152,10 +152,11 @@ pub(super) fn pivot_wide(tab: &mut [f64], cols: usize, n: usize, r: usize, c: us
     pivot(tab, cols, n, r, c);
 }
 
-/// y −= f·x over the shorter of the two (a pivot's inner loop).
+/// y −= f·x over the shorter of the two (the eliminations' inner loop).
 #[inline(always)]
-fn sub_scaled(y: &mut [f64], f: f64, x: &[f64]) {
+pub(super) fn sub_scaled(y: &mut [f64], f: f64, x: &[f64]) {
     for (a, b) in y.iter_mut().zip(x) {
         *a -= f * b;
     }
 }
+
