@@ -311,6 +311,11 @@ class Batch:
     def forward_kinematics(self, mask: Optional[ArrayLike] = None) -> None: ...
     def read_sensors(self, sensors: Sequence[int]) -> NDArray[np.float64]:
         """The chosen sensors' readings of each world, one after another, computing only them."""
+    def watch_sensors(self, sensors: Sequence[int]) -> None:
+        """Sensors every `step` reads after it, in the same parallel pass, into `watched_readings`."""
+    @property
+    def watched_readings(self) -> NDArray[np.float64]:
+        """The watched sensors' readings after the last `step` (N, their total dimension)."""
     def penetrations(self) -> NDArray[np.uintp]:
         """How many contacts penetrate in each world's current configuration (MuJoCo's ncon)."""
     def set_params(self, field: str, values: ArrayLike, worlds: Optional[ArrayLike] = None) -> None:

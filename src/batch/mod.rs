@@ -55,6 +55,8 @@ pub struct Batch {
     /// The task outputs' slots (3 per world) of a step without a task.
     no_task: Vec<f64>,
     no_task_flag: Vec<bool>,
+    /// The readings' slots (one per world) of a step that reads no sensors.
+    no_sensors: Vec<f64>,
 }
 
 /// A task to evaluate after each world's env step, and where its outputs go.
@@ -89,6 +91,11 @@ pub struct BatchState<'a> {
     pub active: &'a [bool],
     /// Sensor outputs after the call, every world's rows one after another ([`Sensors`] × N).
     pub out: Sensors<'a>,
+    /// File sensors (indices) to read after the call, as [`Batch::read_sensors`] reads them
+    /// (none: nothing is read).
+    pub sensors: &'a [usize],
+    /// Their readings after the call (N × their total dimension; unused without sensors).
+    pub sensordata: &'a mut [f64],
 }
 
 impl Batch {
@@ -111,7 +118,8 @@ impl Batch {
         let no_act = vec![0.0; if model.na == 0 { data.len() } else { 0 }];
         let (no_task, no_task_flag) = (vec![0.0; 3 * data.len()], vec![false; data.len()]);
         let scratch = Mutex::new((0..threads).map(|_| Data::new(&model)).collect());
-        Ok(Batch { root: sensors::body_root(&model), own: (0..seeds.len()).map(|_| None).collect(), model, data, threads, scratch, workers, no_ctrl, no_act, no_task, no_task_flag })
+        let no_sensors = vec![0.0; data.len()];
+        Ok(Batch { root: sensors::body_root(&model), own: (0..seeds.len()).map(|_| None).collect(), model, data, threads, scratch, workers, no_ctrl, no_act, no_task, no_task_flag, no_sensors })
     }
 
     /// Number of worlds.
@@ -199,8 +207,9 @@ impl Batch {
         self.data[i].seed(seed);
     }
 
-    /// Advances the active worlds `n` steps in parallel, then writes their sensor outputs and, with
-    /// a task, its observation, reward terms and termination (`n` steps make one env step).
+    /// Advances the active worlds `n` steps in parallel, then writes their sensor outputs, the
+    /// readings of `st.sensors` and, with a task, its observation, reward terms and termination
+    /// (`n` steps make one env step).
     pub fn step(&mut self, st: BatchState<'_>, n: usize, task: Option<TaskRun<'_>>) {
         let m = &*self.model;
         let root = &self.root[..];
@@ -208,7 +217,9 @@ impl Batch {
         let data = &mut self.data;
         let own = &self.own;
         let ctrl = if m.nu == 0 { &self.no_ctrl[..] } else { st.ctrl };
-        let BatchState { qpos, qvel, act, time, diverged, active, out, .. } = st;
+        let BatchState { qpos, qvel, act, time, diverged, active, out, sensors: which, sensordata, .. } = st;
+        let dim: usize = which.iter().map(|&k| m.sensor_kind[k].dim()).sum();
+        let sensordata = if dim == 0 { &mut self.no_sensors[..] } else { sensordata };
         // without activations, one unused slot per world
         let act = if m.na == 0 { &mut self.no_act[..] } else { act };
         // without a task its outputs are one unused slot per world
@@ -231,7 +242,8 @@ impl Batch {
             .zip(out.xvel.chunks_mut(6 * nb).zip(out.cfrc_ext.chunks_mut(6 * nb)).zip(out.qfrc_constraint.chunks_mut(nv)))
             .zip(out.cinert.chunks_mut(10 * nb).zip(out.cvel.chunks_mut(6 * nb)))
             .zip(obs.chunks_mut(obs_dim.max(1)).zip(reward.iter_mut()).zip(terminated.iter_mut()).zip(info.chunks_mut(ninfo.max(1))))
-            .map(|(((((((d, model), (((qpos, qvel), ctrl), act)), ((time, diverged), &active)), ((xpos, xmat), xipos)), ((xvel, cfrc_ext), qfrc_constraint)), (cinert, cvel)), (((obs, reward), terminated), info))| World {
+            .zip(sensordata.chunks_mut(dim.max(1)))
+            .map(|((((((((d, model), (((qpos, qvel), ctrl), act)), ((time, diverged), &active)), ((xpos, xmat), xipos)), ((xvel, cfrc_ext), qfrc_constraint)), (cinert, cvel)), (((obs, reward), terminated), info)), readings)| World {
                 model,
                 data: d,
                 state: WorldState { time, qpos: &mut qpos[..m.nq], qvel: &mut qvel[..m.nv], ctrl: &ctrl[..m.nu], act: &mut act[..m.na] },
@@ -242,6 +254,8 @@ impl Batch {
                 reward,
                 terminated,
                 info,
+                sensors: which,
+                readings,
             });
         share_out(self.workers.as_ref(), &self.scratch, m, worlds, |w, scratch| env_step(root, spec, n, w, scratch));
     }
@@ -356,15 +370,19 @@ struct World<'a> {
     reward: &'a mut f64,
     terminated: &'a mut bool,
     info: &'a mut [f64],
+    /// File sensors to read after the step, and where.
+    sensors: &'a [usize],
+    readings: &'a mut [f64],
 }
 
 /// `n` steps of one world (reset alone if it diverges) in the thread's scratch `scratch`,
-/// then its sensor outputs and, with a task, its observation, reward terms and termination, under
+/// then its sensor outputs, the readings of the watched sensors and, with a task, its observation,
+/// reward terms and termination, under
 /// the step's panic guard: a panic (a bug)
 /// leaves the world as the call found it, its history forgotten, and its message in
 /// [`Kept::fault`].
 fn env_step(root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>, scratch: &mut Data) {
-    let World { model: m, data, mut state, diverged, active, mut out, obs, reward, terminated, info } = w;
+    let World { model: m, data, mut state, diverged, active, mut out, obs, reward, terminated, info, sensors: which, readings } = w;
     *diverged = false;
     data.fault = None;
     if !active {
@@ -380,6 +398,9 @@ fn env_step(root: &[usize], task: Option<&dyn Task>, n: usize, w: World<'_>, scr
             *diverged = true;
         }
         sensors::write(m, root, data, s.qpos, s.qvel, out.reborrow());
+        if !which.is_empty() {
+            sensordata::read(m, data, sensordata::State { qpos: s.qpos, qvel: s.qvel, ctrl: s.ctrl, act: s.act }, which, readings);
+        }
         if let (Some(t), Some(before)) = (task, before) {
             let view = out.world_view(s.qpos, s.qvel, s.ctrl);
             t.observe(m, &view, obs);

@@ -35,6 +35,9 @@ pub struct PyBatch {
     /// Geoms and sites placed per world (`set_geom_pos`, `set_site_pos`): each with its position
     /// in its body's frame in every world.
     moved: Placements,
+    /// The sensors `watch_sensors` chose, and their readings after the last `step`.
+    watched: Vec<usize>,
+    watched_readings: Py<PyArray2<f64>>,
 }
 
 #[pymethods]
@@ -74,6 +77,8 @@ impl PyBatch {
             task: None,
             task_args: None,
             moved: Placements::default(),
+            watched: vec![],
+            watched_readings: PyArray2::zeros(py, [num_envs, 0], false).unbind(),
         };
         b.refresh_poses(py)?;
         Ok(b)
@@ -130,6 +135,27 @@ impl PyBatch {
     fn sensordata<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let all: Vec<usize> = (0..self.inner.model.sensor_kind.len()).collect();
         self.read_sensors(py, all)
+    }
+
+    /// Chooses sensors (indices into `Model.sensor_names`) that every `step` reads after it, in
+    /// the same parallel pass, into `watched_readings`: the columns `read_sensors` would give for
+    /// the state the step reached (an empty list stops it). The rows of worlds a step leaves
+    /// alone keep their last readings.
+    fn watch_sensors(&mut self, py: Python<'_>, sensors: Vec<usize>) -> PyResult<()> {
+        let m = &self.inner.model;
+        if let Some(&bad) = sensors.iter().find(|&&k| k >= m.sensor_kind.len()) {
+            return Err(PyValueError::new_err(format!("sensor {bad} out of range for {} sensors", m.sensor_kind.len())));
+        }
+        let dim = sensors.iter().map(|&k| m.sensor_kind[k].dim()).sum::<usize>();
+        self.watched_readings = PyArray2::zeros(py, [self.inner.len(), dim], false).unbind();
+        self.watched = sensors;
+        Ok(())
+    }
+    /// The readings of the sensors `watch_sensors` chose, after the last `step` (N, their total
+    /// dimension).
+    #[getter]
+    fn watched_readings(&self, py: Python<'_>) -> Py<PyArray2<f64>> {
+        self.watched_readings.clone_ref(py)
     }
 
     /// The readings of the sensors `sensors` (indices into `Model.sensor_names`), one after
@@ -222,6 +248,7 @@ impl PyBatch {
         let (mut qpos, mut qvel, ctrl) = (self.qpos.bind(py).readwrite(), self.qvel.bind(py).readwrite(), self.ctrl.bind(py).readonly());
         let (mut time, mut div, mut act) = (self.time.bind(py).readwrite(), self.diverged.bind(py).readwrite(), self.act.bind(py).readwrite());
         let mut out = self.out.readwrite(py);
+        let mut readings = self.watched_readings.bind(py).readwrite();
         let st = BatchState {
             qpos: qpos.as_slice_mut()?,
             qvel: qvel.as_slice_mut()?,
@@ -231,6 +258,8 @@ impl PyBatch {
             diverged: div.as_slice_mut()?,
             active: &active,
             out: out.slices()?,
+            sensors: &self.watched,
+            sensordata: readings.as_slice_mut()?,
         };
         let mut outputs = self.task.as_ref().map(|t| t.borrow(py));
         let run = match &mut outputs {

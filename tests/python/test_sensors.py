@@ -195,3 +195,27 @@ def test_kinds_not_computed_are_named_in_a_warning():
         m = sinew.Model.from_mjcf_string(xml)
     assert any("<magnetometer> sensor 'mag'" in w for w in m.warnings)
     assert m.sensor_names == ["gyro"]
+
+
+def test_watched_sensors_are_read_by_the_step_as_read_sensors_reads_them():
+    # hopper's touch sensors read the step's contact forces, its velocimeter the end state
+    m = load("hopper")
+    b = sinew.Batch(m, 6, seed=2, num_threads=2)
+    chosen = [len(m.sensor_names) - 1, 0, 2]
+    b.watch_sensors(chosen)
+    rng = np.random.default_rng(0)
+    mask = np.array([True, False, True, True, False, True])
+    for k in range(150):
+        b.ctrl[:] = rng.uniform(-1, 1, b.ctrl.shape)
+        before = b.watched_readings.copy()
+        b.step(4, mask if k % 3 == 0 else None)
+        # worlds a step leaves alone keep their readings, which are of their unchanged state
+        if k % 3 == 0:
+            assert np.array_equal(b.watched_readings[~mask], before[~mask])
+        assert np.array_equal(b.watched_readings, b.read_sensors(chosen))
+    assert np.abs(b.watched_readings).max() > 0
+    b.watch_sensors([])
+    b.step()
+    assert b.watched_readings.shape == (6, 0)
+    with pytest.raises(ValueError, match="sensor 99 out of range"):
+        b.watch_sensors([99])

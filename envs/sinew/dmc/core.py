@@ -60,6 +60,8 @@ class DmcCore(Worlds):
         super().__init__(model.with_options(friction=friction, constraint_mode=constraint_mode), num_envs, num_threads)
         self.names = Names(self.model)
         self.names.declared = [s for s in self.task.sensors if s in self.names.sensor]
+        # the task's sensors are read by each step, in its parallel pass
+        self.batch.watch_sensors([self.names.sensor[s][0] for s in self.names.declared])
         self.n_sub_steps = n_sub_steps(self.task.control_timestep, self.model.timestep)
         self.action_repeat = int(action_repeat)
         limit = self.task.time_limit if time_limit is None else time_limit
@@ -169,7 +171,7 @@ class DmcCore(Worlds):
         for _ in range(self.action_repeat):
             b.step(self.n_sub_steps, active)
             diverged |= b.diverged
-            phys.refresh()
+            phys.stepped()
             reward += self.task.reward(phys)
         reward[diverged] = 0.0
         self._observe(phys, fresh=False)

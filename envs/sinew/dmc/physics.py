@@ -52,18 +52,28 @@ class Names:
 class Physics:
     """Named reads of a batch's worlds: every method returns one row per world of ``rows``
     (all worlds when None). Sensor readings and site and geom positions are computed once per state
-    (``refresh`` forgets them), and read-only."""
+    (``refresh`` forgets them), and read-only. The task's declared sensors are read by the batch's
+    step itself (``Batch.watch_sensors``): after a step, their readings are taken from it."""
 
     def __init__(self, batch, names: Names, rows=None):
         self.batch, self.names = batch, names
         self.rows = slice(None) if rows is None else np.asarray(rows)
         self._sensors: dict = {}
         self._points: dict = {}
+        # whether the batch's watched readings are of the rows' current state
+        self._stepped = False
 
     def refresh(self) -> None:
         """Forgets readings of an earlier state."""
         self._sensors = {}
         self._points = {}
+        self._stepped = False
+
+    def stepped(self) -> None:
+        """Forgets readings of an earlier state: the rows' worlds were just stepped (or left
+        alone by a step) by ``Batch.step``, whose watched readings are of their state."""
+        self.refresh()
+        self._stepped = True
 
     def _mask(self) -> np.ndarray:
         mask = np.zeros(self.batch.num_envs, dtype=bool)
@@ -89,7 +99,7 @@ class Physics:
     def step(self, n: int) -> None:
         """Advances the worlds `n` physics steps with their current controls."""
         self.batch.step(n, self._mask())
-        self.refresh()
+        self.stepped()
 
     def penetrations(self) -> np.ndarray:
         """How many contacts penetrate in each world (n,): MuJoCo's ``ncon`` at a reset."""
@@ -168,12 +178,12 @@ class Physics:
     def set_geom_pos(self, geom: str, pos: np.ndarray) -> None:
         """Places a geom without contacts (a target) in each world: (n, 3) in its body's frame."""
         self.batch.set_geom_pos(self.names.index("geom", geom), pos, self._mask())
-        self._points = {}
+        self.refresh()
 
     def set_site_pos(self, site: str, pos: np.ndarray) -> None:
         """Places a site in each world: (n, 3) in its body's frame."""
         self.batch.set_site_pos(self.names.index("site", site), pos, self._mask())
-        self._points = {}
+        self.refresh()
 
     def _point(self, body: int, local: np.ndarray) -> np.ndarray:
         """The world position of `local` (3,) or one per world (n, 3), points in `body`'s frame,
@@ -192,8 +202,12 @@ class Physics:
         (``Task.sensors``) are read together, only they."""
         if name not in self._sensors:
             self.names.index("sensor", name)
-            wanted = self.names.declared if name in self.names.declared else [name]
-            values = self.batch.read_sensors([self.names.sensor[n][0] for n in wanted])[self.rows]
+            declared = name in self.names.declared
+            wanted = self.names.declared if declared else [name]
+            if declared and self._stepped:
+                values = np.array(self.batch.watched_readings[self.rows])
+            else:
+                values = self.batch.read_sensors([self.names.sensor[n][0] for n in wanted])[self.rows]
             at = 0
             for n in wanted:
                 dim = self.names.sensor[n][1]
