@@ -19,10 +19,11 @@ def sim(m: Model, state) -> Sim:
     return s
 
 
-def batch(m: Model, num_envs: int, num_threads: int, task, states, outputs: dict, moved=(), params=()) -> Batch:
+def batch(m: Model, num_envs: int, num_threads: int, task, states, outputs: dict, moved=(), params=(), watched=((), None)) -> Batch:
     """A batch of ``m`` with ``task`` (kind, parameters) set, the worlds' own model values
-    (``params``), every world in its full state, the output arrays as the last step left them and
-    the geoms and sites placed per world ("geom" or "site", index, positions)."""
+    (``params``), every world in its full state, the output arrays as the last step left them,
+    the geoms and sites placed per world ("geom" or "site", index, positions) and the watched
+    sensors with their readings."""
     b = Batch(m, num_envs, num_threads=num_threads)
     b._restore_params(list(params))
     if task is not None:
@@ -32,4 +33,8 @@ def batch(m: Model, num_envs: int, num_threads: int, task, states, outputs: dict
         getattr(b, name)[...] = values
     for kind, i, pos in moved:
         getattr(b, f"set_{kind}_pos")(i, pos)
+    sensors, readings = watched
+    if len(sensors):
+        b.watch_sensors(list(sensors))
+        b.watched_readings[...] = readings
     return b

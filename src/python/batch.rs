@@ -509,8 +509,8 @@ impl PyBatch {
         self.refresh(py, &which)
     }
 
-    /// Pickles as its model, size, threads, task and every world's full state: a copy steps on
-    /// bit-identically.
+    /// Pickles as its model, size, threads, task, every world's full state and the sensors it
+    /// watches: a copy steps on bit-identically.
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<super::Reduced<'py>> {
         let task = self.task_args.as_ref().map(|(k, p)| (k.clone(), p.clone_ref(py)));
         let states = self.get_state(py, None, true)?;
@@ -528,7 +528,9 @@ impl PyBatch {
             })
             .collect::<PyResult<_>>()?;
         let own = super::params::varied(&self.inner);
-        let args = (self.py_model.clone_ref(py), self.inner.len(), self.inner.num_threads(), task, states, outputs, moved, own).into_pyobject(py)?;
+        // the watched sensors and their readings after the last step
+        let watched = (self.watched.clone(), self.watched_readings.bind(py).call_method0("copy")?);
+        let args = (self.py_model.clone_ref(py), self.inner.len(), self.inner.num_threads(), task, states, outputs, moved, own, watched).into_pyobject(py)?;
         Ok((py.import("sinew._pickle")?.getattr("batch")?, args))
     }
 

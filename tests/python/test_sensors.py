@@ -6,6 +6,7 @@ sensor the weight it carries; the kinds sinew does not compute are named in a wa
 
 import importlib.util
 import os
+import pickle
 import warnings
 
 import mujoco
@@ -214,6 +215,13 @@ def test_watched_sensors_are_read_by_the_step_as_read_sensors_reads_them():
             assert np.array_equal(b.watched_readings[~mask], before[~mask])
         assert np.array_equal(b.watched_readings, b.read_sensors(chosen))
     assert np.abs(b.watched_readings).max() > 0
+    # a pickled copy watches the same sensors and steps on to the same readings
+    copy = pickle.loads(pickle.dumps(b))
+    assert np.array_equal(copy.watched_readings, b.watched_readings)
+    for x in (b, copy):
+        x.ctrl[:] = 0.3
+        x.step(5)
+    assert np.array_equal(copy.watched_readings, b.watched_readings)
     b.watch_sensors([])
     b.step()
     assert b.watched_readings.shape == (6, 0)
