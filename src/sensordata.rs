@@ -12,7 +12,7 @@ use glam::{DMat3, DVec3};
 use crate::collision::ray::ray_primitive;
 use crate::collision::Contact;
 use crate::constraint::AppliedForces;
-use crate::dynamics::kinematics::{self, point_accel, KinData};
+use crate::dynamics::kinematics::{point_accel, KinData};
 use crate::dynamics::tendon::{self, geom_pose, TendonData};
 use crate::dynamics::{self, aba};
 use crate::math::{Force, Motion, SpatialInertia};
@@ -21,8 +21,9 @@ use crate::model::{Model, SensorFrame, SensorKind, Transmission, WORLD};
 
 /// Writes the sensors `which` (indices, in order) of world state `s` into `out`, one after
 /// another (every sensor: `sensordata`'s layout): kinematics (those a step computed ahead for the
-/// state it reached, when they are of `s`), tendons and, when a sensor reads them, accelerations
-/// are computed into `d`; touch, force and torque read the last step's constraint forces there.
+/// state it reached, when they are of `s`, which stay there for the next step), tendons and, when
+/// a sensor reads them, accelerations are computed into `d`; touch, force and torque read the
+/// last step's constraint forces there.
 pub fn read(m: &Model, d: &mut Data, s: State<'_>, which: &[usize], out: &mut [f64]) {
     let last = (&d.constraints.applied, &d.coll.contacts[..]);
     if !which.iter().any(|&k| m.sensor_kind[k].reads_accelerations()) {
@@ -33,11 +34,15 @@ pub fn read(m: &Model, d: &mut Data, s: State<'_>, which: &[usize], out: &mut [f
         return;
     }
     let dy = &mut d.dynamics;
-    kinematics::forward(m, s.qpos, s.qvel, &mut dy.kin);
+    dy.ahead.take_into(m, s.qpos, s.qvel, &mut dy.kin);
     tendon::compute(m, &dy.kin, s.qpos, &mut dy.ten);
     let acc = accelerations(m, d, s);
     let dy = &d.dynamics;
     compute(m, &dy.kin, &dy.ten, s, (&d.constraints.applied, &d.coll.contacts), Some(&acc), (which, out));
+    // the kinematics go back to the cache, for the next step
+    let dy = &mut d.dynamics;
+    std::mem::swap(&mut dy.kin, &mut dy.ahead.kin);
+    dy.ahead.keep(s.qpos, s.qvel);
 }
 
 /// A world's state as the sensors read it.

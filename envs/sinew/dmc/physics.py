@@ -51,8 +51,8 @@ class Names:
 
 class Physics:
     """Named reads of a batch's worlds: every method returns one row per world of ``rows``
-    (all worlds when None). Sensor readings and site and geom positions are computed once per state
-    (``refresh`` forgets them), and read-only. The task's declared sensors are read by the batch's
+    (all worlds when None). Sensor readings and site and geom positions (read-only) are computed
+    once per state (``refresh`` forgets them). The task's declared sensors are read by the batch's
     step itself (``Batch.watch_sensors``): after a step, their readings are taken from it."""
 
     def __init__(self, batch, names: Names, rows=None):
