@@ -44,8 +44,9 @@ pub struct Batch {
     root: Vec<usize>,
     /// Threads that step worlds, the calling one included.
     threads: usize,
-    /// The scratch of each thread, which takes a world's keeping for its step (one per thread).
-    scratch: Mutex<Vec<Data>>,
+    /// The scratch of each thread, which takes a world's keeping for its step: the calling
+    /// thread's first, then each worker's (a thread takes its own out for a call).
+    scratch: Mutex<Vec<Option<Data>>>,
     /// The `threads − 1` workers beside the calling thread (None for one thread).
     workers: Option<Workers>,
     /// One zero control per world, for models without actuators (the chunk iterators need a slot).
@@ -117,7 +118,7 @@ impl Batch {
         let no_ctrl = vec![0.0; if model.nu == 0 { data.len() } else { 0 }];
         let no_act = vec![0.0; if model.na == 0 { data.len() } else { 0 }];
         let (no_task, no_task_flag) = (vec![0.0; 3 * data.len()], vec![false; data.len()]);
-        let scratch = Mutex::new((0..threads).map(|_| Data::new(&model)).collect());
+        let scratch = Mutex::new((0..threads).map(|_| Some(Data::new(&model))).collect());
         let no_sensors = vec![0.0; data.len()];
         Ok(Batch { root: sensors::body_root(&model), own: (0..seeds.len()).map(|_| None).collect(), model, data, threads, scratch, workers, no_ctrl, no_act, no_task, no_task_flag, no_sensors })
     }
@@ -319,13 +320,16 @@ impl Batch {
 /// Calls `each` on every item of `items` with a thread's scratch: the calling thread takes items
 /// from the front, the workers (when there are any) from the back, so that each keeps to its own
 /// end of the batch from call to call.
-fn share_out<I>(workers: Option<&Workers>, pool: &Mutex<Vec<Data>>, m: &Model, items: I, each: impl Fn(I::Item, &mut Data) + Sync)
+fn share_out<I>(workers: Option<&Workers>, pool: &Mutex<Vec<Option<Data>>>, m: &Model, items: I, each: impl Fn(I::Item, &mut Data) + Sync)
 where
     I: DoubleEndedIterator + Send,
 {
     let queue = Mutex::new(items);
     let work = |from_back: bool| {
-        let mut scratch = pool.lock().unwrap_or_else(|e| e.into_inner()).pop().unwrap_or_else(|| Data::new(m));
+        // each thread keeps its own scratch from call to call, warm in its core's cache
+        let slot = if from_back { 1 + rayon::current_thread_index().unwrap_or(0) } else { 0 };
+        let taken = pool.lock().unwrap_or_else(|e| e.into_inner()).get_mut(slot).and_then(Option::take);
+        let mut scratch = taken.unwrap_or_else(|| Data::new(m));
         loop {
             // the lock is held only to take the next item (a guard in a `while let` scrutinee
             // would live through the loop body)
@@ -335,7 +339,9 @@ where
             let Some(item) = next else { break };
             each(item, &mut scratch);
         }
-        pool.lock().unwrap_or_else(|e| e.into_inner()).push(scratch);
+        if let Some(own) = pool.lock().unwrap_or_else(|e| e.into_inner()).get_mut(slot) {
+            *own = Some(scratch);
+        }
     };
     match workers {
         Some(workers) => workers.run(&work),
@@ -344,12 +350,8 @@ where
 }
 
 /// A thread's scratch for a world outside a step call (there is always one per thread).
-fn scratch_here<'a>(pool: &'a mut Mutex<Vec<Data>>, m: &Model) -> &'a mut Data {
-    let pool = pool.get_mut().unwrap_or_else(|e| e.into_inner());
-    if pool.is_empty() {
-        pool.push(Data::new(m));
-    }
-    &mut pool[0]
+fn scratch_here<'a>(pool: &'a mut Mutex<Vec<Option<Data>>>, m: &Model) -> &'a mut Data {
+    pool.get_mut().unwrap_or_else(|e| e.into_inner())[0].get_or_insert_with(|| Data::new(m))
 }
 
 /// World `i`'s own model if it has one, else the shared one (a field-wise borrow of a
