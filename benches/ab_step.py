@@ -7,6 +7,8 @@ Euler model and the RK4 ones, with 1 and 2 threads. Run it before a change to th
 
 Each run is a fresh process timing only the step loop; the ratio is new time / base time per
 round (below 1: the installed build is faster), reported as the median and range over rounds.
+The two runs of a round go in turns (new first, then base first), so that whatever favours the
+first or the second run of a pair cancels.
 """
 
 import argparse
@@ -67,9 +69,10 @@ def main():
     for task in args.tasks:
         for threads in (1, 2):
             new, old = [], []
-            for _ in range(args.rounds):
-                new.append(run(task, threads, None))
-                old.append(run(task, threads, base))
+            for k in range(args.rounds):
+                # the order turns each round, so that a bias of a pair's first or second run cancels
+                for side in ((None, base) if k % 2 == 0 else (base, None)):
+                    (new if side is None else old).append(run(task, threads, side))
             ratios = sorted(a / b for a, b in zip(new, old))
             row = f"| {task} | {threads} | {statistics.median(ratios):.3f} | {ratios[0]:.3f}–{ratios[-1]:.3f} | {statistics.median(new):.3f} | {statistics.median(old):.3f} |"
             print(row, flush=True)
