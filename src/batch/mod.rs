@@ -45,8 +45,8 @@ pub struct Batch {
     /// Threads that step worlds, the calling one included.
     threads: usize,
     /// The scratch of each thread, which takes a world's keeping for its step: the calling
-    /// thread's first, then each worker's (a thread takes its own out for a call).
-    scratch: Mutex<Vec<Option<Data>>>,
+    /// thread's first, then each worker's.
+    scratch: Vec<Mutex<Data>>,
     /// The `threads − 1` workers beside the calling thread (None for one thread).
     workers: Option<Workers>,
     /// One zero control per world, for models without actuators (the chunk iterators need a slot).
@@ -118,7 +118,7 @@ impl Batch {
         let no_ctrl = vec![0.0; if model.nu == 0 { data.len() } else { 0 }];
         let no_act = vec![0.0; if model.na == 0 { data.len() } else { 0 }];
         let (no_task, no_task_flag) = (vec![0.0; 3 * data.len()], vec![false; data.len()]);
-        let scratch = Mutex::new((0..threads).map(|_| Some(Data::new(&model))).collect());
+        let scratch = (0..threads).map(|_| Mutex::new(Data::new(&model))).collect();
         let no_sensors = vec![0.0; data.len()];
         Ok(Batch { root: sensors::body_root(&model), own: (0..seeds.len()).map(|_| None).collect(), model, data, threads, scratch, workers, no_ctrl, no_act, no_task, no_task_flag, no_sensors })
     }
@@ -258,7 +258,7 @@ impl Batch {
                 sensors: which,
                 readings,
             });
-        share_out(self.workers.as_ref(), &self.scratch, m, worlds, |w, scratch| env_step(root, spec, n, w, scratch));
+        share_out(self.workers.as_ref(), &self.scratch, worlds, |w, scratch| env_step(root, spec, n, w, scratch));
     }
 
     /// Resets world `i` to qpos0 at rest (its constraint forces cleared) in the given rows.
@@ -275,7 +275,7 @@ impl Batch {
         let mut out = vec![0.0; self.data.len() * dim];
         let own = &self.own;
         let worlds = self.data.iter_mut().zip(out.chunks_mut(dim.max(1))).enumerate();
-        share_out(self.workers.as_ref(), &self.scratch, m, worlds, |(i, (d, row)), scratch| {
+        share_out(self.workers.as_ref(), &self.scratch, worlds, |(i, (d, row)), scratch| {
             let m = world_model(own, m, i);
             let s = sensordata::State {
                 qpos: &st.qpos[i * m.nq..(i + 1) * m.nq],
@@ -309,7 +309,7 @@ impl Batch {
     /// state written from Python), and a task's observation `obs` of it.
     pub fn sense(&mut self, i: usize, qpos: &[f64], qvel: &[f64], ctrl: &[f64], mut out: Sensors<'_>, task: Option<(&dyn Task, &mut [f64])>) {
         let m = world_model(&self.own, &self.model, i);
-        let (d, scratch) = (&mut self.data[i], scratch_here(&mut self.scratch, &self.model));
+        let (d, scratch) = (&mut self.data[i], scratch_here(&mut self.scratch));
         scratch.with_kept(d, |d| sensors::write(m, &self.root, d, qpos, qvel, out.reborrow()));
         if let Some((t, obs)) = task {
             t.observe(m, &out.world_view(qpos, qvel, ctrl), obs);
@@ -320,7 +320,7 @@ impl Batch {
 /// Calls `each` on every item of `items` with a thread's scratch: the calling thread takes items
 /// from the front, the workers (when there are any) from the back, so that each keeps to its own
 /// end of the batch from call to call.
-fn share_out<I>(workers: Option<&Workers>, pool: &Mutex<Vec<Option<Data>>>, m: &Model, items: I, each: impl Fn(I::Item, &mut Data) + Sync)
+fn share_out<I>(workers: Option<&Workers>, scratch: &[Mutex<Data>], items: I, each: impl Fn(I::Item, &mut Data) + Sync)
 where
     I: DoubleEndedIterator + Send,
 {
@@ -328,8 +328,7 @@ where
     let work = |from_back: bool| {
         // each thread keeps its own scratch from call to call, warm in its core's cache
         let slot = if from_back { 1 + rayon::current_thread_index().unwrap_or(0) } else { 0 };
-        let taken = pool.lock().unwrap_or_else(|e| e.into_inner()).get_mut(slot).and_then(Option::take);
-        let mut scratch = taken.unwrap_or_else(|| Data::new(m));
+        let mut scratch = scratch[slot.min(scratch.len() - 1)].lock().unwrap_or_else(|e| e.into_inner());
         loop {
             // the lock is held only to take the next item (a guard in a `while let` scrutinee
             // would live through the loop body)
@@ -339,9 +338,6 @@ where
             let Some(item) = next else { break };
             each(item, &mut scratch);
         }
-        if let Some(own) = pool.lock().unwrap_or_else(|e| e.into_inner()).get_mut(slot) {
-            *own = Some(scratch);
-        }
     };
     match workers {
         Some(workers) => workers.run(&work),
@@ -350,8 +346,8 @@ where
 }
 
 /// A thread's scratch for a world outside a step call (there is always one per thread).
-fn scratch_here<'a>(pool: &'a mut Mutex<Vec<Option<Data>>>, m: &Model) -> &'a mut Data {
-    pool.get_mut().unwrap_or_else(|e| e.into_inner())[0].get_or_insert_with(|| Data::new(m))
+fn scratch_here(scratch: &mut [Mutex<Data>]) -> &mut Data {
+    scratch[0].get_mut().unwrap_or_else(|e| e.into_inner())
 }
 
 /// World `i`'s own model if it has one, else the shared one (a field-wise borrow of a
