@@ -142,11 +142,7 @@ impl PyBatch {
     /// the state the step reached (an empty list stops it). The rows of worlds a step leaves
     /// alone keep their last readings.
     fn watch_sensors(&mut self, py: Python<'_>, sensors: Vec<usize>) -> PyResult<()> {
-        let m = &self.inner.model;
-        if let Some(&bad) = sensors.iter().find(|&&k| k >= m.sensor_kind.len()) {
-            return Err(PyValueError::new_err(format!("sensor {bad} out of range for {} sensors", m.sensor_kind.len())));
-        }
-        let dim = sensors.iter().map(|&k| m.sensor_kind[k].dim()).sum::<usize>();
+        let dim = sensors_dim(&self.inner.model, &sensors)?;
         self.watched_readings = PyArray2::zeros(py, [self.inner.len(), dim], false).unbind();
         self.watched = sensors;
         Ok(())
@@ -162,11 +158,7 @@ impl PyBatch {
     /// another, of each world (N, their total dimension): `sensordata`'s columns of those sensors,
     /// computing only them.
     fn read_sensors<'py>(&mut self, py: Python<'py>, sensors: Vec<usize>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let m = self.inner.model.clone();
-        if let Some(&bad) = sensors.iter().find(|&&k| k >= m.sensor_kind.len()) {
-            return Err(PyValueError::new_err(format!("sensor {bad} out of range for {} sensors", m.sensor_kind.len())));
-        }
-        let (n, ns) = (self.inner.len(), sensors.iter().map(|&k| m.sensor_kind[k].dim()).sum::<usize>());
+        let (n, ns) = (self.inner.len(), sensors_dim(&self.inner.model, &sensors)?);
         let (qpos, qvel, ctrl, act) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly(), self.act.bind(py).readonly());
         let st = sensordata::State { qpos: qpos.as_slice()?, qvel: qvel.as_slice()?, ctrl: ctrl.as_slice()?, act: act.as_slice()? };
         let out = self.inner.read_sensors(st, &sensors);
@@ -729,4 +721,13 @@ impl PyBatch {
         self.moved.place(&self.inner.model, self.inner.len(), what, &which, &rows);
         Ok(())
     }
+}
+
+/// The total dimension of the sensors `sensors` (indices into `m`'s sensors), or a `ValueError`
+/// naming one out of range.
+fn sensors_dim(m: &crate::model::Model, sensors: &[usize]) -> PyResult<usize> {
+    if let Some(&bad) = sensors.iter().find(|&&k| k >= m.sensor_kind.len()) {
+        return Err(PyValueError::new_err(format!("sensor {bad} out of range for {} sensors", m.sensor_kind.len())));
+    }
+    Ok(sensors.iter().map(|&k| m.sensor_kind[k].dim()).sum())
 }
