@@ -19,6 +19,9 @@ fn main() {
     let steps: usize = arg("--steps").map_or(100, |s| s.parse().expect("--steps N"));
     let seed: u64 = arg("--seed").map_or(1, |s| s.parse().expect("--seed S"));
     let dir = arg("--corpus").map(std::path::PathBuf::from);
+    if dir.is_none() {
+        eprintln!("no --corpus DIR: fuzzing sinew's built-in model alone (gymnasium's assets make the usual corpus)");
+    }
     let corpus = fuzz::corpus(dir.as_deref());
     let models: Vec<(usize, sinew::Model)> =
         corpus.iter().enumerate().filter_map(|(i, (_, x))| sinew::Model::from_mjcf(x).ok().filter(|m| m.nq > 0).map(|m| (i, m))).collect();

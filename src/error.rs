@@ -25,8 +25,8 @@ pub enum Error {
     },
     /// A model that parsed but cannot be compiled (e.g. a moving body without mass).
     Compile(String),
-    /// A file could not be read.
-    Io(String),
+    /// A file could not be read: what, and the OS's error number (ENOENT: no such file).
+    Io(String, Option<i32>),
     /// Bad runtime input: wrong shape, non-finite value, out-of-range option.
     Input(String),
     /// An error in a model file: the file, and the error.
@@ -42,6 +42,11 @@ pub enum Error {
 pub type Result<T> = std::result::Result<T, Error>;
 
 impl Error {
+    /// A file that could not be read: `what` names it, `e` says why.
+    pub fn io(what: String, e: &std::io::Error) -> Self {
+        Error::Io(format!("{what}: {e}"), e.raw_os_error())
+    }
+
     /// Error about an element (and optionally one of its attributes) at a line.
     pub fn model(element: &str, attribute: Option<&str>, line: u32, message: impl Into<String>) -> Self {
         Error::Model {
@@ -55,7 +60,7 @@ impl Error {
     /// The error as one in the file `path` (an error already naming a file is kept).
     pub fn in_file(self, path: &std::path::Path) -> Self {
         match self {
-            Error::InFile { .. } | Error::Io(_) => self,
+            Error::InFile { .. } | Error::Io(..) => self,
             error => Error::InFile { file: path.display().to_string(), error: Box::new(error) },
         }
     }
@@ -72,7 +77,7 @@ impl fmt::Display for Error {
                 write!(f, "<{element}> at line {line}: {message}")
             }
             Error::Compile(m) => write!(f, "model compilation failed: {m}"),
-            Error::Io(m) => write!(f, "{m}"),
+            Error::Io(m, _) => write!(f, "{m}"),
             Error::Input(m) => write!(f, "{m}"),
             Error::InFile { file, error } => write!(f, "{file}: {error}"),
         }

@@ -6,6 +6,7 @@ With no model it runs gymnasium's humanoid.xml for 10 simulated seconds under ra
 """
 
 import argparse
+import math
 import os
 import sys
 import time
@@ -13,6 +14,7 @@ import time
 import numpy as np
 
 import sinew
+from sinew._core import MAX_RENDER_SIDE
 from sinew.tasks import ASSETS
 
 
@@ -27,18 +29,31 @@ def main() -> None:
     ap.add_argument("--height", type=int, default=480)
     ap.add_argument("--camera", default=None, help="camera name or id (default: the free camera)")
     args = ap.parse_args()
+    if not (math.isfinite(args.seconds) and args.seconds > 0):
+        ap.error(f"--seconds must be a positive number, got {args.seconds}")
+    for side in ("width", "height"):
+        if not 1 <= getattr(args, side) <= MAX_RENDER_SIDE:
+            ap.error(f"--{side} must be 1..{MAX_RENDER_SIDE} pixels, got {getattr(args, side)}")
+    if args.video and not args.video.lower().endswith((".mp4", ".gif")):
+        ap.error(f"--video writes .mp4 or .gif files, got {args.video!r}")
+    if args.camera is not None and not args.video:
+        ap.error("--camera chooses the view of --video FILE: give both")
     path = args.model or os.path.join(ASSETS, "humanoid.xml")
     try:
         model = sinew.Model.from_mjcf(path)
     except (OSError, sinew.ModelError) as e:
         sys.exit(f"python -m sinew: {e}")
+    camera = None if args.camera is None else int(args.camera) if args.camera.lstrip("-").isdigit() else args.camera
+    cams = model.camera_names
+    if isinstance(camera, str) and camera not in cams or isinstance(camera, int) and not -1 <= camera < len(cams):
+        ap.error(f"--camera: {path} has no camera {args.camera!r}; its cameras: "
+                 f"{', '.join(repr(c) for c in cams if c) or 'none'} (or ids -1..{len(cams) - 1}, -1 the free camera)")
     print(f"loaded {path}\n  {model}")
     sim = sinew.Sim(model)
     rng = np.random.default_rng(args.seed)
     lo, hi = model.actuator_ctrlrange.T if model.nu else (np.zeros(0), np.zeros(0))
     steps_per_ctrl = max(1, int(round(0.02 / model.timestep)))
-    n_ctrl = int(round(args.seconds / model.timestep)) // steps_per_ctrl
-    camera = None if args.camera is None else int(args.camera) if args.camera.lstrip("-").isdigit() else args.camera
+    n_ctrl = max(1, int(round(args.seconds / model.timestep)) // steps_per_ctrl)
     frames, frame_dt, next_frame = [], 1.0 / 30.0, 0.0
     start = sim.xpos.copy()
     wall = 0.0

@@ -24,11 +24,13 @@ class Worlds:
         #: observation (``sinew.randomize.RandomizeParams`` sets it).
         self.randomize = None
 
-    def check_actions(self, actions) -> np.ndarray:
+    def check_actions(self, actions, single: bool = False) -> np.ndarray:
         """The actions as an (N, nu) float64 array; ``ValueError`` for a wrong shape or a value
-        that is not finite or beyond ±MAX_ACTION."""
+        that is not finite or beyond ±MAX_ACTION. `single`: one env's action, (nu,) only."""
         a = np.asarray(actions, dtype=np.float64)
         shape = (self.num_envs, self.model.nu)
+        if single and a.shape != shape[1:]:
+            raise ValueError(f"action shape mismatch: expected {shape[1:]}, got {a.shape}")
         if a.shape != shape:
             if self.num_envs == 1 and a.shape == shape[1:]:
                 a = a[None]

@@ -65,9 +65,10 @@ def _model_path(xml_file: str) -> str:
 
 
 class WorldData:
-    """One world's arrays with MuJoCo's ``MjData`` names (``env.unwrapped.data``): qpos, qvel and
-    ctrl are writable views (call ``env.unwrapped.set_state`` or ``forward`` after writing qpos or
-    qvel); the body quantities are those of the last step or reset."""
+    """One world's arrays with MuJoCo's ``MjData`` names (``env.unwrapped.data``): qpos, qvel,
+    act (actuator activations, ``na`` of them) and ctrl are writable views (call
+    ``env.unwrapped.set_state`` or ``forward`` after writing qpos or qvel); the body quantities
+    are those of the last step or reset."""
 
     def __init__(self, batch, i: int):
         self._b, self._i = batch, i
@@ -75,6 +76,7 @@ class WorldData:
     qpos = property(lambda self: self._b.qpos[self._i])
     qvel = property(lambda self: self._b.qvel[self._i])
     ctrl = property(lambda self: self._b.ctrl[self._i])
+    act = property(lambda self: self._b.act[self._i])
     time = property(lambda self: float(self._b.time[self._i]))
     xpos = property(lambda self: self._b.xpos[self._i])
     xmat = property(lambda self: self._b.xmat[self._i])
@@ -232,7 +234,7 @@ class SinewEnv(gymnasium.Env, EzPickle):
     def step(self, action):
         if self._needs_reset:
             raise gymnasium.error.ResetNeeded("call reset() before step()")
-        a = self._core.check_actions(action)
+        a = self._core.check_actions(action, single=True)
         obs, reward, terminated, info = self._core.step(a)
         if self.render_mode == "human":
             self.render()

@@ -75,6 +75,13 @@ class _Drawing:
             raise ValueError(f'when must be "reset", "start" or a positive integer, got {when!r}')
         self._steps = 0
 
+    def _params(self, field: str | None):
+        """Every world's values now: of ``field``, or a dict of each randomized field's."""
+        batch = self.env.unwrapped._core.batch
+        if field is None:
+            return {f: batch.params(f) for f, *_ in self._sampler.fields}
+        return batch.params(field)
+
     def _after_step(self, rngs) -> None:
         self._steps += 1
         every = getattr(self, "_every", None)
@@ -95,6 +102,12 @@ class RandomizeParams(_Drawing, gymnasium.Wrapper):
         self._after_step([self.env.unwrapped.np_random])
         return out
 
+    def params(self, field: str | None = None):
+        """The env's values now (what it drew, for a randomized field): ``field``'s array in the
+        field's shape (any field ``Batch.set_params`` names), or a dict of each randomized field's."""
+        drawn = self._params(field)
+        return {k: v[0] for k, v in drawn.items()} if field is None else drawn[0]
+
 
 class VectorRandomizeParams(_Drawing, VectorWrapper):
     """A native sinew vector env whose worlds' model values are drawn from their generators."""
@@ -107,3 +120,8 @@ class VectorRandomizeParams(_Drawing, VectorWrapper):
         out = self.env.step(actions)
         self._after_step(self.env.unwrapped._rngs)
         return out
+
+    def params(self, field: str | None = None):
+        """Every world's values now (what each drew, for a randomized field): ``field``'s array,
+        (num_envs, ...) (any field ``Batch.set_params`` names), or a dict of each randomized field's."""
+        return self._params(field)

@@ -24,6 +24,33 @@ pub fn contact_friction(m: &Model, i: usize, j: usize) -> (f64, bool) {
     (mu, condim > 1)
 }
 
+/// Where a pair's contacts go: kept when within the margin, with the pair's friction.
+struct Sink<'a> {
+    m: &'a Model,
+    margin: f64,
+    mu: f64,
+    friction: bool,
+}
+
+impl Sink<'_> {
+    /// Appends a contact of geoms g1 and g2 within the margin (the deepest kept when full).
+    #[allow(clippy::too_many_arguments)]
+    fn add(&self, cd: &mut CollisionData, g1: usize, g2: usize, feature: usize, pos: DVec3, normal: DVec3, dist: f64) {
+        let c = Contact { geom1: g1, geom2: g2, feature, pos, normal, dist, mu: self.mu, friction: self.friction };
+        if dist > self.margin || repeats_joint_contact(self.m, &cd.contacts, &c) {
+            return;
+        }
+        if cd.contacts.len() < self.m.opt.max_contacts {
+            cd.contacts.push(c);
+        } else if let Some(widest) = (0..cd.contacts.len()).max_by(|&a, &b| cd.contacts[a].dist.total_cmp(&cd.contacts[b].dist)) {
+            // full: the deepest are kept
+            if cd.contacts[widest].dist > dist {
+                cd.contacts[widest] = c;
+            }
+        }
+    }
+}
+
 /// Narrowphase of geoms i and j: appends the contacts within `margin`. Returns the distance
 /// between the geoms where a pair of spheres and capsules gives it exactly, else −∞.
 pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, p: &GeomPair, margin: f64) -> f64 {
@@ -32,124 +59,116 @@ pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, p: &GeomPai
     pose_axes(m, kin, cd, j);
     let (si, sj) = (shape(m, cd, i), shape(m, cd, j));
     let (mu, friction) = explicit.unwrap_or_else(|| contact_friction(m, i, j));
-    let add = |cd: &mut CollisionData, g1: usize, g2: usize, feature: usize, pos: DVec3, normal: DVec3, dist: f64| {
-        let c = Contact { geom1: g1, geom2: g2, feature, pos, normal, dist, mu, friction };
-        if dist > margin || repeats_joint_contact(m, &cd.contacts, &c) {
-            return;
-        }
-        if cd.contacts.len() < m.opt.max_contacts {
-            cd.contacts.push(c);
-        } else if let Some(widest) = (0..cd.contacts.len()).max_by(|&a, &b| cd.contacts[a].dist.total_cmp(&cd.contacts[b].dist)) {
-            // full: the deepest are kept
-            if cd.contacts[widest].dist > dist {
-                cd.contacts[widest] = c;
-            }
-        }
-    };
+    let sink = Sink { m, margin, mu, friction };
     // order so that a plane or height field, if any, is geom2 (the normal then points out of it)
     let (g1, g2, s1, s2) = match (si, sj) {
         (Shape::Plane { .. } | Shape::HField { .. }, _) => (j, i, sj, si),
         _ => (i, j, si, sj),
     };
-    match (s1, s2) {
+    match round_pair(&sink, cd, (g1, s1), (g2, s2)) {
+        Some(d) => d,
+        None => {
+            solid_pair(&sink, cd, (g1, s1), (g2, s2));
+            f64::NEG_INFINITY
+        }
+    }
+}
+
+/// Spheres and capsules against each other and against a plane: None for any other pair; the
+/// distance where it is exact (two round shapes), else −∞.
+fn round_pair(sink: &Sink, cd: &mut CollisionData, (g1, s1): (usize, Shape), (g2, s2): (usize, Shape)) -> Option<f64> {
+    let add = |cd: &mut CollisionData, feature: usize, pos: DVec3, n: DVec3, d: f64| sink.add(cd, g1, g2, feature, pos, n, d);
+    let (pos, n, d) = match (s1, s2) {
         (Shape::Sphere { c, r }, Shape::Plane { p, n }) => {
             let d = (c - p).dot(n) - r;
-            add(cd, g1, g2, 0, c - n * (r + 0.5 * d), n, d);
+            add(cd, 0, c - n * (r + 0.5 * d), n, d);
+            return Some(f64::NEG_INFINITY);
         }
         (Shape::Segment { a, b, r }, Shape::Plane { p, n }) => {
             for (k, e) in [a, b].into_iter().enumerate() {
                 let d = (e - p).dot(n) - r;
-                add(cd, g1, g2, k, e - n * (r + 0.5 * d), n, d);
+                add(cd, k, e - n * (r + 0.5 * d), n, d);
             }
+            return Some(f64::NEG_INFINITY);
         }
-        (Shape::Box { c, rot, half }, Shape::Plane { p, n }) => {
-            // the corners (feature: the corner's sign bits) within the margin
-            for &(feature, pos, n, d) in on_plane(&PosedBox { c, rot, half }, p, n, margin).iter() {
-                add(cd, g1, g2, feature, pos, n, d);
-            }
-        }
-        (Shape::Sphere { c: c1, r: r1 }, Shape::Sphere { c: c2, r: r2 }) => {
-            let (pos, n, d) = spheres(c1, r1, c2, r2);
-            add(cd, g1, g2, 0, pos, n, d);
-            return d;
-        }
-        (Shape::Sphere { c, r }, Shape::Segment { a, b, r: rs }) => {
-            let q = closest_on_segment(a, b, c);
-            let (pos, n, d) = spheres(c, r, q, rs);
-            add(cd, g1, g2, 0, pos, n, d);
-            return d;
-        }
-        (Shape::Segment { a, b, r: rs }, Shape::Sphere { c, r }) => {
-            let q = closest_on_segment(a, b, c);
-            let (pos, n, d) = spheres(q, rs, c, r);
-            add(cd, g1, g2, 0, pos, n, d);
-            return d;
-        }
+        (Shape::Sphere { c: c1, r: r1 }, Shape::Sphere { c: c2, r: r2 }) => spheres(c1, r1, c2, r2),
+        (Shape::Sphere { c, r }, Shape::Segment { a, b, r: rs }) => spheres(c, r, closest_on_segment(a, b, c), rs),
+        (Shape::Segment { a, b, r: rs }, Shape::Sphere { c, r }) => spheres(closest_on_segment(a, b, c), rs, c, r),
         (Shape::Segment { a: a1, b: b1, r: r1 }, Shape::Segment { a: a2, b: b2, r: r2 }) => {
             let (p1, p2) = closest_segments(a1, b1, a2, b2);
-            let (pos, n, d) = spheres(p1, r1, p2, r2);
-            add(cd, g1, g2, 0, pos, n, d);
-            return d;
+            spheres(p1, r1, p2, r2)
+        }
+        _ => return None,
+    };
+    add(cd, 0, pos, n, d);
+    Some(d)
+}
+
+/// Every pair [`round_pair`] leaves: boxes, ellipsoids, cylinders, hulls and height fields.
+fn solid_pair(sink: &Sink, cd: &mut CollisionData, (g1, s1): (usize, Shape), (g2, s2): (usize, Shape)) {
+    let (m, margin) = (sink.m, sink.margin);
+    let add = |cd: &mut CollisionData, feature: usize, pos: DVec3, n: DVec3, d: f64| sink.add(cd, g1, g2, feature, pos, n, d);
+    let each = |cd: &mut CollisionData, found: &[(usize, DVec3, DVec3, f64)], sign: f64| {
+        for &(feature, pos, n, d) in found {
+            add(cd, feature, pos, sign * n, d);
+        }
+    };
+    match (s1, s2) {
+        (Shape::Box { c, rot, half }, Shape::Plane { p, n }) => {
+            // the corners (feature: the corner's sign bits) within the margin
+            each(cd, &on_plane(&PosedBox { c, rot, half }, p, n, margin), 1.0);
         }
         (Shape::Sphere { c, r }, Shape::Box { c: bc, rot, half }) => {
             let (n, d) = point_box(c, bc, rot, half, c - bc);
-            add(cd, g1, g2, 0, c - n * (r + 0.5 * (d - r)), n, d - r);
+            add(cd, 0, c - n * (r + 0.5 * (d - r)), n, d - r);
         }
         (Shape::Box { c: bc, rot, half }, Shape::Sphere { c, r }) => {
             let (n, d) = point_box(c, bc, rot, half, c - bc);
-            add(cd, g1, g2, 0, c - n * (r + 0.5 * (d - r)), -n, d - r);
+            add(cd, 0, c - n * (r + 0.5 * (d - r)), -n, d - r);
         }
         (Shape::Segment { a, b, r }, Shape::Box { c: bc, rot, half }) => {
             for (k, p) in segment_box_points(a, b, bc, rot, half).into_iter().enumerate().filter(|&(k, p)| k < 2 || (p.distance(a) > 1e-9 && p.distance(b) > 1e-9)) {
                 let (n, d) = point_box(p, bc, rot, half, (a + b) * 0.5 - bc);
-                add(cd, g1, g2, k, p - n * (r + 0.5 * (d - r)), n, d - r);
+                add(cd, k, p - n * (r + 0.5 * (d - r)), n, d - r);
             }
         }
         (Shape::Box { c: bc, rot, half }, Shape::Segment { a, b, r }) => {
             for (k, p) in segment_box_points(a, b, bc, rot, half).into_iter().enumerate().filter(|&(k, p)| k < 2 || (p.distance(a) > 1e-9 && p.distance(b) > 1e-9)) {
                 let (n, d) = point_box(p, bc, rot, half, (a + b) * 0.5 - bc);
-                add(cd, g1, g2, k, p - n * (r + 0.5 * (d - r)), -n, d - r);
+                add(cd, k, p - n * (r + 0.5 * (d - r)), -n, d - r);
             }
         }
         (Shape::Box { c: c1, rot: r1, half: h1 }, Shape::Box { c: c2, rot: r2, half: h2 }) => {
             let (points, count) = box_box(c1, r1, h1, c2, r2, h2, margin);
-            for &(feature, pos, n, d) in &points[..count] {
-                add(cd, g1, g2, feature, pos, n, d);
-            }
+            each(cd, &points[..count], 1.0);
         }
         (Shape::Ellipsoid { c, rot, radii }, Shape::Plane { p, n }) => {
             let (pos, n, d) = ellipsoid::on_plane(c, rot, radii, p, n);
-            add(cd, g1, g2, 0, pos, n, d);
+            add(cd, 0, pos, n, d);
         }
         (Shape::Ellipsoid { .. }, other) | (other, Shape::Ellipsoid { .. }) if !matches!(other, Shape::HField { .. }) => {
             if let Some((pos, n, d)) = ellipsoid::convex(s1, s2, margin, &mut cd.epa) {
-                add(cd, g1, g2, 0, pos, n, d);
+                add(cd, 0, pos, n, d);
             }
         }
         (Shape::Cylinder(cyl), Shape::Plane { p, n }) => {
-            for &(feature, pos, n, d) in cylinder::on_plane(&cyl, p, n, margin).iter() {
-                add(cd, g1, g2, feature, pos, n, d);
-            }
+            each(cd, &cylinder::on_plane(&cyl, p, n, margin), 1.0);
         }
         (Shape::Cylinder(cyl), other) if !matches!(other, Shape::HField { .. }) => {
-            for &(feature, pos, n, d) in cylinder::pair(&cyl, other, margin, &mut cd.epa).iter() {
-                add(cd, g1, g2, feature, pos, n, d);
-            }
+            let found = cylinder::pair(&cyl, other, margin, &mut cd.epa);
+            each(cd, &found, 1.0);
         }
         (other, Shape::Cylinder(cyl)) => {
             // normals from geom 2 to geom 1 (a plane or height field is geom 2 already)
-            for &(feature, pos, n, d) in cylinder::pair(&cyl, other, margin, &mut cd.epa).iter() {
-                add(cd, g1, g2, feature, pos, -n, d);
-            }
+            let found = cylinder::pair(&cyl, other, margin, &mut cd.epa);
+            each(cd, &found, -1.0);
         }
         (Shape::Hull { .. } | Shape::HField { .. }, _) | (_, Shape::Hull { .. } | Shape::HField { .. }) => {
-            for &(feature, pos, n, d) in convex_pair(m, (s1, g1), (s2, g2), margin, &mut cd.epa).iter() {
-                add(cd, g1, g2, feature, pos, n, d);
-            }
+            let found = convex_pair(m, (s1, g1), (s2, g2), margin, &mut cd.epa);
+            each(cd, &found, 1.0);
         }
         _ => {}
     }
-    f64::NEG_INFINITY
 }
 
 /// Contacts of a pair with a hull or a height field (shape 2; normals from shape 2 to shape 1).

@@ -59,7 +59,7 @@ pub(super) fn load_meshes(spec: &ModelSpec, dir: &Path) -> Result<Vec<Mesh>> {
 /// A file's error, about the `element` at `line`.
 fn in_element(e: Error, element: &str, line: u32) -> Error {
     match e {
-        Error::Io(m) | Error::Compile(m) => Error::model(element, Some("file"), line, m),
+        Error::Io(m, _) | Error::Compile(m) => Error::model(element, Some("file"), line, m),
         other => other,
     }
 }

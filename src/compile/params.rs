@@ -160,6 +160,12 @@ impl Param {
         }
     }
 
+    /// Where value `k` (of rows of `cols`) stands as the field's NumPy array indexes it: `[k]`
+    /// for gravity's (3,) and a column's (rows,), else `[row, column]`.
+    fn at(self, k: usize, cols: usize) -> String {
+        if self == Param::Gravity || cols == 1 { format!("[{}]", if cols == 1 { k } else { k % cols }) } else { format!("[{}, {}]", k / cols, k % cols) }
+    }
+
     /// What is wrong with `values` (row after row, [`Param::shape`]) for `m`, naming the element.
     pub fn check(self, m: &Model, values: &[f64]) -> std::result::Result<(), String> {
         let (rows, cols) = self.shape(m);
@@ -167,14 +173,14 @@ impl Param {
             return Err(format!("{} takes {rows} × {cols} values, got {}", self.name(), values.len()));
         }
         if let Some(k) = values.iter().position(|x| !x.is_finite() || x.abs() > MAX_STATE) {
-            return Err(format!("{}[{}] = {} is not finite or beyond ±{MAX_STATE:e}", self.name(), k / cols, values[k]));
+            return Err(format!("{}{} = {} is not finite or beyond ±{MAX_STATE:e}", self.name(), self.at(k, cols), values[k]));
         }
         let non_negative = matches!(
             self,
             Param::BodyMass | Param::BodyInertia | Param::GeomFriction | Param::DofDamping | Param::DofArmature | Param::DofFrictionloss | Param::JntStiffness
         );
         if let Some(k) = values.iter().position(|&x| non_negative && x < 0.0) {
-            return Err(format!("{}[{}] = {} is negative", self.name(), k / cols, values[k]));
+            return Err(format!("{}{} = {} is negative", self.name(), self.at(k, cols), values[k]));
         }
         match self {
             Param::BodyInertia => (1..rows).try_for_each(|b| inertia_ok(m, b, &values[3 * b..3 * b + 3])),

@@ -3,7 +3,7 @@
 use glam::{DMat3, DVec3};
 
 use crate::error::{Error, Result};
-use crate::mjcf::{ModelSpec, TextureKind, DEFAULT_GEOM_RGBA, DEFAULT_SITE_RGBA};
+use crate::mjcf::{LightSpec, ModelSpec, TextureKind, DEFAULT_GEOM_RGBA, DEFAULT_SITE_RGBA};
 use crate::model::visual::{Camera, Light, Material, Texture, Visual};
 
 /// The materials, each texture name resolved.
@@ -70,22 +70,7 @@ pub(super) fn compile(spec: &ModelSpec, body_id: impl Fn(&str) -> Option<usize>)
             site_material.push(mat);
         }
         for l in &body.lights {
-            lights.push(Light {
-                body: b,
-                mode: l.mode,
-                target: target(&l.target, "light", body.line)?,
-                directional: l.directional,
-                castshadow: l.castshadow,
-                active: l.active,
-                pos: l.pos,
-                dir: l.dir,
-                diffuse: DVec3::from_array(l.diffuse),
-                ambient: DVec3::from_array(l.ambient),
-                specular: DVec3::from_array(l.specular),
-                attenuation: l.attenuation,
-                cos_cutoff: l.cutoff.to_radians().cos(),
-                exponent: l.exponent,
-            });
+            lights.push(light(b, l, target(&l.target, "light", body.line)?));
         }
         for c in &body.cameras {
             cameras.push(Camera {
@@ -128,6 +113,26 @@ pub(super) fn compile(spec: &ModelSpec, body_id: impl Fn(&str) -> Option<usize>)
         extent: v.extent,
         center: v.center,
     })
+}
+
+/// Light `l` of body `b`, aimed at body `target` (if any).
+fn light(b: usize, l: &LightSpec, target: Option<usize>) -> Light {
+    Light {
+        body: b,
+        mode: l.mode,
+        target,
+        directional: l.directional,
+        castshadow: l.castshadow,
+        active: l.active,
+        pos: l.pos,
+        dir: l.dir,
+        diffuse: DVec3::from_array(l.diffuse),
+        ambient: DVec3::from_array(l.ambient),
+        specular: DVec3::from_array(l.specular),
+        attenuation: l.attenuation,
+        cos_cutoff: l.cutoff.to_radians().cos(),
+        exponent: l.exponent,
+    }
 }
 
 /// A named camera is chosen by name, so two may not share one.

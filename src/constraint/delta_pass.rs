@@ -6,7 +6,6 @@
 
 use glam::DVec3;
 
-use super::test_forces::tree_ranges;
 use crate::dynamics::aba::AbaData;
 use crate::dynamics::kinematics::KinData;
 use crate::math::Force;
@@ -236,4 +235,13 @@ fn delta_lanes(m: &Model, kin: &KinData, aba: &AbaData, trees: [usize; 2], dtau:
             da[i] = a;
         }
     }
+}
+
+/// The node ranges of the trees `trees` ([`Model::node_tree`]; [`WORLD`] and a repeat name
+/// none), first node first.
+pub fn tree_ranges(m: &Model, trees: [usize; 2]) -> [std::ops::Range<usize>; 2] {
+    let [a, b] = trees;
+    let (a, b) = if a == WORLD || (b != WORLD && b < a) { (b, a) } else { (a, b) };
+    let range = |t: usize| if t == WORLD { 0..0 } else { t..m.node_end[t] };
+    [range(a), if b == a { 0..0 } else { range(b) }]
 }

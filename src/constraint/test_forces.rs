@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 
-use super::delta_pass::{delta_pass, Lanes, LANES};
+use super::delta_pass::{delta_pass, tree_ranges, Lanes, LANES};
 use super::lcp;
 use super::system::{tree_lists, ConstraintData, RowKind};
 use crate::dynamics::aba::AbaData;
@@ -391,15 +391,6 @@ pub(super) fn measure(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], cd
         let g = m.opt.gravity;
         point_accel(kin, &aba.a, g, n0, kin.rel(n0, p0)) - point_accel(kin, &aba.a, g, n1, kin.rel(n1, p1))
     })
-}
-
-/// The node ranges of the trees `trees` ([`Model::node_tree`]; [`WORLD`] and a repeat name
-/// none), first node first.
-pub fn tree_ranges(m: &Model, trees: [usize; 2]) -> [std::ops::Range<usize>; 2] {
-    let [a, b] = trees;
-    let (a, b) = if a == WORLD || (b != WORLD && b < a) { (b, a) } else { (a, b) };
-    let range = |t: usize| if t == WORLD { 0..0 } else { t..m.node_end[t] };
-    [range(a), if b == a { 0..0 } else { range(b) }]
 }
 
 /// target += f · Δq̈ of a row on the trees `trees`, whose Δq̈ (`dqdd`, nv long) is zero, and not

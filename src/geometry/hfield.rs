@@ -88,7 +88,7 @@ pub fn normalize(data: &mut [f64]) {
 /// ncol, elevations, not yet normalized).
 pub fn read_hfield(path: &Path) -> Result<(usize, usize, Vec<f64>)> {
     let name = path.display();
-    let bytes = std::fs::read(path).map_err(|e| Error::Io(format!("cannot read height-field file '{name}': {e}")))?;
+    let bytes = std::fs::read(path).map_err(|e| Error::io(format!("cannot read height-field file '{name}'"), &e))?;
     let is_png = path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("png"));
     let out = if is_png { png_grid(&bytes) } else { binary_grid(&bytes) };
     out.map_err(|m| Error::Compile(format!("height-field file '{name}': {m}")))

@@ -22,7 +22,7 @@ pub struct RawMesh {
 /// Reads the mesh file at `path` by its extension (`.stl`, `.obj` or `.msh`, any case).
 pub fn read_mesh(path: &Path) -> Result<RawMesh> {
     let name = path.display();
-    let bytes = std::fs::read(path).map_err(|e| Error::Io(format!("cannot read mesh file '{name}': {e}")))?;
+    let bytes = std::fs::read(path).map_err(|e| Error::io(format!("cannot read mesh file '{name}'"), &e))?;
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     let mesh = match ext.as_str() {
         "stl" => stl(&bytes),

@@ -562,7 +562,7 @@ pub struct ModelSpec {
 /// The text of a model file (MJCF or URDF): an `Io` error when it cannot be read, an `Xml` error naming the line
 /// when it is not UTF-8.
 pub fn read_file(path: &std::path::Path) -> crate::error::Result<String> {
-    let bytes = std::fs::read(path).map_err(|e| crate::error::Error::Io(format!("cannot read model file '{}': {e}", path.display())))?;
+    let bytes = std::fs::read(path).map_err(|e| crate::error::Error::io(format!("cannot read model file '{}'", path.display()), &e))?;
     String::from_utf8(bytes).map_err(|e| {
         let at = e.utf8_error().valid_up_to();
         let line = 1 + e.as_bytes()[..at].iter().filter(|&&b| b == b'\n').count() as u32;

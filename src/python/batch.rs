@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 
 use pyo3::types::PyDict;
 
-use super::arrays::{as_f64, checked_values, chosen_worlds, masked_worlds};
+use super::arrays::{as_f64, checked_values};
 use super::model::PyModel;
 use super::outputs::{SensorOutputs, TaskArrays};
 use super::placed::Placements;
@@ -20,24 +20,24 @@ use crate::sensordata;
 /// num_threads=None uses all cores; never more threads than worlds).
 #[pyclass(name = "Batch", module = "sinew._core")]
 pub struct PyBatch {
-    inner: Batch,
-    py_model: Py<PyModel>,
-    qpos: Py<PyArray2<f64>>,
-    qvel: Py<PyArray2<f64>>,
-    ctrl: Py<PyArray2<f64>>,
-    act: Py<PyArray2<f64>>,
-    time: Py<PyArray1<f64>>,
-    diverged: Py<PyArray1<bool>>,
-    out: SensorOutputs,
-    task: Option<TaskArrays>,
+    pub(super) inner: Batch,
+    pub(super) py_model: Py<PyModel>,
+    pub(super) qpos: Py<PyArray2<f64>>,
+    pub(super) qvel: Py<PyArray2<f64>>,
+    pub(super) ctrl: Py<PyArray2<f64>>,
+    pub(super) act: Py<PyArray2<f64>>,
+    pub(super) time: Py<PyArray1<f64>>,
+    pub(super) diverged: Py<PyArray1<bool>>,
+    pub(super) out: SensorOutputs,
+    pub(super) task: Option<TaskArrays>,
     /// The task's kind and parameters as given to `set_task` (for pickling).
-    task_args: Option<(String, Py<PyDict>)>,
+    pub(super) task_args: Option<(String, Py<PyDict>)>,
     /// Geoms and sites placed per world (`set_geom_pos`, `set_site_pos`): each with its position
     /// in its body's frame in every world.
-    moved: Placements,
+    pub(super) moved: Placements,
     /// The sensors `watch_sensors` chose, and their readings after the last `step`.
-    watched: Vec<usize>,
-    watched_readings: Py<PyArray2<f64>>,
+    pub(super) watched: Vec<usize>,
+    pub(super) watched_readings: Py<PyArray2<f64>>,
 }
 
 #[pymethods]
@@ -637,89 +637,6 @@ impl PyBatch {
 
     fn __repr__(&self) -> String {
         format!("Batch(model='{}', num_envs={}, num_threads={})", self.inner.model.name, self.inner.len(), self.inner.num_threads())
-    }
-}
-
-impl PyBatch {
-    /// World indices selected by a boolean mask of shape (N,), or all of them.
-    fn chosen(&self, mask: Option<Bound<'_, PyAny>>) -> PyResult<Vec<usize>> {
-        masked_worlds(self.inner.len(), mask)
-    }
-
-    /// Copies of the sensor, task and divergence output arrays, by attribute name.
-    fn clone_outputs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        self.out.copy_into(&d)?;
-        d.set_item("diverged", self.diverged.bind(py).call_method0("copy")?)?;
-        if let Some(t) = &self.task {
-            d.set_item("obs", t.obs.bind(py).call_method0("copy")?)?;
-            d.set_item("reward", t.reward.bind(py).call_method0("copy")?)?;
-            d.set_item("terminated", t.terminated.bind(py).call_method0("copy")?)?;
-            d.set_item("info", t.info.bind(py).call_method0("copy")?)?;
-        }
-        Ok(d)
-    }
-
-    /// A world index, checked.
-    fn world(&self, i: usize) -> PyResult<usize> {
-        if i >= self.inner.len() {
-            return Err(PyValueError::new_err(format!("world {i} out of range for {} worlds", self.inner.len())));
-        }
-        Ok(i)
-    }
-
-    /// World indices from a boolean mask of shape (N,) or a sequence of indices (all when None).
-    fn worlds(&self, worlds: Option<Bound<'_, PyAny>>) -> PyResult<Vec<usize>> {
-        chosen_worlds(self.inner.len(), worlds)
-    }
-
-    fn refresh_poses(&mut self, py: Python<'_>) -> PyResult<()> {
-        let all: Vec<usize> = (0..self.inner.len()).collect();
-        self.refresh(py, &all)
-    }
-
-    /// Sensor outputs of the worlds `which` for their current state.
-    fn refresh(&mut self, py: Python<'_>, which: &[usize]) -> PyResult<()> {
-        let m = self.inner.model.clone();
-        let (qpos, qvel) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly());
-        let mut arrays = self.out.readwrite(py);
-        let mut out = arrays.slices()?;
-        let ctrl = self.ctrl.bind(py).readonly();
-        let (qp, qv, c) = (qpos.as_slice()?, qvel.as_slice()?, ctrl.as_slice()?);
-        let mut outputs = self.task.as_ref().map(|t| t.borrow(py));
-        let mut task = match &mut outputs {
-            Some((task, obs, ..)) => Some((&**task, obs.as_slice_mut()?)),
-            None => None,
-        };
-        for &i in which {
-            let obs = task.as_mut().map(|(t, obs)| {
-                let dim = obs.len() / self.inner.len();
-                (*t, &mut obs[i * dim..(i + 1) * dim])
-            });
-            let (q, v, u) = (&qp[i * m.nq..(i + 1) * m.nq], &qv[i * m.nv..(i + 1) * m.nv], &c[i * m.nu..(i + 1) * m.nu]);
-            self.inner.sense(i, q, v, u, out.world(i, m.nbody, m.nv), obs);
-        }
-        Ok(())
-    }
-}
-
-impl PyBatch {
-    /// The surfaces the worlds `which` are drawn with: their own where their height fields are.
-    fn redraw(&mut self, py: Python<'_>, which: &[usize]) {
-        self.moved.redraw(&self.inner, || self.py_model.bind(py).get().renderer(), which);
-    }
-
-    /// Puts `what` at `pos` (one row, or one per chosen world) in the worlds `worlds`.
-    fn place(&mut self, what: Placed, pos: Bound<'_, PyAny>, worlds: Option<Bound<'_, PyAny>>) -> PyResult<()> {
-        let which = self.worlds(worlds)?;
-        // one position for all the worlds, or one row each
-        let rows = if as_f64(&pos, "pos")?.ndim() == 1 {
-            vec![checked_values(&pos, "pos", &[3])?; which.len()].concat()
-        } else {
-            checked_values(&pos, "pos", &[which.len(), 3])?
-        };
-        self.moved.place(&self.inner.model, self.inner.len(), what, &which, &rows);
-        Ok(())
     }
 }
 

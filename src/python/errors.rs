@@ -1,5 +1,7 @@
 //! crate::error::Error → Python exceptions, and the panic guards of the calls outside the step.
 
+use std::ffi::CString;
+
 use pyo3::exceptions::{PyOSError, PyUserWarning, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::create_exception;
@@ -42,7 +44,9 @@ fn exception(py: Python<'_>, e: Error, msg: String) -> PyErr {
             err
         }
         Error::Compile(_) => ModelError::new_err(msg),
-        Error::Io(_) => PyOSError::new_err(msg),
+        // OSError(errno, message) is the errno's own subclass: FileNotFoundError for ENOENT
+        Error::Io(_, Some(errno)) => PyOSError::new_err((errno, msg)),
+        Error::Io(_, None) => PyOSError::new_err(msg),
         Error::Input(_) => PyValueError::new_err(msg),
         Error::InFile { error, .. } => exception(py, *error, msg),
     }
@@ -69,4 +73,33 @@ pub fn guard_model<T>(what: &str, f: impl FnOnce() -> T) -> PyResult<T> {
 /// The error for a panic caught in `what`.
 pub fn internal(what: &str, msg: String) -> PyErr {
     SimulationError::new_err(format!("{what}: internal error in sinew (a bug; please report it with the model): {msg}"))
+}
+
+/// One `ModelWarning` for the model: its one warning, or a line that groups many by what they
+/// say (`Model.warnings` lists each).
+pub fn emit_warnings(py: Python<'_>, m: &crate::model::Model) -> PyResult<()> {
+    let text = match m.warnings.as_slice() {
+        [] => return Ok(()),
+        [one] => one.clone(),
+        many => warnings_summary(many),
+    };
+    let msg = CString::new(text.replace('\0', " ")).expect("no interior NUL");
+    PyErr::warn(py, py.get_type::<ModelWarning>().as_any(), &msg, 2)
+}
+
+/// Warnings ("<geom> 'a' at line 3: what") grouped by what they say, in the order first seen.
+fn warnings_summary(warnings: &[String]) -> String {
+    let mut groups: Vec<(&str, &str, usize)> = vec![];
+    for w in warnings {
+        let (subject, what) = w.split_once(": ").unwrap_or(("", w));
+        match groups.iter_mut().find(|g| g.1 == what) {
+            Some(g) => g.2 += 1,
+            None => groups.push((subject, what, 1)),
+        }
+    }
+    let parts: Vec<String> = groups
+        .iter()
+        .map(|&(subject, what, n)| if n == 1 { format!("{subject}: {what}") } else { format!("{what} ({n} times, first {subject})") })
+        .collect();
+    format!("{} model features are not simulated as written (Model.warnings lists each): {}", warnings.len(), parts.join("; "))
 }

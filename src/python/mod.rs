@@ -3,6 +3,7 @@
 
 mod arrays;
 mod batch;
+mod batch_worlds;
 mod errors;
 mod model;
 mod outputs;

@@ -1,13 +1,12 @@
 //! `sinew.Model`: a compiled, immutable model shared by simulations.
 
-use std::ffi::CString;
 use std::sync::Arc;
 
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use super::errors::{to_py, ModelWarning};
+use super::errors::to_py;
 use crate::render::Renderer;
 use crate::model::{Actuation, ConstraintMode, FrictionModel, Integrator, JointType, Model};
 
@@ -43,15 +42,6 @@ impl PyModel {
     pub fn renderer(&self) -> Arc<Renderer> {
         self.renderer.get_or_init(|| Arc::new(Renderer::new(&self.inner))).clone()
     }
-}
-
-fn emit_warnings(py: Python<'_>, m: &Model) -> PyResult<()> {
-    let cat = py.get_type::<ModelWarning>();
-    for w in &m.warnings {
-        let msg = CString::new(w.replace('\0', " ")).expect("no interior NUL");
-        PyErr::warn(py, cat.as_any(), &msg, 2)?;
-    }
-    Ok(())
 }
 
 fn friction_name(f: FrictionModel) -> &'static str {
@@ -96,7 +86,7 @@ impl PyModel {
             })
         })?;
         let (m, source) = loaded.map_err(|e| to_py(py, e))?;
-        emit_warnings(py, &m)?;
+        super::errors::emit_warnings(py, &m)?;
         Ok(PyModel::at(m, source.into(), std::path::absolute(&path).unwrap_or(path)))
     }
 
@@ -113,7 +103,7 @@ impl PyModel {
         let mjcf = urdf_to_mjcf(py, path.clone(), floating_base, visual, package_dirs, motors, self_collision)?;
         let loaded = py.detach(|| super::errors::guard_model("Model.from_urdf", || Model::from_mjcf_in(&mjcf, &path)))?;
         let m = loaded.map_err(|e| to_py(py, e))?;
-        emit_warnings(py, &m)?;
+        super::errors::emit_warnings(py, &m)?;
         Ok(PyModel::at(m, mjcf.into(), std::path::absolute(&path).unwrap_or(path)))
     }
 
@@ -127,7 +117,7 @@ impl PyModel {
             None => Model::from_mjcf(xml),
         })?
         .map_err(|e| to_py(py, e))?;
-        emit_warnings(py, &m)?;
+        super::errors::emit_warnings(py, &m)?;
         Ok(match path {
             Some(p) => PyModel::at(m, xml.into(), p),
             None => PyModel::new(m, xml.into()),

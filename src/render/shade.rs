@@ -13,7 +13,7 @@ mod floor;
 mod shadow;
 
 use cover::{Bins, RowCover, Sphere};
-use floor::{Floor, FloorRow};
+use floor::{odd_share, Floor, FloorRow};
 use shadow::ShadowGrid;
 use super::raycast::{intersect, meets_sphere, plane, Hit};
 use super::surface::Surface;
@@ -425,7 +425,7 @@ impl Scene {
                 c.build(&m.bins, y, base + columns[0], step);
             }
             if let Some(f) = &self.floor {
-                self.floor_row(f, base + columns[0], step, &inv_len, &mut floor_row);
+                self.floor_row(f, base + columns[0], step, -sy * self.view.up, &inv_len, &mut floor_row);
             }
             for (x, col) in columns.iter().enumerate() {
                 let d = base + *col;
@@ -525,7 +525,7 @@ impl Scene {
         let n = if n.dot(view) < 0.0 { -n } else { n };
         let base = match &geom.texture {
             None => geom.rgb,
-            Some(tex) => geom.rgb * texel(tex, p - geom.pos, || geom.rot_t * (p - geom.pos), || geom.rot_t * n),
+            Some(tex) => geom.rgb * texel(tex, p - geom.pos, || geom.rot_t * (p - geom.pos), || geom.rot_t * n, || self.footprint(t, d, n)),
         };
         let mut c = geom.emission * base + self.ambient * base;
         let lifted = p + self.eps * n;
@@ -540,6 +540,14 @@ impl Scene {
             c += self.spot_lights(g, p, n, view, base, seen.is_some());
         }
         c + self.reflection(g, d, view, t, seen)
+    }
+
+    /// The pixel's footprint on the surface hit at `t` along `d` (normal `n`): where the hits of
+    /// the rays one column right and one row up lie from it, to first order.
+    fn footprint(&self, t: f32, d: Vec3A, n: Vec3A) -> [Vec3A; 2] {
+        let k = 2.0 * self.tan_half / self.height as f32;
+        let nd = n.dot(d);
+        [k * self.view.right, k * self.view.up].map(|s| if nd == 0.0 { Vec3A::ZERO } else { t * (s - d * (n.dot(s) / nd)) })
     }
 
     /// What the point and spot lights add to geom `g`'s colour `base` at `p` (normal `n`, unit
@@ -627,9 +635,10 @@ fn phong(x: f32, e: f32, int: Option<u32>) -> f32 {
 }
 
 /// Texture colour at world offset `r` from the geom's centre; cube textures, projected along the
-/// normal's dominant axis, need the local point and normal.
+/// normal's dominant axis, need the local point and normal; a 2D checker is averaged over the
+/// pixel's footprint (`foot`: its two edges in world).
 #[inline]
-fn texel(t: &Tex, r: Vec3A, local_p: impl Fn() -> Vec3A, local_n: impl Fn() -> Vec3A) -> Vec3A {
+fn texel(t: &Tex, r: Vec3A, local_p: impl Fn() -> Vec3A, local_n: impl Fn() -> Vec3A, foot: impl Fn() -> [Vec3A; 2]) -> Vec3A {
     if t.builtin == Builtin::Flat {
         return t.rgb1;
     }
@@ -644,8 +653,14 @@ fn texel(t: &Tex, r: Vec3A, local_p: impl Fn() -> Vec3A, local_n: impl Fn() -> V
     match t.builtin {
         Builtin::None => Vec3A::ONE,
         Builtin::Flat => t.rgb1,
+        // one repeat holds 2 × 2 checks, rgb2 on the diagonal through the origin
+        Builtin::Checker if t.kind == TextureKind::TwoD => {
+            let [e0, e1] = foot();
+            let width = |axis: Vec3A| 2.0 * (e0.dot(axis).abs() + e1.dot(axis).abs());
+            let odd = odd_share(2.0 * u, 2.0 * v, width(t.axes[0]), width(t.axes[1]));
+            t.rgb2 * (1.0 - odd) + t.rgb1 * odd
+        }
         Builtin::Checker => {
-            // one repeat holds 2 × 2 checks, rgb2 on the diagonal through the origin
             let odd = (floor(2.0 * u) + floor(2.0 * v)) & 1 == 1;
             if odd { t.rgb1 } else { t.rgb2 }
         }

@@ -29,7 +29,7 @@ pub fn forward(m: &Model, data: &mut Data, s: &WorldState<'_>) {
 
 /// Advances the state (time, qpos, qvel, act) by one time step under its ctrl.
 pub fn step(m: &Model, data: &mut Data, s: &mut WorldState<'_>) {
-    let (h, lever) = (m.opt.timestep, m.opt.lever());
+    let h = m.opt.timestep;
     let h_damp = damping_horizon(m, data);
     // leapfrog: the step's dynamics are the midpoint configuration's
     let leapfrog = m.opt.integrator == Integrator::Leapfrog;
@@ -53,18 +53,8 @@ pub fn step(m: &Model, data: &mut Data, s: &mut WorldState<'_>) {
     } else {
         // 5–7. b, K, impacts and the constraint solve, into q̈ (and q̇ for impacts)
         let level = constrain(m, data, s, h_damp);
-        // 8. integrate: semi-implicit Euler (the seed's scheme; RK4's constrained steps too), or
-        // leapfrog's closing kick and drift; a semi-implicit step with contacts is held to the
-        // energy it began with plus the work of the applied forces and of the rows' corrections
-        let bounded = !leapfrog && data.constraints.con.kind.contains(&RowKind::Normal);
-        if bounded {
-            let rows = correction_work(m, &data.world(), level);
-            timed!(data, Stage::Integration, data.energy.begin(m, &data.dynamics.kin, s.qvel, rows));
-        }
-        timed!(data, Stage::Integration, integrate::kick_drift(m, s.qpos, s.qvel, &data.dynamics.qacc, h, lever));
-        if bounded {
-            timed!(data, Stage::Integration, data.energy.bound(m, &mut data.dynamics, s.qpos, s.qvel));
-        }
+        // 8. integrate under the energy bound
+        let bounded = constrained_integration(m, data, s, level, leapfrog);
         advance_activations(m, data, s);
         // 9. limits leapfrog's drift crossed, penetration and limits the linearised rows missed
         if leapfrog {
@@ -78,6 +68,24 @@ pub fn step(m: &Model, data: &mut Data, s: &mut WorldState<'_>) {
         c.applied.record(m, &c.con, &c.solve.force, data.coll.contacts.len());
     }
     *s.time += h;
+}
+
+/// Stage 8 of a step with constraint rows: semi-implicit Euler (the seed's scheme; RK4's
+/// constrained steps too), or leapfrog's closing kick and drift. A semi-implicit step with
+/// contacts is held to the energy it began with plus the work of the applied forces and of the
+/// rows' corrections; returns whether it was.
+fn constrained_integration(m: &Model, data: &mut Data, s: &mut WorldState<'_>, level: Level, leapfrog: bool) -> bool {
+    let (h, lever) = (m.opt.timestep, m.opt.lever());
+    let bounded = !leapfrog && data.constraints.con.kind.contains(&RowKind::Normal);
+    if bounded {
+        let rows = correction_work(m, &data.world(), level);
+        timed!(data, Stage::Integration, data.energy.begin(m, &data.dynamics.kin, s.qvel, rows));
+    }
+    timed!(data, Stage::Integration, integrate::kick_drift(m, s.qpos, s.qvel, &data.dynamics.qacc, h, lever));
+    if bounded {
+        timed!(data, Stage::Integration, data.energy.bound(m, &mut data.dynamics, s.qpos, s.qvel));
+    }
+    bounded
 }
 
 /// The horizon over which a step treats joint damping implicitly. Euler and leapfrog treat it

@@ -50,6 +50,19 @@ def test_spaces_and_reset_match_the_mujoco_twin(name):
 
 
 @pytest.mark.parametrize("name", NAMES)
+def test_reset_draws_the_twins_state_bit_for_bit(name):
+    """What the README claims of reset(seed=s): the twin's qpos and qvel exactly, and the
+    observation from them to round-off (sinew's own kinematics give body positions, cinert, cvel)."""
+    env, ref = gym.make(f"sinew/{name}-v0"), twin(name)
+    for seed in range(20):
+        obs, _ = env.reset(seed=seed)
+        ref_obs, _ = ref.reset(seed=seed)
+        np.testing.assert_array_equal(env.unwrapped.data.qpos, ref.unwrapped.data.qpos)
+        np.testing.assert_array_equal(env.unwrapped.data.qvel, ref.unwrapped.data.qvel)
+        np.testing.assert_allclose(obs, ref_obs, rtol=0, atol=1e-13)
+
+
+@pytest.mark.parametrize("name", NAMES)
 def test_observations_match_the_twin_at_the_same_state(name):
     """cinert, cvel, qfrc_actuator, site and body positions come from sinew's own physics."""
     env, ref = gym.make(f"sinew/{name}-v0"), twin(name)

@@ -4,6 +4,7 @@ from one of the model's cameras when the observation is pixels."""
 
 from __future__ import annotations
 
+import inspect
 import math
 import os
 import warnings
@@ -15,6 +16,11 @@ from gymnasium import spaces
 from sinew._core import Model, ModelWarning
 from sinew.core import Worlds
 from sinew.dmc.physics import Names, Physics
+
+
+#: The keywords every dm_control env takes (beside a task's own).
+_ENV_KEYWORDS = ["action_repeat", "camera_id", "camera_name", "constraint_mode", "flat_observation", "frame_stack",
+                 "friction", "from_pixels", "height", "num_threads", "pixels_only", "render_mode", "time_limit", "width"]
 
 
 def n_sub_steps(control_timestep: float | None, timestep: float) -> int:
@@ -50,7 +56,17 @@ class DmcCore(Worlds):
         for name, v in (("action_repeat", action_repeat), ("frame_stack", frame_stack)):
             if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
                 raise ValueError(f"{name} must be a positive integer, got {v!r}")
-        self.task = TASKS[task](**task_kwargs)
+        cls = TASKS[task]
+        unknown = sorted(set(task_kwargs) - set(inspect.signature(cls).parameters))
+        if unknown:
+            # Python's own wording (wrappers recognise it), with the keywords the env does take
+            own = sorted(inspect.signature(cls).parameters)
+            raise TypeError(f"sinew/{task}-v0: __init__() got an unexpected keyword argument '{unknown[0]}' (its keywords: "
+                            f"{', '.join(_ENV_KEYWORDS)}{''.join(', ' + k for k in own)})")
+        if time_limit is not None and not (isinstance(time_limit, (int, float, np.integer, np.floating))
+                                           and not isinstance(time_limit, bool) and time_limit > 0):
+            raise ValueError(f"time_limit must be a positive number of seconds (inf: no limit), got {time_limit!r}")
+        self.task = cls(**task_kwargs)
         xml = self.task.model_xml()
         path = os.path.join(suite_dir(), self.task.xml)
         with warnings.catch_warnings():

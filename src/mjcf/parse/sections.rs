@@ -317,7 +317,7 @@ impl Parser<'_> {
         Ok(())
     }
 
-    /// `<joint>` and `<tendon>` equalities (`connect`, `weld` and `flex` are errors).
+    /// `<joint>`, `<tendon>`, `<connect>` and `<weld>` equalities (`flex` is an error).
     pub(super) fn equality(&mut self, n: Node) -> Result<()> {
         for c in n.children().filter(Node::is_element) {
             let kind = c.tag_name().name();
@@ -328,7 +328,7 @@ impl Parser<'_> {
                     self.connect(c)?;
                     continue;
                 }
-                _ => return Err(self.err(c, None, format!("<{kind}> equality constraints are not supported (connect, joint and tendon are)"))),
+                _ => return Err(self.err(c, None, format!("<{kind}> equality constraints are not supported (connect, weld, joint and tendon are)"))),
             };
             let e = self.el_as(c, None, "equality")?;
             let (a1, a2) = if tendon { ("tendon1", "tendon2") } else { ("joint1", "joint2") };

@@ -51,7 +51,7 @@ impl Floor {
 pub(in crate::render) struct FloorRow {
     /// Ray parameter of the hit (∞ where the ray misses the floor).
     pub(super) t: Vec<f32>,
-    /// Whether the check hit is odd (1) or even (0).
+    /// The share of odd checks in the pixel's footprint (0 to 1).
     odd: Vec<f32>,
     /// Per directional light, the cosine between the normal and the half vector where the
     /// specular term shows, else 0.
@@ -67,12 +67,13 @@ impl FloorRow {
 }
 
 impl Scene {
-    /// Fills `row` for the rays `d0 + x step` of columns x, whose 1 / |d| `inv_len` holds.
-    pub(super) fn floor_row(&self, f: &Floor, d0: Vec3A, step: Vec3A, inv_len: &[f32], row: &mut FloorRow) {
+    /// Fills `row` for the rays `d0 + x step` of columns x, whose 1 / |d| `inv_len` holds;
+    /// `down` is the step to the next row's rays.
+    pub(super) fn floor_row(&self, f: &Floor, d0: Vec3A, step: Vec3A, down: Vec3A, inv_len: &[f32], row: &mut FloorRow) {
         let geom = &self.geoms[f.g];
         let o = self.eyes[f.g];
-        // the rays in the plane's frame: a + x s
-        let (a, s) = (geom.rot_t * d0, geom.rot_t * step);
+        // the rays in the plane's frame: a + x s; the next row's, a + x s + r
+        let (a, s, r) = (geom.rot_t * d0, geom.rot_t * step, geom.rot_t * down);
         let (near, far) = (self.near, self.far);
         let (sx, sy) = (geom.size[0], geom.size[1]);
         let [cx, cy] = f.checks;
@@ -85,8 +86,11 @@ impl Scene {
             let (px, py) = (o.x + t * dx, o.y + t * dy);
             let inside = (o.z > 0.0) & (dz < 0.0) & (t >= near) & (t < far) & ((sx <= 0.0) | (px.abs() <= sx)) & ((sy <= 0.0) | (py.abs() <= sy));
             *t_out = if inside { t } else { f32::INFINITY };
-            let checks = floor(px * cx) + floor(py * cy);
-            *odd = checks - 2.0 * floor(0.5 * checks);
+            // the footprint: how far the hit moves a column right and a row down, in checks
+            let (sz, rz) = (s.z / dz, r.z / dz);
+            let wx = cx * (t * (s.x - dx * sz)).abs() + cx * (t * (r.x - dx * rz)).abs();
+            let wy = cy * (t * (s.y - dy * sz)).abs() + cy * (t * (r.y - dy * rz)).abs();
+            *odd = odd_share(px * cx, py * cy, wx, wy);
         }
         // Phong: n·h and |h|² of h = l + v, v = −d / |d|, are linear in d times 1 / |d|
         let n = f.normal;
@@ -112,7 +116,7 @@ impl Scene {
         let (g, n) = (f.g, f.normal);
         let geom = &self.geoms[g];
         let t = row.t[x];
-        let base = if row.odd[x] != 0.0 { f.colours[1] } else { f.colours[0] };
+        let base = f.colours[0] * (1.0 - row.odd[x]) + f.colours[1] * row.odd[x];
         let p = t * d;
         let lifted = p + self.eps * n;
         let mut c = geom.emission * base + self.ambient * base;
@@ -131,6 +135,19 @@ impl Scene {
         }
         c + self.reflection(g, d, view, t, Some(at))
     }
+}
+
+/// The share of odd checks (⌊u⌋ + ⌊v⌋ odd) in a `wu` × `wv` box about (u, v), in checks: the
+/// box filter of the checker, exact for a box (the ±1 square wave's mean over an interval is the
+/// difference of its triangle-wave primitive), so that checks smaller than a pixel blend
+/// instead of aliasing into moiré. Below a thousandth of a check the sharp checker.
+#[inline]
+pub(super) fn odd_share(u: f32, v: f32, wu: f32, wv: f32) -> f32 {
+    // the square wave, +1 on even checks; its primitive, 1 − |2 frac(x / 2) − 1|
+    let sharp = |x: f32| 1.0 - 2.0 * (floor(x) - 2.0 * floor(0.5 * floor(x)));
+    let tri = |x: f32| 1.0 - (2.0 * (0.5 * x - floor(0.5 * x)) - 1.0).abs();
+    let mean = |x: f32, w: f32| if w < 1e-3 { sharp(x) } else { (tri(x + 0.5 * w) - tri(x - 0.5 * w)) / w };
+    0.5 - 0.5 * mean(u, wu) * mean(v, wv)
 }
 
 /// ⌊x⌋ for |x| < 2²², in float operations the compiler vectorises (adding and subtracting
