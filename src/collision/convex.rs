@@ -14,12 +14,19 @@ use glam::{DMat3, DVec3};
 use super::shapes::closest_segments;
 use crate::geometry::Hull;
 
+/// Edge pairs beyond which a hinted pair is collided [`along_normal`] (two hulls of 500 edges).
+const HUGE_EDGE_PAIRS: usize = 250_000;
+
+/// The cosine within which a face's normal counts as near a hinted separating axis (60°: every
+/// direction lies within 54.7° of one of a box's faces).
+const CONE: f64 = 0.5;
+
 /// Most points a pair of polytopes (or a hull on a plane) contributes.
 pub(super) const MAX_MANIFOLD: usize = 8;
 
-/// Edges of the second polytope posed once per test when it has at most this many (a hull with
-/// more poses them as the test reads them).
-const MAX_POSED_EDGES: usize = 192;
+/// Edges of the second polytope posed once per test when at most this many are read (more are
+/// posed as the test reads them).
+const MAX_POSED_EDGES: usize = 256;
 
 /// Largest polygon a clip keeps (an incident face's vertices plus one per reference side).
 const MAX_POLY: usize = 128;
@@ -207,54 +214,78 @@ fn minkowski_face(na: [DVec3; 2], nb: Option<[DVec3; 2]>, db: DVec3) -> bool {
     cba * dba < 0.0 && adc * bdc < 0.0 && cba * bdc > 0.0
 }
 
-/// Contacts of polytopes A and B within `margin` (points midway, normals from B to A).
-pub(super) fn polytopes(a: &impl Polytope, b: &impl Polytope, margin: f64, scale: f64) -> Manifold {
+/// Contacts of polytopes A and B within `margin` (points midway, normals from B to A). With a
+/// `hint` (GJK's or EPA's unit normal from B to A, for polytopes of many edges) the test reads
+/// only the faces, and the edges next to faces, turned within 60° of it: the separating axis
+/// lies near that normal, and the rest of the test's cost (every pair of edges) is spared (all
+/// of them are read when a polytope has no face within the cone).
+pub(super) fn polytopes(a: &impl Polytope, b: &impl Polytope, margin: f64, scale: f64, hint: Option<DVec3>) -> Manifold {
     let tol = 1e-9 * scale;
-    let fa = best_face(a, b, tol);
-    let fb = best_face(b, a, tol);
+    if let Some(n) = hint.filter(|_| a.nedge() * b.nedge() > HUGE_EDGE_PAIRS) {
+        return along_normal(a, b, n, margin, tol);
+    }
+    // A's faces toward B look along −hint, B's along +hint
+    let near = |normal: DVec3, along: f64| hint.is_none_or(|h| along * normal.dot(h) > CONE);
+    // with a hint, the features that can meet: those with a vertex within the overlap along it
+    // (and 2% of the pair's size) of their polytope's extreme toward the other
+    let (reach_a, reach_b) = hint.map_or((f64::NEG_INFINITY, f64::NEG_INFINITY), |h| (a.support(-h), b.support(h)));
+    let slack = (reach_a + reach_b).abs() + 0.02 * scale;
+    let toward = |h: Option<DVec3>, reach: f64, p: DVec3, q: DVec3| h.is_none_or(|h| p.dot(h).max(q.dot(h)) >= reach - slack);
+    let face_toward = |p: &dyn Fn(usize) -> DVec3, n: usize, h: Option<DVec3>, reach: f64| (0..n).any(|k| toward(h, reach, p(k), p(k)));
+    let fa = best_face(a, b, tol, |f, n| near(n, -1.0) && face_toward(&|k| a.vert(a.face_vert(f, k)), a.face_len(f), hint.map(|h| -h), reach_a));
+    let fb = best_face(b, a, tol, |f, n| near(n, 1.0) && face_toward(&|k| b.vert(b.face_vert(f, k)), b.face_len(f), hint, reach_b));
+    if hint.is_some() && (fa.0 == f64::NEG_INFINITY || fb.0 == f64::NEG_INFINITY) {
+        return polytopes(a, b, margin, scale, None);
+    }
     if fa.0 > margin || fb.0 > margin {
         return Manifold::new();
     }
-    // B's edges posed once (start, direction, face normals), not once per edge of A
-    let mut b_edges: ArrayVec<(DVec3, DVec3, Option<[DVec3; 2]>), MAX_POSED_EDGES> = ArrayVec::new();
-    let posed = b.nedge() <= MAX_POSED_EDGES;
-    if posed {
-        for eb in 0..b.nedge() {
-            let ([b0, b1], nb) = b.edge(eb);
-            let pb = b.vert(b0);
-            b_edges.push((pb, b.vert(b1) - pb, nb));
+    // B's edges (those near the hint) posed once: index, start, direction, face normals
+    let wanted_b = |e: &(usize, DVec3, DVec3, Option<[DVec3; 2]>)| {
+        e.3.is_none_or(|[n0, n1]| near(n0, 1.0) || near(n1, 1.0)) && toward(hint, reach_b, e.1, e.1 + e.2)
+    };
+    let pose_b = |eb: usize| {
+        let ([b0, b1], nb) = b.edge(eb);
+        let pb = b.vert(b0);
+        (eb, pb, b.vert(b1) - pb, nb)
+    };
+    let mut b_edges: ArrayVec<(usize, DVec3, DVec3, Option<[DVec3; 2]>), MAX_POSED_EDGES> = ArrayVec::new();
+    let mut posed = true;
+    for eb in 0..b.nedge() {
+        let e = pose_b(eb);
+        if wanted_b(&e) && b_edges.try_push(e).is_err() {
+            posed = false;
+            break;
         }
     }
-    let b_edge = |eb: usize| {
-        if posed {
-            b_edges[eb]
-        } else {
-            let ([b0, b1], nb) = b.edge(eb);
-            let pb = b.vert(b0);
-            (pb, b.vert(b1) - pb, nb)
-        }
-    };
     let a_centre = a.centre();
     let mut edge = (f64::NEG_INFINITY, 0, 0, DVec3::ZERO);
     for ea in 0..a.nedge() {
         let ([a0, a1], na) = a.edge(ea);
         let (pa, da) = (a.vert(a0), a.vert(a1) - a.vert(a0));
         let Some(na) = na else { continue };
-        for eb in 0..b.nedge() {
-            let (pb, db, nb) = b_edge(eb);
+        if !(near(na[0], -1.0) || near(na[1], -1.0)) || !toward(hint.map(|h| -h), reach_a, pa, pa + da) {
+            continue;
+        }
+        let mut consider = |(eb, pb, db, nb): (usize, DVec3, DVec3, Option<[DVec3; 2]>)| {
             if !minkowski_face(na, nb, db) {
-                continue;
+                return;
             }
             let axis = da.cross(db);
             let len = axis.length();
             if len < 1e-6 * da.length() * db.length() {
-                continue;
+                return;
             }
             let axis = if axis.dot(pa - a_centre) < 0.0 { -axis / len } else { axis / len };
             let s = axis.dot(pb - pa);
             if s > edge.0 {
                 edge = (s, ea, eb, axis);
             }
+        };
+        if posed {
+            b_edges.iter().for_each(|&e| consider(e));
+        } else {
+            (0..b.nedge()).map(pose_b).filter(wanted_b).for_each(consider);
         }
     }
     if edge.0 > margin {
@@ -288,12 +319,52 @@ pub(super) fn polytopes(a: &impl Polytope, b: &impl Polytope, margin: f64, scale
     }
 }
 
-/// The face of `p` that separates `q` most: (separation, face); a later face must be better by
-/// more than `tol`, so that faces tied by round-off keep the first.
-fn best_face(p: &impl Polytope, q: &impl Polytope, tol: f64) -> (f64, usize) {
+/// Contacts of polytopes of very many edges (detailed meshes' hulls) along GJK's or EPA's unit
+/// normal `n` (from B to A), without the separating-axis test's pass over every pair of edges:
+/// the gap along n; of the two faces turned most squarely against the other polytope, the one
+/// nearer n clips the other's incident face (a face contact, as the test makes it); when
+/// neither lies within 18° of n, one point midway between the deepest vertices along n.
+fn along_normal(a: &impl Polytope, b: &impl Polytope, n: DVec3, margin: f64, tol: f64) -> Manifold {
+    let gap = -a.support(-n) - b.support(n);
+    if gap > margin {
+        return Manifold::new();
+    }
+    let facing = |p: &dyn Fn(usize) -> DVec3, faces: usize, dir: DVec3| {
+        (0..faces).map(|f| (p(f).dot(dir), f)).fold((f64::NEG_INFINITY, 0), |x, y| if y.0 > x.0 { y } else { x })
+    };
+    let (ca, fa) = facing(&|f| a.plane(f).0, a.nface(), -n);
+    let (cb, fb) = facing(&|f| b.plane(f).0, b.nface(), n);
+    if ca.max(cb) > 0.95 {
+        let mut m = if cb > ca { clip(b, fb, a, margin, tol) } else { clip(a, fa, b, margin, tol) };
+        for p in m.iter_mut() {
+            if cb > ca {
+                p.0 += FACE_B;
+            } else {
+                p.0 += FACE_A;
+                p.2 = -p.2;
+            }
+        }
+        return m;
+    }
+    let deepest = |p: &dyn Fn(usize) -> DVec3, verts: usize, dir: DVec3| {
+        (0..verts).map(p).fold(DVec3::splat(f64::NAN), |x, y| if x.is_nan() || y.dot(dir) > x.dot(dir) { y } else { x })
+    };
+    let (pa, pb) = (deepest(&|i| a.vert(i), a.nvert(), -n), deepest(&|i| b.vert(i), b.nvert(), n));
+    let mut out = Manifold::new();
+    out.push((EDGE, (pa + pb) * 0.5, n, gap));
+    out
+}
+
+/// The face of `p` (of those `wanted`, by index and normal) that separates `q` most: (separation,
+/// face); a later face must be better by more than `tol`, so that faces tied by round-off keep
+/// the first.
+fn best_face(p: &impl Polytope, q: &impl Polytope, tol: f64, wanted: impl Fn(usize, DVec3) -> bool) -> (f64, usize) {
     let mut best = (f64::NEG_INFINITY, 0);
     for f in 0..p.nface() {
         let (n, d) = p.plane(f);
+        if !wanted(f, n) {
+            continue;
+        }
         let s = -q.support(-n) - d;
         if s > best.0 + tol {
             best = (s, f);

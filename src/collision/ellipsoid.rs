@@ -286,6 +286,13 @@ fn contact<A: Convex, B: Convex>(a: &A, b: &B, on_first: bool, margin: f64, epa:
     (d <= margin).then_some((pos, n, d))
 }
 
+/// GJK's or EPA's normal (unit, from shape 2 to shape 1; neither a plane nor a height field)
+/// of shapes 1 and 2 within `margin`, None when farther apart: where a hull pair of many edges
+/// looks for its separating axis.
+pub(super) fn normal(a: Shape, b: Shape, margin: f64, epa: &mut Epa) -> Option<DVec3> {
+    first_normal(&a, &b, margin, epa)
+}
+
 /// GJK's normal (from shape 2 to shape 1) of two shapes apart by at most `margin`, else EPA's;
 /// the line of the centres if EPA finds none (a degenerate overlap); None when farther apart.
 fn first_normal<A: Convex, B: Convex>(a: &A, b: &B, margin: f64, epa: &mut Epa) -> Option<DVec3> {

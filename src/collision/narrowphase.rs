@@ -171,16 +171,37 @@ fn solid_pair(sink: &Sink, cd: &mut CollisionData, (g1, s1): (usize, Shape), (g2
     }
 }
 
+/// Edge pairs beyond which a hull pair's separating-axis test looks near GJK's and EPA's normal
+/// only (a box against a hull of under 342 edges, two hulls of 64 edges each, test every pair).
+const MANY_EDGE_PAIRS: usize = 4096;
+
 /// Contacts of a pair with a hull or a height field (shape 2; normals from shape 2 to shape 1).
 fn convex_pair(m: &Model, (s1, g1): (Shape, usize), (s2, g2): (Shape, usize), margin: f64, epa: &mut Epa) -> Manifold {
     match s2 {
         Shape::HField { p, rot, field } => hfield_contacts(field, p, rot, s1, margin, m.geom_rbound[g1], epa),
-        _ => hull_pair(s1, s2, margin, m.geom_rbound[g1] + m.geom_rbound[g2]),
+        _ => hull_pair(s1, s2, margin, m.geom_rbound[g1] + m.geom_rbound[g2], epa),
     }
 }
 
 /// Contacts of a pair with a hull (normals from shape 2 to shape 1).
-fn hull_pair(s1: Shape, s2: Shape, margin: f64, scale: f64) -> Manifold {
+fn hull_pair(s1: Shape, s2: Shape, margin: f64, scale: f64, epa: &mut Epa) -> Manifold {
+    // a pair of many edges (a robot's meshes), or a sphere and a hull of many faces: GJK and EPA
+    // first (beyond the margin by more than their tolerance: no contact), then the
+    // separating-axis test near their normal only
+    let edges = |s: &Shape| match s {
+        Shape::Hull { hull, .. } => hull.edges.len(),
+        Shape::Box { .. } => 12,
+        _ => 1,
+    };
+    let many = edges(&s1) * edges(&s2) > MANY_EDGE_PAIRS || matches!((s1, s2), (Shape::Sphere { .. }, Shape::Hull { hull, .. }) | (Shape::Hull { hull, .. }, Shape::Sphere { .. }) if hull.faces.len() > 64);
+    let hint = if !matches!(s2, Shape::Plane { .. }) && many {
+        match ellipsoid::normal(s1, s2, margin + 1e-6 * scale, epa) {
+            Some(n) => Some(n),
+            None => return Manifold::new(),
+        }
+    } else {
+        None
+    };
     let flip = |mut m: Manifold| {
         for p in m.iter_mut() {
             p.2 = -p.2;
@@ -207,11 +228,11 @@ fn hull_pair(s1: Shape, s2: Shape, margin: f64, scale: f64) -> Manifold {
             let n = if matches!(s1, Shape::Sphere { .. }) { out } else { -out };
             one(0, c - out * (r + 0.5 * (d - r)), n, d - r)
         }
-        (Shape::Hull { c, rot, hull }, Shape::Segment { a, b, r }) => rounded(polytopes(&PosedHull { hull, c, rot }, &Segment { a, b }, margin + r, scale), r, -1.0),
-        (Shape::Segment { a, b, r }, Shape::Hull { c, rot, hull }) => flip(rounded(polytopes(&PosedHull { hull, c, rot }, &Segment { a, b }, margin + r, scale), r, -1.0)),
-        (Shape::Hull { c, rot, hull }, Shape::Box { c: bc, rot: br, half }) => polytopes(&PosedHull { hull, c, rot }, &PosedBox { c: bc, rot: br, half }, margin, scale),
-        (Shape::Box { c: bc, rot: br, half }, Shape::Hull { c, rot, hull }) => polytopes(&PosedBox { c: bc, rot: br, half }, &PosedHull { hull, c, rot }, margin, scale),
-        (Shape::Hull { c, rot, hull }, Shape::Hull { c: c2, rot: r2, hull: h2 }) => polytopes(&PosedHull { hull, c, rot }, &PosedHull { hull: h2, c: c2, rot: r2 }, margin, scale),
+        (Shape::Hull { c, rot, hull }, Shape::Segment { a, b, r }) => rounded(polytopes(&PosedHull { hull, c, rot }, &Segment { a, b }, margin + r, scale, hint), r, -1.0),
+        (Shape::Segment { a, b, r }, Shape::Hull { c, rot, hull }) => flip(rounded(polytopes(&PosedHull { hull, c, rot }, &Segment { a, b }, margin + r, scale, hint.map(|n| -n)), r, -1.0)),
+        (Shape::Hull { c, rot, hull }, Shape::Box { c: bc, rot: br, half }) => polytopes(&PosedHull { hull, c, rot }, &PosedBox { c: bc, rot: br, half }, margin, scale, hint),
+        (Shape::Box { c: bc, rot: br, half }, Shape::Hull { c, rot, hull }) => polytopes(&PosedBox { c: bc, rot: br, half }, &PosedHull { hull, c, rot }, margin, scale, hint),
+        (Shape::Hull { c, rot, hull }, Shape::Hull { c: c2, rot: r2, hull: h2 }) => polytopes(&PosedHull { hull, c, rot }, &PosedHull { hull: h2, c: c2, rot: r2 }, margin, scale, hint),
         _ => Manifold::new(),
     }
 }

@@ -108,15 +108,15 @@ fn prism_contacts(prism: &Prism, other: Shape, margin: f64, epa: &mut Epa) -> Ma
         }
         Shape::Segment { a, b, r } => {
             // normals from the segment to the prism: the capsule's surface is r nearer it
-            let mut m = polytopes(prism, &Segment { a, b }, margin + r, scale);
+            let mut m = polytopes(prism, &Segment { a, b }, margin + r, scale, None);
             for q in m.iter_mut() {
                 q.1 += q.2 * (0.5 * r);
                 q.3 -= r;
             }
             flip(m)
         }
-        Shape::Box { c, rot, half } => polytopes(&PosedBox { c, rot, half }, prism, margin, scale),
-        Shape::Hull { c, rot, hull } => polytopes(&PosedHull { hull, c, rot }, prism, margin, scale),
+        Shape::Box { c, rot, half } => polytopes(&PosedBox { c, rot, half }, prism, margin, scale, None),
+        Shape::Hull { c, rot, hull } => polytopes(&PosedHull { hull, c, rot }, prism, margin, scale, None),
         Shape::Ellipsoid { .. } => with_polytope(other, prism, margin, epa).into_iter().map(|(at, n, d)| (0, at, n, d)).collect(),
         Shape::Cylinder(cyl) => cylinder::with_prism(&cyl, prism, margin, epa),
         Shape::Plane { .. } | Shape::HField { .. } => Manifold::new(),

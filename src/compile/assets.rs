@@ -4,30 +4,38 @@
 //! inertia box and its mass density × volume (or the mass given). Each `<hfield>` read (file,
 //! inline or zeros) and normalized; a height-field geom takes its size and has no mass.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::DMat3;
 
 use crate::error::{Error, Result};
 use crate::geometry::hfield::{normalize, read_hfield};
 use crate::geometry::{read_mesh, HField, Mesh, RawMesh};
+use crate::mjcf::include::Expanded;
 use crate::mjcf::{GeomType, ModelSpec};
 
-/// An asset file's path: `meshdir` (or `assetdir`) relative to `dir`.
-fn asset_path(spec: &ModelSpec, dir: &Path, file: &str) -> std::path::PathBuf {
-    match &spec.meshdir {
-        Some(d) => dir.join(d).join(file),
-        None => dir.join(file),
+/// An asset file's path (its element at `line` of `x`): `meshdir` (or `assetdir`) and `file`
+/// relative to the main file's directory, else the first of these that names a file: `file`
+/// alone there, then both relative to the directory of the file the element is in (an
+/// included file's own assets, as MuJoCo finds Menagerie's `mjx_panda.xml` meshes when a
+/// Playground scene includes it).
+fn asset_path(spec: &ModelSpec, x: &Expanded, line: u32, file: &str) -> PathBuf {
+    let with_dir = |d: &Path| spec.meshdir.as_ref().map_or_else(|| d.join(file), |m| d.join(m).join(file));
+    let first = with_dir(&x.dir);
+    if first.is_file() {
+        return first;
     }
+    let own = x.dir_of(line);
+    [x.dir.join(file), with_dir(own), own.join(file)].into_iter().find(|p| p.is_file()).unwrap_or(first)
 }
 
-/// The model's height fields, files read from `meshdir` relative to `dir`.
-pub(super) fn load_hfields(spec: &ModelSpec, dir: &Path) -> Result<Vec<HField>> {
+/// The model's height fields, files found by [`asset_path`].
+pub(super) fn load_hfields(spec: &ModelSpec, x: &Expanded) -> Result<Vec<HField>> {
     spec.hfields
         .iter()
         .map(|hs| {
             let (nrow, ncol, mut data) = match &hs.file {
-                Some(f) => read_hfield(&asset_path(spec, dir, f)).map_err(|e| in_element(e, "hfield", hs.line))?,
+                Some(f) => read_hfield(&asset_path(spec, x, hs.line, f)).map_err(|e| in_element(e, "hfield", hs.line))?,
                 None if hs.elevation.is_empty() => (hs.nrow, hs.ncol, vec![0.0; hs.nrow * hs.ncol]),
                 // MuJoCo reads inline elevations with the first row at +y
                 None => (hs.nrow, hs.ncol, hs.elevation.chunks(hs.ncol.max(1)).rev().flatten().copied().collect()),
@@ -38,13 +46,13 @@ pub(super) fn load_hfields(spec: &ModelSpec, dir: &Path) -> Result<Vec<HField>> 
         .collect()
 }
 
-/// The model's meshes, files read from `meshdir` relative to `dir`.
-pub(super) fn load_meshes(spec: &ModelSpec, dir: &Path) -> Result<Vec<Mesh>> {
+/// The model's meshes, files found by [`asset_path`].
+pub(super) fn load_meshes(spec: &ModelSpec, x: &Expanded) -> Result<Vec<Mesh>> {
     spec.meshes
         .iter()
         .map(|ms| {
             let raw = match &ms.file {
-                Some(f) => read_mesh(&asset_path(spec, dir, f)).map_err(|e| in_element(e, "mesh", ms.line))?,
+                Some(f) => read_mesh(&asset_path(spec, x, ms.line, f)).map_err(|e| in_element(e, "mesh", ms.line))?,
                 None => {
                     let raw = RawMesh { vert: ms.vertex.clone(), face: ms.face.clone(), ..RawMesh::default() };
                     crate::geometry::read::check(&raw).map_err(|m| Error::model("mesh", Some("vertex"), ms.line, m))?;

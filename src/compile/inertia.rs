@@ -109,7 +109,8 @@ pub(super) fn body_inertias(spec: &ModelSpec) -> Vec<SpatialInertia> {
                 return SpatialInertia::ZERO;
             }
             if from_geoms(spec, b) {
-                b.geoms.iter().fold(SpatialInertia::ZERO, |acc, g| acc.combine(&geom_inertia(g)))
+                let [lo, hi] = spec.inertiagroups;
+                b.geoms.iter().filter(|g| (lo..=hi).contains(&g.group)).fold(SpatialInertia::ZERO, |acc, g| acc.combine(&geom_inertia(g)))
             } else if let Some(i) = &b.inertial {
                 let [xx, yy, zz, xy, xz, yz] = i.inertia;
                 let local = DMat3::from_cols(DVec3::new(xx, xy, xz), DVec3::new(xy, yy, yz), DVec3::new(xz, yz, zz));
@@ -118,7 +119,9 @@ pub(super) fn body_inertias(spec: &ModelSpec) -> Vec<SpatialInertia> {
                 SpatialInertia::ZERO
             }
         })
+        .map(|i| bounded(i, spec.bounds))
         .collect();
+    inertia[0] = SpatialInertia::ZERO;
     if let Some(total) = spec.settotalmass {
         let sum: f64 = inertia.iter().map(|i| i.mass).sum();
         if sum > 0.0 {
@@ -130,6 +133,19 @@ pub(super) fn body_inertias(spec: &ModelSpec) -> Vec<SpatialInertia> {
         }
     }
     inertia
+}
+
+/// A body's mass and principal moments raised to at least `boundmass` and `boundinertia`, as
+/// MuJoCo's compiler bounds them (`mjCBody::Compile`), about the same principal axes.
+fn bounded(mut i: SpatialInertia, [mass, moment]: [f64; 2]) -> SpatialInertia {
+    i.mass = i.mass.max(mass);
+    if moment > 0.0 {
+        let (moments, axes) = principal_axes(i.ic);
+        if moments.min_element() < moment {
+            i.ic = axes * DMat3::from_diagonal(moments.max(DVec3::splat(moment))) * axes.transpose();
+        }
+    }
+    i
 }
 
 /// Stiffness and damping of the joints with a `springdamper` (time constant τ, damping ratio ζ),

@@ -3,6 +3,7 @@
 
 use glam::{DMat3, DVec3};
 
+mod actuators;
 mod assets;
 mod fluid;
 mod inertia;
@@ -12,13 +13,14 @@ mod sensors;
 mod tendons;
 mod visual;
 
+use actuators::{actuators, muscle_acc0, servo_damping};
 use inertia::{body_inertias, fluid_box, inertia_axes, spring_dampers};
 use sensors::sensors;
 use tendons::tendons;
-use crate::model::{ActuatorDyn, Connect, EqRef, GapPair, Muscle, GeomType, Keyframe, Model, Options, PairTest, PlaneGroup, Transmission, Wrap, WORLD};
+use crate::model::{ActuatorDyn, Connect, EqRef, GapPair, GeomType, Keyframe, Model, Options, PairTest, PlaneGroup, Transmission, Wrap, WORLD};
 use crate::error::{Error, Result};
 use crate::math::{SpatialInertia, Xform};
-use crate::mjcf::{include, ActuatorSpec, BodySpec, JointSpec, JointType, ModelSpec, MuscleSpec, TransmissionSpec};
+use crate::mjcf::{include, BodySpec, JointSpec, JointType, ModelSpec};
 use crate::dynamics::DynamicsData;
 
 impl Model {
@@ -65,14 +67,14 @@ impl Model {
 
     /// Parses and compiles expanded text, an error naming the file and line it comes from.
     fn from_expanded(x: &include::Expanded) -> Result<Model> {
-        crate::mjcf::parse(&x.text).and_then(|spec| compile(spec, &x.dir)).map_err(|e| x.locate(e))
+        crate::mjcf::parse(&x.text).and_then(|spec| compile(spec, x)).map_err(|e| x.locate(e))
     }
 }
 
 /// `ModelSpec` → `Model`; asset files are found from `dir`.
-fn compile(mut spec: ModelSpec, dir: &std::path::Path) -> Result<Model> {
-    let meshes = assets::load_meshes(&spec, dir)?;
-    let hfields = assets::load_hfields(&spec, dir)?;
+fn compile(mut spec: ModelSpec, x: &include::Expanded) -> Result<Model> {
+    let meshes = assets::load_meshes(&spec, x)?;
+    let hfields = assets::load_hfields(&spec, x)?;
     assets::fit_geoms(&mut spec, &meshes, &hfields)?;
     let inertia = body_inertias(&spec);
     let mut m = Model {
@@ -93,6 +95,7 @@ fn compile(mut spec: ModelSpec, dir: &std::path::Path) -> Result<Model> {
         nbody: spec.bodies.len(),
         body_name: spec.bodies.iter().map(|b| b.name.clone()).collect(),
         body_parent: spec.bodies.iter().map(|b| b.parent).collect(),
+        body_mocap: spec.bodies.iter().map(|b| b.mocap).collect(),
         body_pos: spec.bodies.iter().map(|b| b.pos).collect(),
         body_quat: spec.bodies.iter().map(|b| b.quat).collect(),
         body_mass: inertia.iter().map(|i| i.mass).collect(),
@@ -106,6 +109,7 @@ fn compile(mut spec: ModelSpec, dir: &std::path::Path) -> Result<Model> {
     };
     m.body_fluid_box = inertia.iter().zip(&m.body_iaxes).map(|(i, &axes)| fluid_box(i, axes)).collect();
     joints_and_nodes(&mut m, &spec)?;
+    moving_planes_as_boxes(&mut m, &mut spec);
     params::node_inertias(&mut m, &inertia);
     geoms_and_sites(&mut m, &spec, &meshes, &hfields);
     m.opt.max_contacts = spec.option.nconmax.unwrap_or_else(|| crate::model::default_max_contacts(m.ngeom));
@@ -126,7 +130,7 @@ fn compile(mut spec: ModelSpec, dir: &std::path::Path) -> Result<Model> {
         let (i, j) = (find(b1)?, find(b2)?);
         m.exclude_pairs.push((i.min(j), i.max(j)));
     }
-    let explicit = pairs::explicit_pairs(&m, &spec)?;
+    let explicit = pairs::explicit_pairs(&mut m, &spec)?;
     for i in 0..m.ngeom {
         for j in i + 1..m.ngeom {
             // an explicit pair replaces the geoms' own, as in MuJoCo
@@ -148,6 +152,7 @@ fn compile(mut spec: ModelSpec, dir: &std::path::Path) -> Result<Model> {
     crate::dynamics::forward(&m, &mut dy, &m.qpos0, &vec![0.0; m.nv], &vec![0.0; m.nu], &vec![0.0; m.na]);
     check_solvable(&m, &dy)?;
     muscle_acc0(&mut m, &dy);
+    servo_damping(&mut m, &dy);
     spring_dampers(&mut m, &spec, &dy.kin);
     m.connects = connects(&m, &spec, &dy.kin)?;
     let mut order: Vec<(usize, EqRef)> = spec.equalities.iter().enumerate().map(|(e, s)| (s.order, EqRef::Coupling(e))).collect();
@@ -220,6 +225,9 @@ fn add_joint(m: &mut Model, j: &JointSpec, b: usize, body: &BodySpec) {
     m.jnt_limited.push(j.limited);
     m.jnt_margin.push(j.margin);
     m.jnt_stiffness.push(j.stiffness);
+    if let Some(range) = j.actfrcrange {
+        m.dof_actfrcrange.push((m.nv, range));
+    }
     match j.kind {
         JointType::Free => {
             let (p, q) = (body.pos, body.quat);
@@ -239,6 +247,30 @@ fn add_joint(m: &mut Model, j: &JointSpec, b: usize, body: &BodySpec) {
         m.dof_armature.push(j.armature);
         m.dof_frictionloss.push(j.frictionloss);
         m.dof_jnt.push(id);
+    }
+}
+
+/// A plane on a body that moves becomes a slab under it, with a warning: a box as wide as the
+/// plane's half-sizes (100 m where they are 0: infinite), as thick as its narrower side (at most
+/// 1 m), its top face the plane, massless (sinew collides planes that do not move; MuJoCo's
+/// moving plane is an infinite half-space). Planes on bodies fixed to the world stay planes.
+fn moving_planes_as_boxes(m: &mut Model, spec: &mut ModelSpec) {
+    for (b, body) in spec.bodies.iter_mut().enumerate() {
+        if m.body_node[b] == WORLD {
+            continue;
+        }
+        for g in body.geoms.iter_mut().filter(|g| g.kind == GeomType::Plane) {
+            let half = [g.size[0], g.size[1]].map(|s| if s > 0.0 { s } else { 100.0 });
+            let thick = half[0].min(half[1]).min(1.0);
+            g.kind = GeomType::Box;
+            g.size = [half[0], half[1], thick];
+            g.pos -= g.quat * DVec3::new(0.0, 0.0, thick);
+            g.mass = Some(0.0);
+            m.warnings.push(format!(
+                "<geom> '{}' at line {}: a plane on a moving body is collided as a {}×{}×{} m slab under it (sinew's planes do not move)",
+                g.name, g.line, 2.0 * half[0], 2.0 * half[1], thick
+            ));
+        }
     }
 }
 
@@ -315,6 +347,7 @@ fn connects(m: &Model, spec: &ModelSpec, kin: &crate::dynamics::kinematics::KinD
 fn keyframes(m: &Model, spec: &ModelSpec) -> Result<Vec<Keyframe>> {
     let nu = spec.actuators.len();
     let na = spec.actuators.iter().filter(|a| a.dynamics != ActuatorDyn::None).count();
+    let mocap: Vec<usize> = (0..m.nbody).filter(|&b| m.body_mocap[b]).collect();
     spec.keys
         .iter()
         .map(|k| {
@@ -330,6 +363,8 @@ fn keyframes(m: &Model, spec: &ModelSpec) -> Result<Vec<Keyframe>> {
                 qvel: array(&k.qvel, "qvel", m.nv, &vec![0.0; m.nv])?,
                 ctrl: array(&k.ctrl, "ctrl", nu, &vec![0.0; nu])?,
                 act: array(&k.act, "act", na, &vec![0.0; na])?,
+                mpos: array(&k.mpos, "mpos", 3 * mocap.len(), &mocap.iter().flat_map(|&b| m.body_pos[b].to_array()).collect::<Vec<_>>())?,
+                mquat: array(&k.mquat, "mquat", 4 * mocap.len(), &mocap.iter().flat_map(|&b| { let q = m.body_quat[b]; [q.w, q.x, q.y, q.z] }).collect::<Vec<_>>())?,
             })
         })
         .collect()
@@ -377,88 +412,6 @@ fn equalities(m: &mut Model, spec: &ModelSpec) -> Result<()> {
         m.neq += 1;
     }
     Ok(())
-}
-
-/// The actuators, each on a hinge or slide joint or a fixed tendon, with their moment arms.
-fn actuators(m: &mut Model, spec: &ModelSpec) -> Result<()> {
-    for a in &spec.actuators {
-        let trn = match &a.target {
-            TransmissionSpec::Joint(name) => {
-                let Some(j) = m.jnt_name.iter().position(|n| n == name) else {
-                    return Err(Error::model(&a.kind, Some("joint"), a.line, format!("unknown joint '{name}'")));
-                };
-                if !matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide) {
-                    return Err(Error::model(&a.kind, Some("joint"), a.line, "actuators drive hinge or slide joints only"));
-                }
-                Transmission::Joint(j)
-            }
-            TransmissionSpec::Tendon(name) => {
-                let Some(t) = m.tendon_name.iter().position(|n| n == name) else {
-                    return Err(Error::model(&a.kind, Some("tendon"), a.line, format!("unknown tendon '{name}'")));
-                };
-                Transmission::Tendon(t)
-            }
-        };
-        m.actuator_trn.push(trn);
-        m.actuator_name.push(a.name.clone());
-        m.actuator_gear.push(a.gear);
-        m.actuator_ctrlrange.push(a.ctrlrange);
-        m.actuator_ctrllimited.push(a.ctrllimited);
-        m.actuator_forcerange.push(a.forcerange);
-        m.actuator_forcelimited.push(a.forcelimited);
-        m.actuator_gain.push(a.gain);
-        m.actuator_actadr.push((a.dynamics != ActuatorDyn::None).then_some(m.na));
-        m.na += (a.dynamics != ActuatorDyn::None) as usize;
-        m.actuator_dyn.push(a.dynamics);
-        m.actuator_actrange.push(a.actrange);
-        m.actuator_bias.push(a.bias);
-        let muscle = a.muscle.map(|s| muscle_range(m, a, &s, trn).map(|lengthrange| Muscle { prm: s.prm, lengthrange, acc0: 0.0 })).transpose()?;
-        m.actuator_muscle.push(muscle);
-    }
-    params::actuator_derived(m);
-    Ok(())
-}
-
-/// A muscle's actuator length range: its `lengthrange`, else its limited joint's or tendon's range
-/// times its gear, with a warning (MuJoCo finds an unset range by simulating the model, and gets
-/// other values); an error when there is neither.
-fn muscle_range(m: &mut Model, a: &ActuatorSpec, s: &MuscleSpec, trn: Transmission) -> Result<[f64; 2]> {
-    if let Some(range) = s.lengthrange {
-        return Ok(range);
-    }
-    let limits = match trn {
-        Transmission::Joint(j) => m.jnt_limited[j].then_some(m.jnt_range[j]),
-        Transmission::Tendon(t) => m.tendon_limited[t].then_some(m.tendon_range[t]),
-    };
-    let Some([lo, hi]) = limits else {
-        return Err(Error::model(&a.kind, Some("lengthrange"), a.line, "a muscle on an unlimited joint or tendon needs its lengthrange"));
-    };
-    m.warnings.push(format!(
-        "<muscle> '{}' at line {}: lengthrange taken from its {} range times gear (MuJoCo computes it by simulation; give lengthrange to match it)",
-        a.name,
-        a.line,
-        if matches!(trn, Transmission::Joint(_)) { "joint's" } else { "tendon's" }
-    ));
-    let (x, y) = (lo * a.gear, hi * a.gear);
-    Ok([x.min(y), x.max(y)])
-}
-
-/// Each muscle's acc0: ‖M⁻¹ moment‖ at qpos0 (MuJoCo's `actuator_acc0`), `dy` the dynamics there.
-fn muscle_acc0(m: &mut Model, dy: &DynamicsData) {
-    if m.actuator_muscle.iter().all(Option::is_none) {
-        return;
-    }
-    let mass = crate::dynamics::crba::crba(m, &dy.kin);
-    for a in 0..m.nu {
-        let Some(muscle) = m.actuator_muscle[a] else { continue };
-        let mut moment = vec![0.0; m.nv];
-        match m.actuator_trn[a] {
-            Transmission::Joint(_) => m.moment(a).iter().for_each(|w| moment[w.dof] += w.coef),
-            Transmission::Tendon(t) => moment.iter_mut().zip(dy.ten.jac(t, m.nv)).for_each(|(x, j)| *x = m.actuator_gear[a] * j),
-        }
-        let acc = crate::dynamics::crba::cholesky_solve(&mass, &moment);
-        m.actuator_muscle[a] = Some(Muscle { acc0: acc.iter().map(|x| x * x).sum::<f64>().sqrt(), ..muscle });
-    }
 }
 
 /// [`Model::geom_first_pair`], [`Model::sweep_geoms`] and [`Model::pairs_unswept`] from the pairs

@@ -52,8 +52,9 @@ pub fn can_collide(m: &Model, i: usize, j: usize) -> bool {
 }
 
 /// The `<contact><pair>`s, each with its own friction and margin, geoms in index order; an
-/// unknown geom name, a pair of one geom, or a pair given twice is an error.
-pub fn explicit_pairs(m: &Model, spec: &ModelSpec) -> Result<Vec<GeomPair>> {
+/// unknown geom name or a pair of one geom is an error. A pair given again replaces the earlier
+/// one, with a warning (MuJoCo keeps both, and so would find each contact twice).
+pub fn explicit_pairs(m: &mut Model, spec: &ModelSpec) -> Result<Vec<GeomPair>> {
     let mut out: Vec<GeomPair> = Vec::new();
     for p in &spec.contact_pairs {
         let id = |n: &str| {
@@ -61,12 +62,21 @@ pub fn explicit_pairs(m: &Model, spec: &ModelSpec) -> Result<Vec<GeomPair>> {
         };
         let (a, b) = (id(&p.geoms[0])?, id(&p.geoms[1])?);
         let (i, j) = (a.min(b), a.max(b));
-        if i == j || out.iter().any(|q| (q.g1, q.g2) == (i, j)) {
-            return Err(Error::Compile(format!("<pair> at line {}: geoms '{}' and '{}' make no new pair", p.line, p.geoms[0], p.geoms[1])));
+        if i == j {
+            return Err(Error::Compile(format!("<pair> at line {}: geoms '{}' and '{}' make no pair", p.line, p.geoms[0], p.geoms[1])));
         }
         let mut pair = geom_pair(m, i, j);
         (pair.margin, pair.friction) = (p.margin, Some((p.friction, p.condim > 1)));
-        out.push(pair);
+        match out.iter().position(|q| (q.g1, q.g2) == (i, j)) {
+            Some(k) => {
+                m.warnings.push(format!(
+                    "<pair> at line {}: geoms '{}' and '{}' are paired again; this pair replaces the earlier one (MuJoCo would keep both and find each contact twice)",
+                    p.line, p.geoms[0], p.geoms[1]
+                ));
+                out[k] = pair;
+            }
+            None => out.push(pair),
+        }
     }
     Ok(out)
 }

@@ -3,7 +3,7 @@
 //! activation of an actuator with dynamics, else ctrl clamped to ctrlrange, the force clamped to
 //! forcerange when limited, through the joint or tendon times gear; or a PD servo to ctrl as
 //! position target, see [`Actuation`]) and passive springs and dampers of joints and tendons
-//! (MuJoCo's `qfrc_passive`).
+//! (MuJoCo's `qfrc_passive`). A joint's `actuatorfrcrange` clamps the total of its actuators.
 
 use super::tendon::TendonData;
 use crate::math::{quat_sub, quat_wxyz, DVec3};
@@ -11,10 +11,27 @@ use crate::model::{Actuation, JointType, Model, Transmission, Wrap};
 
 /// Writes the total applied generalised force into `tau` (nv), the tendons' from `ten` (of this
 /// configuration).
-pub fn applied(m: &Model, ten: &TendonData, qpos: &[f64], qvel: &[f64], (ctrl, act): (&[f64], &[f64]), tau: &mut [f64]) {
-    // passive: damping on every dof, springs per joint
+pub fn applied(m: &Model, ten: &TendonData, qpos: &[f64], qvel: &[f64], ctrl_act: (&[f64], &[f64]), tau: &mut [f64]) {
+    if m.dof_actfrcrange.is_empty() {
+        passive(m, ten, qpos, qvel, tau, false);
+        actuators(m, ten, qpos, qvel, ctrl_act, tau);
+        return;
+    }
+    // a joint's actuator force is clamped as a total, then the passive forces join it (MuJoCo's
+    // qfrc_actuator, mj_fwdActuation)
+    tau.fill(0.0);
+    actuators(m, ten, qpos, qvel, ctrl_act, tau);
+    for &(d, [lo, hi]) in &m.dof_actfrcrange {
+        tau[d] = tau[d].clamp(lo, hi);
+    }
+    passive(m, ten, qpos, qvel, tau, true);
+}
+
+/// Passive forces into `tau` (added to it when `add`, else written): damping on every dof,
+/// springs per joint, tendons' springs and dampers.
+fn passive(m: &Model, ten: &TendonData, qpos: &[f64], qvel: &[f64], tau: &mut [f64], add: bool) {
     for (t, (&v, &b)) in tau.iter_mut().zip(qvel.iter().zip(&m.dof_damping)) {
-        *t = -b * v;
+        *t = if add { *t - b * v } else { -b * v };
     }
     for j in 0..m.njnt {
         let k = m.jnt_stiffness[j];
@@ -42,7 +59,10 @@ pub fn applied(m: &Model, ten: &TendonData, qpos: &[f64], qvel: &[f64], (ctrl, a
         }
     }
     tendon_forces(m, ten, qvel, tau);
-    // actuators
+}
+
+/// The actuators' forces, added to `tau`.
+fn actuators(m: &Model, ten: &TendonData, qpos: &[f64], qvel: &[f64], (ctrl, act): (&[f64], &[f64]), tau: &mut [f64]) {
     for a in 0..m.nu {
         let mut u = match (m.opt.actuation, m.actuator_joint(a)) {
             (Actuation::Motor, _) => ctrl[a],

@@ -39,7 +39,14 @@ pub struct Hull {
     pub faces: Vec<Face>,
     /// Edges between faces.
     pub edges: Vec<Edge>,
+    /// Each vertex's neighbours along the triangles' edges: `neighbours[start[i]..start[i + 1]]`
+    /// (a hull of more than [`CLIMB_FROM`] vertices finds its support by walking them).
+    neighbours: Vec<u32>,
+    start: Vec<u32>,
 }
+
+/// Vertices beyond which [`Hull::support`] climbs the vertex graph instead of reading every vertex.
+const CLIMB_FROM: usize = 64;
 
 impl Hull {
     /// The convex hull of `points`; None when they span no volume.
@@ -51,11 +58,30 @@ impl Hull {
         }
         let vert: Vec<DVec3> = v.iter().map(|p| DVec3::new(p.x, p.y, p.z)).collect();
         let mut h = Hull { vert, tris, ..Hull::default() };
+        h.link_vertices();
         h.merge_faces().then_some(h)
     }
 
-    /// The vertex farthest along `d` and its projection on `d`.
+    /// The vertex farthest along `d` and its projection on `d`: on a hull of many vertices by
+    /// climbing from a triangle's vertex to the best neighbour while one is farther (on a convex polytope a
+    /// vertex no neighbour beats is a farthest one, as in the simplex method).
     pub fn support(&self, d: DVec3) -> (usize, f64) {
+        if self.vert.len() > CLIMB_FROM && !self.start.is_empty() {
+            let first = self.tris[0][0] as usize;
+            let mut best = (first, self.vert[first].dot(d));
+            loop {
+                let (i, s) = best;
+                for &j in &self.neighbours[self.start[i] as usize..self.start[i + 1] as usize] {
+                    let t = self.vert[j as usize].dot(d);
+                    if t > best.1 {
+                        best = (j as usize, t);
+                    }
+                }
+                if best.1 <= s || !best.1.is_finite() {
+                    return best;
+                }
+            }
+        }
         let mut best = (0, f64::NEG_INFINITY);
         for (i, v) in self.vert.iter().enumerate() {
             let s = v.dot(d);
@@ -64,6 +90,27 @@ impl Hull {
             }
         }
         best
+    }
+
+    /// Each vertex's neighbours along the triangles' edges ([`Hull::support`]'s walk).
+    fn link_vertices(&mut self) {
+        let mut lists: Vec<Vec<u32>> = vec![vec![]; self.vert.len()];
+        for t in &self.tris {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                if !lists[a as usize].contains(&b) {
+                    lists[a as usize].push(b);
+                }
+                if !lists[b as usize].contains(&a) {
+                    lists[b as usize].push(a);
+                }
+            }
+        }
+        self.start = std::iter::once(0).chain(lists.iter().scan(0, |n, l| {
+            *n += l.len() as u32;
+            Some(*n)
+        })).collect();
+        self.neighbours = lists.concat();
     }
 
     /// Groups adjacent triangles with one normal into faces; lists the edges between faces.

@@ -1,5 +1,5 @@
-//! `<include file="…"/>`: the children of the included file's `<mujoco>` element in place of the
-//! element, nested includes too. A path is taken relative to the including file's directory, else
+//! `<include file="…"/>`: the children of the included file's `<mujoco>` (or `<mujocoinclude>`)
+//! element in place of the element, nested includes too. A path is taken relative to the including file's directory, else
 //! to the main file's (MuJoCo's rule; both agree for a file beside the main one). The expanded text
 //! keeps a map from its lines to the files and lines they came from, so an error names the file
 //! it is in.
@@ -33,6 +33,11 @@ impl Expanded {
             Some((start, file, from)) => (file.as_deref(), from + (line - start)),
             None => (None, line),
         }
+    }
+
+    /// The directory of the file that line `line` of the text came from.
+    pub fn dir_of(&self, line: u32) -> &Path {
+        self.origin(line).0.and_then(Path::parent).unwrap_or(&self.dir)
     }
 
     /// `e` (about a line of the text) as an error about the file and line it came from.
@@ -99,14 +104,15 @@ impl Builder {
                 return Err(err(format!("'{name}' includes itself")));
             }
             let inner = super::read_file(&path).map_err(|e| match e {
-                Error::Io(m) => err(m),
+                Error::Io(m, _) => err(m),
                 other => other.in_file(&path),
             })?;
             let idoc = Document::parse(&inner).map_err(|e| Error::Xml { line: e.pos().row, message: e.to_string() }.in_file(&path))?;
             let root = idoc.root_element();
-            if !root.has_tag_name("mujoco") {
+            // MuJoCo takes <mujocoinclude>, the older name, as well
+            if !root.has_tag_name("mujoco") && !root.has_tag_name("mujocoinclude") {
                 let l = idoc.text_pos_at(root.range().start).row;
-                return Err(Error::model(root.tag_name().name(), None, l, "the root element of an included file must be <mujoco>").in_file(&path));
+                return Err(Error::model(root.tag_name().name(), None, l, "the root element of an included file must be <mujoco> (or <mujocoinclude>)").in_file(&path));
             }
             let body = match (root.first_child(), root.last_child()) {
                 (Some(first), Some(last)) => first.range().start..last.range().end,

@@ -9,6 +9,7 @@
 //! and is not supported is an error, or a warning in [`ModelSpec::warnings`].
 
 pub mod include;
+mod lenient;
 mod parse;
 mod visual;
 
@@ -157,6 +158,9 @@ pub struct JointSpec {
     pub springdamper: Option<[f64; 2]>,
     /// Spring rest position.
     pub springref: f64,
+    /// The range the total actuator force on a hinge or slide joint is clamped to (MuJoCo's
+    /// `actuatorfrcrange` when limited).
+    pub actfrcrange: Option<[f64; 2]>,
     /// Source line.
     pub line: u32,
 }
@@ -302,6 +306,9 @@ pub struct BodySpec {
     pub cameras: Vec<CameraSpec>,
     /// Lights in order.
     pub lights: Vec<LightSpec>,
+    /// A mocap body (MuJoCo's `mocap="true"`): a child of the world without joints, placed per
+    /// world at run time.
+    pub mocap: bool,
     /// Source line.
     pub line: u32,
 }
@@ -346,6 +353,9 @@ pub struct ActuatorSpec {
     pub actrange: Option<[f64; 2]>,
     /// A muscle's force parameters (its gain and bias are then MuJoCo's muscle curves).
     pub muscle: Option<MuscleSpec>,
+    /// MuJoCo's `inheritrange` (0: none): the servo's range is its target's, scaled about its
+    /// middle by this.
+    pub inheritrange: f64,
     /// Source line.
     pub line: u32,
 }
@@ -452,6 +462,10 @@ pub struct KeySpec {
     pub ctrl: Option<Vec<f64>>,
     /// Activations (na), if given.
     pub act: Option<Vec<f64>>,
+    /// Mocap bodies' positions (3 each), if given.
+    pub mpos: Option<Vec<f64>>,
+    /// Mocap bodies' orientations (4 each, w x y z), if given.
+    pub mquat: Option<Vec<f64>>,
     /// Source line.
     pub line: u32,
 }
@@ -539,8 +553,12 @@ pub struct ModelSpec {
     pub connects: Vec<ConnectSpec>,
     /// `<compiler inertiafromgeom>`.
     pub inertiafromgeom: InertiaFromGeom,
+    /// `<compiler inertiagrouprange>`: the geom groups whose geoms give a body's inertia.
+    pub inertiagroups: [i32; 2],
     /// `<compiler settotalmass>`, when positive.
     pub settotalmass: Option<f64>,
+    /// `<compiler boundmass boundinertia>`: the least mass and principal moment of a body.
+    pub bounds: [f64; 2],
     /// Body-name pairs excluded from contact (`<contact><exclude>`).
     pub contact_excludes: Vec<(String, String)>,
     /// Geom pairs that collide whatever their filters say, with their own friction (`<contact><pair>`).
@@ -559,13 +577,18 @@ pub struct ModelSpec {
     pub warnings: Vec<String>,
 }
 
-/// The text of a model file (MJCF or URDF): an `Io` error when it cannot be read, an `Xml` error naming the line
+/// The text of a model file (MJCF or URDF), with the XML only MuJoCo's parser accepts mended
+/// ([`lenient::mend`]): an `Io` error when it cannot be read, an `Xml` error naming the line
 /// when it is not UTF-8.
 pub fn read_file(path: &std::path::Path) -> crate::error::Result<String> {
     let bytes = std::fs::read(path).map_err(|e| crate::error::Error::io(format!("cannot read model file '{}'", path.display()), &e))?;
-    String::from_utf8(bytes).map_err(|e| {
+    let text = String::from_utf8(bytes).map_err(|e| {
         let at = e.utf8_error().valid_up_to();
         let line = 1 + e.as_bytes()[..at].iter().filter(|&&b| b == b'\n').count() as u32;
         crate::error::Error::Xml { line, message: format!("'{}' is not UTF-8 text (invalid byte at offset {at})", path.display()) }
+    })?;
+    Ok(match lenient::mend(&text) {
+        std::borrow::Cow::Owned(mended) => mended,
+        std::borrow::Cow::Borrowed(_) => text,
     })
 }

@@ -17,9 +17,12 @@ mod visual;
 
 use body::{GEOM_ATTRS, JOINT_ATTRS, SITE_ATTRS};
 use element::{line, El};
-use sections::{actuator_attrs, TENDON_ATTRS};
+use sections::{actuator_attrs, ACTUATOR_ATTRS, ACTUATOR_KINDS, TENDON_ATTRS};
 
 use crate::error::{Error, Result};
+
+/// The key of a class's attributes that every actuator kind shares.
+const SHARED_ACTUATOR: &str = "<actuator>";
 
 /// One `<default class>`: attributes per element kind and the parent class.
 #[derive(Default)]
@@ -86,6 +89,7 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
                 inertial: None,
                 cameras: vec![],
                 lights: vec![],
+                mocap: false,
                 line: line(&doc, root),
             }],
             actuators: vec![],
@@ -95,7 +99,9 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
             keys: vec![],
             connects: vec![],
             inertiafromgeom: InertiaFromGeom::Auto,
+            inertiagroups: [0, 5],
             settotalmass: None,
+            bounds: [0.0; 2],
             contact_excludes: vec![],
             contact_pairs: vec![],
             restitution: None,
@@ -160,6 +166,9 @@ impl<'d> Parser<'d> {
             if let Some(a) = c.attrs.get(kind) {
                 defaults.push(a.as_slice());
             }
+            if let Some(a) = c.attrs.get(SHARED_ACTUATOR).filter(|_| ACTUATOR_KINDS.contains(&kind)) {
+                defaults.push(a.as_slice());
+            }
             match &c.parent {
                 Some(p) => name = p.clone(),
                 None => break,
@@ -182,6 +191,10 @@ impl<'d> Parser<'d> {
                     "radian" => self.degree = false,
                     _ => return Err(e.err("angle", format!("expected degree or radian, got '{v}'"))),
                 },
+                "inertiagrouprange" => {
+                    let [lo, hi] = e.arr::<2>("inertiagrouprange")?.unwrap_or([0.0, 5.0]);
+                    self.spec.inertiagroups = [lo as i32, hi as i32];
+                }
                 "inertiafromgeom" => {
                     self.spec.inertiafromgeom = match v {
                         "true" => InertiaFromGeom::True,
@@ -212,11 +225,8 @@ impl<'d> Parser<'d> {
                 }
                 "texturedir" | "strippath" | "discardvisual" | "fusestatic"
                 | "convexhull" | "usethread" | "alignfree" | "balanceinertia" => {}
-                "boundmass" | "boundinertia" => {
-                    if e.f64(a.name(), 0.0)? != 0.0 {
-                        return Err(e.err(a.name(), "mass/inertia bounding is not supported"));
-                    }
-                }
+                "boundmass" => self.spec.bounds[0] = e.nonneg("boundmass", 0.0)?,
+                "boundinertia" => self.spec.bounds[1] = e.nonneg("boundinertia", 0.0)?,
                 other => return Err(e.err(other, "unsupported attribute")),
             }
         }
@@ -338,7 +348,16 @@ impl<'d> Parser<'d> {
                 let e = El { node: c, line: line(self.doc, c), defaults: vec![] };
                 e.check(allowed, &self.warnings)?;
             }
-            let list = c.attributes().map(|a| (a.name().to_string(), a.value().to_string())).collect();
+            let list: Vec<(String, String)> = c.attributes().map(|a| (a.name().to_string(), a.value().to_string())).collect();
+            if ACTUATOR_KINDS.contains(&kind) {
+                // MuJoCo's class holds one actuator default: a range or gear any actuator
+                // element sets there, every actuator of the class takes (the later one first)
+                let shared = class.attrs.entry(SHARED_ACTUATOR.to_string()).or_default();
+                for (k, v) in list.iter().filter(|(k, _)| ACTUATOR_ATTRS.contains(&k.as_str()) && k != "name" && k != "class") {
+                    shared.retain(|(s, _)| s != k);
+                    shared.push((k.clone(), v.clone()));
+                }
+            }
             class.attrs.insert(kind.to_string(), list);
         }
         self.classes.insert(name.clone(), class);

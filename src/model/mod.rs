@@ -144,6 +144,10 @@ pub struct Keyframe {
     pub ctrl: Vec<f64>,
     /// Activations (na).
     pub act: Vec<f64>,
+    /// Mocap bodies' positions (3 each, [`Model::body_mocap`] order).
+    pub mpos: Vec<f64>,
+    /// Mocap bodies' orientations (4 each, w x y z).
+    pub mquat: Vec<f64>,
 }
 
 /// One term of a linear length: coef · qpos\[qpos\] along dof `dof` (a hinge's or slide's).
@@ -325,6 +329,9 @@ pub struct Model {
     pub body_name: Vec<String>,
     /// Parent body (nbody), of a lower index; the world is its own parent.
     pub body_parent: Vec<usize>,
+    /// Whether the body is a mocap body (nbody): fixed to the world, placed per world at run time
+    /// through `body_pos` and `body_quat`.
+    pub body_mocap: Vec<bool>,
     /// Position relative to the parent body (nbody).
     pub body_pos: Vec<DVec3>,
     /// Orientation relative to the parent body (nbody).
@@ -565,6 +572,9 @@ pub struct Model {
     pub actuator_forcerange: Vec<[f64; 2]>,
     /// Whether the force is clamped (nu).
     pub actuator_forcelimited: Vec<bool>,
+    /// The dofs whose total actuator force is clamped, with their ranges (MuJoCo's joint
+    /// `actuatorfrcrange`; hinge and slide joints only).
+    pub dof_actfrcrange: Vec<(usize, [f64; 2])>,
 
     /// Geom pairs that pass the configuration-independent collision filters, with what the
     /// broadphase reads of them.

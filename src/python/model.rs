@@ -396,6 +396,12 @@ impl PyModel {
     fn body_names(&self) -> Vec<String> {
         self.inner.body_name.clone()
     }
+    /// The mocap bodies (MuJoCo's `body_mocapid` order): each placed per world with
+    /// `Batch.set_params("body_pos" / "body_quat", ...)`.
+    #[getter]
+    fn mocap_bodies(&self) -> Vec<usize> {
+        (0..self.inner.nbody).filter(|&b| self.inner.body_mocap[b]).collect()
+    }
     /// Joint names.
     #[getter]
     fn joint_names(&self) -> Vec<String> {
@@ -555,7 +561,8 @@ impl PyModel {
     fn key_names(&self) -> Vec<String> {
         self.inner.keys.iter().map(|k| k.name.clone()).collect()
     }
-    /// Keyframe `key` (a name or an index) as a dict of time, qpos, qvel and ctrl.
+    /// Keyframe `key` (a name or an index) as a dict of time, qpos, qvel, ctrl, and the mocap
+    /// bodies' mpos (nmocap, 3) and mquat (nmocap, 4).
     fn keyframe<'py>(&self, py: Python<'py>, key: Bound<'py, PyAny>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
         let k = &self.inner.keys[keyframe_index(&self.inner, &key)?];
         let d = pyo3::types::PyDict::new(py);
@@ -563,6 +570,8 @@ impl PyModel {
         d.set_item("qpos", PyArray1::from_slice(py, &k.qpos))?;
         d.set_item("qvel", PyArray1::from_slice(py, &k.qvel))?;
         d.set_item("ctrl", PyArray1::from_slice(py, &k.ctrl))?;
+        d.set_item("mpos", PyArray1::from_slice(py, &k.mpos).reshape([k.mpos.len() / 3, 3])?)?;
+        d.set_item("mquat", PyArray1::from_slice(py, &k.mquat).reshape([k.mquat.len() / 4, 4])?)?;
         Ok(d)
     }
     /// Model features accepted but not simulated.

@@ -12,7 +12,7 @@ use crate::mjcf::{BodySpec, GeomSpec, GeomType, InertialSpec, JointSpec, JointTy
 
 pub(super) const JOINT_ATTRS: &[&str] = &[
     "name", "class", "type", "pos", "axis", "ref", "range", "limited", "margin", "armature", "damping", "stiffness",
-    "springref", "frictionloss", "springdamper",
+    "springref", "frictionloss", "springdamper", "actuatorfrcrange", "actuatorfrclimited",
 ];
 pub(super) const GEOM_ATTRS: &[&str] = &[
     "name", "class", "type", "size", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "fromto", "density",
@@ -21,7 +21,7 @@ pub(super) const GEOM_ATTRS: &[&str] = &[
 ];
 pub(super) const SITE_ATTRS: &[&str] =
     &["name", "class", "type", "size", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "fromto"];
-pub(super) const BODY_ATTRS: &[&str] = &["name", "childclass", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis"];
+pub(super) const BODY_ATTRS: &[&str] = &["name", "childclass", "mocap", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis"];
 pub(super) const INERTIAL_ATTRS: &[&str] =
     &["pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "mass", "diaginertia", "fullinertia"];
 
@@ -31,7 +31,7 @@ impl Parser<'_> {
             match c.tag_name().name() {
                 "body" => self.body(c, body, childclass)?,
                 "geom" => {
-                    let g = self.geom(c, childclass, body)?;
+                    let g = self.geom(c, childclass)?;
                     self.spec.bodies[body].geoms.push(g);
                 }
                 "site" => {
@@ -122,8 +122,9 @@ impl Parser<'_> {
     pub(super) fn body_at(&mut self, n: Node, parent: usize, childclass: Option<&str>) -> Result<()> {
         let e = El { node: n, line: line(self.doc, n), defaults: vec![] };
         e.check(BODY_ATTRS, &self.warnings)?;
-        if n.attribute("mocap") == Some("true") {
-            return Err(e.err("mocap", "mocap bodies are not supported"));
+        let mocap = e.tristate("mocap")?.unwrap_or(false);
+        if mocap && parent != 0 {
+            return Err(e.err("mocap", "a mocap body must be a child of the world body"));
         }
         let cc = self.childclass(n, childclass, &e)?;
         let id = self.spec.bodies.len();
@@ -142,9 +143,14 @@ impl Parser<'_> {
             inertial: None,
             cameras: vec![],
             lights: vec![],
+            mocap,
             line: e.line,
         });
-        self.body_children(n, id, cc.as_deref())
+        self.body_children(n, id, cc.as_deref())?;
+        if mocap && !self.spec.bodies[id].joints.is_empty() {
+            return Err(e.err("mocap", "a mocap body has no joints"));
+        }
+        Ok(())
     }
 
     pub(super) fn joint(&mut self, n: Node, childclass: Option<&str>) -> Result<JointSpec> {
@@ -166,6 +172,7 @@ impl Parser<'_> {
                 stiffness: 0.0,
                 springref: 0.0,
                 springdamper: None,
+                actfrcrange: None,
                 line: e.line,
             });
         }
@@ -205,6 +212,13 @@ impl Parser<'_> {
             Some([tc, dr]) if tc < 0.0 || dr < 0.0 => return Err(e.err("springdamper", format!("must be non-negative, got {tc} {dr}"))),
             _ => None,
         };
+        // MuJoCo's clamp on the total actuator force at a hinge or slide joint
+        let frc = e.arr::<2>("actuatorfrcrange")?.unwrap_or([0.0, 0.0]);
+        let frc_limited = e.tristate("actuatorfrclimited")?.unwrap_or(self.autolimits && frc != [0.0, 0.0]);
+        let actfrcrange = (frc_limited && matches!(kind, JointType::Hinge | JointType::Slide)).then_some(frc);
+        if actfrcrange.is_some() && frc[0] >= frc[1] {
+            return Err(e.err("actuatorfrcrange", format!("needs actuatorfrcrange[0] < actuatorfrcrange[1], got {frc:?}")));
+        }
         Ok(JointSpec {
             name: e.str("name").to_string(),
             kind,
@@ -220,11 +234,12 @@ impl Parser<'_> {
             stiffness: e.nonneg("stiffness", 0.0)?,
             springref: conv(e.f64("springref", 0.0)?),
             springdamper,
+            actfrcrange,
             line: e.line,
         })
     }
 
-    pub(super) fn geom(&mut self, n: Node, childclass: Option<&str>, body: usize) -> Result<GeomSpec> {
+    pub(super) fn geom(&mut self, n: Node, childclass: Option<&str>) -> Result<GeomSpec> {
         let e = self.el(n, childclass)?;
         e.check(GEOM_ATTRS, &self.warnings)?;
         let kind = match e.get("type").unwrap_or("sphere") {
@@ -239,9 +254,6 @@ impl Parser<'_> {
             v => return Err(e.err("type", format!("unsupported geom type '{v}'"))),
         };
         let (mesh, hfield) = geom_assets(&e, kind)?;
-        if kind == GeomType::Plane && body != 0 {
-            return Err(e.err("type", "planes must belong to the world body"));
-        }
         let given = e.nums("size")?.unwrap_or_default();
         let needed = match kind {
             GeomType::Sphere => 1,

@@ -11,18 +11,21 @@ use glam::DVec3;
 use crate::mjcf::{ActuatorDyn, ActuatorSpec, MuscleSpec, ConnectSpec, EqualitySpec, KeySpec, PairSpec, PathSpec, SensorSpec, TendonPathSpec, TendonSpec, TransmissionSpec};
 
 /// Attributes every actuator takes.
-const ACTUATOR_ATTRS: &[&str] =
+pub(super) const ACTUATOR_ATTRS: &[&str] =
     &["name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited"];
 
 /// Attributes of actuator kind `kind` (`motor`, `position`, `velocity`, `intvelocity`, `damper`,
 /// `cylinder`, `general`).
 pub(super) fn actuator_attrs(kind: &str) -> &'static [&'static str] {
     match kind {
-        "position" => &["name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "kp", "kv", "timeconst"],
+        "position" => &[
+            "name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "kp", "kv", "dampratio",
+            "timeconst", "inheritrange",
+        ],
         "velocity" => &["name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "kv"],
         "intvelocity" => &[
-            "name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "kp", "kv", "actrange",
-            "actlimited",
+            "name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "kp", "kv", "dampratio",
+            "actrange", "actlimited", "inheritrange",
         ],
         "damper" => &["name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "kv"],
         "cylinder" => &[
@@ -31,7 +34,7 @@ pub(super) fn actuator_attrs(kind: &str) -> &'static [&'static str] {
         ],
         "general" => &[
             "name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "gaintype",
-            "gainprm", "biastype", "biasprm", "dyntype", "dynprm", "actlimited", "actrange", "actearly",
+            "gainprm", "biastype", "biasprm", "dyntype", "dynprm", "actlimited", "actrange", "actearly", "lengthrange",
         ],
         "muscle" => &[
             "name", "class", "joint", "tendon", "gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "lengthrange",
@@ -42,7 +45,7 @@ pub(super) fn actuator_attrs(kind: &str) -> &'static [&'static str] {
 }
 
 /// The actuator kinds read.
-const ACTUATOR_KINDS: &[&str] = &["motor", "position", "velocity", "intvelocity", "damper", "cylinder", "muscle", "general"];
+pub(super) const ACTUATOR_KINDS: &[&str] = &["motor", "position", "velocity", "intvelocity", "damper", "cylinder", "muscle", "general"];
 
 /// An actuator's gain, bias and activation (its kind's shortcut, or `<general>`'s own).
 struct Drive {
@@ -51,6 +54,16 @@ struct Drive {
     dynamics: ActuatorDyn,
     actrange: Option<[f64; 2]>,
     muscle: Option<MuscleSpec>,
+}
+
+/// A servo's velocity bias: −kv, or MuJoCo's `dampratio` kept positive for the compiler to turn
+/// into −kv (from the reflected inertia at qpos0).
+fn damping(e: &El) -> Result<f64> {
+    match (e.has("kv"), e.has("dampratio")) {
+        (true, true) => Err(e.err("dampratio", "kv and dampratio cannot both be given")),
+        (_, true) => e.nonneg("dampratio", 0.0),
+        _ => Ok(-e.nonneg("kv", 0.0)?),
+    }
 }
 
 /// Attributes of a tendon.
@@ -86,9 +99,16 @@ impl Parser<'_> {
             let Drive { gain, bias, dynamics, actrange, muscle } = self.drive(&e, kind)?;
             let ctrlrange = e.arr::<2>("ctrlrange")?.unwrap_or([0.0, 0.0]);
             let forcerange = e.arr::<2>("forcerange")?.unwrap_or([0.0, 0.0]);
-            let ctrllimited = e.tristate("ctrllimited")?.unwrap_or(self.autolimits && e.has("ctrlrange"));
+            // MuJoCo's inheritrange: the range (ctrl of a position servo, act of an intvelocity
+            // one) the target's range scaled about its middle, set when the model compiles
+            let inheritrange = e.nonneg("inheritrange", 0.0)?;
+            if inheritrange > 0.0 && e.has(if kind == "position" { "ctrlrange" } else { "actrange" }) {
+                return Err(e.err("inheritrange", "inheritrange and the range it sets cannot both be given"));
+            }
+            let inherits_ctrl = inheritrange > 0.0 && kind == "position";
+            let ctrllimited = e.tristate("ctrllimited")?.unwrap_or(self.autolimits && (e.has("ctrlrange") || inherits_ctrl));
             let forcelimited = e.tristate("forcelimited")?.unwrap_or(self.autolimits && e.has("forcerange"));
-            if ctrllimited && ctrlrange[0] >= ctrlrange[1] {
+            if ctrllimited && !inherits_ctrl && ctrlrange[0] >= ctrlrange[1] {
                 return Err(e.err("ctrlrange", format!("limited control needs ctrlrange[0] < ctrlrange[1], got {ctrlrange:?}")));
             }
             if forcelimited && forcerange[0] >= forcerange[1] {
@@ -108,6 +128,7 @@ impl Parser<'_> {
                 dynamics,
                 actrange,
                 muscle,
+                inheritrange,
                 line: e.line,
             });
         }
@@ -121,16 +142,16 @@ impl Parser<'_> {
         let drive = |gain: [f64; 3], bias: [f64; 3], dynamics: ActuatorDyn| Drive { gain, bias, dynamics, actrange: None, muscle: None };
         Ok(match kind {
             "position" => {
-                let (kp, kv, tc) = (e.nonneg("kp", 1.0)?, e.nonneg("kv", 0.0)?, e.nonneg("timeconst", 0.0)?);
-                drive([kp, 0.0, 0.0], [0.0, -kp, -kv], if tc > 0.0 { ActuatorDyn::FilterExact(tc) } else { ActuatorDyn::None })
+                let (kp, tc) = (e.nonneg("kp", 1.0)?, e.nonneg("timeconst", 0.0)?);
+                drive([kp, 0.0, 0.0], [0.0, -kp, damping(e)?], if tc > 0.0 { ActuatorDyn::FilterExact(tc) } else { ActuatorDyn::None })
             }
             "velocity" => {
                 let kv = e.nonneg("kv", 1.0)?;
                 drive([kv, 0.0, 0.0], [0.0, 0.0, -kv], ActuatorDyn::None)
             }
             "intvelocity" => {
-                let (kp, kv) = (e.nonneg("kp", 1.0)?, e.nonneg("kv", 0.0)?);
-                Drive { actrange: self.actrange(e)?, ..drive([kp, 0.0, 0.0], [0.0, -kp, -kv], ActuatorDyn::Integrator) }
+                let kp = e.nonneg("kp", 1.0)?;
+                Drive { actrange: self.actrange(e)?, ..drive([kp, 0.0, 0.0], [0.0, -kp, damping(e)?], ActuatorDyn::Integrator) }
             }
             "damper" => {
                 let kv = e.nonneg("kv", 1.0)?;
@@ -154,6 +175,9 @@ impl Parser<'_> {
     /// `<general>`'s gain (fixed or affine), bias (none or affine) and dynamics (none,
     /// integrator, filter, filterexact).
     fn general(&self, e: &El) -> Result<Drive> {
+        if e.get("gaintype") == Some("muscle") {
+            return general_muscle(e);
+        }
         let prm = |name: &str, default: f64| -> Result<[f64; 3]> {
             let v = e.nums(name)?.unwrap_or_else(|| vec![default]);
             if v.len() > 3 && v[3..].iter().any(|&x| x != 0.0) {
@@ -307,10 +331,12 @@ impl Parser<'_> {
     /// (and warns about kinds sinew does not compute).
     pub(super) fn sensor(&mut self, n: Node) -> Result<()> {
         const OBJECTS: &[&str] = &["joint", "tendon", "actuator", "site", "body", "objtype", "objname", "reftype", "refname"];
+        // a contact sensor's (not computed: the compiler warns)
+        const CONTACT: &[&str] = &["geom1", "geom2", "body1", "body2", "subtree1", "subtree2", "num", "data", "reduce"];
         for c in n.children().filter(Node::is_element) {
             let e = El { node: c, line: line(self.doc, c), defaults: vec![] };
             // noise, cutoff and user do not change what sinew computes
-            e.check(&[OBJECTS, &["name", "noise", "cutoff", "nsample", "interp", "delay", "interval"]].concat(), &self.warnings)?;
+            e.check(&[OBJECTS, CONTACT, &["name", "noise", "cutoff", "nsample", "interp", "delay", "interval"]].concat(), &self.warnings)?;
             let attrs = OBJECTS.iter().filter_map(|&a| e.get(a).map(|v| (a.to_string(), v.to_string()))).collect();
             self.spec.sensors.push(SensorSpec { kind: c.tag_name().name().to_string(), name: e.str("name").to_string(), attrs, line: e.line });
         }
@@ -385,7 +411,7 @@ impl Parser<'_> {
         Ok(())
     }
 
-    /// `<key>`s: named states (`mpos` and `mquat` must be empty: sinew has no mocap bodies).
+    /// `<key>`s: named states, with the mocap bodies' poses (`mpos`, `mquat`).
     pub(super) fn keyframe(&mut self, n: Node) -> Result<()> {
         for c in n.children().filter(Node::is_element) {
             if !c.has_tag_name("key") {
@@ -393,11 +419,6 @@ impl Parser<'_> {
             }
             let e = El { node: c, line: line(self.doc, c), defaults: vec![] };
             e.check(&["name", "time", "qpos", "qvel", "ctrl", "act", "mpos", "mquat"], &self.warnings)?;
-            for a in ["mpos", "mquat"] {
-                if e.nums(a)?.is_some_and(|v| !v.is_empty()) {
-                    return Err(e.err(a, "sinew's models have no mocap bodies"));
-                }
-            }
             self.spec.keys.push(KeySpec {
                 name: e.str("name").to_string(),
                 time: e.f64("time", 0.0)?,
@@ -405,6 +426,8 @@ impl Parser<'_> {
                 qvel: e.nums("qvel")?,
                 ctrl: e.nums("ctrl")?,
                 act: e.nums("act")?,
+                mpos: e.nums("mpos")?,
+                mquat: e.nums("mquat")?,
                 line: e.line,
             });
         }
@@ -451,23 +474,52 @@ impl Parser<'_> {
 /// scale 200, lmin 0.5, lmax 1.6, vmax 1.5, fpmax 1.3, fvmax 1.2), each checked.
 fn muscle(e: &El) -> Result<Drive> {
     let timeconst = e.arr::<2>("timeconst")?.unwrap_or([0.01, 0.04]);
-    if timeconst.iter().any(|&t| t.is_nan() || t <= 0.0) {
-        return Err(e.err("timeconst", format!("time constants must be positive, got {timeconst:?}")));
-    }
-    let tausmooth = e.nonneg("tausmooth", 0.0)?;
     let range = e.arr::<2>("range")?.unwrap_or([0.75, 1.05]);
-    if range[0].is_nan() || range[0] >= range[1] {
-        return Err(e.err("range", format!("needs range[0] < range[1], got {range:?}")));
-    }
     let (lmin, lmax) = (e.f64("lmin", 0.5)?, e.f64("lmax", 1.6)?);
+    let (vmax, fpmax, fvmax) = (e.f64("vmax", 1.5)?, e.nonneg("fpmax", 1.3)?, e.f64("fvmax", 1.2)?);
+    let prm = [range[0], range[1], e.f64("force", -1.0)?, e.nonneg("scale", 200.0)?, lmin, lmax, vmax, fpmax, fvmax];
+    muscle_drive(e, [timeconst[0], timeconst[1], e.nonneg("tausmooth", 0.0)?], prm)
+}
+
+/// `<general gaintype="muscle">`: MuJoCo's muscle written out, its nine parameters in `gainprm`
+/// (and the same in `biasprm`), its time constants and smoothing in `dynprm`.
+fn general_muscle(e: &El) -> Result<Drive> {
+    if e.get("biastype") != Some("muscle") || e.get("dyntype") != Some("muscle") {
+        return Err(e.err("gaintype", "a muscle gain needs biastype=\"muscle\" and dyntype=\"muscle\""));
+    }
+    // the given parameters, the muscle's defaults after them
+    let nine = |name: &str, default: &[f64]| -> Result<Vec<f64>> {
+        let given = e.nums(name)?.unwrap_or_default();
+        Ok((0..default.len()).map(|k| given.get(k).copied().unwrap_or(default[k])).collect())
+    };
+    let gain = nine("gainprm", &[0.75, 1.05, -1.0, 200.0, 0.5, 1.6, 1.5, 1.3, 1.2])?;
+    if e.has("biasprm") && nine("biasprm", &gain)?[..9] != gain[..9] {
+        return Err(e.err("biasprm", "a muscle's biasprm must equal its gainprm (one muscle, two curves)"));
+    }
+    let dyn_prm = nine("dynprm", &[0.01, 0.04, 0.0])?;
+    let prm: [f64; 9] = std::array::from_fn(|k| gain[k]);
+    muscle_drive(e, [dyn_prm[0], dyn_prm[1], dyn_prm[2]], prm)
+}
+
+/// A muscle's drive from its time constants and smoothing (`tau`) and its nine parameters
+/// (range, force, scale, lmin, lmax, vmax, fpmax, fvmax), checked as MuJoCo checks them.
+fn muscle_drive(e: &El, tau: [f64; 3], prm: [f64; 9]) -> Result<Drive> {
+    if tau[..2].iter().any(|&t| t.is_nan() || t <= 0.0) {
+        return Err(e.err("timeconst", format!("time constants must be positive, got {:?}", &tau[..2])));
+    }
+    if tau[2].is_nan() || tau[2] < 0.0 {
+        return Err(e.err("tausmooth", format!("must be non-negative, got {}", tau[2])));
+    }
+    let [r0, r1, _, _, lmin, lmax, vmax, _, fvmax] = prm;
+    if r0.is_nan() || r0 >= r1 {
+        return Err(e.err("range", format!("needs range[0] < range[1], got {:?}", [r0, r1])));
+    }
     if lmin.is_nan() || lmax.is_nan() || lmin >= 1.0 || lmax <= 1.0 {
         return Err(e.err("lmin", format!("needs lmin < 1 < lmax, got {lmin} and {lmax}")));
     }
-    let (vmax, fpmax, fvmax) = (e.f64("vmax", 1.5)?, e.nonneg("fpmax", 1.3)?, e.f64("fvmax", 1.2)?);
     if vmax.is_nan() || fvmax.is_nan() || vmax <= 0.0 || fvmax < 1.0 {
         return Err(e.err("vmax", format!("needs vmax > 0 and fvmax ≥ 1, got {vmax} and {fvmax}")));
     }
-    let prm = [range[0], range[1], e.f64("force", -1.0)?, e.nonneg("scale", 200.0)?, lmin, lmax, vmax, fpmax, fvmax];
     let lengthrange = e.arr::<2>("lengthrange")?.filter(|r| r != &[0.0, 0.0]);
     if lengthrange.is_some_and(|r| r[0].is_nan() || r[0] >= r[1]) {
         return Err(e.err("lengthrange", format!("needs lengthrange[0] < lengthrange[1], got {lengthrange:?}")));
@@ -475,7 +527,7 @@ fn muscle(e: &El) -> Result<Drive> {
     Ok(Drive {
         gain: [0.0; 3],
         bias: [0.0; 3],
-        dynamics: ActuatorDyn::Muscle([timeconst[0], timeconst[1], tausmooth]),
+        dynamics: ActuatorDyn::Muscle(tau),
         actrange: None,
         muscle: Some(MuscleSpec { prm, lengthrange }),
     })

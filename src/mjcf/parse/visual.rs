@@ -8,16 +8,18 @@ use crate::error::Result;
 use crate::mjcf::{Builtin, CameraSpec, LightSpec, MaterialSpec, TextureKind, TextureSpec, TrackMode};
 
 impl El<'_, '_> {
-    /// `n` numbers, each in [0, 1] (colours and their alpha).
+    /// `n` non-negative numbers (colours and their alpha: MuJoCo takes a colour above 1 as
+    /// brighter, and the renderer clamps what it draws).
     fn unit<const N: usize>(&self, name: &str, default: [f64; N]) -> Result<[f64; N]> {
         let v = self.arr::<N>(name)?.unwrap_or(default);
-        if v.iter().any(|x| !(0.0..=1.0).contains(x)) {
-            return Err(self.err(name, format!("values must be in [0, 1], got {v:?}")));
+        if v.iter().any(|&x| x < 0.0) {
+            return Err(self.err(name, format!("values must be non-negative, got {v:?}")));
         }
         Ok(v)
     }
     pub(super) fn rgba(&self, name: &str, default: [f64; 4]) -> Result<[f64; 4]> {
-        self.unit(name, default)
+        let [r, g, b, a] = self.unit(name, default)?;
+        Ok([r, g, b, a.min(1.0)])
     }
     fn flag(&self, name: &str, default: bool) -> Result<bool> {
         match self.get(name) {
@@ -150,8 +152,10 @@ impl Parser<'_> {
                 e.line
             ));
         }
+        // an unnamed texture is named by its file, as in MuJoCo (stem, no directory)
+        let file_stem = e.get("file").and_then(|f| std::path::Path::new(f).file_stem()).map(|s| s.to_string_lossy().into_owned());
         Ok(TextureSpec {
-            name: e.str("name").to_string(),
+            name: e.get("name").map(str::to_string).or(file_stem).unwrap_or_default(),
             kind,
             builtin,
             rgb1: e.unit("rgb1", [0.8; 3])?,
