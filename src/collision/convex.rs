@@ -224,70 +224,16 @@ pub(super) fn polytopes(a: &impl Polytope, b: &impl Polytope, margin: f64, scale
     if let Some(n) = hint.filter(|_| a.nedge() * b.nedge() > HUGE_EDGE_PAIRS) {
         return along_normal(a, b, n, margin, tol);
     }
-    // A's faces toward B look along −hint, B's along +hint
-    let near = |normal: DVec3, along: f64| hint.is_none_or(|h| along * normal.dot(h) > CONE);
-    // with a hint, the features that can meet: those with a vertex within the overlap along it
-    // (and 2% of the pair's size) of their polytope's extreme toward the other
-    let (reach_a, reach_b) = hint.map_or((f64::NEG_INFINITY, f64::NEG_INFINITY), |h| (a.support(-h), b.support(h)));
-    let slack = (reach_a + reach_b).abs() + 0.02 * scale;
-    let toward = |h: Option<DVec3>, reach: f64, p: DVec3, q: DVec3| h.is_none_or(|h| p.dot(h).max(q.dot(h)) >= reach - slack);
-    let face_toward = |p: &dyn Fn(usize) -> DVec3, n: usize, h: Option<DVec3>, reach: f64| (0..n).any(|k| toward(h, reach, p(k), p(k)));
-    let fa = best_face(a, b, tol, |f, n| near(n, -1.0) && face_toward(&|k| a.vert(a.face_vert(f, k)), a.face_len(f), hint.map(|h| -h), reach_a));
-    let fb = best_face(b, a, tol, |f, n| near(n, 1.0) && face_toward(&|k| b.vert(b.face_vert(f, k)), b.face_len(f), hint, reach_b));
+    let focus = Focus::new(a, b, hint, scale);
+    let fa = best_face(a, b, tol, |f, n| focus.near(n, -1.0) && (0..a.face_len(f)).any(|k| focus.toward(-1.0, a.vert(a.face_vert(f, k)))));
+    let fb = best_face(b, a, tol, |f, n| focus.near(n, 1.0) && (0..b.face_len(f)).any(|k| focus.toward(1.0, b.vert(b.face_vert(f, k)))));
     if hint.is_some() && (fa.0 == f64::NEG_INFINITY || fb.0 == f64::NEG_INFINITY) {
         return polytopes(a, b, margin, scale, None);
     }
     if fa.0 > margin || fb.0 > margin {
         return Manifold::new();
     }
-    // B's edges (those near the hint) posed once: index, start, direction, face normals
-    let wanted_b = |e: &(usize, DVec3, DVec3, Option<[DVec3; 2]>)| {
-        e.3.is_none_or(|[n0, n1]| near(n0, 1.0) || near(n1, 1.0)) && toward(hint, reach_b, e.1, e.1 + e.2)
-    };
-    let pose_b = |eb: usize| {
-        let ([b0, b1], nb) = b.edge(eb);
-        let pb = b.vert(b0);
-        (eb, pb, b.vert(b1) - pb, nb)
-    };
-    let mut b_edges: ArrayVec<(usize, DVec3, DVec3, Option<[DVec3; 2]>), MAX_POSED_EDGES> = ArrayVec::new();
-    let mut posed = true;
-    for eb in 0..b.nedge() {
-        let e = pose_b(eb);
-        if wanted_b(&e) && b_edges.try_push(e).is_err() {
-            posed = false;
-            break;
-        }
-    }
-    let a_centre = a.centre();
-    let mut edge = (f64::NEG_INFINITY, 0, 0, DVec3::ZERO);
-    for ea in 0..a.nedge() {
-        let ([a0, a1], na) = a.edge(ea);
-        let (pa, da) = (a.vert(a0), a.vert(a1) - a.vert(a0));
-        let Some(na) = na else { continue };
-        if !(near(na[0], -1.0) || near(na[1], -1.0)) || !toward(hint.map(|h| -h), reach_a, pa, pa + da) {
-            continue;
-        }
-        let mut consider = |(eb, pb, db, nb): (usize, DVec3, DVec3, Option<[DVec3; 2]>)| {
-            if !minkowski_face(na, nb, db) {
-                return;
-            }
-            let axis = da.cross(db);
-            let len = axis.length();
-            if len < 1e-6 * da.length() * db.length() {
-                return;
-            }
-            let axis = if axis.dot(pa - a_centre) < 0.0 { -axis / len } else { axis / len };
-            let s = axis.dot(pb - pa);
-            if s > edge.0 {
-                edge = (s, ea, eb, axis);
-            }
-        };
-        if posed {
-            b_edges.iter().for_each(|&e| consider(e));
-        } else {
-            (0..b.nedge()).map(pose_b).filter(wanted_b).for_each(consider);
-        }
-    }
+    let edge = best_edges(a, b, &focus);
     if edge.0 > margin {
         return Manifold::new();
     }
@@ -317,6 +263,88 @@ pub(super) fn polytopes(a: &impl Polytope, b: &impl Polytope, margin: f64, scale
         }
         m
     }
+}
+
+/// What a hinted test reads: with a `hint` (unit, from B to A), A's faces look along −hint and
+/// B's along +hint within [`CONE`], and the features that can meet have a vertex within the
+/// overlap along it (and 2% of the pair's size) of their polytope's extreme toward the other.
+struct Focus {
+    hint: Option<DVec3>,
+    /// A's extreme along −hint and B's along +hint.
+    reach: [f64; 2],
+    slack: f64,
+}
+
+impl Focus {
+    fn new(a: &impl Polytope, b: &impl Polytope, hint: Option<DVec3>, scale: f64) -> Focus {
+        let reach = hint.map_or([f64::NEG_INFINITY; 2], |h| [a.support(-h), b.support(h)]);
+        Focus { hint, reach, slack: (reach[0] + reach[1]).abs() + 0.02 * scale }
+    }
+
+    /// Whether a face normal of A (`along` −1) or B (+1) turns toward the other.
+    fn near(&self, normal: DVec3, along: f64) -> bool {
+        self.hint.is_none_or(|h| along * normal.dot(h) > CONE)
+    }
+
+    /// Whether point `p` of A (`along` −1) or B (+1) lies near its extreme toward the other.
+    fn toward(&self, along: f64, p: DVec3) -> bool {
+        let reach = self.reach[usize::from(along > 0.0)];
+        self.hint.is_none_or(|h| along * p.dot(h) >= reach - self.slack)
+    }
+}
+
+/// The edge pair of A and B whose axis (a face of their Minkowski difference) separates them
+/// most: (separation, edge of A, edge of B, unit axis from A toward B), of the edges `focus` reads.
+fn best_edges(a: &impl Polytope, b: &impl Polytope, focus: &Focus) -> (f64, usize, usize, DVec3) {
+    // B's edges (those read) posed once: index, start, direction, face normals
+    let wanted_b = |e: &(usize, DVec3, DVec3, Option<[DVec3; 2]>)| {
+        e.3.is_none_or(|[n0, n1]| focus.near(n0, 1.0) || focus.near(n1, 1.0)) && (focus.toward(1.0, e.1) || focus.toward(1.0, e.1 + e.2))
+    };
+    let pose_b = |eb: usize| {
+        let ([b0, b1], nb) = b.edge(eb);
+        let pb = b.vert(b0);
+        (eb, pb, b.vert(b1) - pb, nb)
+    };
+    let mut b_edges: ArrayVec<(usize, DVec3, DVec3, Option<[DVec3; 2]>), MAX_POSED_EDGES> = ArrayVec::new();
+    let mut posed = true;
+    for eb in 0..b.nedge() {
+        let e = pose_b(eb);
+        if wanted_b(&e) && b_edges.try_push(e).is_err() {
+            posed = false;
+            break;
+        }
+    }
+    let a_centre = a.centre();
+    let mut edge = (f64::NEG_INFINITY, 0, 0, DVec3::ZERO);
+    for ea in 0..a.nedge() {
+        let ([a0, a1], na) = a.edge(ea);
+        let (pa, da) = (a.vert(a0), a.vert(a1) - a.vert(a0));
+        let Some(na) = na else { continue };
+        if !(focus.near(na[0], -1.0) || focus.near(na[1], -1.0)) || !(focus.toward(-1.0, pa) || focus.toward(-1.0, pa + da)) {
+            continue;
+        }
+        let mut consider = |(eb, pb, db, nb): (usize, DVec3, DVec3, Option<[DVec3; 2]>)| {
+            if !minkowski_face(na, nb, db) {
+                return;
+            }
+            let axis = da.cross(db);
+            let len = axis.length();
+            if len < 1e-6 * da.length() * db.length() {
+                return;
+            }
+            let axis = if axis.dot(pa - a_centre) < 0.0 { -axis / len } else { axis / len };
+            let s = axis.dot(pb - pa);
+            if s > edge.0 {
+                edge = (s, ea, eb, axis);
+            }
+        };
+        if posed {
+            b_edges.iter().for_each(|&e| consider(e));
+        } else {
+            (0..b.nedge()).map(pose_b).filter(wanted_b).for_each(consider);
+        }
+    }
+    edge
 }
 
 /// Contacts of polytopes of very many edges (detailed meshes' hulls) along GJK's or EPA's unit
