@@ -5,6 +5,10 @@ Euler model and the RK4 ones, with 1 and 2 threads. Run it before a change to th
 
     python benches/ab_step.py BASE_COMMIT [--rounds 5] [--tasks Hopper HalfCheetah Ant Humanoid] [--out FILE]
 
+A task is a gymnasium or dm_control env (`Hopper`, `dmc-quadruped-walk`), or a model file (a robot
+scene: `path/to/scene.xml`), whose 64 worlds a `sinew.Batch` steps under random controls in their
+ranges, held for 10 steps.
+
 Each run is a fresh process timing only the step loop; the ratio is new time / base time per
 round (below 1: the installed build is faster), reported as the median and range over rounds.
 The two runs of a round go in turns (new first, then base first), so that whatever favours the
@@ -36,6 +40,21 @@ for x in a:
 print(time.perf_counter() - t)
 """
 
+BATCH_LOOP = """
+import sys, time, warnings, numpy as np, sinew
+warnings.simplefilter("ignore")
+path, threads, steps = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+m = sinew.Model.from_mjcf(path)
+b = sinew.Batch(m, 64, num_threads=threads)
+lo, hi = m.actuator_ctrlrange.T if m.nu else (np.zeros(0), np.zeros(0))
+c = np.random.default_rng(0).uniform(lo, hi, (steps // 10 + 1, 64, m.nu))
+t = time.perf_counter()
+for k in range(steps // 10):
+    b.ctrl[:] = c[k]
+    b.step(10)
+print(time.perf_counter() - t)
+"""
+
 
 def build(commit: str) -> Path:
     """The package of `commit`, unpacked from its wheel (built once, from its worktree)."""
@@ -53,7 +72,8 @@ def run(task: str, threads: int, base: Path | None) -> float:
     env = dict(os.environ)
     if base is not None:
         env["PYTHONPATH"] = str(base)
-    out = subprocess.run([sys.executable, "-c", LOOP, task, str(threads), str(STEPS[task])], env=env, capture_output=True, text=True, check=True)
+    loop = BATCH_LOOP if task.endswith(".xml") else LOOP
+    out = subprocess.run([sys.executable, "-c", loop, task, str(threads), str(STEPS.get(task, 300))], env=env, capture_output=True, text=True, check=True)
     return float(out.stdout)
 
 
@@ -74,7 +94,7 @@ def main():
                 for side in ((None, base) if k % 2 == 0 else (base, None)):
                     (new if side is None else old).append(run(task, threads, side))
             ratios = sorted(a / b for a, b in zip(new, old))
-            row = f"| {task} | {threads} | {statistics.median(ratios):.3f} | {ratios[0]:.3f}–{ratios[-1]:.3f} | {statistics.median(new):.3f} | {statistics.median(old):.3f} |"
+            row = f"| {Path(task).name if task.endswith('.xml') else task} | {threads} | {statistics.median(ratios):.3f} | {ratios[0]:.3f}–{ratios[-1]:.3f} | {statistics.median(new):.3f} | {statistics.median(old):.3f} |"
             print(row, flush=True)
             lines.append(row)
     if args.out:

@@ -89,6 +89,7 @@ fn compile(mut spec: ModelSpec, x: &include::Expanded) -> Result<Model> {
             density: spec.option.density,
             viscosity: spec.option.viscosity,
             wind: spec.option.wind,
+            implicit_actuators: spec.option.implicit,
             ..Options::default()
         },
         nu: spec.actuators.len(),

@@ -353,6 +353,14 @@ pub(super) fn actuator_derived(m: &mut Model) {
         }
         m.actuator_moment_adr.push(m.actuator_moment.len());
     }
+    m.dof_actdamping = vec![0.0; m.nv];
+    if m.opt.implicit_actuators {
+        for a in (0..m.nu).filter(|&a| m.actuator_muscle[a].is_none()) {
+            if let Transmission::Joint(j) = m.actuator_trn[a] {
+                m.dof_actdamping[m.jnt_dofadr[j]] += (-m.actuator_bias[a][2]).max(0.0) * m.actuator_gear[a] * m.actuator_gear[a];
+            }
+        }
+    }
     m.actuator_plain = (0..m.nu)
         .map(|a| m.actuator_dyn[a] == crate::model::ActuatorDyn::None && m.actuator_gain[a][1..] == [0.0; 2] && m.actuator_bias[a] == [0.0; 3])
         .collect();

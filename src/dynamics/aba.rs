@@ -70,7 +70,8 @@ impl AbaData {
 }
 
 /// Passes 1–2 (inward): I^A, p^A, U, D⁻¹, u for applied joint forces `tau`.
-/// `h_damp` adds h·damping to D (implicit damping of semi-implicit Euler, as MuJoCo's `Euler`).
+/// `h_damp` adds h·damping to D (implicit damping of semi-implicit Euler, as MuJoCo's `Euler`;
+/// with the actuators' velocity feedback, as its `implicitfast`).
 pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut AbaData) {
     // pass 1: rigid inertias and velocity-product bias forces v ×* I v
     for (ia, inertia) in aba.ia.iter_mut().zip(&kin.inertia) {
@@ -120,7 +121,7 @@ fn inward<const K: usize>(
         for c in 0..K {
             d[r * 6 + c] = s_dot(r, &um[c]);
         }
-        d[r * 6 + r] += m.dof_armature[da + r] + h_damp * m.dof_damping[da + r];
+        d[r * 6 + r] += m.dof_armature[da + r] + h_damp * (m.dof_damping[da + r] + m.dof_actdamping[da + r]);
         ui[r] = tau[da + r] - s_dot(r, pa);
     }
     let ok = invert_d(K, d);

@@ -96,6 +96,8 @@ pub struct OptionSpec {
     pub gravity: DVec3,
     /// Integrator.
     pub integrator: Integrator,
+    /// `implicit` or `implicitfast`: actuator damping implicit (the integrator is Euler's).
+    pub implicit: bool,
     /// Contacts enabled (`<flag contact>`).
     pub contact: bool,
     /// Joint limits enabled (`<flag limit>`).

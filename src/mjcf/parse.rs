@@ -71,6 +71,7 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
                 timestep: 0.002,
                 gravity: DVec3::new(0.0, 0.0, -9.81),
                 integrator: Integrator::Euler,
+                implicit: false,
                 contact: true,
                 limit: true,
                 density: 0.0,
@@ -265,10 +266,13 @@ impl<'d> Parser<'d> {
                         "Euler" => Integrator::Euler,
                         "RK4" => Integrator::Rk4,
                         v @ ("implicit" | "implicitfast") => {
-                            self.warnings.borrow_mut().push(format!(
-                                "<option> integrator '{v}' at line {}: not available in sinew, using Euler",
-                                e.line
-                            ));
+                            self.spec.option.implicit = true;
+                            if v == "implicit" {
+                                self.warnings.borrow_mut().push(format!(
+                                    "<option> integrator 'implicit' at line {}: read as 'implicitfast' (joint and actuator damping implicit, the Coriolis terms' derivative left out)",
+                                    e.line
+                                ));
+                            }
                             Integrator::Euler
                         }
                         v => return Err(e.err("integrator", format!("unknown integrator '{v}'"))),

@@ -219,6 +219,9 @@ pub struct Options {
     pub wind: DVec3,
     /// Most contacts a step keeps; beyond it, the deepest ([`default_max_contacts`]).
     pub max_contacts: usize,
+    /// MuJoCo's `implicitfast` (and `implicit`): the actuators' velocity feedback on a joint is
+    /// treated implicitly with its damping ([`Model::dof_actdamping`]).
+    pub implicit_actuators: bool,
 }
 
 /// Contacts a step keeps unless `<size nconmax>` says otherwise: four per geom (a box on a floor
@@ -281,6 +284,7 @@ impl Default for Options {
             viscosity: 0.0,
             wind: DVec3::ZERO,
             max_contacts: default_max_contacts(0),
+            implicit_actuators: false,
         }
     }
 }
@@ -380,6 +384,9 @@ pub struct Model {
 
     /// Viscous damping (nv).
     pub dof_damping: Vec<f64>,
+    /// The actuators' velocity feedback on each dof, −∂τ/∂q̇ = −bias₂ gear² of the actuators on its
+    /// joint (nv; zero unless [`Options::implicit_actuators`]): damping the step treats implicitly.
+    pub dof_actdamping: Vec<f64>,
     /// Armature inertia (nv).
     pub dof_armature: Vec<f64>,
     /// Dry friction per dof: the largest force its friction rows exert (nv).

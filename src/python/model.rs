@@ -300,10 +300,13 @@ impl PyModel {
     fn timestep(&self) -> f64 {
         self.inner.opt.timestep
     }
-    /// Integrator name: "Euler", "RK4" or "leapfrog".
+    /// Integrator name: "Euler", "RK4", "leapfrog", or "implicitfast" (Euler with the actuators' damping implicit).
     #[getter]
     fn integrator(&self) -> &'static str {
-        integrator_name(self.inner.opt.integrator)
+        match self.inner.opt.integrator {
+            Integrator::Euler if self.inner.opt.implicit_actuators => "implicitfast",
+            i => integrator_name(i),
+        }
     }
     /// Contact restitution coefficient e.
     #[getter]

@@ -228,3 +228,25 @@ def test_a_plane_on_a_body_fixed_to_the_world_stays_a_plane_and_on_a_moving_body
     moving = fixed.replace('<body name="wall" pos="0.5 0 0">', '<body name="wall" pos="0.5 0 0"><joint type="slide" axis="0 0 1"/><geom size="0.01"/>')
     sm2 = sinew.Model.from_mjcf_string(moving.replace('size="0 0 .01"', 'size="0.5 0.5 .01"'))
     assert any("slab" in w for w in sm2.warnings)
+
+
+def test_implicitfast_treats_a_servos_damping_implicitly_as_mujoco_does():
+    """A stiff, heavily damped servo at a coarse step: explicit damping diverges, MuJoCo's
+    implicitfast (the servo's kv with the joint's damping inside the step's inverse) does not, and
+    sinew steps as MuJoCo does."""
+    xml = """<mujoco><option timestep="0.01" integrator="{}" gravity="0 0 -9.81"/>
+      <worldbody><body><joint name="j" axis="0 1 0" damping="0.1"/><geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02" mass="0.2"/></body></worldbody>
+      <actuator><position joint="j" kp="400" kv="30"/></actuator></mujoco>"""
+    mj, sm = both(xml.format("implicitfast"))
+    assert sm.integrator == "implicitfast"
+    d, sim = mujoco.MjData(mj), sinew.Sim(sm)
+    d.ctrl[:] = sim.ctrl[:] = 0.5
+    for _ in range(200):
+        mujoco.mj_step(mj, d)
+    sim.step(200)
+    np.testing.assert_allclose(sim.qpos, d.qpos, atol=1e-9)
+    np.testing.assert_allclose(sim.qpos, [0.5], atol=1e-3)
+    explicit = sinew.Sim(sinew.Model.from_mjcf_string(xml.format("Euler")))
+    explicit.ctrl[:] = 0.5
+    with pytest.raises(sinew.SimulationError):
+        explicit.step(200)
