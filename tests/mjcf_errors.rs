@@ -69,11 +69,13 @@ fn unknown_actuator_joint_is_an_error() {
 
 #[test]
 fn unmodelled_physics_gives_warnings() {
-    let m = Model::from_mjcf("<mujoco><option viscosity=\"0.1\" integrator=\"implicitfast\"/><worldbody><body><joint name=\"j\" frictionloss=\"1\"/><geom size=\"1\"/></body></worldbody>\
+    let m = Model::from_mjcf("<mujoco><option viscosity=\"0.1\" integrator=\"implicit\"/><worldbody><body><joint name=\"j\" frictionloss=\"1\"/><geom size=\"1\"/></body></worldbody>\
         <tendon><fixed frictionloss=\"1\"><joint joint=\"j\"/></fixed></tendon></mujoco>").unwrap();
-    // the implicit integrator; fluid forces and joint and tendon friction are modelled
+    // the implicit integrator is read as implicitfast; fluid forces and joint and tendon friction are modelled
     assert_eq!(m.warnings.len(), 1, "{:?}", m.warnings);
     assert!(m.warnings[0].contains("implicitfast"), "{:?}", m.warnings);
+    let m = Model::from_mjcf("<mujoco><option integrator=\"implicitfast\"/><worldbody><body><joint/><geom size=\"1\"/></body></worldbody></mujoco>").unwrap();
+    assert!(m.warnings.is_empty() && m.opt.implicit_actuators, "{:?}", m.warnings);
     let m = Model::from_mjcf("<mujoco><worldbody><body><freejoint/><geom name=\"g\" size=\"1\" condim=\"6\"/></body></worldbody></mujoco>").unwrap();
     assert!(m.warnings.len() == 1 && m.warnings[0].contains("condim=6"), "{:?}", m.warnings);
 }
