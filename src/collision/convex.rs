@@ -591,3 +591,71 @@ impl Polytope for Prism {
         self.v.iter().copied().sum::<DVec3>() / 6.0
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::{DMat3, DQuat, DVec3};
+
+    use super::{polytopes, PosedHull};
+    use crate::geometry::Hull;
+
+    /// Points on an ellipsoid of semi-axes `radii`, `n` of them along a Fibonacci spiral.
+    fn ellipsoid_points(n: usize, radii: DVec3) -> Vec<DVec3> {
+        let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+        (0..n)
+            .map(|i| {
+                let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+                let (r, t) = ((1.0 - z * z).sqrt(), golden * i as f64);
+                radii * DVec3::new(r * t.cos(), r * t.sin(), z)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_hinted_test_finds_what_the_full_test_finds() {
+        // hulls of ~180 edges each: 32,000 edge pairs, above the hinted threshold
+        let (ha, hb) = (Hull::new(&ellipsoid_points(60, DVec3::new(0.1, 0.07, 0.05))).unwrap(), Hull::new(&ellipsoid_points(64, DVec3::new(0.08, 0.08, 0.06))).unwrap());
+        assert!(ha.edges.len() * hb.edges.len() > 4096);
+        let mut x: u64 = 3;
+        let mut rnd = || {
+            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let mut touching = 0;
+        for _ in 0..200 {
+            let rot = |r: &mut dyn FnMut() -> f64| DMat3::from_quat(DQuat::from_xyzw(r(), r(), r(), r()).normalize());
+            let (ra, rb) = (rot(&mut rnd), rot(&mut rnd));
+            let c = DVec3::new(rnd(), rnd(), rnd()).normalize() * 0.13;
+            let (a, b) = (PosedHull { hull: &ha, c: DVec3::ZERO, rot: ra }, PosedHull { hull: &hb, c, rot: rb });
+            let full = polytopes(&a, &b, 0.0, 0.2, None);
+            if full.is_empty() {
+                continue;
+            }
+            touching += 1;
+            // the hint: the deepest point pair's normal, as EPA gives it (from B to A)
+            let hint = full.iter().min_by(|p, q| p.3.total_cmp(&q.3)).unwrap().2;
+            let hinted = polytopes(&a, &b, 0.0, 0.2, Some(hint));
+            let deepest = |m: &super::Manifold| m.iter().map(|p| p.3).fold(f64::INFINITY, f64::min);
+            assert!((deepest(&full) - deepest(&hinted)).abs() < 1e-12, "{full:?} vs {hinted:?}");
+            assert_eq!(full.len(), hinted.len());
+        }
+        assert!(touching > 20, "{touching} touching poses");
+    }
+
+    #[test]
+    fn detailed_hulls_collide_along_the_normal_at_their_true_depth() {
+        // two spheres of 3,000 vertices (9,000 edges each): collided along the normal
+        let ball = Hull::new(&ellipsoid_points(3000, DVec3::splat(0.1))).unwrap();
+        assert!(ball.edges.len() * ball.edges.len() > 250_000);
+        let a = PosedHull { hull: &ball, c: DVec3::new(0.0, 0.0, 0.199), rot: DMat3::IDENTITY };
+        let b = PosedHull { hull: &ball, c: DVec3::ZERO, rot: DMat3::IDENTITY };
+        let m = polytopes(&a, &b, 0.0, 0.2, Some(DVec3::Z));
+        assert!(!m.is_empty());
+        // 1 mm deep, to the hulls' faceting (a 3,000-point sphere's faces lie within 0.1 mm of it)
+        let d = m.iter().map(|p| p.3).fold(f64::INFINITY, f64::min);
+        assert!((d + 0.001).abs() < 3e-4, "depth {d}");
+        assert!(m.iter().all(|p| p.2.dot(DVec3::Z) > 0.99));
+        let apart = PosedHull { hull: &ball, c: DVec3::new(0.0, 0.0, 0.21), rot: DMat3::IDENTITY };
+        assert!(polytopes(&apart, &b, 0.0, 0.2, Some(DVec3::Z)).is_empty());
+    }
+}
