@@ -15,6 +15,7 @@
 
 use glam::DVec3;
 
+use super::impact::INERT_ROW;
 use super::lcp::{self, LcpWork, Role};
 use super::system::{self as constraint, RowKind};
 use super::delta_pass::{delta_pass, DeltaScratch, LANES};
@@ -341,6 +342,19 @@ fn solve(m: &Model, data: &mut World<'_>, qpos: &mut [f64]) {
                     }
                 }
                 (post.m[a * k + b], post.m[b * k + a]) = (dot, dot);
+            }
+        }
+        // an inert row (K_aa at round-off of the largest: the dofs cannot move its contact along
+        // its normal, as where a link's mesh overlaps its base's around the hinge axis) gets no
+        // push, which 1/K_aa would make unbounded
+        let k_max = (0..k).map(|a| post.m[a * k + a]).fold(0.0, f64::max);
+        for a in 0..k {
+            if post.m[a * k + a] <= INERT_ROW * k_max {
+                for b in 0..k {
+                    (post.m[a * k + b], post.m[b * k + a]) = (0.0, 0.0);
+                }
+                post.m[a * k + a] = 1.0;
+                post.gap[a] = post.gap[a].max(0.0);
             }
         }
         post.role.clear();

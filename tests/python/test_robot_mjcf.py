@@ -250,3 +250,26 @@ def test_implicitfast_treats_a_servos_damping_implicitly_as_mujoco_does():
     explicit.ctrl[:] = 0.5
     with pytest.raises(sinew.SimulationError):
         explicit.step(200)
+
+
+def prism(r, h, n=12):
+    """An n-sided prism's vertices (radius r, height h) as an inline mesh's `vertex`."""
+    pts = [(r * np.cos(a), r * np.sin(a), z) for a in 2 * np.pi * np.arange(n) / n for z in (0.0, h)]
+    return " ".join(f"{x:.6f} {y:.6f} {z:.6f}" for x, y, z in pts)
+
+
+def test_a_link_meshed_into_its_base_around_its_hinge_is_left_unpushed():
+    """robosuite's ARX5: a link's mesh overlaps its base's 2 mm along the link's hinge axis at
+    rest. Those contacts' normals are rows the joints cannot move (K at round-off, not zero), so
+    the projection's push 1/K would be unbounded; they are left out, and the arm hangs from its
+    limits (it diverged at the fourth step before)."""
+    xml = f"""<mujoco><compiler angle="radian"/>
+      <asset><mesh name="base" vertex="{prism(0.1, 0.05)}"/><mesh name="link" vertex="{prism(0.05, 0.08)}"/></asset>
+      <worldbody><body name="base" euler="0.3 0.2 0.1"><geom type="mesh" mesh="base"/>
+        <body name="link" pos="0 0 0.048"><joint axis="0 0 1" range="0 3" frictionloss="0.001" damping="0.1"/><geom type="mesh" mesh="link" pos="0.01 0 0"/>
+          <body pos="0.05 0 0.08"><joint axis="0 1 0" range="0 3"/><geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.02"/></body></body></body>
+      </worldbody></mujoco>"""
+    sim = sinew.Sim(sinew.Model.from_mjcf_string(xml))
+    sim.step(300)
+    assert len(sim.contacts) > 0 and np.abs(sim.qvel).max() < 1e-3
+    assert np.all(sim.qpos >= -1e-4) and np.all(sim.qpos <= 3)
