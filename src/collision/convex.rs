@@ -225,8 +225,8 @@ pub(super) fn polytopes(a: &impl Polytope, b: &impl Polytope, margin: f64, scale
         return along_normal(a, b, n, margin, tol);
     }
     let focus = Focus::new(a, b, hint, scale);
-    let fa = best_face(a, b, tol, |f, n| focus.near(n, -1.0) && (0..a.face_len(f)).any(|k| focus.toward(-1.0, a.vert(a.face_vert(f, k)))));
-    let fb = best_face(b, a, tol, |f, n| focus.near(n, 1.0) && (0..b.face_len(f)).any(|k| focus.toward(1.0, b.vert(b.face_vert(f, k)))));
+    let fa = best_face(a, b, tol, |f, n| focus.reads_face(a, f, n, -1.0));
+    let fb = best_face(b, a, tol, |f, n| focus.reads_face(b, f, n, 1.0));
     if hint.is_some() && (fa.0 == f64::NEG_INFINITY || fb.0 == f64::NEG_INFINITY) {
         return polytopes(a, b, margin, scale, None);
     }
@@ -284,6 +284,13 @@ impl Focus {
     /// Whether a face normal of A (`along` −1) or B (+1) turns toward the other.
     fn near(&self, normal: DVec3, along: f64) -> bool {
         self.hint.is_none_or(|h| along * normal.dot(h) > CONE)
+    }
+
+    /// Whether face `f` (normal `normal`) of `p`, A (`along` −1) or B (+1), is read: every face
+    /// without a hint (no vertex is posed for it), else one turned toward the other polytope
+    /// with a vertex near its extreme.
+    fn reads_face(&self, p: &impl Polytope, f: usize, normal: DVec3, along: f64) -> bool {
+        self.hint.is_none() || (self.near(normal, along) && (0..p.face_len(f)).any(|k| self.toward(along, p.vert(p.face_vert(f, k)))))
     }
 
     /// Whether point `p` of A (`along` −1) or B (+1) lies near its extreme toward the other.
