@@ -17,7 +17,7 @@ use crate::dynamics::tendon::{self, geom_pose, TendonData};
 use crate::dynamics::{self, aba};
 use crate::math::{Force, Motion, SpatialInertia};
 use crate::step::data::Data;
-use crate::model::{Model, SensorFrame, SensorKind, Transmission, WORLD};
+use crate::model::{ContactObject, ContactSensor, Model, SensorFrame, SensorKind, Transmission, WORLD};
 
 /// Writes the sensors `which` (indices, in order) of world state `s` into `out`, one after
 /// another (every sensor: `sensordata`'s layout): kinematics (those a step computed ahead for the
@@ -126,6 +126,13 @@ fn compute(m: &Model, kin: &KinData, ten: &TendonData, st: State<'_>, last: (&Ap
                 let a = pose(m, kin, f).0.col(axis);
                 Value::Vector(reference.map_or(a, |r| pose(m, kin, r).0.transpose() * a))
             }
+            SensorKind::FrameQuat(f, reference) => {
+                let rot = pose(m, kin, f).0;
+                let q = mat2quat(reference.map_or(rot, |r| pose(m, kin, r).0.transpose() * rot));
+                out[at..at + 4].copy_from_slice(&q);
+                at += 4;
+                continue;
+            }
             SensorKind::FrameLinVel(f) => Value::Vector(velocity(m, kin, f).1),
             SensorKind::FrameAngVel(f) => Value::Vector(velocity(m, kin, f).0),
             SensorKind::SubtreeCom(b) => Value::Vector(subtree(m, kin, b).com),
@@ -140,6 +147,11 @@ fn compute(m: &Model, kin: &KinData, ten: &TendonData, st: State<'_>, last: (&Ap
                 Value::Vector(pose(m, kin, SensorFrame::Site(site)).0.transpose() * v)
             }
             SensorKind::Touch(site) => Value::Scalar(touch(m, kin, site, last)),
+            SensorKind::Contact(c) => {
+                contacts(m, &c, last, &mut out[at..at + kind.dim()]);
+                at += kind.dim();
+                continue;
+            }
             SensorKind::Rangefinder(site) => {
                 let (rot, p) = pose(m, kin, SensorFrame::Site(site));
                 Value::Scalar(crate::collision::ray::ray(m, kin, p, rot.col(2), m.site_body[site]))
@@ -277,6 +289,80 @@ fn touch(m: &Model, kin: &KinData, site: usize, (forces, contacts): (&AppliedFor
         }
     }
     total
+}
+
+/// The unit quaternion (w, x, y, z) of a rotation matrix, by MuJoCo's `mju_mat2Quat` (its largest
+/// component computed first, so w ≥ 0 for turns under half a turn).
+fn mat2quat(r: DMat3) -> [f64; 4] {
+    let e = |i: usize, j: usize| r.col(j)[i];
+    let q = if e(0, 0) + e(1, 1) + e(2, 2) > 0.0 {
+        let w = 0.5 * (1.0 + e(0, 0) + e(1, 1) + e(2, 2)).sqrt();
+        [w, 0.25 * (e(2, 1) - e(1, 2)) / w, 0.25 * (e(0, 2) - e(2, 0)) / w, 0.25 * (e(1, 0) - e(0, 1)) / w]
+    } else if e(0, 0) > e(1, 1) && e(0, 0) > e(2, 2) {
+        let x = 0.5 * (1.0 + e(0, 0) - e(1, 1) - e(2, 2)).sqrt();
+        [0.25 * (e(2, 1) - e(1, 2)) / x, x, 0.25 * (e(0, 1) + e(1, 0)) / x, 0.25 * (e(0, 2) + e(2, 0)) / x]
+    } else if e(1, 1) > e(2, 2) {
+        let y = 0.5 * (1.0 - e(0, 0) + e(1, 1) - e(2, 2)).sqrt();
+        [0.25 * (e(0, 2) - e(2, 0)) / y, 0.25 * (e(0, 1) + e(1, 0)) / y, y, 0.25 * (e(1, 2) + e(2, 1)) / y]
+    } else {
+        let z = 0.5 * (1.0 - e(0, 0) - e(1, 1) + e(2, 2)).sqrt();
+        [0.25 * (e(1, 0) - e(0, 1)) / z, 0.25 * (e(0, 2) + e(2, 0)) / z, 0.25 * (e(1, 2) + e(2, 1)) / z, z]
+    };
+    let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+    q.map(|x| x / n)
+}
+
+/// A contact sensor's slots (MuJoCo's `mjSENS_CONTACT`) from the last step's contacts: those
+/// between its objects within the pair's margin or carrying force (an exact resting contact may
+/// sit a round-off above its surface), the first `num` found or, with `mindist`, the nearest.
+/// Each slot holds the number found, the distance, point and normal (pointing away from the first
+/// object), as its fields ask; slots beyond the number found are zero.
+fn contacts(m: &Model, c: &ContactSensor, (forces, list): (&AppliedForces, &[Contact]), out: &mut [f64]) {
+    out.fill(0.0);
+    let matched = |k: usize| -> Option<bool> {
+        let con = &list[k];
+        let touching = con.dist <= m.geom_margin[con.geom1].max(m.geom_margin[con.geom2]) || forces.contact.get(k).is_some_and(|f| f.normal > 0.0);
+        if !touching {
+            return None;
+        }
+        let is = |o: ContactObject, g: usize| match o {
+            ContactObject::Any => true,
+            ContactObject::Geom(i) => g == i,
+            ContactObject::Body(b) => m.geom_body[g] == b,
+            ContactObject::Subtree(b) => {
+                let mut x = m.geom_body[g];
+                while x > b {
+                    x = m.body_parent[x];
+                }
+                x == b
+            }
+        };
+        let (g1, g2) = (con.geom1, con.geom2);
+        let forward = is(c.obj1, g1) && is(c.obj2, g2);
+        let reverse = is(c.obj1, g2) && is(c.obj2, g1);
+        // Some(true): the first object is geom 2 (sinew's normal points into geom 1, from geom 2)
+        (forward || reverse).then_some(!forward)
+    };
+    let found = (0..list.len()).filter(|&k| matched(k).is_some()).count();
+    let mut last_pick: Option<usize> = None;
+    for slot in out.chunks_mut(c.slot_size()).take(found) {
+        // the next contact: in list order, or the nearest after the last picked (ties by order)
+        let after = |k: usize| last_pick.is_none_or(|p| if c.mindist { (list[k].dist, k) > (list[p].dist, p) } else { k > p });
+        let pick = (0..list.len()).filter(|&k| matched(k).is_some() && after(k)).min_by(|&a, &b| {
+            if c.mindist { list[a].dist.total_cmp(&list[b].dist).then(a.cmp(&b)) } else { a.cmp(&b) }
+        });
+        let Some(k) = pick else { break };
+        last_pick = Some(k);
+        let away = if matched(k) == Some(true) { list[k].normal } else { -list[k].normal };
+        let mut at = 0;
+        for (bit, value) in [(0, [found as f64, 0.0, 0.0]), (1, [list[k].dist, 0.0, 0.0]), (2, list[k].pos.to_array()), (3, away.to_array())] {
+            if c.fields & (1 << bit) != 0 {
+                let n = crate::model::sensor::CONTACT_FIELD_SIZE[bit];
+                slot[at..at + n].copy_from_slice(&value[..n]);
+                at += n;
+            }
+        }
+    }
 }
 
 /// The last step's constraint forces (`last`: what its rows applied, and its contacts) as

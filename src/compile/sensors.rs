@@ -3,7 +3,7 @@
 
 use crate::error::{Error, Result};
 use crate::mjcf::{JointType, ModelSpec};
-use crate::model::{Model, SensorFrame, SensorKind};
+use crate::model::{ContactObject, ContactSensor, Model, SensorFrame, SensorKind};
 
 /// The `<sensor>`s sinew computes, each object resolved; the kinds it does not compute are left
 /// out with a warning (their names stay out of `sensordata`).
@@ -41,6 +41,7 @@ pub(super) fn sensors(m: &mut Model, spec: &ModelSpec) -> Result<()> {
                 let axis = ["framexaxis", "frameyaxis", "framezaxis"].iter().position(|k| *k == sp.kind).unwrap_or(0);
                 SensorKind::FrameAxis(object()?, axis, frame("reftype", "refname")?)
             }
+            "framequat" => SensorKind::FrameQuat(object()?, frame("reftype", "refname")?),
             "framelinvel" | "frameangvel" if attr("reftype").is_some() => {
                 return Err(Error::model(&sp.kind, Some("reftype"), sp.line, "velocity sensors in a reference frame are not supported"));
             }
@@ -56,6 +57,13 @@ pub(super) fn sensors(m: &mut Model, spec: &ModelSpec) -> Result<()> {
             "force" => SensorKind::Force(find(&m.site_name, "site")?),
             "torque" => SensorKind::Torque(find(&m.site_name, "site")?),
             "rangefinder" => SensorKind::Rangefinder(find(&m.site_name, "site")?),
+            "contact" => match contact(m, &attr, sp.line)? {
+                Ok(c) => SensorKind::Contact(c),
+                Err(why) => {
+                    m.warnings.push(format!("<contact> sensor '{}' at line {}: {why}, left out of sensordata", sp.name, sp.line));
+                    continue;
+                }
+            },
             other => {
                 m.warnings.push(format!("<{other}> sensor '{}' at line {}: not computed by sinew, left out of sensordata", sp.name, sp.line));
                 continue;
@@ -67,4 +75,47 @@ pub(super) fn sensors(m: &mut Model, spec: &ModelSpec) -> Result<()> {
         m.sensor_kind.push(kind);
     }
     Ok(())
+}
+
+/// A `<contact>` sensor's objects, slots, fields and reduction; `Ok(Err(why))` for what sinew
+/// does not compute (forces, torques and tangents; force reductions; site filters).
+fn contact<'a>(m: &Model, attr: &impl Fn(&str) -> Option<&'a str>, line: u32) -> Result<std::result::Result<ContactSensor, String>> {
+    let object = |side: &str| -> Result<ContactObject> {
+        let given: Vec<(&str, &str)> = ["geom", "body", "subtree"].iter().filter_map(|k| attr(&format!("{k}{side}")).map(|v| (*k, v))).collect();
+        let Some(&(kind, name)) = given.first() else { return Ok(ContactObject::Any) };
+        if given.len() > 1 {
+            return Err(Error::model("contact", Some(&format!("{kind}{side}")), line, format!("one of geom{side}, body{side}, subtree{side}")));
+        }
+        let names = if kind == "geom" { &m.geom_name } else { &m.body_name };
+        let i = names.iter().position(|n| n == name).ok_or_else(|| Error::model("contact", Some(&format!("{kind}{side}")), line, format!("unknown {kind} '{name}'")))?;
+        Ok(match kind {
+            "geom" => ContactObject::Geom(i),
+            "body" => ContactObject::Body(i),
+            _ => ContactObject::Subtree(i),
+        })
+    };
+    let (obj1, obj2) = (object("1")?, object("2")?);
+    let num = match attr("num").map(str::parse::<usize>) {
+        None => 1,
+        Some(Ok(n)) if n >= 1 => n,
+        _ => return Err(Error::model("contact", Some("num"), line, "a positive integer")),
+    };
+    let mut fields = 0u8;
+    for f in attr("data").unwrap_or("found").split_whitespace() {
+        match ["found", "dist", "pos", "normal"].iter().position(|k| *k == f) {
+            Some(b) => fields |= 1 << b,
+            None if ["force", "torque", "tangent"].contains(&f) => return Ok(Err(format!("data '{f}' is not computed by sinew"))),
+            None => return Err(Error::model("contact", Some("data"), line, format!("unknown field '{f}'"))),
+        }
+    }
+    let mindist = match attr("reduce").unwrap_or("none") {
+        "none" => false,
+        "mindist" => true,
+        r @ ("maxforce" | "netforce") => return Ok(Err(format!("reduce '{r}' is not computed by sinew"))),
+        r => return Err(Error::model("contact", Some("reduce"), line, format!("unknown reduction '{r}'"))),
+    };
+    if fields == 0 {
+        return Err(Error::model("contact", Some("data"), line, "at least one field"));
+    }
+    Ok(Ok(ContactSensor { obj1, obj2, num, fields, mindist }))
 }

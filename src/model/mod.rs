@@ -16,7 +16,7 @@ use glam::{DMat3, DQuat, DVec3};
 
 pub use crate::mjcf::{ActuatorDyn, GeomType, Integrator, JointType};
 pub use pairs::{geom_tree, same_tree, GapPair, GeomPair, PairTest, PlaneGroup, PAIR_BITS_GEOMS};
-pub use sensor::{SensorFrame, SensorKind};
+pub use sensor::{ContactObject, ContactSensor, SensorFrame, SensorKind};
 use crate::math::{SpatialInertia, Xform};
 
 /// Parent index of nodes attached to the world.

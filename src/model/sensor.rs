@@ -19,6 +19,8 @@ pub enum SensorKind {
     FramePos(SensorFrame, Option<SensorFrame>),
     /// One axis (0 x, 1 y, 2 z) of a frame, world or in a reference frame.
     FrameAxis(SensorFrame, usize, Option<SensorFrame>),
+    /// A frame's orientation quaternion (w, x, y, z), world or in a reference frame.
+    FrameQuat(SensorFrame, Option<SensorFrame>),
     /// A frame origin's world linear velocity.
     FrameLinVel(SensorFrame),
     /// A frame's world angular velocity.
@@ -44,6 +46,47 @@ pub enum SensorKind {
     /// The distance along the site's z axis to the first geom it meets (not of the site's
     /// body), −1 for none.
     Rangefinder(usize),
+    /// The last step's contacts between two objects (MuJoCo's `<contact>` sensor).
+    Contact(ContactSensor),
+}
+
+/// What a `<contact>` sensor matches and reports: `num` slots, each holding the fields of
+/// `fields` in MuJoCo's order (found, dist, pos, normal).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactSensor {
+    /// The first object (`geom1`, `body1` or `subtree1`; any when absent).
+    pub obj1: ContactObject,
+    /// The second object.
+    pub obj2: ContactObject,
+    /// Slots (`num`).
+    pub num: usize,
+    /// Which of found (bit 0), dist (1), pos (2), normal (3) each slot holds.
+    pub fields: u8,
+    /// `reduce="mindist"`: the slots hold the nearest contacts (else the first found).
+    pub mindist: bool,
+}
+
+/// The entries of the contact sensor fields found, dist, pos, normal (MuJoCo's `mjCONDATA_SIZE`).
+pub const CONTACT_FIELD_SIZE: [usize; 4] = [1, 1, 3, 3];
+
+impl ContactSensor {
+    /// Entries per slot.
+    pub fn slot_size(&self) -> usize {
+        (0..4).filter(|b| self.fields & (1 << b) != 0).map(|b| CONTACT_FIELD_SIZE[b]).sum()
+    }
+}
+
+/// One side of a contact sensor's match.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ContactObject {
+    /// Any geom.
+    Any,
+    /// This geom.
+    Geom(usize),
+    /// A geom of this body.
+    Body(usize),
+    /// A geom of this body or its descendants.
+    Subtree(usize),
 }
 
 impl SensorKind {
@@ -58,6 +101,8 @@ impl SensorKind {
             | SensorKind::ActuatorVel(_)
             | SensorKind::Touch(_)
             | SensorKind::Rangefinder(_) => 1,
+            SensorKind::Contact(c) => c.num * c.slot_size(),
+            SensorKind::FrameQuat(..) => 4,
             _ => 3,
         }
     }

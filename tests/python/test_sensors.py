@@ -227,3 +227,51 @@ def test_watched_sensors_are_read_by_the_step_as_read_sensors_reads_them():
     assert b.watched_readings.shape == (6, 0)
     with pytest.raises(ValueError, match="sensor 99 out of range"):
         b.watch_sensors([99])
+
+
+CONTACTS = """<mujoco><option timestep="0.002"/>
+<worldbody><geom name="floor" type="plane" size="2 2 .1"/>
+  <body name="box" pos="0 0 .1"><freejoint/><geom name="box" type="box" size=".1 .1 .1"/><site name="s"/>
+    <body name="arm" pos="0 0 .3"><joint axis="0 1 0"/><geom name="ball" size=".05"/></body></body>
+  <body name="high" pos="1 0 .5"><freejoint/><geom name="high" size=".05"/></body>
+</worldbody>
+<sensor>
+  <contact name="box_floor" geom1="box" geom2="floor"/>
+  <contact name="floor_box" geom1="floor" geom2="box" num="2" data="found normal" reduce="mindist"/>
+  <contact name="tree" subtree1="box" data="found dist"/>
+  <contact name="high" body1="high"/>
+  <framequat name="q" objtype="site" objname="s"/>
+  <framequat name="q_rel" objtype="body" objname="arm" reftype="site" refname="s"/>
+</sensor></mujoco>"""
+
+
+def test_contact_sensors_count_and_orient_the_contacts_as_mujoco():
+    """A box resting on the floor: its four corner contacts found (whichever geom is named
+    first), normals pointing away from the first object, slots by nearest; a ball in the air
+    finds none. MuJoCo's soft box sinks; sinew's rests at zero distance."""
+    mj, m = mujoco.MjModel.from_xml_string(CONTACTS), sinew.Model.from_mjcf_string(CONTACTS)
+    d, sim = mujoco.MjData(mj), sinew.Sim(m)
+    for _ in range(100):
+        mujoco.mj_step(mj, d)
+    sim.step(100)
+    read = lambda name: sim.sensordata[m.sensor_adr[m.sensor_names.index(name)]:][:m.sensor_dim[m.sensor_names.index(name)]]
+    assert read("box_floor")[0] == d.sensor("box_floor").data[0] == 4
+    np.testing.assert_array_equal(read("floor_box"), d.sensor("floor_box").data)   # 4, (0, 0, 1) twice
+    assert read("tree")[0] == d.sensor("tree").data[0] == 4 and abs(read("tree")[1]) < 1e-9
+    assert read("high")[0] == d.sensor("high").data[0] == 0
+
+
+def test_framequat_is_mujocos_rotation():
+    mj, m = mujoco.MjModel.from_xml_string(CONTACTS), sinew.Model.from_mjcf_string(CONTACTS)
+    d, sim = mujoco.MjData(mj), sinew.Sim(m)
+    rng = np.random.default_rng(0)
+    for _ in range(10):
+        q = mj.qpos0 + rng.normal(0, 0.5, mj.nq)
+        q[3:7] /= np.linalg.norm(q[3:7])
+        q[11:15] /= np.linalg.norm(q[11:15])
+        forward_both(mj, d, sim, q, np.zeros(mj.nv))
+        for name in ("q", "q_rel"):
+            ours = sim.sensordata[m.sensor_adr[m.sensor_names.index(name)]:][:4]
+            theirs = d.sensor(name).data
+            # the same rotation: equal up to the quaternion's sign
+            assert min(np.abs(ours - theirs).max(), np.abs(ours + theirs).max()) < 1e-12

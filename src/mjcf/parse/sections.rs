@@ -331,13 +331,13 @@ impl Parser<'_> {
     /// (and warns about kinds sinew does not compute).
     pub(super) fn sensor(&mut self, n: Node) -> Result<()> {
         const OBJECTS: &[&str] = &["joint", "tendon", "actuator", "site", "body", "objtype", "objname", "reftype", "refname"];
-        // a contact sensor's (not computed: the compiler warns)
+        // a contact sensor's
         const CONTACT: &[&str] = &["geom1", "geom2", "body1", "body2", "subtree1", "subtree2", "num", "data", "reduce"];
         for c in n.children().filter(Node::is_element) {
             let e = El { node: c, line: line(self.doc, c), defaults: vec![] };
             // noise, cutoff and user do not change what sinew computes
             e.check(&[OBJECTS, CONTACT, &["name", "noise", "cutoff", "nsample", "interp", "delay", "interval"]].concat(), &self.warnings)?;
-            let attrs = OBJECTS.iter().filter_map(|&a| e.get(a).map(|v| (a.to_string(), v.to_string()))).collect();
+            let attrs = OBJECTS.iter().chain(CONTACT).filter_map(|&a| e.get(a).map(|v| (a.to_string(), v.to_string()))).collect();
             self.spec.sensors.push(SensorSpec { kind: c.tag_name().name().to_string(), name: e.str("name").to_string(), attrs, line: e.line });
         }
         Ok(())
