@@ -95,6 +95,10 @@ pub struct LcpWork {
     used: Vec<bool>,
     /// Candidate rows of the ratio test.
     cand: Vec<usize>,
+    /// Bounded forces an active-set solve holds at their caps, with their slacks, and which
+    /// variables those are.
+    pinned: Vec<(usize, usize)>,
+    guess_pinned: Vec<bool>,
     /// The subproblem without the rows that need no force.
     sub: Subproblem,
     /// One island of it ([`islands`]), the union–find forest that finds them from M, and the
@@ -514,7 +518,8 @@ pub enum Role {
         /// Friction coefficient.
         mu: f64,
     },
-    /// A force bounded by the constant `cap`, whose slack variable is `lambda`.
+    /// A force bounded by the constant `cap`, whose slack variable is `lambda`: the slack's row
+    /// is w_σ = cap − f (its only entry −1 at the force) and its column only the force's row's +1.
     Bounded {
         /// The slack variable.
         lambda: usize,

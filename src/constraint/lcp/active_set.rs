@@ -113,8 +113,24 @@ fn solve_on(n: usize, m: &[f64], q: &[f64], role: &[Role], active: impl Fn(usize
             work.free[lambda] = true;
         }
     }
+    // a bounded force with its slack active is at its cap (w_σ = cap − f = 0): it is set, not
+    // solved for (σ's row and column hold only their ∓1: `Role::Bounded`)
+    work.pinned.clear();
+    work.guess_pinned.clear();
+    work.guess_pinned.resize(n, false);
+    for (i, r) in role.iter().enumerate() {
+        if let Role::Bounded { lambda: s, .. } = *r
+            && active(i)
+            && active(s)
+        {
+            debug_assert!(m[s * n + i] == -1.0 && m[i * n + s] == 1.0 && m[s * n + s] == 0.0);
+            work.pinned.push((i, s));
+            (work.guess_pinned[i], work.guess_pinned[s]) = (true, true);
+        }
+    }
     work.active.clear();
-    work.active.extend((0..n).filter(|&i| active(i) && !work.free[i]));
+    let pinned = &work.guess_pinned;
+    work.active.extend((0..n).filter(|&i| active(i) && !work.free[i] && !pinned[i]));
     if !solve_active(n, m, q, work) {
         return false;
     }
@@ -131,20 +147,24 @@ fn solve_on(n: usize, m: &[f64], q: &[f64], role: &[Role], active: impl Fn(usize
 }
 
 /// Solves M_AA z_A = −q_A on the active set `work.active` (z = 0 elsewhere) into `work.trial` by
-/// Gaussian elimination with partial pivoting and back substitution. False when singular or
-/// non-finite.
+/// Gaussian elimination with partial pivoting and back substitution, with each pinned force of
+/// `work.pinned` at its cap (q of its slack) and the slack from the force's own row. False when
+/// singular or non-finite.
 fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
-    let LcpWork { tab: a, active, trial, .. } = work;
+    let LcpWork { tab: a, active, trial, pinned, .. } = work;
     let k = active.len();
     trial.clear();
     trial.resize(n, 0.0);
-    // augmented k × (k + 1) system in the tableau buffer
+    for &(f, s) in pinned.iter() {
+        trial[f] = q[s];
+    }
+    // augmented k × (k + 1) system in the tableau buffer, the pinned forces moved to the right
     let w = k + 1;
     a.clear();
     for &i in active.iter() {
         let row = &m[i * n..(i + 1) * n];
         a.extend(active.iter().map(|&j| row[j]));
-        a.push(-q[i]);
+        a.push(-q[i] - pinned.iter().map(|&(f, _)| row[f] * trial[f]).sum::<f64>());
     }
     if !eliminate_wide(a, k) {
         return false;
@@ -157,6 +177,11 @@ fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
             x -= row[c] * trial[i];
         }
         trial[active[r]] = x * row[r];
+    }
+    // each slack: what keeps its force's row at w = 0 (M_fσ = 1)
+    for &(f, s) in pinned.iter() {
+        let row = &m[f * n..(f + 1) * n];
+        trial[s] = -q[f] - (0..n).filter(|&j| j != s).map(|j| row[j] * trial[j]).sum::<f64>();
     }
     trial.iter().all(|x| x.is_finite())
 }
