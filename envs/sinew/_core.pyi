@@ -163,6 +163,9 @@ class Model:
     @property
     def actuator_ctrlrange(self) -> NDArray[np.float64]: ...
     @property
+    def actuator_forcerange(self) -> NDArray[np.float64]:
+        """Actuator force ranges (nu, 2): ±inf where the force is not limited."""
+    @property
     def actuator_ctrllimited(self) -> list[bool]: ...
     @property
     def site_pos(self) -> NDArray[np.float64]: ...
@@ -311,8 +314,9 @@ class Batch:
     def reset(self, mask: Optional[ArrayLike] = None, seeds: Optional[Sequence[int]] = None,
               qpos: Optional[ArrayLike] = None, qvel: Optional[ArrayLike] = None) -> None: ...
     def forward_kinematics(self, mask: Optional[ArrayLike] = None) -> None: ...
-    def read_sensors(self, sensors: Sequence[int]) -> NDArray[np.float64]:
-        """The chosen sensors' readings of each world, one after another, computing only them."""
+    def read_sensors(self, sensors: Sequence[int], worlds: Optional[Sequence[int]] = None) -> NDArray[np.float64]:
+        """The chosen sensors' readings of each world (or of `worlds`, one row each in ascending
+        order), one after another, computing only them."""
     def watch_sensors(self, sensors: Sequence[int]) -> None:
         """Sensors every `step` reads after it, in the same parallel pass, into `watched_readings`."""
     @property

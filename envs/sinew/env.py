@@ -52,6 +52,8 @@ from sinew._core import Model
 from sinew.core import MAX_ACTION, Worlds
 from sinew.dmc import TASKS as DMC_TASKS
 from sinew.dmc.core import DmcCore
+from sinew.playground import TASKS as PLAYGROUND_TASKS
+from sinew.playground.core import PlaygroundCore
 from sinew.rendering import RENDER_MODES, Viewer
 from sinew.tasks import ASSETS, TASKS
 
@@ -170,8 +172,11 @@ class BatchTask(Worlds):
 
 def make_core(task: str, num_envs: int, num_threads: int | None = None, width: int | None = None,
               height: int | None = None, camera_id: int | None = None, camera_name: str | None = None, **kwargs):
-    """The worlds of `task`: a gymnasium task's ``BatchTask`` or a dm_control task's ``DmcCore``
-    (whose pixel observations take the render size and camera); the render size it implies."""
+    """The worlds of `task`: a gymnasium task's ``BatchTask``, a dm_control task's ``DmcCore``
+    (whose pixel observations take the render size and camera) or a Playground task's
+    ``PlaygroundCore``; the render size it implies."""
+    if task in PLAYGROUND_TASKS:
+        return PlaygroundCore(task, num_envs, num_threads, **kwargs), (480 if width is None else width, 480 if height is None else height)
     if task in DMC_TASKS:
         size = (84 if width is None else width, 84 if height is None else height)
         camera = camera_name if camera_id is None else camera_id
@@ -519,7 +524,10 @@ class SinewVectorEnv(VectorEnv):
 
 
 def class_name(task: str) -> str:
-    """The env classes' stem of a task: ``Hopper``, ``DmcWalkerWalk`` for ``dmc-walker-walk``."""
+    """The env classes' stem of a task: ``Hopper``, ``DmcWalkerWalk`` for ``dmc-walker-walk``,
+    ``PlaygroundGo1JoystickFlatTerrain`` for ``playground-Go1JoystickFlatTerrain``."""
+    if task in PLAYGROUND_TASKS:
+        return "Playground" + task.split("-", 1)[1]
     return task if task in TASKS else "".join(p[:1].upper() + p[1:].lower() for p in task.replace("-", "_").split("_"))
 
 
@@ -541,5 +549,5 @@ def _task_classes(name: str) -> tuple[type, type]:
     return single, vector
 
 
-for _name in [*TASKS, *DMC_TASKS]:
+for _name in [*TASKS, *DMC_TASKS, *PLAYGROUND_TASKS]:
     globals()[f"{class_name(_name)}Env"], globals()[f"{class_name(_name)}VectorEnv"] = _task_classes(_name)

@@ -269,13 +269,15 @@ impl Batch {
 
     /// The readings of the file sensors `which` (indices) of every world at the state in `st`
     /// (every world's rows one after another), the worlds in parallel.
-    pub fn read_sensors(&mut self, st: sensordata::State<'_>, which: &[usize]) -> Vec<f64> {
+    pub fn read_sensors(&mut self, st: sensordata::State<'_>, which: &[usize], chosen: Option<&[bool]>) -> Vec<f64> {
         let m = &*self.model;
         let dim: usize = which.iter().map(|&k| m.sensor_kind[k].dim()).sum();
-        let mut out = vec![0.0; self.data.len() * dim];
+        let rows = chosen.map_or(self.data.len(), |c| c.iter().filter(|&&x| x).count());
+        let mut out = vec![0.0; rows * dim];
         let own = &self.own;
-        let worlds = self.data.iter_mut().zip(out.chunks_mut(dim.max(1))).enumerate();
-        share_out(self.workers.as_ref(), &self.scratch, worlds, |(i, (d, row)), scratch| {
+        let picked = self.data.iter_mut().enumerate().filter(|(i, _)| chosen.is_none_or(|c| c[*i]));
+        let worlds: Vec<_> = picked.zip(out.chunks_mut(dim.max(1))).map(|((i, d), row)| (i, (d, row))).collect();
+        share_out(self.workers.as_ref(), &self.scratch, worlds.into_iter(), |(i, (d, row)), scratch| {
             let m = world_model(own, m, i);
             let s = sensordata::State {
                 qpos: &st.qpos[i * m.nq..(i + 1) * m.nq],

@@ -1,7 +1,7 @@
 //! Arrays from Python: any array-like as contiguous float64, checked for shape and finiteness;
-//! world selections (masks and index lists).
+//! world selections (masks and index lists); model arrays to Python (rotations, rows, ranges).
 
-use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -81,4 +81,22 @@ pub fn chosen_worlds(n: usize, worlds: Option<Bound<'_, PyAny>>) -> PyResult<Vec
             }
         })
         .collect()
+}
+
+/// Rotation matrices as an (n, 3, 3) array, row-major.
+pub(super) fn mats<'py>(py: Python<'py>, m: &[glam::DMat3]) -> PyResult<Bound<'py, numpy::PyArray3<f64>>> {
+    let flat: Vec<f64> = m.iter().flat_map(|r| r.transpose().to_cols_array()).collect();
+    numpy::PyArray1::from_vec(py, flat).reshape([m.len(), 3, 3])
+}
+
+pub(super) fn rows3<'py>(py: Python<'py>, it: impl Iterator<Item = [f64; 3]>) -> Bound<'py, PyArray2<f64>> {
+    let flat: Vec<f64> = it.flat_map(|a| a.into_iter()).collect();
+    let n = flat.len() / 3;
+    numpy::PyArray1::from_vec(py, flat).reshape([n, 3]).expect("n*3 elements")
+}
+
+/// Ranges as an (n, 2) array.
+pub(super) fn ranges<'py>(py: Python<'py>, rows: impl ExactSizeIterator<Item = [f64; 2]>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let n = rows.len();
+    PyArray1::from_vec(py, rows.flatten().collect()).reshape([n, 2])
 }

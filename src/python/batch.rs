@@ -134,7 +134,7 @@ impl PyBatch {
     #[getter]
     fn sensordata<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let all: Vec<usize> = (0..self.inner.model.sensor_kind.len()).collect();
-        self.read_sensors(py, all)
+        self.read_sensors(py, all, None)
     }
 
     /// Chooses sensors (indices into `Model.sensor_names`) that every `step` reads after it, in
@@ -155,13 +155,26 @@ impl PyBatch {
     }
 
     /// The readings of the sensors `sensors` (indices into `Model.sensor_names`), one after
-    /// another, of each world (N, their total dimension): `sensordata`'s columns of those sensors,
-    /// computing only them.
-    fn read_sensors<'py>(&mut self, py: Python<'py>, sensors: Vec<usize>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let (n, ns) = (self.inner.len(), sensors_dim(&self.inner.model, &sensors)?);
+    /// another, of each world (N, their total dimension), or of the worlds `worlds` only (one row
+    /// each, in ascending order): `sensordata`'s columns of those sensors, computing only them.
+    #[pyo3(signature = (sensors, worlds=None))]
+    fn read_sensors<'py>(&mut self, py: Python<'py>, sensors: Vec<usize>, worlds: Option<Vec<usize>>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let ns = sensors_dim(&self.inner.model, &sensors)?;
+        let chosen = match &worlds {
+            None => None,
+            Some(w) => {
+                let n = self.inner.len();
+                let mut mask = vec![false; n];
+                for &i in w {
+                    *mask.get_mut(i).ok_or_else(|| PyValueError::new_err(format!("world {i} out of range for {n} worlds")))? = true;
+                }
+                Some(mask)
+            }
+        };
+        let n = chosen.as_ref().map_or(self.inner.len(), |c| c.iter().filter(|&&x| x).count());
         let (qpos, qvel, ctrl, act) = (self.qpos.bind(py).readonly(), self.qvel.bind(py).readonly(), self.ctrl.bind(py).readonly(), self.act.bind(py).readonly());
         let st = sensordata::State { qpos: qpos.as_slice()?, qvel: qvel.as_slice()?, ctrl: ctrl.as_slice()?, act: act.as_slice()? };
-        let out = self.inner.read_sensors(st, &sensors);
+        let out = self.inner.read_sensors(st, &sensors, chosen.as_deref());
         PyArray1::from_vec(py, out).reshape([n, ns])
     }
     /// How many contacts penetrate (distance < 0) in each world's current configuration (N,):

@@ -6,6 +6,7 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
+use super::arrays::{mats, ranges, rows3};
 use super::errors::to_py;
 use crate::render::Renderer;
 use crate::model::{Actuation, ConstraintMode, FrictionModel, Integrator, JointType, Model};
@@ -437,8 +438,7 @@ impl PyModel {
     /// Joint limits (njnt, 2).
     #[getter]
     fn jnt_range<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let rows: Vec<Vec<f64>> = self.inner.jnt_range.iter().map(|r| r.to_vec()).collect();
-        Ok(PyArray2::from_vec2(py, &rows)?)
+        ranges(py, self.inner.jnt_range.iter().copied())
     }
     /// Whether each joint is limited.
     #[getter]
@@ -489,8 +489,7 @@ impl PyModel {
     #[getter]
     fn tendon_range<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let m = &self.inner;
-        let flat: Vec<f64> = (0..m.ntendon).flat_map(|t| if m.tendon_limited[t] { m.tendon_range[t] } else { [f64::NAN; 2] }).collect();
-        PyArray1::from_vec(py, flat).reshape([m.ntendon, 2])
+        ranges(py, (0..m.ntendon).map(|t| if m.tendon_limited[t] { m.tendon_range[t] } else { [f64::NAN; 2] }))
     }
     /// Actuator names.
     #[getter]
@@ -500,8 +499,13 @@ impl PyModel {
     /// Actuator control ranges (nu, 2).
     #[getter]
     fn actuator_ctrlrange<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let rows: Vec<Vec<f64>> = self.inner.actuator_ctrlrange.iter().map(|r| r.to_vec()).collect();
-        Ok(PyArray2::from_vec2(py, &rows)?)
+        ranges(py, self.inner.actuator_ctrlrange.iter().copied())
+    }
+    /// Actuator force ranges (nu, 2): ±inf where the force is not limited.
+    #[getter]
+    fn actuator_forcerange<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let m = &self.inner;
+        ranges(py, m.actuator_forcerange.iter().zip(&m.actuator_forcelimited).map(|(&r, &lim)| if lim { r } else { [f64::NEG_INFINITY, f64::INFINITY] }))
     }
     /// Whether each actuator clamps its control.
     #[getter]
@@ -658,18 +662,6 @@ impl PyModel {
             integrator_name(m.opt.integrator)
         )
     }
-}
-
-/// Rotation matrices as an (n, 3, 3) array, row-major.
-fn mats<'py>(py: Python<'py>, m: &[glam::DMat3]) -> PyResult<Bound<'py, numpy::PyArray3<f64>>> {
-    let flat: Vec<f64> = m.iter().flat_map(|r| r.transpose().to_cols_array()).collect();
-    numpy::PyArray1::from_vec(py, flat).reshape([m.len(), 3, 3])
-}
-
-fn rows3<'py>(py: Python<'py>, it: impl Iterator<Item = [f64; 3]>) -> Bound<'py, PyArray2<f64>> {
-    let flat: Vec<f64> = it.flat_map(|a| a.into_iter()).collect();
-    let n = flat.len() / 3;
-    numpy::PyArray1::from_vec(py, flat).reshape([n, 3]).expect("n*3 elements")
 }
 
 /// The index of height field `hfield` (a name or an index); a `ValueError` names those there are.

@@ -209,11 +209,13 @@ def test_a_muscle_written_as_general_is_the_muscle():
     np.testing.assert_allclose(sim.qpos, d.qpos, atol=1e-9)
 
 
-def test_a_contact_sensor_is_left_out_with_a_warning():
+def test_a_contact_sensors_force_data_is_left_out_with_a_warning():
     xml = """<mujoco><worldbody><geom name="floor" type="plane" size="1 1 .1"/><body><freejoint/><geom name="foot" size="0.1"/></body></worldbody>
-      <sensor><contact name="c" geom1="foot" geom2="floor" reduce="mindist" num="1" data="found"/><framepos objtype="body" objname="world"/></sensor></mujoco>"""
+      <sensor><contact name="c" geom1="foot" geom2="floor" reduce="mindist" num="1" data="found"/>
+      <contact name="f" geom1="foot" geom2="floor" data="found force"/><framepos objtype="body" objname="world"/></sensor></mujoco>"""
     sm = sinew.Model.from_mjcf_string(xml)
-    assert any("<contact> sensor 'c'" in w and "not computed" in w for w in sm.warnings)
+    assert any("<contact> sensor 'f'" in w and "data 'force' is not computed" in w for w in sm.warnings)
+    assert sm.sensor_names[0] == "c" and "f" not in sm.sensor_names
 
 
 def test_a_plane_on_a_body_fixed_to_the_world_stays_a_plane_and_on_a_moving_body_becomes_a_slab():

@@ -1,0 +1,125 @@
+"""sinew's Playground tasks beside EnvPool's port of Playground (``MuJoCoPlayground/<Task>-v1``):
+the same initial-state and command distributions, rewards and episode ends under fixed policies
+(in distribution: the two step different physics, so states cannot be matched step by step), and
+env-steps/s on the same machine and threads.
+
+    python benches/playground.py --out results/playground.md
+
+Needs ``pip install envpool`` (its Playground port and model files).
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import gymnasium as gym
+import numpy as np
+
+import sinew  # noqa: F401
+
+TASKS = ["Go1JoystickFlatTerrain", "Go1JoystickRoughTerrain"]
+TERMS = ["tracking_lin_vel", "tracking_ang_vel", "orientation", "pose", "torques", "action_rate", "energy", "feet_clearance",
+         "feet_slip", "feet_air_time", "termination"]
+#: Privileged-state entries compared at reset: (name, columns).
+RESET = [("body linear velocity", slice(57, 60)), ("gravity in IMU frame", slice(54, 57)), ("gyro", slice(48, 51)),
+         ("joint angles − default", slice(63, 75))]
+
+
+class Sinew:
+    def __init__(self, task, n, threads, seed):
+        self.env = gym.make_vec(f"sinew/playground-{task}-v0", num_envs=n, vectorization_mode="vector_entry_point",
+                                num_threads=threads)
+        obs, info = self.env.reset(seed=seed)
+        self.priv, self.command = info["privileged_state"], info["command"]
+
+    def step(self, a):
+        obs, r, term, trunc, info = self.env.step(a)
+        return r, term, trunc, {k: info[k] for k in TERMS}
+
+
+class EnvPool:
+    def __init__(self, task, n, threads, seed):
+        import envpool
+        self.env = envpool.make_gymnasium(f"MuJoCoPlayground/{task}-v1", num_envs=n, num_threads=threads, seed=seed)
+        obs, info = self.env.reset()
+        self.priv, self.command = obs["privileged_state"], info["command"]
+
+    def step(self, a):
+        obs, r, term, trunc, info = self.env.step(a)
+        return r, term, trunc, {k: info["reward_" + k] for k in TERMS}
+
+
+def rollout(sim, task, policy, n=256, steps=250, seed=0):
+    """Mean reward per step, each term's mean (scaled, per second) and the share of episodes
+    ended by a fall within `steps`, under `policy` ("zero": the default pose held; "random":
+    uniform actions in [-1, 1] redrawn each step)."""
+    env = sim(task, n, 2, seed)
+    rng = np.random.default_rng(seed)
+    fell = np.zeros(n, dtype=bool)
+    rewards, terms = [], {k: [] for k in TERMS}
+    for _ in range(steps):
+        a = np.zeros((n, 12)) if policy == "zero" else rng.uniform(-1, 1, (n, 12))
+        r, term, trunc, t = env.step(a)
+        live = ~fell
+        rewards.append(r[live].mean())
+        for k in TERMS:
+            terms[k].append(t[k][live].mean())
+        fell |= term
+    return float(np.mean(rewards)), {k: float(np.mean(v)) for k, v in terms.items()}, float(fell.mean())
+
+
+def throughput(sim, task, n, threads, steps=200):
+    env = sim(task, n, threads, 0)
+    a = np.random.default_rng(0).uniform(-1, 1, (steps, n, 12))
+    env.step(a[0])
+    t0 = time.perf_counter()
+    for k in range(steps):
+        env.step(a[k])
+    return n * steps / (time.perf_counter() - t0)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--out", default=None)
+    ap.add_argument("--rounds", type=int, default=3)
+    args = ap.parse_args()
+    lines = ["# Playground tasks: sinew beside EnvPool's port", "",
+             "`python benches/playground.py --out results/playground.md` (EnvPool "
+             f"{__import__('envpool').__version__}, 2-core machine). Checked in distribution: the two simulators' "
+             "physics differ (exact contact against MuJoCo's soft contact), so the same actions do not reach the same states.", ""]
+    for task in TASKS:
+        lines += [f"## {task}", "", "Reset distribution (privileged state, clean readings; 1024 worlds): mean ± std per group.", "",
+                  "| quantity | sinew | EnvPool |", "|---|---|---|"]
+        s, e = Sinew(task, 1024, 2, 0), EnvPool(task, 1024, 2, 0)
+        for name, cols in RESET:
+            lines.append(f"| {name} | {s.priv[:, cols].mean():+.3f} ± {s.priv[:, cols].std():.3f} | "
+                         f"{e.priv[:, cols].mean():+.3f} ± {e.priv[:, cols].std():.3f} |")
+        lines.append(f"| command (vx, vy, ωz) std | {np.array2string(s.command.std(0), precision=2)} | "
+                     f"{np.array2string(e.command.std(0), precision=2)} |")
+        lines += ["", "Fixed policies, 256 worlds × 250 steps (5 s): mean reward per step, the share of worlds that fell, "
+                  "and each reward term's mean (scaled, per second).", "",
+                  "| policy | sim | reward/step | fell | " + " | ".join(TERMS) + " |", "|---|---|---:|---:|" + "---:|" * len(TERMS)]
+        for policy in ("zero", "random"):
+            for name, sim in (("sinew", Sinew), ("EnvPool", EnvPool)):
+                r, t, fell = rollout(sim, task, policy)
+                lines.append(f"| {policy} | {name} | {r:.4f} | {fell:.2f} | " + " | ".join(f"{t[k]:+.3f}" for k in TERMS) + " |")
+        lines += ["", "Env-steps/s, random actions, median of alternating rounds:", "",
+                  "| worlds | threads | sinew | EnvPool | × |", "|---:|---:|---:|---:|---:|"]
+        for n, threads in ((256, 1), (256, 2)):
+            ours, theirs = [], []
+            for _ in range(args.rounds):
+                ours.append(throughput(Sinew, task, n, threads))
+                theirs.append(throughput(EnvPool, task, n, threads))
+            a, b = np.median(ours), np.median(theirs)
+            lines.append(f"| {n} | {threads} | {a:,.0f} | {b:,.0f} | {a / b:.2f} |")
+        lines.append("")
+    text = "\n".join(lines)
+    print(text)
+    if args.out:
+        with open(args.out, "w") as f:
+            f.write(text)
+
+
+if __name__ == "__main__":
+    main()

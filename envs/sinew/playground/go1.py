@@ -1,0 +1,225 @@
+"""Unitree Go1's Playground tasks (``mujoco_playground/_src/locomotion/go1``): joystick
+velocity tracking on flat and rough terrain, written from Playground's ``joystick.py``,
+``base.py`` and ``randomize.py``."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from sinew.playground.task import Task
+
+GO1 = "mujoco_playground/_src/locomotion/go1/xmls"
+#: Playground's order of the feet (its ``FEET_SITES`` and ``FEET_GEOMS``).
+FEET = ("FR", "FL", "RR", "RL")
+
+#: Reward scales of Playground's ``joystick.default_config()``.
+JOYSTICK_SCALES = dict(
+    tracking_lin_vel=1.0, tracking_ang_vel=0.5, lin_vel_z=-0.5, ang_vel_xy=-0.05, orientation=-5.0,
+    dof_pos_limits=-1.0, pose=0.5, termination=-1.0, stand_still=-1.0, torques=-0.0002, action_rate=-0.01,
+    energy=-0.001, feet_clearance=-2.0, feet_height=-0.2, feet_slip=-0.1, feet_air_time=0.1)
+#: Observation noise half-widths (``noise_config.scales``).
+NOISE = dict(joint_pos=0.03, joint_vel=1.5, gyro=0.2, gravity=0.05, linvel=0.1)
+
+
+def _site_world(r, model, site: int) -> np.ndarray:
+    """A site's world position in each world of readings ``r`` (worlds, 3)."""
+    b = model.site_body[site]
+    return r.xpos(b) + r.xmat(b) @ model.site_pos[site]
+
+
+class Go1Joystick(Task):
+    """``Go1JoystickFlatTerrain`` / ``Go1JoystickRoughTerrain``: track a commanded planar velocity
+    and yaw rate (``info["command"]``: vx, vy, ωz, redrawn after exponentially distributed
+    times with mean 5 s)."""
+
+    xml = f"{GO1}/scene_mjx_feetonly_flat_terrain.xml"
+    camera = dict(distance=2.0, elevation=-20.0, azimuth=120.0, trackbodyid=1)
+    sensors = ("gyro", "local_linvel", "accelerometer", "upvector", "global_linvel", "global_angvel",
+               *(f"{f}_global_linvel" for f in FEET), *(f"{f}_floor_found" for f in FEET))
+    obs_sizes = (48, 123)
+    reward_scales = JOYSTICK_SCALES
+    state = ("command", "steps_until_next_cmd", "last_act", "last_last_act", "feet_air_time", "swing_peak", "last_contact")
+
+    def __init__(self, Kp: float = 35.0, Kd: float = 0.5, action_scale: float = 0.5, noise_level: float = 1.0,
+                 tracking_sigma: float = 0.25, max_foot_height: float = 0.1, soft_joint_pos_limit_factor: float = 0.95,
+                 command_a=(1.5, 0.8, 1.2), command_b=(0.9, 0.25, 0.5), reward_scales: dict | None = None):
+        self.kwargs = dict(Kp=Kp, Kd=Kd, action_scale=action_scale, noise_level=noise_level, tracking_sigma=tracking_sigma,
+                           max_foot_height=max_foot_height, soft_joint_pos_limit_factor=soft_joint_pos_limit_factor,
+                           command_a=command_a, command_b=command_b)
+        self.Kp, self.Kd, self.action_scale, self.noise_level = float(Kp), float(Kd), float(action_scale), float(noise_level)
+        self.sigma, self.max_foot_height, self.soft = float(tracking_sigma), float(max_foot_height), float(soft_joint_pos_limit_factor)
+        self.cmd_a, self.cmd_b = np.asarray(command_a, dtype=np.float64), np.asarray(command_b, dtype=np.float64)
+        unknown = set(reward_scales or {}) - set(JOYSTICK_SCALES)
+        if unknown:
+            raise ValueError(f"unknown reward terms {sorted(unknown)}; Go1's: {list(JOYSTICK_SCALES)}")
+        self.reward_scales = {**JOYSTICK_SCALES, **(reward_scales or {})}
+
+    def setup(self, model, n: int) -> None:
+        self.model = model
+        home = model.keyframe("home")
+        self.init_q = np.asarray(home["qpos"], dtype=np.float64)
+        self.default_pose = self.init_q[7:].copy()
+        lo, hi = model.jnt_range[1:].T
+        self.soft_lo, self.soft_hi = lo * self.soft, hi * self.soft
+        self.feet_sites = [model.site_names.index(f) for f in FEET]
+        self.imu = model.site_names.index("imu")
+        self.trunk = model.body_names.index("trunk")
+        self.floor = model.geom_names.index("floor")
+        self.ctrl_lo, self.ctrl_hi = model.actuator_ctrlrange.T
+        self.force_lo, self.force_hi = model.actuator_forcerange.T
+        nu = model.nu
+        self.command = np.zeros((n, 3))
+        self.steps_until_next_cmd = np.zeros(n, dtype=np.int64)
+        self.last_act, self.last_last_act = np.zeros((n, nu)), np.zeros((n, nu))
+        self.feet_air_time, self.swing_peak = np.zeros((n, 4)), np.zeros((n, 4))
+        self.last_contact = np.zeros((n, 4), dtype=bool)
+        self.kp = np.full(nu, self.Kp)
+
+    def model_edits(self) -> dict:
+        """Playground's ``Go1Env`` sets the joints' damping to Kd and the servos' gains to Kp."""
+        m = self.model
+        damping = m.param("dof_damping").copy()
+        damping[6:] = self.Kd
+        gain, bias = m.param("actuator_gain").copy(), m.param("actuator_bias").copy()
+        gain[:, 0], bias[:, 1] = self.Kp, -self.Kp
+        return {"dof_damping": damping, "actuator_gain": gain, "actuator_bias": bias}
+
+    def randomize(self, batch, idx: np.ndarray, rngs: list) -> None:
+        """``randomize.domain_randomize``: floor friction U(0.4, 1), joint friction ×U(0.9, 1.1),
+        armature ×U(1, 1.05), trunk centre of mass +U(−5, 5) cm, every mass ×U(0.9, 1.1) and the
+        trunk's +U(−1, 1) kg."""
+        m, k = self.model, len(idx)
+        friction = np.repeat(m.param("geom_friction")[None], k, axis=0)
+        fl, arm = np.repeat(m.param("dof_frictionloss")[None], k, 0), np.repeat(m.param("dof_armature")[None], k, 0)
+        ipos, mass = np.repeat(m.param("body_ipos")[None], k, 0), np.repeat(m.param("body_mass")[None], k, 0)
+        for j, rng in enumerate(rngs):
+            friction[j, self.floor, 0] = rng.uniform(0.4, 1.0)
+            fl[j, 6:] *= rng.uniform(0.9, 1.1, 12)
+            arm[j, 6:] *= rng.uniform(1.0, 1.05, 12)
+            ipos[j, self.trunk] += rng.uniform(-0.05, 0.05, 3)
+            mass[j] *= rng.uniform(0.9, 1.1, m.nbody)
+            mass[j, self.trunk] += rng.uniform(-1.0, 1.0)
+        for field, values in (("geom_friction", friction), ("dof_frictionloss", fl), ("dof_armature", arm),
+                              ("body_ipos", ipos), ("body_mass", mass)):
+            batch.set_params(field, values, idx)
+
+    def reset(self, idx: np.ndarray, rngs: list):
+        k = len(idx)
+        qpos, qvel = np.tile(self.init_q, (k, 1)), np.zeros((k, self.model.nv))
+        for j, rng in enumerate(rngs):
+            qpos[j, 0:2] += rng.uniform(-0.5, 0.5, 2)
+            half = 0.5 * rng.uniform(-3.14, 3.14)
+            w, x, y, z = qpos[j, 3:7]
+            c, s = np.cos(half), np.sin(half)
+            # quat_mul(q, (cos, 0, 0, sin))
+            qpos[j, 3:7] = [w * c - z * s, x * c + y * s, y * c - x * s, z * c + w * s]
+            qvel[j, 0:6] = rng.uniform(-0.5, 0.5, 6)
+            self.steps_until_next_cmd[idx[j]] = round(rng.exponential() * 5.0 / self.dt)
+            self.command[idx[j]] = rng.uniform(-self.cmd_a, self.cmd_a)
+        for a in (self.last_act, self.last_last_act, self.feet_air_time, self.swing_peak, self.last_contact):
+            a[idx] = 0
+        return qpos, qvel
+
+    def _noise(self, rngs: list) -> np.ndarray:
+        """Each world's noise draws U(−1, 1) for linvel, gyro, gravity, joint angles and velocities."""
+        return np.stack([2.0 * rng.random(33) - 1.0 for rng in rngs]) * self.noise_level
+
+    def _gravity(self, r) -> np.ndarray:
+        """The world's −z in the IMU's frame."""
+        b = self.model.site_body[self.imu]
+        rot = r.xmat(b) @ self.model.site_mat[self.imu].reshape(3, 3)
+        return -rot[:, 2, :]
+
+    def _actuator_force(self, r) -> np.ndarray:
+        """The position servos' forces: Kp (clamped target − q), clamped to the force range."""
+        target = np.clip(r.ctrl, self.ctrl_lo, self.ctrl_hi)
+        return np.clip(self.kp * (target - r.qpos[:, 7:]), self.force_lo, self.force_hi)
+
+    def observe(self, r, idx: np.ndarray, rngs: list):
+        gyro, linvel, gravity = r.sensor("gyro"), r.sensor("local_linvel"), self._gravity(r)
+        q, qd = r.qpos[:, 7:], r.qvel[:, 6:]
+        u = self._noise(rngs)
+        state = np.hstack([
+            linvel + u[:, 0:3] * NOISE["linvel"], gyro + u[:, 3:6] * NOISE["gyro"],
+            gravity + u[:, 6:9] * NOISE["gravity"], q + u[:, 9:21] * NOISE["joint_pos"] - self.default_pose,
+            qd + u[:, 21:33] * NOISE["joint_vel"], self.last_act[idx], self.command[idx]])
+        feet_vel = np.hstack([r.sensor(f"{f}_global_linvel") for f in FEET])
+        push = np.zeros((len(idx), 4))     # the applied push (3) and whether one is under way: none
+        priv = np.hstack([state, gyro, r.sensor("accelerometer"), gravity, linvel, r.sensor("global_angvel"),
+                          q - self.default_pose, qd, self._actuator_force(r), self.last_contact[idx], feet_vel,
+                          self.feet_air_time[idx], push])
+        return state.astype(np.float32), priv.astype(np.float32)
+
+    def after_step(self, r, actions: np.ndarray, idx: np.ndarray, rngs: list):
+        contact = np.hstack([r.sensor(f"{f}_floor_found") for f in FEET]) > 0
+        contact_filt = contact | self.last_contact[idx]
+        first_contact = (self.feet_air_time[idx] > 0.0) & contact_filt
+        self.feet_air_time[idx] += self.dt
+        foot_z = np.stack([_site_world(r, self.model, s)[:, 2] for s in self.feet_sites], axis=1)
+        self.swing_peak[idx] = np.maximum(self.swing_peak[idx], foot_z)
+        state, priv = self.observe(r, idx, rngs)
+        up = r.sensor("upvector")
+        done = up[:, 2] < 0.0
+        terms = self._rewards(r, actions, idx, done, first_contact, contact, foot_z)
+        terms = {k: v * self.reward_scales[k] for k, v in terms.items()}
+        reward = np.clip(sum(terms.values()) * self.dt, 0.0, 10000.0)
+        self.last_last_act[idx] = self.last_act[idx]
+        self.last_act[idx] = actions
+        self.steps_until_next_cmd[idx] -= 1
+        for j, rng in enumerate(rngs):
+            i = idx[j]
+            # Playground splits two keys each step: the new command's and the next wait's
+            due = self.steps_until_next_cmd[i] <= 0
+            if due:
+                self.command[i] = self.sample_command(rng, self.command[i])
+            if due or done[j]:
+                self.steps_until_next_cmd[i] = round(rng.exponential() * 5.0 / self.dt)
+        self.feet_air_time[idx] *= ~contact
+        self.last_contact[idx] = contact
+        self.swing_peak[idx] *= ~contact
+        return state, priv, reward, done, terms
+
+    def sample_command(self, rng, x: np.ndarray) -> np.ndarray:
+        """``sample_command``: each component kept with probability 1/2, else redrawn from
+        U(−a, a) and zeroed with probability 1 − b."""
+        y = rng.uniform(-self.cmd_a, self.cmd_a)
+        z = rng.random(3) < self.cmd_b
+        w = rng.random(3) < 0.5
+        return x - w * (x - y * z)
+
+    def _rewards(self, r, a, idx, done, first_contact, contact, foot_z) -> dict:
+        cmd = self.command[idx]
+        local, gyro = r.sensor("local_linvel"), r.sensor("gyro")
+        glin, gang, up = r.sensor("global_linvel"), r.sensor("global_angvel"), r.sensor("upvector")
+        q, qd, tau = r.qpos[:, 7:], r.qvel[:, 6:], self._actuator_force(r)
+        moving = np.linalg.norm(cmd, axis=1) > 0.01
+        feet_vel = np.stack([r.sensor(f"{f}_global_linvel") for f in FEET], axis=1)
+        vel_xy2 = np.sum(feet_vel[..., :2] ** 2, axis=-1)
+        dq = q - self.default_pose
+        return {
+            "tracking_lin_vel": np.exp(-np.sum((cmd[:, :2] - local[:, :2]) ** 2, axis=1) / self.sigma),
+            "tracking_ang_vel": np.exp(-((cmd[:, 2] - gyro[:, 2]) ** 2) / self.sigma),
+            "lin_vel_z": glin[:, 2] ** 2,
+            "ang_vel_xy": np.sum(gang[:, :2] ** 2, axis=1),
+            "orientation": np.sum(up[:, :2] ** 2, axis=1),
+            "dof_pos_limits": np.sum(-np.minimum(q - self.soft_lo, 0.0) + np.maximum(q - self.soft_hi, 0.0), axis=1),
+            "pose": np.exp(-np.sum(dq ** 2 * np.tile([1.0, 1.0, 0.1], 4), axis=1)),
+            "termination": done.astype(np.float64),
+            "stand_still": np.sum(np.abs(dq), axis=1) * ~moving,
+            "torques": np.sqrt(np.sum(tau ** 2, axis=1)) + np.sum(np.abs(tau), axis=1),
+            "action_rate": np.sum((a - self.last_act[idx]) ** 2, axis=1),
+            "energy": np.sum(np.abs(qd) * np.abs(tau), axis=1),
+            "feet_clearance": np.sum(np.abs(foot_z - self.max_foot_height) * np.sqrt(np.sqrt(vel_xy2)), axis=1),
+            "feet_height": np.sum((self.swing_peak[idx] / self.max_foot_height - 1.0) ** 2 * first_contact, axis=1) * moving,
+            "feet_slip": np.sum(vel_xy2 * contact, axis=1) * moving,
+            "feet_air_time": np.sum((self.feet_air_time[idx] - 0.1) * first_contact, axis=1) * moving,
+        }
+
+
+class Go1JoystickRough(Go1Joystick):
+    """``Go1JoystickRoughTerrain``: the same task on Playground's height-field terrain."""
+
+    xml = f"{GO1}/scene_mjx_feetonly_rough_terrain.xml"
+
+
+TASKS = {"Go1JoystickFlatTerrain": Go1Joystick, "Go1JoystickRoughTerrain": Go1JoystickRough}

@@ -1,0 +1,194 @@
+"""MuJoCo Playground's tasks as sinew envs (sinew.playground): Go1's joystick tasks observe what
+Playground's formulas observe at a state (against MuJoCo on the same file), start episodes from
+Playground's distributions, map actions to servo targets as Playground does, randomize each
+world once per seed, and behave as the other envs (vector env = single envs, copies, SB3)."""
+
+import pickle
+
+import gymnasium as gym
+import mujoco
+import numpy as np
+import pytest
+
+import sinew  # noqa: F401  (registers the envs)
+from sinew.playground import TASKS, assets_dir
+from sinew.playground.go1 import JOYSTICK_SCALES
+
+FLAT = "sinew/playground-Go1JoystickFlatTerrain-v0"
+XML = "mujoco_playground/_src/locomotion/go1/xmls/scene_mjx_feetonly_flat_terrain.xml"
+
+
+def test_every_task_is_registered_with_playgrounds_spaces_and_info():
+    for name in TASKS:
+        env = gym.make(f"sinew/{name}-v0")
+        obs, info = env.reset(seed=0)
+        assert obs.shape == (48,) and obs.dtype == np.float32 and env.observation_space.contains(obs)
+        assert env.action_space == gym.spaces.Box(-1, 1, (12,), np.float32)
+        assert info["privileged_state"].shape == (123,) and info["command"].shape == (3,)
+        assert env.spec.max_episode_steps == 1000 and env.unwrapped.dt == 0.02
+        _, _, _, _, info = env.step(env.action_space.sample())
+        assert set(JOYSTICK_SCALES) <= set(info)
+
+
+def test_gymnasium_env_checker_passes():
+    from gymnasium.utils.env_checker import check_env
+    check_env(gym.make(FLAT).unwrapped, skip_render_check=True)
+
+
+def test_state_observes_what_mujoco_reads_at_the_same_state():
+    """The privileged state's clean readings (gyro, gravity in the IMU frame, body and world
+    velocities, joint angles and velocities, feet velocities) equal MuJoCo's at the reset state;
+    the noisy state lies within Playground's noise of them."""
+    env = gym.make(FLAT)
+    mj = mujoco.MjModel.from_xml_path(f"{assets_dir()}/{XML}")
+    d = mujoco.MjData(mj)
+    for seed in range(5):
+        obs, info = env.reset(seed=seed)
+        u = env.unwrapped
+        d.qpos[:], d.qvel[:] = u.data_qpos, u.data_qvel
+        mujoco.mj_forward(mj, d)
+        p = info["privileged_state"].astype(np.float64)
+        imu = d.site("imu")
+        default = mj.keyframe("home").qpos[7:]
+        expect = {
+            "gyro": (slice(48, 51), d.sensor("gyro").data),
+            "gravity": (slice(54, 57), imu.xmat.reshape(3, 3).T @ [0, 0, -1]),
+            "linvel": (slice(57, 60), d.sensor("local_linvel").data),
+            "angvel": (slice(60, 63), d.sensor("global_angvel").data),
+            "joints": (slice(63, 75), d.qpos[7:] - default),
+            "joint velocities": (slice(75, 87), d.qvel[6:]),
+            "feet velocities": (slice(103, 115), np.concatenate([d.sensor(f"{f}_global_linvel").data for f in ("FR", "FL", "RR", "RL")])),
+        }
+        for name, (at, value) in expect.items():
+            np.testing.assert_allclose(p[at], value, atol=1e-5, err_msg=name)   # float32
+        noise = np.concatenate([[0.1] * 3, [0.2] * 3, [0.05] * 3, [0.03] * 12, [1.5] * 12])
+        clean = np.concatenate([p[57:60], p[48:51], p[54:57], p[63:75], p[75:87]])
+        assert (np.abs(obs[:33] - clean) <= noise + 1e-5).all()
+        np.testing.assert_array_equal(obs[45:48], info["command"].astype(np.float32))
+
+
+def test_reset_draws_playgrounds_initial_states_and_commands():
+    env = gym.make_vec(FLAT, num_envs=400, vectorization_mode="vector_entry_point")
+    _, info = env.reset(seed=0)
+    u = env.unwrapped._core
+    q, v = u.batch.qpos, u.batch.qvel
+    home = u.model.keyframe("home")["qpos"]
+    dxy = q[:, :2] - home[:2]
+    assert (np.abs(dxy) <= 0.5).all() and dxy.std() > 0.25     # U(-0.5, 0.5): std 0.29
+    yaw = 2 * np.arctan2(q[:, 6], q[:, 3])
+    assert (np.abs(yaw) <= 3.14 + 1e-9).all() and yaw.std() > 1.6        # U(-3.14, 3.14): std 1.81
+    np.testing.assert_array_equal(q[:, 7:], np.tile(home[7:], (400, 1)))
+    assert (np.abs(v[:, :6]) <= 0.5).all() and (v[:, 6:] == 0).all()
+    cmd = info["command"]
+    assert (np.abs(cmd) <= [1.5, 0.8, 1.2]).all() and (cmd.std(0) > [0.75, 0.4, 0.6]).all()
+    # the first redraw comes after exponentially distributed waits of mean 5 s
+    wait = u.task.steps_until_next_cmd * 0.02
+    assert 4.0 < wait.mean() < 6.0
+
+
+def test_actions_are_servo_targets_about_the_default_pose():
+    env = gym.make(FLAT)
+    env.reset(seed=0)
+    a = np.linspace(-1, 1, 12)
+    env.step(a)
+    u = env.unwrapped
+    default = u.model.keyframe("home")["qpos"][7:]
+    np.testing.assert_array_equal(u._core.batch.ctrl[0], default + 0.5 * a)
+
+
+def test_standing_still_keeps_four_feet_down_and_earns_the_pose_reward():
+    env = gym.make(FLAT, domain_randomization=False)
+    env.reset(seed=0, options={"keyframe": "home"})
+    for _ in range(50):
+        _, reward, terminated, _, info = env.step(np.zeros(12))
+        assert not terminated
+    u = env.unwrapped._core
+    assert u.task.last_contact[0].all() and (u.task.feet_air_time[0] == 0).all()
+    assert info["pose"] == pytest.approx(0.5, abs=0.02)       # exp(-|q - default|²) ≈ 1, scale 0.5
+    assert reward >= 0
+
+
+def test_a_world_that_turns_over_terminates():
+    env = gym.make(FLAT)
+    env.reset(seed=0)
+    u = env.unwrapped
+    q = u.data_qpos.copy()
+    q[2], q[3:7] = 0.5, [0.0, 1.0, 0.0, 0.0]      # upside down
+    u.set_state(q, np.zeros(18))
+    _, _, terminated, _, info = env.step(np.zeros(12))
+    assert terminated and info["termination"] == -1.0
+
+
+def test_domain_randomization_draws_once_per_seed():
+    venv = gym.make_vec(FLAT, num_envs=3, vectorization_mode="vector_entry_point")
+    venv.reset(seed=0)
+    b = venv.unwrapped._core.batch
+    mass, friction = b.params("body_mass"), b.params("geom_friction")
+    assert len({round(m, 9) for m in mass[:, 1]}) == 3           # each world its own trunk mass
+    assert ((friction[:, 0, 0] >= 0.4) & (friction[:, 0, 0] <= 1.0)).all()
+    venv.reset()
+    np.testing.assert_array_equal(b.params("body_mass"), mass)    # kept across episodes
+    venv.reset(seed=1)
+    assert not np.array_equal(b.params("body_mass"), mass)
+    off = gym.make_vec(FLAT, num_envs=2, vectorization_mode="vector_entry_point", domain_randomization=False)
+    off.reset(seed=0)
+    np.testing.assert_array_equal(off.unwrapped._core.batch.params("body_mass")[0], off.unwrapped._core.model.body_mass)
+
+
+def test_vector_env_equals_single_envs_for_any_thread_count():
+    singles = [gym.make(FLAT) for _ in range(3)]
+    obs = [s.reset(seed=10 + i)[0] for i, s in enumerate(singles)]
+    rng = np.random.default_rng(2)
+    for threads in (1, 2):
+        venv = gym.make_vec(FLAT, num_envs=3, vectorization_mode="vector_entry_point", num_threads=threads)
+        vobs, _ = venv.reset(seed=10)
+        np.testing.assert_array_equal(vobs, np.stack(obs))
+    ended, resets = [False] * 3, 0
+    for _ in range(60):
+        u = rng.uniform(-1, 1, (3, 12))
+        vobs, vrew, *_ = venv.step(u)
+        for i, s in enumerate(singles):
+            # gymnasium's next-step autoreset: a world that ended starts over on the next call
+            if ended[i]:
+                (o, _), r, ended[i], resets = s.reset(), 0.0, False, resets + 1
+            else:
+                o, r, term, trunc, _ = s.step(u[i])
+                ended[i] = term or trunc
+            np.testing.assert_array_equal(vobs[i], o)
+            assert vrew[i] == r
+    assert resets > 0, "random actions topple a Go1 within 60 steps"
+
+
+
+def test_copies_step_on_bit_identically():
+    env = gym.make(FLAT)
+    env.reset(seed=3)
+    for _ in range(10):
+        env.step(np.full(12, 0.3))
+    twin = pickle.loads(pickle.dumps(env))
+    for _ in range(10):
+        a = np.full(12, -0.2)
+        o1, r1, *_ = env.step(a)
+        o2, r2, *_ = twin.step(a)
+        np.testing.assert_array_equal(o1, o2)
+        assert r1 == r2
+
+
+def test_bad_actions_and_keywords_raise():
+    env = gym.make(FLAT)
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match="not finite"):
+        env.step(np.full(12, np.nan))
+    with pytest.raises(ValueError, match="shape"):
+        env.step(np.zeros(11))
+    with pytest.raises(TypeError, match="domain_randomisation"):
+        gym.make(FLAT, domain_randomisation=False)
+
+
+def test_sb3_vec_env_runs_a_playground_task():
+    import sinew.sb3
+    venv = sinew.sb3.make_vec_env(FLAT, n_envs=4, seed=0)
+    obs = venv.reset()
+    assert obs.shape == (4, 48)
+    obs, reward, done, infos = venv.step(np.zeros((4, 12)))
+    assert reward.shape == (4,) and "command" in infos[0]
