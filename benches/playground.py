@@ -4,6 +4,7 @@ the same initial-state and command distributions, rewards and episode ends under
 env-steps/s on the same machine and threads.
 
     python benches/playground.py --out results/playground.md
+    python benches/playground.py --stills results/stills      # one still per robot, sinew's renderer
 
 Needs ``pip install envpool`` (its Playground port and model files).
 """
@@ -79,11 +80,26 @@ def throughput(sim, task, n, threads, steps=200):
     return n * steps / (time.perf_counter() - t0)
 
 
+def stills(directory: str) -> None:
+    """Each robot after ``reset(seed=0)`` and 20 steps holding its default pose, 480 × 480."""
+    import imageio
+    for robot, task in (("Go1", "Go1JoystickFlatTerrain"),):
+        env = gym.make(f"sinew/playground-{task}-v0", render_mode="rgb_array", domain_randomization=False)
+        env.reset(seed=0)
+        for _ in range(20):
+            env.step(np.zeros(12))
+        imageio.imwrite(f"{directory}/playground-{robot}.png", env.render())
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", default=None)
     ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--stills", metavar="DIR", help="write a still of each robot there instead")
     args = ap.parse_args()
+    if args.stills:
+        stills(args.stills)
+        return
     lines = ["# Playground tasks: sinew beside EnvPool's port", "",
              "`python benches/playground.py --out results/playground.md` (EnvPool "
              f"{__import__('envpool').__version__}, 2-core machine). Checked in distribution: the two simulators' "

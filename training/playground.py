@@ -6,6 +6,7 @@ sinew's native vector env or, for comparison, EnvPool's port of the same task.
     python training/playground.py Go1JoystickFlatTerrain --minutes 15
     python training/playground.py --evaluate runs/playground/Go1JoystickFlatTerrain/sinew_0
     python training/playground.py Go1JoystickFlatTerrain --minutes 15 --sim envpool   # EnvPool's port
+    python training/playground.py --report results/playground_training.md RUN_DIR...  # curves, table
 
 Writes RUN_DIR (runs/playground/<task>/<sim>_<seed>): policy.pt, curve.csv (wall seconds, env
 steps, the last rollout's tracking error and mean reward per step) and config.json. ``--evaluate``
@@ -231,15 +232,51 @@ def evaluate(run: str, episodes: int = 16, threads: int = 2) -> tuple[float, flo
     return tracking, fall_rate
 
 
+def report(out: str, runs: list[str]) -> None:
+    """The runs' learning curves (tracking error against wall time) as a plot beside `out`, and a
+    table of each run's budget, steps and evaluation (``--evaluate``'s numbers, recomputed)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(7, 4))
+    rows = []
+    for run in runs:
+        cfg = json.load(open(os.path.join(run, "config.json")))
+        with open(os.path.join(run, "curve.csv")) as f:
+            curve = [tuple(map(float, r)) for r in list(csv.reader(f))[1:]]
+        t, err = [c[0] / 60 for c in curve], [c[2] for c in curve]
+        ax.plot(t, err, label=f"{cfg['sim']} (seed {cfg['seed']})")
+        tracking, falls = evaluate(run)
+        rows.append(f"| {cfg['task']} | {cfg['sim']} | {cfg['seed']} | {cfg['minutes']:g} | {cfg['env_steps']:,} | "
+                    f"{err[-1]:.3f} | {tracking:.3f} | {falls:.2f} |")
+    ax.set_xlabel("wall time (min), training included")
+    ax.set_ylabel("tracking error (m/s), training rollouts")
+    ax.axhline(0.25, color="gray", linestyle=":", label="target 0.25 m/s")
+    ax.legend()
+    png = os.path.splitext(out)[0] + ".png"
+    fig.savefig(png, dpi=100, bbox_inches="tight")
+    text = "\n".join([
+        "# Time to a walking policy on this 2-core machine", "",
+        f"`python training/playground.py --report {out} {' '.join(runs)}` after each run's "
+        "`python training/playground.py TASK --minutes M [--sim envpool]` (the same learner, 512 worlds, "
+        "2 threads shared by the simulator and torch). Evaluation: 16 episodes of 20 s, the policy's mean action.", "",
+        "| task | sim | seed | minutes | env steps | last rollouts' tracking error (m/s) | evaluated tracking_error_m_s | fall_rate |",
+        "|---|---|---:|---:|---:|---:|---:|---:|", *rows, "", f"![]({os.path.basename(png)})", ""])
+    with open(out, "w") as f:
+        f.write(text)
+    print(text)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("task", nargs="?", default="Go1JoystickFlatTerrain")
     ap.add_argument("--evaluate", metavar="RUN_DIR")
+    ap.add_argument("--report", nargs="+", metavar=("OUT", "RUN_DIR"), help="write curves and a table of runs to OUT")
     ap.add_argument("--minutes", type=float, default=15.0)
     ap.add_argument("--sim", choices=["sinew", "envpool"], default="sinew")
-    ap.add_argument("--num-envs", type=int, default=256)
+    ap.add_argument("--num-envs", type=int, default=512)
     ap.add_argument("--unroll", type=int, default=24)
-    ap.add_argument("--epochs", type=int, default=5)
+    ap.add_argument("--epochs", type=int, default=4)
     ap.add_argument("--minibatches", type=int, default=4)
     ap.add_argument("--gamma", type=float, default=0.97)
     ap.add_argument("--lam", type=float, default=0.95)
@@ -254,6 +291,9 @@ def main():
     args = ap.parse_args()
     if args.evaluate:
         evaluate(args.evaluate, threads=args.threads)
+        return
+    if args.report:
+        report(args.report[0], args.report[1:])
         return
     if args.minutes <= 0 or args.num_envs < args.minibatches:
         ap.error("--minutes must be positive and --num-envs at least --minibatches")

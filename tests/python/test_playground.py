@@ -12,22 +12,28 @@ import pytest
 
 import sinew  # noqa: F401  (registers the envs)
 from sinew.playground import TASKS, assets_dir
-from sinew.playground.go1 import JOYSTICK_SCALES
 
 FLAT = "sinew/playground-Go1JoystickFlatTerrain-v0"
 XML = "mujoco_playground/_src/locomotion/go1/xmls/scene_mjx_feetonly_flat_terrain.xml"
 
 
+#: Each task's state and privileged state sizes and episode length, as Playground's.
+SIZES = {"Go1JoystickFlatTerrain": (48, 123, 1000), "Go1JoystickRoughTerrain": (48, 123, 1000), "Go1Getup": (42, 91, 300),
+         "Go1Handstand": (45, 94, 500), "Go1Footstand": (45, 94, 500)}
+
+
 def test_every_task_is_registered_with_playgrounds_spaces_and_info():
-    for name in TASKS:
-        env = gym.make(f"sinew/{name}-v0")
+    assert sorted(TASKS) == sorted(f"playground-{t}" for t in SIZES)
+    for name, (n_state, n_priv, length) in SIZES.items():
+        env = gym.make(f"sinew/playground-{name}-v0")
         obs, info = env.reset(seed=0)
-        assert obs.shape == (48,) and obs.dtype == np.float32 and env.observation_space.contains(obs)
+        assert obs.shape == (n_state,) and obs.dtype == np.float32 and env.observation_space.contains(obs)
         assert env.action_space == gym.spaces.Box(-1, 1, (12,), np.float32)
-        assert info["privileged_state"].shape == (123,) and info["command"].shape == (3,)
-        assert env.spec.max_episode_steps == 1000 and env.unwrapped.dt == 0.02
+        assert info["privileged_state"].shape == (n_priv,)
+        assert env.spec.max_episode_steps == length and env.unwrapped.dt == 0.02
         _, _, _, _, info = env.step(env.action_space.sample())
-        assert set(JOYSTICK_SCALES) <= set(info)
+        assert set(TASKS[f"playground-{name}"].reward_scales) <= set(info)
+        assert ("command" in info) == name.startswith("Go1Joystick")
 
 
 def test_gymnasium_env_checker_passes():
@@ -94,6 +100,37 @@ def test_actions_are_servo_targets_about_the_default_pose():
     u = env.unwrapped
     default = u.model.keyframe("home")["qpos"][7:]
     np.testing.assert_array_equal(u._core.batch.ctrl[0], default + 0.5 * a)
+
+
+def test_handstand_steps_the_targets_from_the_last_and_getup_from_the_joint_angles():
+    env = gym.make("sinew/playground-Go1Handstand-v0")
+    env.reset(seed=0)
+    b = env.unwrapped._core.batch
+    before = b.ctrl[0].copy()
+    a = np.linspace(-1, 1, 12)
+    env.step(a)
+    np.testing.assert_allclose(b.ctrl[0], before + 0.3 * a, rtol=0, atol=1e-15)
+    env = gym.make("sinew/playground-Go1Getup-v0")
+    env.reset(seed=0)
+    b = env.unwrapped._core.batch
+    q = b.qpos[0, 7:].copy()
+    env.step(a)
+    np.testing.assert_allclose(b.ctrl[0], q + 0.5 * a, rtol=0, atol=1e-15)
+
+
+def test_getup_drops_six_in_ten_worlds_and_lets_them_settle():
+    """A dropped world starts from 0.5 m at a random orientation and joint pose and falls for
+    0.5 s before its first observation; the others stand at home (torso 0.27 m up)."""
+    env = gym.make_vec("sinew/playground-Go1Getup-v0", num_envs=200, vectorization_mode="vector_entry_point")
+    _, info = env.reset(seed=0)
+    core = env.unwrapped._core
+    home = core.model.keyframe("home")["qpos"][7:]
+    # a standing world's joints sag and sway by tenths of a radian; a dropped one's by radians
+    standing = np.all(np.abs(core.batch.qpos[:, 7:] - home) < 0.6, axis=1)
+    assert 0.45 < 1 - standing.mean() < 0.75
+    height = info["privileged_state"][:, -1]
+    assert (height < 0.45).all(), "the dropped ones fell during the settling"
+    assert (np.abs(core.batch.qvel[~standing]) < 50).all()
 
 
 def test_standing_still_keeps_four_feet_down_and_earns_the_pose_reward():

@@ -103,6 +103,10 @@ class PlaygroundCore(Worlds):
             qpos, qvel = np.tile(key["qpos"], (len(idx), 1)), np.tile(key["qvel"], (len(idx), 1))
         self.reset_batch(idx, rngs, qpos, qvel)
         self.batch.ctrl[idx] = qpos[:, 7:7 + self.model.nu]
+        if self.task.settle_steps and keyframe is None:
+            mask = np.zeros(self.num_envs, dtype=bool)
+            mask[idx] = True
+            self.batch.step(self.task.settle_steps, mask)
         self.batch.forward_kinematics()
         readings = self.batch.read_sensors(self._sensor_ids, idx.tolist())
         self._state[idx], self._priv[idx] = self.task.observe(Readings(self.batch, self.sensors, idx, readings), idx, rngs)
@@ -122,8 +126,10 @@ class PlaygroundCore(Worlds):
 
     def reset_info(self) -> dict:
         n = self.num_envs
-        return {"command": self.task.command.copy(), "privileged_state": self._priv.copy(),
-                **{k: np.zeros(n) for k in self.info_names}}
+        info = {"privileged_state": self._priv.copy(), **{k: np.zeros(n) for k in self.info_names}}
+        if hasattr(self.task, "command"):
+            info["command"] = self.task.command.copy()
+        return info
 
     def step(self, actions: np.ndarray, active: np.ndarray | None = None, blank: np.ndarray | None = None):
         """One control step (``ctrl_dt``) of the worlds `active` (all when None); the others'
@@ -131,10 +137,20 @@ class PlaygroundCore(Worlds):
         terminates."""
         b = self.batch
         rows = np.arange(self.num_envs) if active is None else np.flatnonzero(active)
-        b.ctrl[rows] = self.task.motor_targets(actions[rows])
-        b.step(self.n_sub_steps, active)
+        b.ctrl[rows] = self.task.motor_targets(actions[rows], b.qpos[rows], b.ctrl[rows])
+        if self.task.needs_qacc:
+            # the last physics step's accelerations: its change of velocity over the step (Euler)
+            b.step(self.n_sub_steps - 1, active)
+            before = b.qvel[rows]
+            b.step(1, active)
+            qacc = (b.qvel[rows] - before) / self.task.sim_dt
+        else:
+            b.step(self.n_sub_steps, active)
+        r = Readings(b, self.sensors, rows, b.watched_readings[rows])
+        if self.task.needs_qacc:
+            r.qacc = qacc
         rngs = [self._seeded_by[i] for i in rows]
-        state, priv, reward, terminated, terms = self.task.after_step(Readings(b, self.sensors, rows, b.watched_readings[rows]), actions[rows], rows, rngs)
+        state, priv, reward, terminated, terms = self.task.after_step(r, actions[rows], rows, rngs)
         n = self.num_envs
         self._state[rows], self._priv[rows] = state, priv
         out_reward, out_term = np.zeros(n), np.zeros(n, dtype=bool)
@@ -145,7 +161,8 @@ class PlaygroundCore(Worlds):
         info = {k: np.zeros(n) for k in terms}
         for k, v in terms.items():
             info[k][rows] = v
-        info["command"] = self.task.command.copy()
+        if hasattr(self.task, "command"):
+            info["command"] = self.task.command.copy()
         info["privileged_state"] = self._priv.copy()
         info["sim_diverged"] = diverged
         return self.observe(), out_reward, out_term, info

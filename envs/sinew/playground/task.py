@@ -46,8 +46,14 @@ class Task:
         """The initial (qpos, qvel) of the worlds ``idx``; resets their task state."""
         raise NotImplementedError
 
-    def motor_targets(self, actions: np.ndarray) -> np.ndarray:
-        """The position servos' targets of actions in [-1, 1]: default pose + scale · action."""
+    #: Physics steps a reset lets the worlds settle for, holding the servos at the drawn pose.
+    settle_steps: int = 0
+    #: Whether ``after_step`` reads joint accelerations (``sim.qacc``).
+    needs_qacc: bool = False
+
+    def motor_targets(self, actions: np.ndarray, qpos: np.ndarray, ctrl: np.ndarray) -> np.ndarray:
+        """The position servos' targets of actions in [-1, 1] at the worlds' state (qpos) and
+        last targets (ctrl): here default pose + scale · action."""
         return self.default_pose + actions * self.action_scale
 
     def observe(self, sim, idx: np.ndarray, rngs: list) -> tuple[np.ndarray, np.ndarray]:
