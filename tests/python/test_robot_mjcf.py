@@ -275,3 +275,11 @@ def test_a_link_meshed_into_its_base_around_its_hinge_is_left_unpushed():
     sim.step(300)
     assert len(sim.contacts) > 0 and np.abs(sim.qvel).max() < 1e-3
     assert np.all(sim.qpos >= -1e-4) and np.all(sim.qpos <= 3)
+
+
+def test_actuator_force_ranges_are_mujocos():
+    xml = ARM.format(compiler="", joint="", position='forcerange="-3 4"').replace(
+        '<position name="a_elbow" joint="elbow" class="servo"/>', '<position name="a_elbow" joint="elbow" forcelimited="false"/>')
+    mj, sm = both(xml)
+    np.testing.assert_array_equal(sm.actuator_forcerange[0], mj.actuator_forcerange[0])
+    assert not mj.actuator_forcelimited[1] and (sm.actuator_forcerange[1] == [-np.inf, np.inf]).all()

@@ -227,6 +227,10 @@ def test_watched_sensors_are_read_by_the_step_as_read_sensors_reads_them():
     assert b.watched_readings.shape == (6, 0)
     with pytest.raises(ValueError, match="sensor 99 out of range"):
         b.watch_sensors([99])
+    # some worlds only: their rows of the whole batch's readings, in ascending order
+    np.testing.assert_array_equal(b.read_sensors(chosen, worlds=[4, 1]), b.read_sensors(chosen)[[1, 4]])
+    with pytest.raises(ValueError, match="world 6 out of range"):
+        b.read_sensors(chosen, worlds=[6])
 
 
 CONTACTS = """<mujoco><option timestep="0.002"/>
