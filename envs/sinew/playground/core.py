@@ -61,8 +61,9 @@ class PlaygroundCore(Worlds):
                             f"keywords: domain_randomization, num_threads{''.join(', ' + k for k in own)})")
         self.task = cls(**task_kwargs)
         with warnings.catch_warnings():
-            # Playground's files declare sensors no task reads
+            # Playground's files declare sensors no task reads, and texture their floors
             warnings.filterwarnings("ignore", message=".*not computed by sinew.*", category=ModelWarning)
+            warnings.filterwarnings("ignore", message=".*image files are not drawn.*", category=ModelWarning)
             model = Model.from_mjcf(os.path.join(assets_dir(), self.task.xml))
         super().__init__(model.with_options(timestep=self.task.sim_dt), num_envs, num_threads)
         n_sub = self.task.ctrl_dt / self.task.sim_dt
