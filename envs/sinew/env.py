@@ -176,6 +176,10 @@ def make_core(task: str, num_envs: int, num_threads: int | None = None, width: i
     (whose pixel observations take the render size and camera) or a Playground task's
     ``PlaygroundCore``; the render size it implies."""
     if task in PLAYGROUND_TASKS:
+        if kwargs.get("from_pixels"):
+            size = (84 if width is None else width, 84 if height is None else height)
+            camera = camera_name if camera_id is None else camera_id
+            return PlaygroundCore(task, num_envs, num_threads, width=size[0], height=size[1], camera_id=camera, **kwargs), size
         return PlaygroundCore(task, num_envs, num_threads, **kwargs), (480 if width is None else width, 480 if height is None else height)
     if task in DMC_TASKS:
         size = (84 if width is None else width, 84 if height is None else height)

@@ -229,3 +229,19 @@ def test_sb3_vec_env_runs_a_playground_task():
     assert obs.shape == (4, 48)
     obs, reward, done, infos = venv.step(np.zeros((4, 12)))
     assert reward.shape == (4,) and "command" in infos[0]
+
+
+def test_pixels_are_frames_of_the_tracking_camera_with_the_state_in_info():
+    env = gym.make(FLAT, from_pixels=True, width=64, height=48, render_mode="rgb_array")
+    obs, info = env.reset(seed=0)
+    assert obs.shape == (48, 64, 3) and obs.dtype == np.uint8 and env.observation_space.contains(obs)
+    assert info["state"].shape == (48,)
+    np.testing.assert_array_equal(obs, env.render())    # render() draws the same camera
+    frames = [obs]
+    for _ in range(20):
+        obs, _, _, _, info = env.step(np.full(12, 0.5))
+        frames.append(obs)
+    assert not np.array_equal(frames[0], frames[-1]), "the robot moved: the frames differ"
+    venv = gym.make_vec(FLAT, num_envs=2, vectorization_mode="vector_entry_point", from_pixels=True, width=32, height=32)
+    vobs, _ = venv.reset(seed=0)
+    assert vobs.shape == (2, 32, 32, 3)

@@ -49,7 +49,8 @@ class PlaygroundCore(Worlds):
     camera_id = None
 
     def __init__(self, task: str, num_envs: int, num_threads: int | None = None, *,
-                 domain_randomization: bool = True, **task_kwargs):
+                 domain_randomization: bool = True, from_pixels: bool = False, width: int = 84, height: int = 84,
+                 camera_id: int | str | None = None, **task_kwargs):
         from sinew.playground import TASKS, assets_dir
         if task not in TASKS:
             raise ValueError(f"unknown task {task!r}; known: {sorted(TASKS)}")
@@ -58,7 +59,7 @@ class PlaygroundCore(Worlds):
         unknown = sorted(set(task_kwargs) - set(own))
         if unknown:
             raise TypeError(f"sinew/{task}-v0: __init__() got an unexpected keyword argument '{unknown[0]}' (its "
-                            f"keywords: domain_randomization, num_threads{''.join(', ' + k for k in own)})")
+                            f"keywords: domain_randomization, from_pixels, num_threads{''.join(', ' + k for k in own)})")
         self.task = cls(**task_kwargs)
         with warnings.catch_warnings():
             # Playground's files declare sensors no task reads, and texture their floors
@@ -87,6 +88,19 @@ class PlaygroundCore(Worlds):
         n_state, n_priv = self.task.obs_sizes
         self.observation_space = spaces.Box(-np.inf, np.inf, shape=(n_state,), dtype=np.float32)
         self._state = np.zeros((num_envs, n_state), dtype=np.float32)
+        self.from_pixels, self.camera_id, self._frames = bool(from_pixels), None, None
+        if self.from_pixels:
+            cams = self.model.camera_names
+            camera = self.task.pixels_camera if camera_id is None else camera_id
+            if isinstance(camera, str):
+                if camera not in cams:
+                    raise ValueError(f"no camera named {camera!r}; the model's cameras: {[c for c in cams if c]}")
+                camera = cams.index(camera)
+            if not isinstance(camera, (int, np.integer)) or not -1 <= camera < len(cams):
+                raise ValueError(f"camera_id must be -1 (free camera) or one of 0..{len(cams) - 1}, got {camera!r}")
+            self.camera_id, self.size = int(camera), (int(height), int(width))
+            self._frames = np.zeros((num_envs, *self.size, 3), dtype=np.uint8)
+            self.observation_space = spaces.Box(0, 255, shape=(*self.size, 3), dtype=np.uint8)
         self._priv = np.zeros((num_envs, n_priv), dtype=np.float32)
         self.info_names = list(self.task.reward_scales)
 
@@ -111,23 +125,36 @@ class PlaygroundCore(Worlds):
         self.batch.forward_kinematics()
         readings = self.batch.read_sensors(self._sensor_ids, idx.tolist())
         self._state[idx], self._priv[idx] = self.task.observe(Readings(self.batch, self.sensors, idx, readings), idx, rngs)
+        self._draw(idx)
+
+    def _draw(self, rows: np.ndarray) -> None:
+        """The pixel observations of the worlds `rows` (from the task's camera)."""
+        if self.from_pixels:
+            self._frames[rows] = self.batch.render(self.size[1], self.size[0], self.camera_id, rows.tolist())
 
     def observe(self) -> np.ndarray:
-        return self._state.copy()
+        """The noisy state of each world, or its frame with ``from_pixels`` (the state then in
+        ``info["state"]``)."""
+        return self._frames.copy() if self.from_pixels else self._state.copy()
 
     def obs_cache(self):
         """The observations and the task's per-world state (commands, timers, last actions)."""
-        return self._state.copy(), self._priv.copy(), {k: getattr(self.task, k).copy() for k in self.task.state}
+        frames = None if self._frames is None else self._frames.copy()
+        return self._state.copy(), self._priv.copy(), frames, {k: getattr(self.task, k).copy() for k in self.task.state}
 
     def restore_obs(self, cache) -> None:
-        state, priv, task = cache
+        state, priv, frames, task = cache
         self._state[:], self._priv[:] = state, priv
+        if frames is not None:
+            self._frames[:] = frames
         for k, v in task.items():
             getattr(self.task, k)[:] = v
 
     def reset_info(self) -> dict:
         n = self.num_envs
         info = {"privileged_state": self._priv.copy(), **{k: np.zeros(n) for k in self.info_names}}
+        if self.from_pixels:
+            info["state"] = self._state.copy()
         if hasattr(self.task, "command"):
             info["command"] = self.task.command.copy()
         return info
@@ -154,6 +181,7 @@ class PlaygroundCore(Worlds):
         state, priv, reward, terminated, terms = self.task.after_step(r, actions[rows], rows, rngs)
         n = self.num_envs
         self._state[rows], self._priv[rows] = state, priv
+        self._draw(rows)
         out_reward, out_term = np.zeros(n), np.zeros(n, dtype=bool)
         out_reward[rows], out_term[rows] = reward, terminated
         diverged = b.diverged.copy()
@@ -165,5 +193,7 @@ class PlaygroundCore(Worlds):
         if hasattr(self.task, "command"):
             info["command"] = self.task.command.copy()
         info["privileged_state"] = self._priv.copy()
+        if self.from_pixels:
+            info["state"] = self._state.copy()
         info["sim_diverged"] = diverged
         return self.observe(), out_reward, out_term, info

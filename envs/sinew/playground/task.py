@@ -21,6 +21,8 @@ class Task:
     action_scale: float = 0.5
     #: The free camera's settings for ``render()`` without a camera.
     camera: dict = {}
+    #: The model camera pixel observations use by default.
+    pixels_camera: str = "track"
     #: Keyword arguments the task takes (its config's knobs).
     kwargs: dict = {}
     #: The sensors the task reads, by name (every step reads them in its parallel pass).
