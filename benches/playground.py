@@ -19,9 +19,17 @@ import numpy as np
 
 import sinew  # noqa: F401
 
-TASKS = ["Go1JoystickFlatTerrain", "Go1JoystickRoughTerrain"]
-TERMS = ["tracking_lin_vel", "tracking_ang_vel", "orientation", "pose", "torques", "action_rate", "energy", "feet_clearance",
-         "feet_slip", "feet_air_time", "termination"]
+#: Each task and the reward terms its table shows.
+TASKS = {
+    "Go1JoystickFlatTerrain": ["tracking_lin_vel", "tracking_ang_vel", "orientation", "pose", "torques", "action_rate", "energy",
+                               "feet_clearance", "feet_slip", "feet_air_time", "termination"],
+    "Go1JoystickRoughTerrain": ["tracking_lin_vel", "tracking_ang_vel", "orientation", "pose", "torques", "action_rate", "energy",
+                                "feet_clearance", "feet_slip", "feet_air_time", "termination"],
+    "Go1Getup": ["orientation", "torso_height", "posture", "stand_still", "action_rate", "torques", "dof_pos_limits", "dof_acc",
+                 "dof_vel"],
+    "Go1Handstand": ["height", "orientation", "contact", "dof_pos_limits", "pose"],
+    "Go1Footstand": ["height", "orientation", "contact", "dof_pos_limits", "pose"],
+}
 #: Privileged-state entries compared at reset: (name, columns).
 RESET = [("body linear velocity", slice(57, 60)), ("gravity in IMU frame", slice(54, 57)), ("gyro", slice(48, 51)),
          ("joint angles − default", slice(63, 75))]
@@ -32,11 +40,11 @@ class Sinew:
         self.env = gym.make_vec(f"sinew/playground-{task}-v0", num_envs=n, vectorization_mode="vector_entry_point",
                                 num_threads=threads)
         obs, info = self.env.reset(seed=seed)
-        self.priv, self.command = info["privileged_state"], info["command"]
+        self.priv, self.command, self.terms = info["privileged_state"], info.get("command"), TASKS[task]
 
     def step(self, a):
         obs, r, term, trunc, info = self.env.step(a)
-        return r, term, trunc, {k: info[k] for k in TERMS}
+        return r, term, trunc, {k: info[k] for k in self.terms}
 
 
 class EnvPool:
@@ -44,28 +52,28 @@ class EnvPool:
         import envpool
         self.env = envpool.make_gymnasium(f"MuJoCoPlayground/{task}-v1", num_envs=n, num_threads=threads, seed=seed)
         obs, info = self.env.reset()
-        self.priv, self.command = obs["privileged_state"], info["command"]
+        self.priv, self.command, self.terms = obs["privileged_state"], info.get("command"), TASKS[task]
 
     def step(self, a):
         obs, r, term, trunc, info = self.env.step(a)
-        return r, term, trunc, {k: info["reward_" + k] for k in TERMS}
+        return r, term, trunc, {k: info["reward_" + k] for k in self.terms}
 
 
 def rollout(sim, task, policy, n=256, steps=250, seed=0):
-    """Mean reward per step, each term's mean (scaled, per second) over the worlds that have not
-    fallen yet, and the share of episodes ended by a fall within `steps`, under `policy` ("zero": the default pose held; "random":
+    """Mean reward per step, each term's mean (scaled, per second) over the worlds whose episode
+    has not terminated yet, and the share that terminated within `steps`, under `policy` ("zero": the default pose held; "random":
     uniform actions in [-1, 1] redrawn each step)."""
     env = sim(task, n, 2, seed)
     rng = np.random.default_rng(seed)
     fell = np.zeros(n, dtype=bool)
-    rewards, terms = [], {k: [] for k in TERMS}
+    rewards, terms = [], {k: [] for k in TASKS[task]}
     for _ in range(steps):
         a = np.zeros((n, 12)) if policy == "zero" else rng.uniform(-1, 1, (n, 12))
         r, term, trunc, t = env.step(a)
         live = ~fell
         if live.any():
             rewards.append(r[live].mean())
-            for k in TERMS:
+            for k in t:
                 terms[k].append(t[k][live].mean())
         fell |= term
     return float(np.mean(rewards)), {k: float(np.mean(v)) for k, v in terms.items()}, float(fell.mean())
@@ -105,24 +113,27 @@ def main():
              "`python benches/playground.py --out results/playground.md` (EnvPool "
              f"{__import__('envpool').__version__}, 2-core machine). Checked in distribution: the two simulators' "
              "physics differ (exact contact against MuJoCo's soft contact), so the same actions do not reach the same states.", ""]
-    for task in TASKS:
-        lines += [f"## {task}", "", "Reset distribution (privileged state, clean readings; 256 worlds): mean ± std per group.", "",
-                  "| quantity | sinew | EnvPool |", "|---|---|---|"]
-        # EnvPool's port holds about 50 MB per world (its contact buffers): 256 at a time
-        s, e = Sinew(task, 256, 2, 0), EnvPool(task, 256, 2, 0)
-        for name, cols in RESET:
-            lines.append(f"| {name} | {s.priv[:, cols].mean():+.3f} ± {s.priv[:, cols].std():.3f} | "
-                         f"{e.priv[:, cols].mean():+.3f} ± {e.priv[:, cols].std():.3f} |")
-        lines.append(f"| command (vx, vy, ωz) std | {np.array2string(s.command.std(0), precision=2)} | "
-                     f"{np.array2string(e.command.std(0), precision=2)} |")
-        del s, e
-        lines += ["", "Fixed policies, 256 worlds × 250 steps (5 s): mean reward per step, the share of worlds that fell, "
-                  "and each reward term's mean (scaled, per second).", "",
-                  "| policy | sim | reward/step | fell | " + " | ".join(TERMS) + " |", "|---|---|---:|---:|" + "---:|" * len(TERMS)]
+    for task, names in TASKS.items():
+        lines += [f"## {task}", ""]
+        if task.startswith("Go1Joystick"):
+            lines += ["Reset distribution (privileged state, clean readings; 256 worlds): mean ± std per group.", "",
+                      "| quantity | sinew | EnvPool |", "|---|---|---|"]
+            # EnvPool's port holds about 50 MB per world (its contact buffers): 256 at a time
+            s, e = Sinew(task, 256, 2, 0), EnvPool(task, 256, 2, 0)
+            for name, cols in RESET:
+                lines.append(f"| {name} | {s.priv[:, cols].mean():+.3f} ± {s.priv[:, cols].std():.3f} | "
+                             f"{e.priv[:, cols].mean():+.3f} ± {e.priv[:, cols].std():.3f} |")
+            lines.append(f"| command (vx, vy, ωz) std | {np.array2string(s.command.std(0), precision=2)} | "
+                         f"{np.array2string(e.command.std(0), precision=2)} |")
+            del s, e
+            lines.append("")
+        lines += ["Fixed policies, 256 worlds × 250 steps (5 s): mean reward per step, the share of worlds whose episode "
+                  "terminated (a fall, or a handstand's leg touching down), and each reward term's mean (scaled, per second).", "",
+                  "| policy | sim | reward/step | ended | " + " | ".join(names) + " |", "|---|---|---:|---:|" + "---:|" * len(names)]
         for policy in ("zero", "random"):
             for name, sim in (("sinew", Sinew), ("EnvPool", EnvPool)):
                 r, t, fell = rollout(sim, task, policy)
-                lines.append(f"| {policy} | {name} | {r:.4f} | {fell:.2f} | " + " | ".join(f"{t[k]:+.3f}" for k in TERMS) + " |")
+                lines.append(f"| {policy} | {name} | {r:.4f} | {fell:.2f} | " + " | ".join(f"{t[k]:+.3f}" for k in names) + " |")
         lines += ["", "Env-steps/s, random actions, median of alternating rounds:", "",
                   "| worlds | threads | sinew | EnvPool | × |", "|---:|---:|---:|---:|---:|"]
         for n, threads in ((256, 1), (256, 2)):
