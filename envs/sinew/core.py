@@ -11,6 +11,19 @@ from sinew._core import MAX_STATE, Batch
 MAX_ACTION = MAX_STATE
 
 
+def camera_index(model, camera) -> int:
+    """A model camera's index from its name or index (-1: the free camera); ``ValueError`` for
+    one the model does not have."""
+    cams = model.camera_names
+    if isinstance(camera, str):
+        if camera not in cams:
+            raise ValueError(f"no camera named {camera!r}; the model's cameras: {[c for c in cams if c]}")
+        camera = cams.index(camera)
+    if isinstance(camera, bool) or not isinstance(camera, (int, np.integer)) or not -1 <= camera < len(cams):
+        raise ValueError(f"camera_id must be -1 (free camera) or one of 0..{len(cams) - 1}, got {camera!r}")
+    return int(camera)
+
+
 class Worlds:
     """N worlds of one model: the batch, and the generator that last seeded each world."""
 

@@ -14,7 +14,7 @@ import numpy as np
 from gymnasium import spaces
 
 from sinew._core import Model, ModelWarning
-from sinew.core import Worlds
+from sinew.core import Worlds, camera_index
 from sinew.dmc.physics import Names, Physics
 
 
@@ -88,15 +88,7 @@ class DmcCore(Worlds):
         self.task.dt = self.model.timestep * self.task.frame_skip
         self.info_names = []
         self.from_pixels, self.pixels_only, self.flat = bool(from_pixels), bool(pixels_only), bool(flat_observation)
-        cams = self.model.camera_names
-        camera = self.task.pixels_camera if camera_id is None else camera_id
-        if isinstance(camera, str):
-            if camera not in cams:
-                raise ValueError(f"no camera named {camera!r}; the model's cameras: {[c for c in cams if c]}")
-            camera = cams.index(camera)
-        if not isinstance(camera, (int, np.integer)) or not -1 <= camera < len(cams):
-            raise ValueError(f"camera_id must be -1 (free camera) or one of 0..{len(cams) - 1}, got {camera!r}")
-        self.camera_id = int(camera)
+        self.camera_id = camera_index(self.model, self.task.pixels_camera if camera_id is None else camera_id)
         self.size, self.frame_stack = (int(height), int(width)), int(frame_stack)
         lo, hi = self.model.actuator_ctrlrange.T
         limited = np.asarray(self.model.actuator_ctrllimited)

@@ -13,7 +13,7 @@ import numpy as np
 from gymnasium import spaces
 
 from sinew._core import Model, ModelWarning
-from sinew.core import Worlds
+from sinew.core import Worlds, camera_index
 
 
 class Readings:
@@ -90,15 +90,8 @@ class PlaygroundCore(Worlds):
         self._state = np.zeros((num_envs, n_state), dtype=np.float32)
         self.from_pixels, self.camera_id, self._frames = bool(from_pixels), None, None
         if self.from_pixels:
-            cams = self.model.camera_names
-            camera = self.task.pixels_camera if camera_id is None else camera_id
-            if isinstance(camera, str):
-                if camera not in cams:
-                    raise ValueError(f"no camera named {camera!r}; the model's cameras: {[c for c in cams if c]}")
-                camera = cams.index(camera)
-            if not isinstance(camera, (int, np.integer)) or not -1 <= camera < len(cams):
-                raise ValueError(f"camera_id must be -1 (free camera) or one of 0..{len(cams) - 1}, got {camera!r}")
-            self.camera_id, self.size = int(camera), (int(height), int(width))
+            self.camera_id = camera_index(self.model, self.task.pixels_camera if camera_id is None else camera_id)
+            self.size = (int(height), int(width))
             self._frames = np.zeros((num_envs, *self.size, 3), dtype=np.uint8)
             self.observation_space = spaces.Box(0, 255, shape=(*self.size, 3), dtype=np.uint8)
         self._priv = np.zeros((num_envs, n_priv), dtype=np.float32)
