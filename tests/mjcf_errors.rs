@@ -106,3 +106,13 @@ fn orientations_agree_with_each_other() {
         assert!(q.abs_diff_eq(quats[0], 1e-12), "{q:?} vs {:?}", quats[0]);
     }
 }
+
+#[test]
+fn a_free_joint_is_never_limited_whatever_its_class_says() {
+    // MuJoCo's mjCJoint::Compile sets limited false on a free joint: MuJoCo's own flattened
+    // 22_humanoids.xml gives its free joints a class with limited="true" and no range
+    let xml = "<mujoco><default><joint limited='true'/></default><worldbody><body><joint type='free'/>\
+        <geom size='0.1'/><body><joint axis='0 1 0' range='-1 1'/><geom size='0.1' pos='0 0 -0.3'/></body></body></worldbody></mujoco>";
+    let m = Model::from_mjcf(xml).unwrap();
+    assert_eq!(m.jnt_limited, vec![false, true]);
+}

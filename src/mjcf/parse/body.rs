@@ -191,15 +191,14 @@ impl Parser<'_> {
         let angular = matches!(kind, JointType::Hinge | JointType::Ball);
         let conv = |x: f64| if angular { self.angle(x) } else { x };
         let range = e.arr::<2>("range")?.unwrap_or([0.0, 0.0]);
+        // a free joint is never limited, whatever its class says (MuJoCo's mjCJoint::Compile)
         let limited = match e.tristate("limited")? {
+            _ if kind == JointType::Free => false,
             Some(l) => l,
             None => self.autolimits && e.has("range"),
         };
         if limited && range[0] >= range[1] && kind != JointType::Ball {
             return Err(e.err("range", format!("limited joint needs range[0] < range[1], got {range:?}")));
-        }
-        if kind == JointType::Free && limited {
-            return Err(e.err("limited", "free joints cannot be limited"));
         }
         // (time constant, damping ratio); zeros (MuJoCo's default) leave stiffness and damping be
         let springdamper = match e.arr::<2>("springdamper")? {
