@@ -69,3 +69,68 @@ fn friction_rows_k_equals_j_minv_jt() {
     assert!(sys.kind.iter().all(|k| *k == sinew::constraint::RowKind::DryFriction));
     common::assert_k_is_j_minv_jt(&sys, m.nv);
 }
+
+/// The trajectory of a step that takes the friction of each dof sliding on as a known force
+/// (`constraint::dry_friction`), beside one that poses every friction row each step (the
+/// history's sliding dofs forgotten before each), over `steps`: the largest difference of qpos
+/// and qvel, the steps that took a known force, and the velocity reversals on the way.
+fn known_beside_rows(m: &Model, s0: &State, steps: usize) -> (f64, usize, usize) {
+    let (mut known, mut rows) = (s0.clone(), s0.clone());
+    let (mut worst, mut used, mut reversals) = (0.0f64, 0, 0);
+    for _ in 0..steps {
+        used += !known.data.constraints.history.sliding.is_empty() as usize;
+        let before = known.qvel.clone();
+        known.step(m);
+        rows.data.constraints.history.sliding.clear();
+        rows.step(m);
+        reversals += before.iter().zip(&known.qvel).filter(|(a, b)| **a * **b < 0.0).count();
+        for (a, b) in known.qpos.iter().chain(&known.qvel).zip(rows.qpos.iter().chain(&rows.qvel)) {
+            worst = worst.max((a - b).abs());
+        }
+
+    }
+    assert!(rows.data.constraints.history.sliding.len() <= m.nv);
+    (worst, used, reversals)
+}
+
+#[test]
+fn a_sliding_dofs_friction_taken_as_known_gives_the_rows_answer() {
+    // a three-link chain with friction on every hinge, swinging from a tilt, its foot dragging
+    // over the floor: dofs slide, stop and turn, and contacts come and go. Planar: the contact's
+    // friction directions are ±x either way (in 3D the tangent follows the slip the step would
+    // have without constraint forces, which the known friction moves: another pyramid)
+    let xml = "<mujoco><option timestep='0.002'/><worldbody><geom type='plane' size='5 5 0.1'/>\
+        <body pos='0 0 1.1'><joint axis='0 1 0' frictionloss='0.4' damping='0.05'/><geom type='capsule' size='0.04' fromto='0 0 0 0 0 -0.4'/>\
+        <body pos='0 0 -0.4'><joint axis='0 1 0' frictionloss='0.2'/><geom type='capsule' size='0.04' fromto='0 0 0 0 0 -0.4'/>\
+        <body pos='0 0 -0.4'><joint axis='0 1 0' frictionloss='0.1' armature='0.01'/><geom type='capsule' size='0.04' fromto='0 0 0 0 0 -0.35'/>\
+        </body></body></body></worldbody></mujoco>";
+    let m = Model::from_mjcf(xml).unwrap();
+    let mut s = State::new(&m);
+    s.qpos.copy_from_slice(&[0.9, -0.6, 0.5]);
+    let (worst, used, reversals) = known_beside_rows(&m, &s, 1500);
+    assert!(used > 500, "the known forces were taken on {used} of 1500 steps");
+    assert!(reversals >= 3, "{reversals} velocity reversals");
+    assert!(worst < 1e-9, "largest difference {worst:e}");
+}
+
+#[test]
+fn a_known_friction_is_checked_and_posed_as_rows_when_it_would_turn_the_dof() {
+    // a hinge sliding slowly against its friction: the known force would reverse it within a
+    // step, and the step must stop it exactly instead (the rows' answer)
+    let (m, _, _) = pendulum(9.81 * 0.5 * 1.5, "acceleration");
+    let mut s = State::new(&m);
+    s.qvel[0] = 0.01;
+    s.data.constraints.history.sliding = vec![(0, true)];
+    s.step(&m);
+    assert!(s.qvel[0].abs() < 1e-8, "stopped, not turned: {}", s.qvel[0]);
+    assert!(s.data.constraints.history.sliding.is_empty());
+    // sliding fast, it slows by h (loss − m g L) / I and stays a known force
+    let (m, torque, inertia) = pendulum(9.81 * 0.5 * 1.5, "acceleration");
+    let mut s = State::new(&m);
+    s.qvel[0] = -2.0;
+    s.data.constraints.history.sliding = vec![(0, false)];
+    s.step(&m);
+    let expected = -2.0 + m.opt.timestep * (torque + 1.5 * torque) / inertia;
+    assert!((s.qvel[0] - expected).abs() < 1e-12, "{} vs {expected}", s.qvel[0]);
+    assert_eq!(s.data.constraints.history.sliding, vec![(0, false)]);
+}

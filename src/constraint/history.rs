@@ -23,12 +23,17 @@ pub struct History {
     /// Whether the last step had constraint rows: an RK4 model's next step evaluates its dynamics
     /// first as a step with rows does (damping implicit), else as RK4's first stage.
     pub constrained: bool,
+    /// The dofs whose dry friction the last step held at its cap, each with the direction it
+    /// slid in (true: positive velocity, friction pushing negative), in increasing dof order:
+    /// while a dof slides on that way, the next step applies its friction as a known force
+    /// (`constraint::dry_friction`).
+    pub sliding: Vec<(usize, bool)>,
 }
 
 impl History {
     /// A new world's: nothing kept, the default random stream.
     pub fn new() -> Self {
-        History { tangents: vec![], warm: vec![], warm_rows: vec![], regrow_rate: 0.0, rng: 0x5EED, constrained: true }
+        History { tangents: vec![], warm: vec![], warm_rows: vec![], regrow_rate: 0.0, rng: 0x5EED, constrained: true, sliding: vec![] }
     }
 }
 
@@ -122,8 +127,9 @@ const TANGENT_LEN: usize = 6;
 /// Numbers a warm-start row's identity takes in [`History::to_flat`].
 const ROW_KEY_LEN: usize = 5;
 /// Numbers in the shortest flat history (nothing kept): regrow rate, the random state's two
-/// halves, the tangent, warm-start variable and row counts, and the last step's kind.
-pub const FLAT_HISTORY_MIN: usize = 7;
+/// halves, the tangent, warm-start variable and row counts, the last step's kind and the sliding
+/// dofs' count.
+pub const FLAT_HISTORY_MIN: usize = 8;
 /// Integers in a flat history are below this (exact in f64).
 const FLAT_INT_MAX: f64 = 9_007_199_254_740_992.0;
 
@@ -131,8 +137,8 @@ impl History {
     /// Appends the history as float64 numbers (every integer exact): regrow rate, the random
     /// state as two 32-bit halves, the tangent count T and T × (geom1, geom2, feature, t_x, t_y,
     /// t_z), the warm start's variable count W and W activities (0 or 1; rows, then their λ),
-    /// its row count R and R × (kind, three indices and a side), then whether the last step had
-    /// rows (0 or 1).
+    /// its row count R and R × (kind, three indices and a side), whether the last step had
+    /// rows (0 or 1), then the sliding dofs' count S and S × (2 dof + 1 if sliding positively).
     pub fn to_flat(&self, out: &mut Vec<f64>) {
         out.extend([self.regrow_rate, (self.rng >> 32) as f64, (self.rng & 0xFFFF_FFFF) as f64]);
         out.push(self.tangents.len() as f64);
@@ -146,11 +152,13 @@ impl History {
             out.extend(key.to_flat().map(|x| x as f64));
         }
         out.push(self.constrained as u8 as f64);
+        out.push(self.sliding.len() as f64);
+        out.extend(self.sliding.iter().map(|&(dof, positive)| (2 * dof + positive as usize) as f64));
     }
 
     /// Reads what [`History::to_flat`] wrote, checking every number (`ngeom` bounds the tangents'
-    /// geoms); an error names the first that is wrong.
-    pub fn from_flat(v: &[f64], ngeom: usize) -> crate::error::Result<History> {
+    /// geoms, `nv` the sliding dofs); an error names the first that is wrong.
+    pub fn from_flat(v: &[f64], ngeom: usize, nv: usize) -> crate::error::Result<History> {
         let bad = |what: String| crate::error::Error::Input(format!("history: {what}"));
         let int = |i: usize, what: &str, max: f64| -> crate::error::Result<u64> {
             let x = *v.get(i).ok_or_else(|| bad(format!("ends at element {i}, where {what} was expected")))?;
@@ -205,10 +213,21 @@ impl History {
         check_rows(&warm_rows).map_err(bad)?;
         let constrained = int(at, "constrained last step", 2.0)? == 1;
         at += 1;
+        let ns = int(at, "sliding dof count", nv as f64 + 1.0)? as usize;
+        at += 1;
+        let mut sliding = Vec::with_capacity(ns);
+        for _ in 0..ns {
+            let x = int(at, "sliding dof", 2.0 * nv as f64)? as usize;
+            if sliding.last().is_some_and(|&(dof, _)| dof >= x / 2) {
+                return Err(bad(format!("sliding dof {} at element {at} is not after the one before it", x / 2)));
+            }
+            sliding.push((x / 2, x % 2 == 1));
+            at += 1;
+        }
         if at != v.len() {
             return Err(bad(format!("has {} numbers, {} more than its counts say", v.len(), v.len() - at)));
         }
-        Ok(History { tangents, warm, warm_rows, regrow_rate, rng, constrained })
+        Ok(History { tangents, warm, warm_rows, regrow_rate, rng, constrained, sliding })
     }
 }
 
@@ -246,6 +265,7 @@ impl Clone for History {
         self.tangents.clone_from(&from.tangents);
         self.warm.clone_from(&from.warm);
         self.warm_rows.clone_from(&from.warm_rows);
+        self.sliding.clone_from(&from.sliding);
         (self.regrow_rate, self.rng, self.constrained) = (from.regrow_rate, from.rng, from.constrained);
     }
 }
@@ -265,7 +285,22 @@ mod tests {
         let mut flat = vec![];
         History::new().to_flat(&mut flat);
         assert_eq!(flat.len(), FLAT_HISTORY_MIN);
-        assert_eq!(History::from_flat(&flat, 1).unwrap(), History::new());
-        assert!(History::from_flat(&flat[..FLAT_HISTORY_MIN - 1], 1).is_err());
+        assert_eq!(History::from_flat(&flat, 1, 1).unwrap(), History::new());
+        assert!(History::from_flat(&flat[..FLAT_HISTORY_MIN - 1], 1, 1).is_err());
+    }
+
+    #[test]
+    fn sliding_dofs_flatten_and_back_and_bad_ones_are_errors() {
+        let h = History { sliding: vec![(0, true), (3, false)], ..History::new() };
+        let mut flat = vec![];
+        h.to_flat(&mut flat);
+        assert_eq!(History::from_flat(&flat, 1, 4).unwrap(), h);
+        // a dof the model does not have, and dofs out of order
+        let err = History::from_flat(&flat, 1, 3).unwrap_err().to_string();
+        assert!(err.contains("sliding dof"), "{err}");
+        let n = flat.len();
+        flat.swap(n - 1, n - 2);
+        let err = History::from_flat(&flat, 1, 4).unwrap_err().to_string();
+        assert!(err.contains("not after"), "{err}");
     }
 }

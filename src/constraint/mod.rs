@@ -3,11 +3,12 @@
 //! the forces, and post-stabilisation.
 //!
 //! Files in the order a step uses them: `system` (the rows as arrays), `rows` (building them),
-//! `test_forces` (K and b, through `delta_pass`), `impact`, `solve` (posing the LCP per island), `lcp` (solving it),
+//! `dry_friction` (the friction of dofs sliding on, known ahead), `test_forces` (K and b, through `delta_pass`), `impact`, `solve` (posing the LCP per island), `lcp` (solving it),
 //! `stabilize`; `history` is what the next step reads, `applied` what is read after the step.
 
 pub mod applied;
 pub mod delta_pass;
+pub mod dry_friction;
 pub mod history;
 pub mod impact;
 pub mod lcp;

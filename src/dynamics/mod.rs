@@ -31,6 +31,13 @@ pub struct DynamicsData {
     pub ten: TendonData,
     /// Total applied generalised force (nv): actuators + passive.
     pub qfrc_applied: Vec<f64>,
+    /// Dry friction known ahead of the solve (nv): −loss · sign(q̇) on each dof sliding on, zero
+    /// elsewhere (`constraint::dry_friction`); read only while `friction_known`.
+    pub qfrc_friction: Vec<f64>,
+    /// Whether the evaluations of this step add `qfrc_friction` to the applied forces.
+    pub friction_known: bool,
+    /// The generalised force ABA takes when `friction_known` (scratch, nv).
+    pub tau: Vec<f64>,
     /// Joint accelerations of the last evaluation (nv).
     pub qacc: Vec<f64>,
     /// Activation rates of the last advance (na).
@@ -45,8 +52,20 @@ pub struct DynamicsData {
 impl DynamicsData {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
-        DynamicsData { kin: KinData::new(m), ten: TendonData::new(m), aba: AbaData::new(m), qfrc_applied: vec![0.0; m.nv], qacc: vec![0.0; m.nv], act_dot: vec![0.0; m.na], ahead: KinCache::new(m), v_other: vec![Motion::ZERO; if m.opt.density > 0.0 || m.opt.viscosity > 0.0 { m.nnode } else { 0 }] }
+        DynamicsData { kin: KinData::new(m), ten: TendonData::new(m), aba: AbaData::new(m), qfrc_applied: vec![0.0; m.nv], qfrc_friction: vec![0.0; m.nv], friction_known: false, tau: vec![0.0; m.nv], qacc: vec![0.0; m.nv], act_dot: vec![0.0; m.na], ahead: KinCache::new(m), v_other: vec![Motion::ZERO; if m.opt.density > 0.0 || m.opt.viscosity > 0.0 { m.nnode } else { 0 }] }
     }
+}
+
+/// The generalised force ABA takes: the applied forces, plus the known dry friction when
+/// `known` (summed into `tau`).
+pub fn total_force<'a>(applied: &'a [f64], friction: &[f64], known: bool, tau: &'a mut [f64]) -> &'a [f64] {
+    if !known {
+        return applied;
+    }
+    for ((t, a), f) in tau.iter_mut().zip(applied).zip(friction) {
+        *t = a + f;
+    }
+    tau
 }
 
 /// Stage 1: the kinematics of (qpos, qvel) into `dy.kin`, taken from `dy.ahead` when it holds
@@ -61,13 +80,15 @@ pub fn accelerations(m: &Model, dy: &mut DynamicsData, qpos: &[f64], qvel: &[f64
     tendon::evaluate(m, &dy.kin, qpos, &mut dy.ten);
     forces::applied(m, &dy.ten, qpos, qvel, (ctrl, act), &mut dy.qfrc_applied);
     fluid::add_forces(m, &dy.kin, &dy.kin.v, &mut dy.qfrc_applied);
-    aba::backward(m, &dy.kin, &dy.qfrc_applied, h_damp, &mut dy.aba);
+    let tau = total_force(&dy.qfrc_applied, &dy.qfrc_friction, dy.friction_known, &mut dy.tau);
+    aba::backward(m, &dy.kin, tau, h_damp, &mut dy.aba);
     aba::forward(m, &dy.kin, &mut dy.aba, &mut dy.qacc);
 }
 
 /// Forward dynamics at (qpos, qvel, ctrl) without constraints: `dy.qacc` gets the true
 /// accelerations (no implicit damping), as MuJoCo's `mj_forward` with constraints disabled.
 pub fn forward(m: &Model, dy: &mut DynamicsData, qpos: &[f64], qvel: &[f64], ctrl: &[f64], act: &[f64]) {
+    dy.friction_known = false;
     kinematics::forward(m, qpos, qvel, &mut dy.kin);
     accelerations(m, dy, qpos, qvel, ctrl, act, 0.0);
 }

@@ -11,7 +11,7 @@ mod impacts;
 use impacts::impacts;
 use crate::constraint::rows::{build_rows, missed_contacts, missed_limits};
 use crate::constraint::solve::{apply_to_qacc, correction_work, solve_rows, Level};
-use crate::constraint::{stabilize, test_forces, RowKind};
+use crate::constraint::{dry_friction, stabilize, test_forces, RowKind};
 use crate::dynamics::{self, activation, kinematics};
 use crate::integrate::{self, rk4::{rk4, rk4_activations}};
 use crate::model::{ConstraintMode, Integrator, Model};
@@ -40,16 +40,25 @@ pub fn step(m: &Model, data: &mut Data, s: &mut WorldState<'_>) {
     }
     // 1. poses and velocities
     timed!(data, Stage::Kinematics, dynamics::kinematics(m, &mut data.dynamics, s.qpos, s.qvel));
-    // 2. articulated inertias and the constraint-free accelerations
+    // 2. articulated inertias and the constraint-free accelerations, with the dry friction of
+    // the dofs sliding on as known forces
+    dry_friction::predict(m, &data.constraints.history, s.qvel, &mut data.dynamics);
     timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, s.act, h_damp));
     // 3. contacts of this configuration (reach over the step from velocities and accelerations)
     timed!(data, Stage::Collision, collision::collide(m, &data.dynamics, s, &mut data.coll));
-    // 4. constraint rows: contacts (normal + friction), active limits, motion control
+    // 4. constraint rows: contacts (normal + friction), active limits, dry friction, motion control
     timed!(data, Stage::Rows, build_rows(m, &mut data.world(), s));
+    if data.constraints.con.is_empty() && !dry_friction::holds(m, &data.dynamics, s.qvel) {
+        // a known friction would turn its dof: its rows instead
+        data.dynamics.friction_known = false;
+        timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, s.act, h_damp));
+        timed!(data, Stage::Rows, build_rows(m, &mut data.world(), s));
+    }
     data.constraints.history.constrained = !data.constraints.con.is_empty();
     if data.constraints.con.is_empty() {
         // 8. nothing to constrain: the plain step
         free_step(m, data, s, h_damp);
+        record_friction(m, data, s.qvel, None);
     } else {
         // 5–7. b, K, impacts and the constraint solve, into q̈ (and q̇ for impacts)
         let level = constrain(m, data, s, h_damp);
@@ -66,8 +75,19 @@ pub fn step(m: &Model, data: &mut Data, s: &mut WorldState<'_>) {
         }
         let c = &mut data.constraints;
         c.applied.record(m, &c.con, &c.solve.force, data.coll.contacts.len());
+        record_friction(m, data, s.qvel, Some(level));
     }
     *s.time += h;
+}
+
+/// The known dry friction among the applied constraint forces, and the dofs sliding at their
+/// friction's cap into the history (`level`: the solve applied, if any).
+fn record_friction(m: &Model, data: &mut Data, qvel: &[f64], level: Option<Level>) {
+    let (dy, c) = (&mut data.dynamics, &mut data.constraints);
+    if dy.friction_known {
+        c.applied.joint.extend(dy.qfrc_friction.iter().enumerate().filter(|(_, f)| **f != 0.0).map(|(dof, &f)| (dof, f)));
+    }
+    dry_friction::record(m, dy, &c.con, &c.solve.force, level, qvel, &mut c.history.sliding);
 }
 
 /// Stage 8 of a step with constraint rows: semi-implicit Euler (the seed's scheme; RK4's
@@ -181,10 +201,13 @@ fn constrain(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) ->
         // is the constraint-free one they were chosen for: nothing can have been missed
         let pushed = impacted || h_damp != h || data.constraints.solve.force.iter().any(|&f| f != 0.0);
         let missed = pushed && (missed_limits(m, &mut data.world(), s) | timed!(data, Stage::Collision, missed_contacts(m, &mut data.world(), s)));
-        if redo || !missed {
+        // a known dry friction that would turn its dof within the step: its rows instead
+        let slipped = !dry_friction::holds(m, &data.dynamics, s.qvel);
+        if redo || !(missed || slipped) {
             break;
         }
         redo = true;
+        data.dynamics.friction_known = false;
         // the first solve's limit rows stay (an impulse may have made them look inactive)
         for r in (0..data.constraints.con.len()).filter(|&r| data.constraints.con.kind[r] == RowKind::Limit) {
             let side = (data.constraints.con.dof[r].1 < 0.0) as usize;

@@ -100,7 +100,7 @@ impl<'a> FlatState<'a> {
             if let Some(i) = ff.iter().position(|x| !x.is_finite()) {
                 return Err(crate::error::Error::Input(format!("state: feed-forward element {i} is {} (must be finite)", ff[i])));
             }
-            Some((ff, crate::constraint::History::from_flat(&v[short + 2 * nu..], m.ngeom)?))
+            Some((ff, crate::constraint::History::from_flat(&v[short + 2 * nu..], m.ngeom, m.nv)?))
         };
         let (q, a) = (1 + nq, 1 + nq + nv);
         Ok(FlatState { time: v[0], qpos: &v[1..q], qvel: &v[q..a], act: &v[a..a + na], ctrl: &v[a + na..short], full })

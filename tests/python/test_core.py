@@ -133,7 +133,8 @@ def test_a_bad_history_is_a_value_error_naming_it():
         "tangent count": (h + 3, -1.0),
         "geom1": (first, float(m.ngeom)),
         "unit vector": (first + 3, 3.0),
-        "constrained last step": (len(full) - 1, 0.5),
+        "constrained last step": (len(full) - 2, 0.5),
+        "sliding dof count": (len(full) - 1, 0.5),
     }
     for what, (i, value) in cases.items():
         bad = full.copy()
