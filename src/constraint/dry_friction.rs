@@ -8,7 +8,7 @@
 //! that is the LCP's condition for a force at its cap (the row against the motion at its bound,
 //! its slack σ = s q̇⁺ / h ≥ 0; the other row without force, its w = s q̇⁺ / h ≥ 0). Where one
 //! does not hold (the dof would stop and turn within the step), the step is solved again with
-//! every friction row posed (`step::constrain`).
+//! that dof's rows posed, and with every dof's if one turns again (`step::constrain`).
 //! Only under Euler (MuJoCo's Euler and implicitfast): RK4's stages and leapfrog's midpoint
 //! evaluate the forces elsewhere than the rows' check reads them.
 
@@ -48,6 +48,24 @@ pub fn predict(m: &Model, history: &History, qvel: &[f64], dy: &mut DynamicsData
 pub fn holds(m: &Model, dy: &DynamicsData, qvel: &[f64]) -> bool {
     let h = m.opt.timestep;
     !dy.friction_known || dy.qfrc_friction.iter().zip(qvel).zip(&dy.qacc).all(|((&f, &v), &a)| f * (v + h * a) <= 0.0)
+}
+
+/// The dofs whose known friction would turn them within the step (`holds` fails on them) lose
+/// it, to be posed as rows; with `all`, every dof does.
+pub fn turning_to_rows(m: &Model, dy: &mut DynamicsData, qvel: &[f64], all: bool) {
+    let h = m.opt.timestep;
+    if all {
+        dy.friction_known = false;
+        return;
+    }
+    let mut left = false;
+    for ((f, &v), &a) in dy.qfrc_friction.iter_mut().zip(qvel).zip(&dy.qacc) {
+        if *f * (v + h * a) > 0.0 {
+            *f = 0.0;
+        }
+        left |= *f != 0.0;
+    }
+    dy.friction_known = left;
 }
 
 /// After the step: the dofs whose friction it held at the cap into `sliding` (the known ones and

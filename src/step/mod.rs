@@ -50,7 +50,7 @@ pub fn step(m: &Model, data: &mut Data, s: &mut WorldState<'_>) {
     timed!(data, Stage::Rows, build_rows(m, &mut data.world(), s));
     if data.constraints.con.is_empty() && !dry_friction::holds(m, &data.dynamics, s.qvel) {
         // a known friction would turn its dof: its rows instead
-        data.dynamics.friction_known = false;
+        dry_friction::turning_to_rows(m, &mut data.dynamics, s.qvel, false);
         timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, s.act, h_damp));
         timed!(data, Stage::Rows, build_rows(m, &mut data.world(), s));
     }
@@ -157,14 +157,14 @@ fn free_step(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) {
 /// Stages 5–7 with the rows of stage 4: b, impacts, the constraint solve into q̈ (impacts into
 /// q̇). A limit or contact without a row that the constrained motion would reach (pushed there
 /// by contact forces, say) gets its row and the solve runs once more from the constraint-free
-/// accelerations. The level of the solve applied: forces, or impulses over the step.
+/// accelerations; so does a dof whose known dry friction would turn it (`dry_friction`). The level of the solve applied: forces, or impulses over the step.
 fn constrain(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) -> Level {
     let h = m.opt.timestep;
     // with constraints the step is semi-implicit Euler: damping implicit over the step
     if h_damp != h {
         timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, s.act, h));
     }
-    let mut redo = false;
+    let (mut redo, mut slips) = (false, 0);
     let mut level;
     data.constraints.solve.impact_warm.clear();
     loop {
@@ -201,13 +201,17 @@ fn constrain(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) ->
         // is the constraint-free one they were chosen for: nothing can have been missed
         let pushed = impacted || h_damp != h || data.constraints.solve.force.iter().any(|&f| f != 0.0);
         let missed = pushed && (missed_limits(m, &mut data.world(), s) | timed!(data, Stage::Collision, missed_contacts(m, &mut data.world(), s)));
-        // a known dry friction that would turn its dof within the step: its rows instead
+        // a known dry friction that would turn its dof within the step: that dof's rows instead
+        // (every sliding dof's, the second time)
         let slipped = !dry_friction::holds(m, &data.dynamics, s.qvel);
-        if redo || !(missed || slipped) {
+        if !slipped && (redo || !missed) {
             break;
         }
+        if slipped {
+            slips += 1;
+            dry_friction::turning_to_rows(m, &mut data.dynamics, s.qvel, slips > 1);
+        }
         redo = true;
-        data.dynamics.friction_known = false;
         // the first solve's limit rows stay (an impulse may have made them look inactive)
         for r in (0..data.constraints.con.len()).filter(|&r| data.constraints.con.kind[r] == RowKind::Limit) {
             let side = (data.constraints.con.dof[r].1 < 0.0) as usize;
