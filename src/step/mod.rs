@@ -157,7 +157,8 @@ fn free_step(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) {
 /// Stages 5–7 with the rows of stage 4: b, impacts, the constraint solve into q̈ (impacts into
 /// q̇). A limit or contact without a row that the constrained motion would reach (pushed there
 /// by contact forces, say) gets its row and the solve runs once more from the constraint-free
-/// accelerations; so does a dof whose known dry friction would turn it (`dry_friction`). The level of the solve applied: forces, or impulses over the step.
+/// accelerations; so does a dof whose known dry friction would turn it (`dry_friction`). The
+/// level of the solve applied: forces, or impulses over the step.
 fn constrain(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) -> Level {
     let h = m.opt.timestep;
     // with constraints the step is semi-implicit Euler: damping implicit over the step
