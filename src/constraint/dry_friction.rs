@@ -47,7 +47,13 @@ pub fn predict(m: &Model, history: &History, qvel: &[f64], dy: &mut DynamicsData
 /// one with the dof's rows.
 pub fn holds(m: &Model, dy: &DynamicsData, qvel: &[f64]) -> bool {
     let h = m.opt.timestep;
-    !dy.friction_known || dy.qfrc_friction.iter().zip(qvel).zip(&dy.qacc).all(|((&f, &v), &a)| f * (v + h * a) <= 0.0)
+    !dy.friction_known || dy.qfrc_friction.iter().zip(qvel).zip(&dy.qacc).all(|((&f, &v), &a)| !turns(f, v, a, h))
+}
+
+/// Whether a known friction `f` would turn its dof, moving at `v` with acceleration `a`, within
+/// a step `h`: its velocity at the step's end has the sign of the force.
+fn turns(f: f64, v: f64, a: f64, h: f64) -> bool {
+    f * (v + h * a) > 0.0
 }
 
 /// The dofs whose known friction would turn them within the step (`holds` fails on them) lose
@@ -60,7 +66,7 @@ pub fn turning_to_rows(m: &Model, dy: &mut DynamicsData, qvel: &[f64], all: bool
     }
     let mut left = false;
     for ((f, &v), &a) in dy.qfrc_friction.iter_mut().zip(qvel).zip(&dy.qacc) {
-        if *f * (v + h * a) > 0.0 {
+        if turns(*f, v, a, h) {
             *f = 0.0;
         }
         left |= *f != 0.0;
