@@ -17,6 +17,10 @@ use crate::geometry::Hull;
 /// Edge pairs beyond which a hinted pair is collided [`along_normal`] (two hulls of 500 edges).
 const HUGE_EDGE_PAIRS: usize = 250_000;
 
+/// Edges of one polytope beyond which a hinted pair is collided [`along_normal`] whatever the
+/// other (a detailed mesh against a box: the test would read thousands of its features).
+const HUGE_EDGES: usize = 2048;
+
 /// The cosine within which a face's normal counts as near a hinted separating axis (60°: every
 /// direction lies within 54.7° of one of a box's faces).
 const CONE: f64 = 0.5;
@@ -60,6 +64,19 @@ pub(super) trait Polytope {
     /// perpendiculars are normals).
     fn edge(&self, e: usize) -> ([usize; 2], Option<[DVec3; 2]>);
     fn centre(&self) -> DVec3;
+    /// `q` in the frame of [`Polytope::local_plane`] (the world's unless overridden).
+    fn to_local(&self, q: DVec3) -> DVec3 {
+        q
+    }
+    /// Direction `d` in the frame of [`Polytope::local_plane`].
+    fn to_local_dir(&self, d: DVec3) -> DVec3 {
+        d
+    }
+    /// A face's plane in the polytope's own frame: its separation from a point is read there
+    /// without posing each plane.
+    fn local_plane(&self, f: usize) -> (DVec3, f64) {
+        self.plane(f)
+    }
     /// Largest projection of a vertex on `d`.
     fn support(&self, d: DVec3) -> f64 {
         (0..self.nvert()).map(|i| self.vert(i).dot(d)).fold(f64::NEG_INFINITY, f64::max)
@@ -104,6 +121,16 @@ impl Polytope for PosedHull<'_> {
     }
     fn centre(&self) -> DVec3 {
         self.c
+    }
+    fn to_local(&self, q: DVec3) -> DVec3 {
+        self.rot.transpose() * (q - self.c)
+    }
+    fn to_local_dir(&self, d: DVec3) -> DVec3 {
+        self.rot.transpose() * d
+    }
+    fn local_plane(&self, f: usize) -> (DVec3, f64) {
+        let face = &self.hull.faces[f];
+        (face.normal, face.offset)
     }
     fn support(&self, d: DVec3) -> f64 {
         self.hull.support(self.rot.transpose() * d).1 + d.dot(self.c)
@@ -221,7 +248,7 @@ fn minkowski_face(na: [DVec3; 2], nb: Option<[DVec3; 2]>, db: DVec3) -> bool {
 /// of them are read when a polytope has no face within the cone).
 pub(super) fn polytopes(a: &impl Polytope, b: &impl Polytope, margin: f64, scale: f64, hint: Option<DVec3>) -> Manifold {
     let tol = 1e-9 * scale;
-    if let Some(n) = hint.filter(|_| a.nedge() * b.nedge() > HUGE_EDGE_PAIRS) {
+    if let Some(n) = hint.filter(|_| a.nedge() * b.nedge() > HUGE_EDGE_PAIRS || a.nedge().max(b.nedge()) > HUGE_EDGES) {
         return along_normal(a, b, n, margin, tol);
     }
     let focus = Focus::new(a, b, hint, scale);
@@ -364,11 +391,12 @@ fn along_normal(a: &impl Polytope, b: &impl Polytope, n: DVec3, margin: f64, tol
     if gap > margin {
         return Manifold::new();
     }
+    // read in each polytope's own frame
     let facing = |p: &dyn Fn(usize) -> DVec3, faces: usize, dir: DVec3| {
         (0..faces).map(|f| (p(f).dot(dir), f)).fold((f64::NEG_INFINITY, 0), |x, y| if y.0 > x.0 { y } else { x })
     };
-    let (ca, fa) = facing(&|f| a.plane(f).0, a.nface(), -n);
-    let (cb, fb) = facing(&|f| b.plane(f).0, b.nface(), n);
+    let (ca, fa) = facing(&|f| a.local_plane(f).0, a.nface(), a.to_local_dir(-n));
+    let (cb, fb) = facing(&|f| b.local_plane(f).0, b.nface(), b.to_local_dir(n));
     if ca.max(cb) > 0.95 {
         let mut m = if cb > ca { clip(b, fb, a, margin, tol) } else { clip(a, fa, b, margin, tol) };
         for p in m.iter_mut() {
@@ -505,10 +533,14 @@ pub(super) fn on_plane(p: &impl Polytope, o: DVec3, n: DVec3, margin: f64) -> Ma
 /// Signed distance of point `q` from a polytope and the unit normal from it toward `q`: the
 /// closest point of the faces that see `q`, or, inside, the face of least penetration.
 pub(super) fn point_polytope(p: &impl Polytope, q: DVec3) -> (DVec3, f64) {
+    let ql = p.to_local(q);
+    let separation = |f: usize| {
+        let (n, d) = p.local_plane(f);
+        n.dot(ql) - d
+    };
     let (mut top, mut top_face) = (f64::NEG_INFINITY, 0);
     for f in 0..p.nface() {
-        let (n, d) = p.plane(f);
-        let s = n.dot(q) - d;
+        let s = separation(f);
         if s > top {
             (top, top_face) = (s, f);
         }
@@ -516,13 +548,21 @@ pub(super) fn point_polytope(p: &impl Polytope, q: DVec3) -> (DVec3, f64) {
     if top <= 0.0 {
         return (p.plane(top_face).0, top);
     }
+    // a face's points are at least its plane's distance s away, and the polytope's at least the
+    // largest s (top): the face of the largest s goes first (its own point at distance top ends
+    // the search), and a face whose s is already beyond the nearest point found cannot hold a
+    // nearer one
     let mut best = (f64::INFINITY, q);
-    for f in 0..p.nface() {
-        let (n, d) = p.plane(f);
-        let s = n.dot(q) - d;
-        if s <= 0.0 {
+    for f in std::iter::once(top_face).chain((0..p.nface()).filter(|&f| f != top_face)) {
+        if best.0 <= top {
+            break;
+        }
+        let s = separation(f);
+        if s <= 0.0 || s >= best.0 {
             continue;
         }
+        let (n, d) = p.plane(f);
+        let s = n.dot(q) - d;
         let on = q - n * s;
         let k = p.face_len(f);
         let vert = |i: usize| p.vert(p.face_vert(f, i % k));
@@ -540,70 +580,11 @@ pub(super) fn point_polytope(p: &impl Polytope, q: DVec3) -> (DVec3, f64) {
     ((q - best.1) / best.0.max(1e-300), best.0)
 }
 
-/// A triangle of a height field (world vertices, counter-clockwise seen from above the field)
-/// and the prism under it down to the field's base: MuJoCo's convex piece of a height field.
-pub(super) struct Prism {
-    /// Top vertices 0–2, then the base vertices below them 3–5.
-    pub(super) v: [DVec3; 6],
-    /// Faces: top, base, then the sides over edges 0–1, 1–2, 2–0.
-    pub(super) planes: [(DVec3, f64); 5],
-}
-
-const PRISM_FACES: [&[usize]; 5] = [&[0, 1, 2], &[3, 5, 4], &[0, 3, 4, 1], &[1, 4, 5, 2], &[2, 5, 3, 0]];
-/// Edges: ends and faces.
-const PRISM_EDGES: [([usize; 2], [usize; 2]); 9] =
-    [([0, 1], [0, 2]), ([1, 2], [0, 3]), ([2, 0], [0, 4]), ([3, 4], [1, 2]), ([4, 5], [1, 3]), ([5, 3], [1, 4]), ([0, 3], [4, 2]), ([1, 4], [2, 3]), ([2, 5], [3, 4])];
-
-impl Prism {
-    /// The prism under triangle `top` (world) whose base lies `depth` below the field's plane
-    /// (origin `o`, up `up`).
-    pub(super) fn new(top: [DVec3; 3], o: DVec3, up: DVec3, depth: f64) -> Prism {
-        let base = |p: DVec3| p - up * (up.dot(p - o) + depth);
-        let v = [top[0], top[1], top[2], base(top[0]), base(top[1]), base(top[2])];
-        let plane = |f: &[usize]| {
-            let n = (v[f[1]] - v[f[0]]).cross(v[f[2]] - v[f[0]]).normalize_or_zero();
-            (n, n.dot(v[f[0]]))
-        };
-        Prism { v, planes: PRISM_FACES.map(plane) }
-    }
-}
-
-impl Polytope for Prism {
-    fn nvert(&self) -> usize {
-        6
-    }
-    fn vert(&self, i: usize) -> DVec3 {
-        self.v[i]
-    }
-    fn nface(&self) -> usize {
-        5
-    }
-    fn plane(&self, f: usize) -> (DVec3, f64) {
-        self.planes[f]
-    }
-    fn face_len(&self, f: usize) -> usize {
-        PRISM_FACES[f].len()
-    }
-    fn face_vert(&self, f: usize, k: usize) -> usize {
-        PRISM_FACES[f][k]
-    }
-    fn nedge(&self) -> usize {
-        9
-    }
-    fn edge(&self, e: usize) -> ([usize; 2], Option<[DVec3; 2]>) {
-        let (ends, faces) = PRISM_EDGES[e];
-        (ends, Some(faces.map(|f| self.planes[f].0)))
-    }
-    fn centre(&self) -> DVec3 {
-        self.v.iter().copied().sum::<DVec3>() / 6.0
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use glam::{DMat3, DQuat, DVec3};
 
-    use super::{polytopes, PosedHull};
+    use super::{point_polytope, polytopes, Polytope, PosedHull};
     use crate::geometry::Hull;
 
     /// Points on an ellipsoid of semi-axes `radii`, `n` of them along a Fibonacci spiral.
@@ -664,5 +645,51 @@ mod tests {
         assert!(m.iter().all(|p| p.2.dot(DVec3::Z) > 0.99));
         let apart = PosedHull { hull: &ball, c: DVec3::new(0.0, 0.0, 0.21), rot: DMat3::IDENTITY };
         assert!(polytopes(&apart, &b, 0.0, 0.2, Some(DVec3::Z)).is_empty());
+    }
+
+    #[test]
+    fn a_point_s_distance_is_the_nearest_face_s() {
+        // beside every face's nearest point (no face passed by) and, inside, the least
+        // penetration: points around a posed hull of 400 faces, outside, near and inside
+        let hull = Hull::new(&ellipsoid_points(200, DVec3::new(0.1, 0.06, 0.04))).unwrap();
+        let p = PosedHull { hull: &hull, c: DVec3::new(0.3, -0.2, 0.1), rot: DMat3::from_quat(DQuat::from_xyzw(0.3, -0.2, 0.5, 0.8).normalize()) };
+        let face_point = |f: usize, q: DVec3| {
+            let (n, d) = p.plane(f);
+            let on = q - n * (n.dot(q) - d);
+            let k = p.face_len(f);
+            let v = |i: usize| p.vert(p.face_vert(f, i % k));
+            if (0..k).all(|i| (v(i + 1) - v(i)).cross(n).dot(on - v(i)) <= 0.0) {
+                on
+            } else {
+                (0..k).map(|i| crate::collision::shapes::closest_on_segment(v(i), v(i + 1), q)).min_by(|a, b| a.distance_squared(q).total_cmp(&b.distance_squared(q))).unwrap()
+            }
+        };
+        let (mut outside, mut inside) = (0, 0);
+        for i in 0..2000 {
+            let dir = ellipsoid_points(2000, DVec3::ONE)[i];
+            let q = p.c + dir * (0.02 + 0.15 * (i % 7) as f64 / 6.0);
+            let (normal, dist) = point_polytope(&p, q);
+            let top = (0..p.nface()).map(|f| p.plane(f).0.dot(q) - p.plane(f).1).fold(f64::NEG_INFINITY, f64::max);
+            if top <= 0.0 {
+                assert!((dist - top).abs() < 1e-12, "{dist} {top}");
+                inside += 1;
+            } else {
+                let nearest = (0..p.nface()).map(|f| face_point(f, q).distance(q)).fold(f64::INFINITY, f64::min);
+                assert!((dist - nearest).abs() < 1e-12, "{dist} {nearest}");
+                assert!((p.support(normal) - normal.dot(q) + dist).abs() < 1e-9, "normal {normal}");
+                outside += 1;
+            }
+        }
+        assert!(outside > 500 && inside > 100, "{outside} {inside}");
+    }
+
+    #[test]
+    fn a_hull_s_support_climbs_to_its_farthest_vertex_from_anywhere() {
+        let hull = Hull::new(&ellipsoid_points(3000, DVec3::new(0.1, 0.06, 0.04))).unwrap();
+        for (i, d) in ellipsoid_points(500, DVec3::ONE).into_iter().enumerate() {
+            let best = hull.vert.iter().map(|v| v.dot(d)).fold(f64::NEG_INFINITY, f64::max);
+            assert_eq!(hull.support(d).1, best);
+            assert_eq!(hull.support_from(d, Some(i * 5 % hull.vert.len())).1, best);
+        }
     }
 }

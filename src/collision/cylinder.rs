@@ -15,7 +15,8 @@ use glam::DVec3;
 
 use arrayvec::ArrayVec;
 
-use super::convex::{point_polytope, reduce, Manifold, Point, Polytope, PosedBox, PosedHull, Prism};
+use super::convex::{point_polytope, reduce, Manifold, Point, Polytope, PosedBox, PosedHull};
+use super::prism::Prism;
 use super::data::Epa;
 use super::ellipsoid;
 use super::shapes::{Cyl, Shape};
@@ -161,11 +162,20 @@ impl<'a> Gather<'a> {
         }
     }
 
-    /// The rim points against the polytope and its vertices (features from 19) against the cylinder.
+    /// The rim points against the polytope and its vertices (features from 19) against the
+    /// cylinder. A point's distance from a convex shape is at least its separation along the
+    /// pair's normal, so a point whose separation exceeds the margin is passed by without its
+    /// distance (a hull of thousands of faces pays only for the points near the contact).
     fn polytope(&mut self, p: &impl Polytope) {
-        self.rim_against(|at| point_polytope(p, at));
+        let (n, margin) = (self.normal, self.margin);
+        let top = p.support(n);
+        self.rim_against(|at| if n.dot(at) - top > margin { (n, f64::INFINITY) } else { point_polytope(p, at) });
+        let lowest = self.cyl.lowest_along(n);
         for i in 0..p.nvert() {
-            self.against_cylinder(19 + i, p.vert(i), 0.0);
+            let v = p.vert(i);
+            if lowest - n.dot(v) <= margin {
+                self.against_cylinder(19 + i, v, 0.0);
+            }
         }
     }
 

@@ -12,6 +12,8 @@
 //! support functions, one point). A cylinder's closest point with any shape but a plane comes
 //! from here too (`cylinder.rs` adds its rim points).
 
+use std::cell::Cell;
+
 use glam::{DMat3, DVec3};
 use parry3d_f64::math::{Pose, Vector};
 use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
@@ -48,6 +50,11 @@ pub(super) fn on_plane(c: DVec3, rot: DMat3, radii: DVec3, p: DVec3, n: DVec3) -
 /// point moves as the (unit) direction turns.
 trait Convex {
     fn support(&self, d: DVec3) -> DVec3;
+    /// [`Convex::support`], a hull's climbing from the vertex in `last` (updated; `u32::MAX`:
+    /// none yet), for GJK's and EPA's runs of nearby directions.
+    fn support_near(&self, d: DVec3, _last: &Cell<u32>) -> DVec3 {
+        self.support(d)
+    }
     /// ∂s/∂u at unit u (symmetric; zero on flat faces, edges and corners).
     fn turn(&self, u: DVec3) -> DMat3;
     fn centre(&self) -> DVec3;
@@ -102,6 +109,13 @@ impl Convex for Shape<'_> {
             }
             Shape::Plane { p, .. } | Shape::HField { p, .. } => p,
         }
+    }
+
+    fn support_near(&self, d: DVec3, last: &Cell<u32>) -> DVec3 {
+        let Shape::Hull { c, rot, hull } = *self else { return self.support(d) };
+        let (i, _) = hull.support_from(rot.transpose() * d, (last.get() != u32::MAX).then_some(last.get() as usize));
+        last.set(i as u32);
+        c + rot * hull.vert[i]
     }
 
     fn turn(&self, u: DVec3) -> DMat3 {
@@ -186,11 +200,20 @@ fn from_parry(v: Vector) -> DVec3 {
 }
 
 /// A convex shape's support function for parry.
-struct Parry<'a, C: Convex>(&'a C);
+struct Parry<'a, C: Convex>(&'a C, Cell<u32>, Frame);
+
+/// How parry reads a shape: its points p as o + (p − o) k (scaled about o).
+#[derive(Clone, Copy)]
+struct Frame {
+    o: DVec3,
+    k: f64,
+}
 
 impl<C: Convex> SupportMap for Parry<'_, C> {
     fn local_support_point(&self, dir: Vector) -> Vector {
-        to_parry(self.0.support(from_parry(dir)))
+        let Frame { o, k } = self.2;
+        let p = self.0.support_near(from_parry(dir), &self.1);
+        to_parry(if k == 1.0 { p } else { o + (p - o) * k })
     }
 }
 
@@ -219,7 +242,7 @@ const NEWTON: usize = 4;
 /// The contact of shapes 1 and 2 within `margin`, placed at the support point of shape 1
 /// (`on_first`) or 2.
 fn contact<A: Convex, B: Convex>(a: &A, b: &B, on_first: bool, margin: f64, epa: &mut Epa) -> Option<Touch> {
-    let n = first_normal(a, b, margin, epa)?;
+    let n = first_normal(a, b, margin, 0.0, epa)?;
     // the separation along n, and the support points
     let along = |n: DVec3| {
         let (s1, s2) = (a.support(-n), b.support(n));
@@ -288,19 +311,28 @@ fn contact<A: Convex, B: Convex>(a: &A, b: &B, on_first: bool, margin: f64, epa:
 
 /// GJK's or EPA's normal (unit, from shape 2 to shape 1; neither a plane nor a height field)
 /// of shapes 1 and 2 within `margin`, None when farther apart: where a hull pair of many edges
-/// looks for its separating axis.
-pub(super) fn normal(a: Shape, b: Shape, margin: f64, epa: &mut Epa) -> Option<DVec3> {
-    first_normal(&a, &b, margin, epa)
+/// looks for its separating axis (`radius` bounds shape 1's points' distance from its centre).
+pub(super) fn normal(a: Shape, b: Shape, margin: f64, radius: f64, epa: &mut Epa) -> Option<DVec3> {
+    // shrunk, shape 1's points come at most HINT_SHRINK × radius nearer shape 2
+    first_normal(&a, &b, margin + HINT_SHRINK * radius, HINT_SHRINK, epa)
 }
+
+/// How much shape 1 is shrunk about its centre for [`normal`]'s GJK: shapes that touch or
+/// overlap by less then lie apart, and GJK gives their normal in a few steps where EPA, at
+/// parry's absolute tolerance, would spend its hundred iterations on a touching pair of
+/// detailed meshes (the hint needs no more: the pair's test finds the exact features).
+const HINT_SHRINK: f64 = 1e-3;
 
 /// GJK's normal (from shape 2 to shape 1) of two shapes apart by at most `margin`, else EPA's;
 /// the line of the centres if EPA finds none (a degenerate overlap); None when farther apart.
-fn first_normal<A: Convex, B: Convex>(a: &A, b: &B, margin: f64, epa: &mut Epa) -> Option<DVec3> {
+fn first_normal<A: Convex, B: Convex>(a: &A, b: &B, margin: f64, shrink: f64, epa: &mut Epa) -> Option<DVec3> {
     // a diverging world's poses are not finite: no contact (GJK asserts finite supports)
+    let o = a.centre();
     if !(a.support(DVec3::X) - b.support(DVec3::Y)).is_finite() {
         return None;
     }
-    let (pa, pb, pose) = (Parry(a), Parry(b), Pose::IDENTITY);
+    let frame = Frame { o, k: 1.0 - shrink };
+    let (pa, pb, pose) = (Parry(a, Cell::new(u32::MAX), frame), Parry(b, Cell::new(u32::MAX), Frame { o, k: 1.0 }), Pose::IDENTITY);
     let toward = (b.centre() - a.centre()).try_normalize().unwrap_or(DVec3::X);
     let mut simplex = VoronoiSimplex::new();
     simplex.reset(CsoPoint::from_shapes(&pose, &pa, &pb, to_parry(toward)));

@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use super::broadphase::{apart, own_reach_of};
+use super::broadphase::{apart, own_reach_of, test_margin};
 use super::data::{has_own_reach, pose, posed, reach, CollisionData};
 use super::narrowphase::pair;
 use crate::dynamics::aba::AbaData;
@@ -105,6 +105,10 @@ pub(super) fn test_lazily(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Col
         }
     }
     let margin = p.margin + reach(out, p.g1) + reach(out, p.g2);
+    if apart(out, p, margin) {
+        return spheres_gap(out, p, spare);
+    }
+    let margin = test_margin(m, kin, aba, out, k, margin);
     if apart(out, p, margin) { spheres_gap(out, p, spare) } else { pair(m, kin, out, p, margin) }
 }
 

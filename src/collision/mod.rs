@@ -49,11 +49,12 @@ mod ellipsoid;
 mod data;
 mod gaps;
 mod narrowphase;
+mod prism;
 pub mod ray;
 mod shapes;
 mod terrain;
 
-use broadphase::{apart, arm_speed, fall, judge_groups, near_pairs, own_reach_of, relative_reach, relative_reach_end};
+use broadphase::{apart, arm_speed, fall, judge_groups, near_pairs, own_reach_of, relative_reach, relative_reach_end, test_margin};
 pub use data::{CollisionData, Contact};
 use data::{pose, posed, reach, fixed, GAP_TOLERANCE};
 use gaps::{lower_and_test_gaps, quick_travel, test_lazily, travel};
@@ -113,6 +114,8 @@ pub fn collide(m: &Model, dy: &DynamicsData, s: &WorldState<'_>, out: &mut Colli
         for &k in &m.pairs_without_gap {
             test_lazily(m, kin, aba, out, k, f64::INFINITY);
         }
+        // the gap pairs, then the rest, narrowed: in the pairs' order for `test_again`'s search
+        out.narrowed.sort_unstable_by_key(|n| n.0);
         return;
     }
     for g in 0..m.ngeom {
@@ -126,6 +129,13 @@ pub fn collide(m: &Model, dy: &DynamicsData, s: &WorldState<'_>, out: &mut Colli
         // is stopped at the surface instead of being found inside it one step later
         let margin = p.margin + reach(out, p.g1) + reach(out, p.g2);
         if apart(out, p, margin) {
+            continue;
+        }
+        let tested = test_margin(m, kin, aba, out, k, margin);
+        if tested < margin {
+            if !apart(out, p, tested) {
+                pair(m, kin, out, p, tested);
+            }
             continue;
         }
         let before = out.contacts.len();

@@ -8,7 +8,7 @@ use super::data::{pose_axes, CollisionData, Contact, Epa};
 use super::cylinder;
 use super::ellipsoid;
 use super::terrain::hfield_contacts;
-use super::shapes::{box_box, closest_on_segment, closest_segments, point_box, segment_box_points, shape, spheres, Shape};
+use super::shapes::{box_box, boxes_part, closest_on_segment, closest_segments, point_box, segment_box_points, shape, spheres, Shape};
 use crate::dynamics::kinematics::KinData;
 use crate::model::{GeomPair, Model};
 
@@ -154,6 +154,8 @@ fn solid_pair(sink: &Sink, cd: &mut CollisionData, (g1, s1): (usize, Shape), (g2
         (Shape::Cylinder(cyl), Shape::Plane { p, n }) => {
             each(cd, &cylinder::on_plane(&cyl, p, n, margin), 1.0);
         }
+        // a hull's GJK first meets the boxes
+        (Shape::Cylinder(_), Shape::Hull { .. }) | (Shape::Hull { .. }, Shape::Cylinder(_)) if boxes_part(&s1, &s2, margin) => {}
         (Shape::Cylinder(cyl), other) if !matches!(other, Shape::HField { .. }) => {
             let found = cylinder::pair(&cyl, other, margin, &mut cd.epa);
             each(cd, &found, 1.0);
@@ -195,7 +197,10 @@ fn hull_pair(s1: Shape, s2: Shape, margin: f64, scale: f64, epa: &mut Epa) -> Ma
     };
     let many = edges(&s1) * edges(&s2) > MANY_EDGE_PAIRS || matches!((s1, s2), (Shape::Sphere { .. }, Shape::Hull { hull, .. }) | (Shape::Hull { hull, .. }, Shape::Sphere { .. }) if hull.faces.len() > 64);
     let hint = if !matches!(s2, Shape::Plane { .. }) && many {
-        match ellipsoid::normal(s1, s2, margin + 1e-6 * scale, epa) {
+        if boxes_part(&s1, &s2, margin + 1e-6 * scale) {
+            return Manifold::new();
+        }
+        match ellipsoid::normal(s1, s2, margin + 1e-6 * scale, scale, epa) {
             Some(n) => Some(n),
             None => return Manifold::new(),
         }

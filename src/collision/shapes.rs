@@ -21,6 +21,40 @@ pub(super) enum Shape<'a> {
     HField { p: DVec3, rot: DMat3, field: &'a HField },
 }
 
+impl Shape<'_> {
+    /// A box that holds the shape (centre, rotation, half extents); None for a plane or height
+    /// field.
+    pub(super) fn oriented_box(&self) -> Option<(DVec3, DMat3, DVec3)> {
+        let along = |axis: DVec3| {
+            let (u, v) = axis.any_orthonormal_pair();
+            DMat3::from_cols(u, v, axis)
+        };
+        match *self {
+            Shape::Sphere { c, r } => Some((c, DMat3::IDENTITY, DVec3::splat(r))),
+            Shape::Segment { a, b, r } => {
+                let half = 0.5 * a.distance(b);
+                let axis = (b - a).try_normalize().unwrap_or(DVec3::Z);
+                Some(((a + b) * 0.5, along(axis), DVec3::new(r, r, half + r)))
+            }
+            Shape::Cylinder(Cyl { c, axis, half, r }) => Some((c, along(axis), DVec3::new(r, r, half))),
+            Shape::Box { c, rot, half } => Some((c, rot, half)),
+            Shape::Ellipsoid { c, rot, radii } => Some((c, rot, radii)),
+            Shape::Hull { c, rot, hull } => Some((c + rot * hull.bounds.0, rot, hull.bounds.1)),
+            Shape::Plane { .. } | Shape::HField { .. } => None,
+        }
+    }
+}
+
+/// Whether two shapes' boxes ([`Shape::oriented_box`]) lie farther apart than `margin`: the
+/// midphase of a pair whose test starts with GJK on a hull (MuJoCo's oriented-box test), which
+/// spares the support walks of limbs near each other but apart.
+pub(super) fn boxes_part(s1: &Shape, s2: &Shape, margin: f64) -> bool {
+    match (s1.oriented_box(), s2.oriented_box()) {
+        (Some(a), Some(b)) => super::broadphase::boxes_apart(a, b, margin),
+        _ => false,
+    }
+}
+
 /// A posed cylinder: centre, unit axis, half-length, radius (its geometry in `cylinder.rs`).
 #[derive(Clone, Copy)]
 pub(super) struct Cyl {

@@ -7,7 +7,8 @@ use arrayvec::ArrayVec;
 use glam::{DMat3, DVec3};
 
 use super::cylinder;
-use super::convex::{point_polytope, polytopes, reduce, Manifold, Point, PosedBox, PosedHull, Prism, Segment, MAX_MANIFOLD};
+use super::convex::{point_polytope, polytopes, reduce, Manifold, Point, PosedBox, PosedHull, Segment, MAX_MANIFOLD};
+use super::prism::Prism;
 use super::data::Epa;
 use super::ellipsoid::{half_width, with_polytope};
 use super::shapes::Shape;

@@ -43,6 +43,10 @@ pub struct Hull {
     /// (a hull of more than [`CLIMB_FROM`] vertices finds its support by walking them).
     neighbours: Vec<u32>,
     start: Vec<u32>,
+    /// The vertices farthest along ±x, ±y, ±z: the walk starts from the best of them.
+    seeds: [u32; 6],
+    /// The box of the vertices along the hull's axes: centre and half extents.
+    pub bounds: (DVec3, DVec3),
 }
 
 /// Vertices beyond which [`Hull::support`] climbs the vertex graph instead of reading every vertex.
@@ -66,9 +70,25 @@ impl Hull {
     /// climbing from a triangle's vertex to the best neighbour while one is farther (on a convex polytope a
     /// vertex no neighbour beats is a farthest one, as in the simplex method).
     pub fn support(&self, d: DVec3) -> (usize, f64) {
+        self.support_from(d, None)
+    }
+
+    /// [`Hull::support`] climbing from vertex `start` (the last support point of a nearby
+    /// direction: a few steps away) instead of the best of the axes' extremes.
+    pub fn support_from(&self, d: DVec3, start: Option<usize>) -> (usize, f64) {
         if self.vert.len() > CLIMB_FROM && !self.start.is_empty() {
-            let first = self.tris[0][0] as usize;
-            let mut best = (first, self.vert[first].dot(d));
+            let mut best = (0, f64::NEG_INFINITY);
+            match start.filter(|&i| i < self.vert.len()) {
+                Some(i) => best = (i, self.vert[i].dot(d)),
+                None => {
+                    for &i in &self.seeds {
+                        let s = self.vert[i as usize].dot(d);
+                        if s > best.1 {
+                            best = (i as usize, s);
+                        }
+                    }
+                }
+            }
             loop {
                 let (i, s) = best;
                 for &j in &self.neighbours[self.start[i] as usize..self.start[i + 1] as usize] {
@@ -111,6 +131,11 @@ impl Hull {
             Some(*n)
         })).collect();
         self.neighbours = lists.concat();
+        let extreme = |d: DVec3| (0..self.vert.len()).max_by(|&a, &b| self.vert[a].dot(d).total_cmp(&self.vert[b].dot(d))).unwrap_or(0) as u32;
+        self.seeds = [DVec3::X, -DVec3::X, DVec3::Y, -DVec3::Y, DVec3::Z, -DVec3::Z].map(extreme);
+        let [hx, lx, hy, ly, hz, lz] = self.seeds.map(|i| self.vert[i as usize]);
+        let (lo, hi) = (DVec3::new(lx.x, ly.y, lz.z), DVec3::new(hx.x, hy.y, hz.z));
+        self.bounds = ((lo + hi) * 0.5, (hi - lo) * 0.5);
     }
 
     /// Groups adjacent triangles with one normal into faces; lists the edges between faces.
