@@ -277,6 +277,20 @@ def test_a_link_meshed_into_its_base_around_its_hinge_is_left_unpushed():
     assert np.all(sim.qpos >= -1e-4) and np.all(sim.qpos <= 3)
 
 
+def test_a_general_actuator_reads_only_the_parameters_its_types_use():
+    """MyoSuite's simple arms: a `<general>` of fixed gain and no bias whose class shares a muscle's
+    ten `gainprm` and `biasprm`; MuJoCo reads gainprm[0] only (affine reads three), and so does
+    sinew."""
+    xml = """<mujoco><worldbody><body><joint name="j" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02"/>
+      <body pos="0.3 0 0"><joint name="k" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02"/></body></body></worldbody>
+      <actuator><general joint="j" gainprm="2 0 2 2 0 0 0 0 0 0" biasprm="0 0 2 2 0 0 0 0 0 0"/>
+        <general joint="k" gaintype="affine" biastype="affine" gainprm="3 0.5 -0.1 7 7" biasprm="0.2 -1 -0.3 9 9"/></actuator></mujoco>"""
+    mj, sm = both(xml)
+    d, sim = qacc_both(mj, sm, [0.3, -0.4], [0.5, -1.0], [0.7, -0.6])
+    np.testing.assert_allclose(sim.qacc, d.qacc, rtol=1e-10, atol=1e-10)
+    assert abs(d.actuator_force[0] - 2 * 0.7) < 1e-12
+
+
 def test_actuator_force_ranges_are_mujocos():
     xml = ARM.format(compiler="", joint="", position='forcerange="-3 4"').replace(
         '<position name="a_elbow" joint="elbow" class="servo"/>', '<position name="a_elbow" joint="elbow" forcelimited="false"/>')

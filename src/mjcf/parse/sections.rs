@@ -178,11 +178,10 @@ impl Parser<'_> {
         if e.get("gaintype") == Some("muscle") {
             return general_muscle(e);
         }
+        // fixed, affine and none read at most the first three parameters (MuJoCo's
+        // mjGAIN_AFFINE, mjBIAS_AFFINE): the rest, which a class may share with muscles, are unused
         let prm = |name: &str, default: f64| -> Result<[f64; 3]> {
             let v = e.nums(name)?.unwrap_or_else(|| vec![default]);
-            if v.len() > 3 && v[3..].iter().any(|&x| x != 0.0) {
-                return Err(e.err(name, "only the first three parameters are supported"));
-            }
             Ok([0, 1, 2].map(|k| v.get(k).copied().unwrap_or(0.0)))
         };
         let gain = match e.get("gaintype").unwrap_or("fixed") {
