@@ -163,7 +163,9 @@ pub(super) fn boxes_apart((ci, ri, hi): (DVec3, DMat3, DVec3), (cj, rj, hj): (DV
             return true;
         }
     }
-    // edge pairs: axis e_p × col_k of r, of length √(1 − r_pk²)
+    // edge pairs: axis e_p × col_k of r, of length √(1 − r_pk²) (near zero for parallel edges:
+    // a round-off's slack)
+    let slack = 1e-12 * (hi.max_element() + hj.max_element());
     for p in 0..3 {
         let (u, v) = ((p + 1) % 3, (p + 2) % 3);
         for k in 0..3 {
@@ -172,7 +174,7 @@ pub(super) fn boxes_apart((ci, ri, hi): (DVec3, DMat3, DVec3), (cj, rj, hj): (DV
             let reach_i = hi[u] * a[k][v] + hi[v] * a[k][u];
             let reach_j = hj[ku] * a[kv][p] + hj[kv] * a[ku][p];
             let len = (1.0 - a[k][p] * a[k][p]).max(0.0).sqrt();
-            if along > reach_i + reach_j + margin * len + 1e-12 * (hi.max_element() + hj.max_element()) {
+            if along > reach_i + reach_j + margin * len + slack {
                 return true;
             }
         }
@@ -285,8 +287,6 @@ mod tests {
     use glam::{DMat3, DVec3};
     use crate::Model;
 
-    /// A pair's index by its bit's rank is its index in the pairs, and geoms that make no pair
-    /// (a body and its parent's) have none: six capsule–sphere chains on a plane.
     #[test]
     fn boxes_apart_only_where_the_boxes_are_apart() {
         // beside parry's exact distance of two cuboids: boxes declared apart are farther apart
@@ -331,6 +331,8 @@ mod tests {
         assert!(far_found as f64 > 0.9 * far as f64, "{far_found} of {far}");
     }
 
+    /// A pair's index by its bit's rank is its index in the pairs, and geoms that make no pair
+    /// (a body and its parent's) have none: six capsule–sphere chains on a plane.
     #[test]
     fn pair_of_finds_each_pair_by_rank() {
         let mut bodies = String::new();

@@ -108,8 +108,8 @@ pub(super) fn test_lazily(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Col
     if apart(out, p, margin) {
         return spheres_gap(out, p, spare);
     }
-    let margin = test_margin(m, kin, aba, out, k, margin);
-    if apart(out, p, margin) { spheres_gap(out, p, spare) } else { pair(m, kin, out, p, margin) }
+    let tested = test_margin(m, kin, aba, out, k, margin);
+    if tested < margin && apart(out, p, tested) { spheres_gap(out, p, spare) } else { pair(m, kin, out, p, tested) }
 }
 
 /// The distance between a pair's bounding spheres where it exceeds `spare`, else −∞ (also for
