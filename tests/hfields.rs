@@ -137,3 +137,22 @@ fn bad_height_fields_are_clear_errors() {
         assert!(e.contains(says), "{asset}: {e}");
     }
 }
+
+#[test]
+fn a_world_with_values_of_its_own_shares_the_models_meshes_and_heights_until_it_sets_heights() {
+    use sinew::batch::Batch;
+    use sinew::compile::params::Param;
+    use std::sync::Arc;
+    let m = Arc::new(Model::from_mjcf(&scene("hfield", r#"<geom type="mesh" mesh="gem"/>"#)).unwrap());
+    let mut b = Batch::new(m.clone(), &[1, 2], Some(1)).unwrap();
+    let friction: Vec<f64> = Param::GeomFriction.read(&m).iter().map(|f| f * 0.5).collect();
+    b.set_param(Param::GeomFriction, &[0, 1], &[friction.clone(), friction].concat()).unwrap();
+    for i in 0..2 {
+        assert!(Arc::ptr_eq(&b.model_of(i).meshes, &m.meshes) && Arc::ptr_eq(&b.model_of(i).hfields, &m.hfields));
+    }
+    let heights: Vec<f64> = (0..25).map(|k| k as f64 / 25.0).collect();
+    b.set_param(Param::HfieldData, &[1], &heights).unwrap();
+    assert!(Arc::ptr_eq(&b.model_of(0).hfields, &m.hfields) && !Arc::ptr_eq(&b.model_of(1).hfields, &m.hfields));
+    assert_eq!(b.model_of(1).hfields[0].data, heights);
+    assert!(m.hfields[0].data.iter().all(|&h| h == m.hfields[0].data[0]), "the model's own heights changed");
+}

@@ -328,7 +328,7 @@ class Batch:
         """Gives the chosen worlds their own values of a model field (MuJoCo's name: body_mass,
         body_ipos, body_inertia, geom_friction, dof_damping, dof_armature, dof_frictionloss,
         jnt_stiffness, actuator_gain, actuator_bias, actuator_gear, actuator_ctrlrange, gravity,
-        wrap_prm, hfield_data, body_pos, body_quat, eq_active),
+        wrap_prm, hfield_data, body_pos, body_quat, eq_active, pair_friction),
         broadcast to (worlds, ...); ValueError naming the world and field, and no change, on a bad value."""
     def params(self, field: str) -> NDArray[np.float64]:
         """The field in every world (N, ...): a copy."""

@@ -114,8 +114,8 @@ fn compile(mut spec: ModelSpec, x: &include::Expanded) -> Result<Model> {
     params::node_inertias(&mut m, &inertia);
     geoms_and_sites(&mut m, &spec, &meshes, &hfields);
     m.opt.max_contacts = spec.option.nconmax.unwrap_or_else(|| crate::model::default_max_contacts(m.ngeom));
-    m.meshes = meshes;
-    m.hfields = hfields;
+    m.meshes = std::sync::Arc::new(meshes);
+    m.hfields = std::sync::Arc::new(hfields);
     m.keys = keyframes(&m, &spec)?;
     tendons(&mut m, &spec)?;
     equalities(&mut m, &spec)?;

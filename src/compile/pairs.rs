@@ -66,16 +66,21 @@ pub fn explicit_pairs(m: &mut Model, spec: &ModelSpec) -> Result<Vec<GeomPair>> 
             return Err(Error::Compile(format!("<pair> at line {}: geoms '{}' and '{}' make no pair", p.line, p.geoms[0], p.geoms[1])));
         }
         let mut pair = geom_pair(m, i, j);
-        (pair.margin, pair.friction) = (p.margin, Some((p.friction, p.condim > 1)));
+        (pair.margin, pair.friction) = (p.margin, Some((p.friction[0], p.condim > 1)));
         match out.iter().position(|q| (q.g1, q.g2) == (i, j)) {
             Some(k) => {
+                m.pair_friction[k] = p.friction;
                 m.warnings.push(format!(
                     "<pair> at line {}: geoms '{}' and '{}' are paired again; this pair replaces the earlier one (MuJoCo would keep both and find each contact twice)",
                     p.line, p.geoms[0], p.geoms[1]
                 ));
                 out[k] = pair;
             }
-            None => out.push(pair),
+            None => {
+                out.push(pair);
+                m.pair_geoms.push((i, j));
+                m.pair_friction.push(p.friction);
+            }
         }
     }
     Ok(out)

@@ -54,11 +54,14 @@ pub enum Param {
     /// [`Model::eq_order`]): a weld switched on holds the bodies where the weld's reference
     /// puts them, closing any error within a step.
     EqActive,
+    /// Each `<contact><pair>`'s friction (npair × 5, MuJoCo's `pair_friction`: two sliding,
+    /// torsional, two rolling), in the file's order; its contacts read the first.
+    PairFriction,
 }
 
 impl Param {
     /// Every field, in the order of [`Param::name`]s that `Batch` lists.
-    pub const ALL: [Param; 18] = [
+    pub const ALL: [Param; 19] = [
         Param::BodyMass,
         Param::BodyIpos,
         Param::BodyInertia,
@@ -77,6 +80,7 @@ impl Param {
         Param::BodyPos,
         Param::BodyQuat,
         Param::EqActive,
+        Param::PairFriction,
     ];
 
     /// MuJoCo's name of the field (`gravity` for `opt.gravity`).
@@ -100,6 +104,7 @@ impl Param {
             Param::BodyPos => "body_pos",
             Param::BodyQuat => "body_quat",
             Param::EqActive => "eq_active",
+            Param::PairFriction => "pair_friction",
         }
     }
 
@@ -125,6 +130,7 @@ impl Param {
             Param::BodyPos => (m.nbody, 3),
             Param::BodyQuat => (m.nbody, 4),
             Param::EqActive => (m.eq_order.len(), 1),
+            Param::PairFriction => (m.pair_geoms.len(), 5),
         }
     }
 
@@ -157,6 +163,7 @@ impl Param {
                     EqRef::Connect(c) => m.connects[c].active,
                 } as u8 as f64)
                 .collect(),
+            Param::PairFriction => m.pair_friction.concat(),
         }
     }
 
@@ -177,7 +184,14 @@ impl Param {
         }
         let non_negative = matches!(
             self,
-            Param::BodyMass | Param::BodyInertia | Param::GeomFriction | Param::DofDamping | Param::DofArmature | Param::DofFrictionloss | Param::JntStiffness
+            Param::BodyMass
+                | Param::BodyInertia
+                | Param::GeomFriction
+                | Param::DofDamping
+                | Param::DofArmature
+                | Param::DofFrictionloss
+                | Param::JntStiffness
+                | Param::PairFriction
         );
         if let Some(k) = values.iter().position(|&x| non_negative && x < 0.0) {
             return Err(format!("{}{} = {} is negative", self.name(), self.at(k, cols), values[k]));
@@ -275,9 +289,17 @@ impl Param {
                     }
                 }
             }
+            Param::PairFriction => {
+                m.pair_friction = values.chunks(5).map(|r| [r[0], r[1], r[2], r[3], r[4]]).collect();
+                for p in m.collision_pairs.iter_mut() {
+                    if let (Some((f, _)), Some(k)) = (p.friction.as_mut(), m.pair_geoms.iter().position(|&g| g == (p.g1, p.g2))) {
+                        *f = m.pair_friction[k][0];
+                    }
+                }
+            }
             Param::HfieldData => {
                 let mut rest = values;
-                for h in &mut m.hfields {
+                for h in std::sync::Arc::make_mut(&mut m.hfields).iter_mut() {
                     let (mine, after) = rest.split_at(h.data.len());
                     h.data.copy_from_slice(mine);
                     rest = after;

@@ -118,8 +118,8 @@ pub struct OptionSpec {
 pub struct PairSpec {
     /// The geoms' names.
     pub geoms: [String; 2],
-    /// Sliding friction coefficient (the first of `friction`).
-    pub friction: f64,
+    /// Friction: two sliding, torsional, two rolling (MuJoCo's defaults after those given).
+    pub friction: [f64; 5],
     /// Contact dimensionality (1: frictionless).
     pub condim: u32,
     /// Distance within which the pair is in contact.

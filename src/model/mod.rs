@@ -444,12 +444,12 @@ pub struct Model {
     pub geom_body_box: Vec<Option<DVec3>>,
     /// Mesh of each geom (mesh geoms), an index into `meshes`.
     pub geom_mesh: Vec<Option<usize>>,
-    /// Mesh assets, in the frames their geoms use.
-    pub meshes: Vec<crate::geometry::Mesh>,
+    /// Mesh assets, in the frames their geoms use: shared by every world's copy of the model.
+    pub meshes: std::sync::Arc<Vec<crate::geometry::Mesh>>,
     /// Height field of each geom (height-field geoms), an index into `hfields`.
     pub geom_hfield: Vec<Option<usize>>,
-    /// Height-field assets.
-    pub hfields: Vec<crate::geometry::HField>,
+    /// Height-field assets: shared until a world's own heights are set (copied on write).
+    pub hfields: std::sync::Arc<Vec<crate::geometry::HField>>,
     /// Friction (sliding, torsional, rolling) (ngeom).
     pub geom_friction: Vec<[f64; 3]>,
     /// Contact type bits (ngeom).
@@ -586,6 +586,11 @@ pub struct Model {
     /// Geom pairs that pass the configuration-independent collision filters, with what the
     /// broadphase reads of them.
     pub collision_pairs: Vec<GeomPair>,
+    /// The geoms (lower index first) of each `<contact><pair>`, in the file's order (npair).
+    pub pair_geoms: Vec<(usize, usize)>,
+    /// Each `<contact><pair>`'s friction as MuJoCo keeps it (npair × 5); its contacts read the
+    /// first ([`GeomPair::friction`]).
+    pub pair_friction: Vec<[f64; 5]>,
     /// Normal of the plane all motion stays in, when every joint is a hinge about it or a slide
     /// along it (hopper, walker, half-cheetah): friction out of that plane can do nothing there.
     pub motion_plane: Option<DVec3>,

@@ -543,7 +543,7 @@ impl PyBatch {
     /// model field `field` (MuJoCo's name: body_mass, body_ipos, body_inertia, geom_friction,
     /// dof_damping, dof_armature, dof_frictionloss, jnt_stiffness, actuator_gain, actuator_bias,
     /// actuator_gear, actuator_ctrlrange, gravity, wrap_prm, hfield_data, body_pos, body_quat,
-    /// eq_active), `values` broadcast to (worlds, ...); a new body mass scales its inertia. What
+    /// eq_active, pair_friction), `values` broadcast to (worlds, ...); a new body mass scales its inertia. What
     /// derives from the field follows, the worlds' warm starts are forgotten; a bad value raises
     /// ValueError naming the world and the field, and then no world changes.
     #[pyo3(signature = (field, values, worlds=None))]

@@ -164,7 +164,7 @@ impl PyModel {
             return Err(PyValueError::new_err(format!("height field '{}': elevation {bad} is not finite or beyond ±{:e}", h.name, crate::math::MAX_STATE)));
         }
         let mut m = (*self.inner).clone();
-        m.hfields[k].data = a.iter().copied().collect();
+        std::sync::Arc::make_mut(&mut m.hfields)[k].data = a.iter().copied().collect();
         Ok(self.sharing(m))
     }
 
@@ -638,7 +638,7 @@ impl PyModel {
             Actuation::Trajectory { kp, kd } => d.set_item("trajectory_gains", (kp, kd))?,
         }
         let fields = pyo3::types::PyDict::new(py);
-        for h in &self.inner.hfields {
+        for h in self.inner.hfields.iter() {
             fields.set_item(&h.name, numpy::PyArray1::from_vec(py, h.data.clone()).reshape([h.nrow, h.ncol])?)?;
         }
         let path = self.path.as_ref().map(|p| p.to_string_lossy().into_owned());

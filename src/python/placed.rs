@@ -72,7 +72,9 @@ impl Placements {
         self.1.resize(b.len(), None);
         for &i in which {
             let own = b.model_of(i);
-            self.1[i] = (own.hfields != b.model.hfields).then(|| r.surfaces_for(own));
+            // shared heights are the model's; a world's own copy may still equal them
+            let differ = !std::sync::Arc::ptr_eq(&own.hfields, &b.model.hfields) && own.hfields != b.model.hfields;
+            self.1[i] = differ.then(|| r.surfaces_for(own));
         }
     }
 

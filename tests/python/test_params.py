@@ -100,6 +100,29 @@ def test_gravity_and_friction_per_world_decide_exactly_who_slides():
     assert np.allclose(x[:2], slide, rtol=0.02), (x[:2], slide)
 
 
+def test_a_pairs_friction_per_world_overrides_the_geoms_as_in_mujoco():
+    """``pair_friction`` (npair × 5, MuJoCo's): an explicit pair's contacts read its first value,
+    whatever the geoms' friction; the file's trailing values are MuJoCo's defaults."""
+    g, theta = 9.81, np.radians(20)
+    xml = BOX.replace("</mujoco>", '<contact><pair geom1="floor" geom2="b" friction="0.9 0.9"/></contact></mujoco>')
+    m = sinew.Model.from_mjcf_string(xml)
+    assert np.array_equal(m.param("pair_friction"), [[0.9, 0.9, 0.005, 0.0001, 0.0001]])
+    b = sinew.Batch(m, 4)
+    b.set_params("gravity", [g * np.sin(theta), 0, -g * np.cos(theta)])
+    mu = np.array([0.2, 0.3, 0.5, 0.8])
+    f = np.tile(m.param("pair_friction"), (4, 1, 1))
+    f[:, 0, 0] = mu
+    b.set_params("pair_friction", f)
+    assert np.array_equal(b.params("pair_friction")[:, 0, 0], mu)
+    for _ in range(200):
+        b.step()
+    x, t = b.qpos[:, 0], 200 * 0.005
+    assert np.all(np.abs(x[2:]) < 1e-9), x
+    assert np.allclose(x[:2], 0.5 * g * (np.sin(theta) - mu[:2] * np.cos(theta)) * t * t, rtol=0.02), x
+    with pytest.raises(ValueError, match="world 1.*pair_friction.*is negative"):
+        b.set_params("pair_friction", -f[1], [1])
+
+
 @pytest.mark.parametrize("field, values, what", [
     ("body_mass", lambda m: np.where(np.arange(m.nbody) == 2, -1.0, m.param("body_mass")), "is negative"),
     ("body_inertia", lambda m: np.where(np.arange(3) == 0, 10.0, m.param("body_inertia")), "triangle inequality"),

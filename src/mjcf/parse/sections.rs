@@ -447,7 +447,9 @@ impl Parser<'_> {
         }
         let condim = self.condim(&e)?;
         let margin = e.nonneg("margin", 0.0)?;
-        self.spec.contact_pairs.push(PairSpec { geoms: [g1.to_string(), g2.to_string()], friction: friction[0], condim, margin, line: e.line });
+        let mut all = [1.0, 1.0, 0.005, 0.0001, 0.0001];
+        all[..friction.len()].copy_from_slice(&friction);
+        self.spec.contact_pairs.push(PairSpec { geoms: [g1.to_string(), g2.to_string()], friction: all, condim, margin, line: e.line });
         Ok(())
     }
 
