@@ -12,6 +12,7 @@ Needs ``pip install envpool`` (its Playground port and model files).
 from __future__ import annotations
 
 import argparse
+import os
 import time
 
 import gymnasium as gym
@@ -29,10 +30,30 @@ TASKS = {
                  "dof_vel"],
     "Go1Handstand": ["height", "orientation", "contact", "dof_pos_limits", "pose"],
     "Go1Footstand": ["height", "orientation", "contact", "dof_pos_limits", "pose"],
+    "G1JoystickFlatTerrain": ["tracking_lin_vel", "tracking_ang_vel", "ang_vel_xy", "orientation", "feet_air_time", "feet_slip",
+                              "feet_phase", "stand_still", "termination", "contact_force", "pose"],
+    "G1JoystickRoughTerrain": ["tracking_lin_vel", "tracking_ang_vel", "ang_vel_xy", "orientation", "feet_air_time", "feet_slip",
+                               "feet_phase", "stand_still", "termination", "contact_force", "pose"],
+    "T1JoystickFlatTerrain": ["tracking_lin_vel", "tracking_ang_vel", "ang_vel_xy", "orientation", "feet_air_time", "feet_slip",
+                              "feet_phase", "alive", "pose", "feet_distance", "collision"],
+    "T1JoystickRoughTerrain": ["tracking_lin_vel", "tracking_ang_vel", "ang_vel_xy", "orientation", "feet_air_time", "feet_slip",
+                               "feet_phase", "alive", "pose", "feet_distance", "collision"],
+    "BerkeleyHumanoidJoystickFlatTerrain": ["tracking_lin_vel", "tracking_ang_vel", "ang_vel_xy", "orientation", "torques",
+                                            "action_rate", "feet_air_time", "feet_slip", "feet_phase", "termination", "pose"],
+    "BerkeleyHumanoidJoystickRoughTerrain": ["tracking_lin_vel", "tracking_ang_vel", "ang_vel_xy", "orientation", "torques",
+                                             "action_rate", "feet_air_time", "feet_slip", "feet_phase", "termination", "pose"],
 }
-#: Privileged-state entries compared at reset: (name, columns).
-RESET = [("body linear velocity", slice(57, 60)), ("gravity in IMU frame", slice(54, 57)), ("gyro", slice(48, 51)),
-         ("joint angles − default", slice(63, 75))]
+#: Privileged-state entries compared at reset, per robot: (name, columns).
+RESET = {"Go1": [("body linear velocity", slice(57, 60)), ("gravity in IMU frame", slice(54, 57)), ("gyro", slice(48, 51)),
+                 ("joint angles − default", slice(63, 75))],
+         "G1": [("pelvis linear velocity", slice(112, 115)), ("gravity in pelvis IMU frame", slice(109, 112)),
+                ("gyro", slice(103, 106)), ("joint angles − default", slice(118, 147))],
+         "T1": [("body linear velocity", slice(94, 97)), ("gravity in IMU frame", slice(91, 94)), ("gyro", slice(85, 88)),
+                ("joint angles − default", slice(100, 123))],
+         "BerkeleyHumanoid": [("body linear velocity", slice(61, 64)), ("gravity in IMU frame", slice(58, 61)),
+                              ("gyro", slice(52, 55)), ("joint angles − default", slice(67, 79))]}
+#: Worlds per run: EnvPool's port holds about 50 MB per world (its contact buffers) for Go1, more for G1.
+WORLDS = {"Go1": 256, "G1": 128, "T1": 128, "BerkeleyHumanoid": 128}
 
 
 class Sinew:
@@ -41,6 +62,7 @@ class Sinew:
                                 num_threads=threads)
         obs, info = self.env.reset(seed=seed)
         self.priv, self.command, self.terms = info["privileged_state"], info.get("command"), TASKS[task]
+        self.nu = self.env.single_action_space.shape[0]
 
     def step(self, a):
         obs, r, term, trunc, info = self.env.step(a)
@@ -53,13 +75,18 @@ class EnvPool:
         self.env = envpool.make_gymnasium(f"MuJoCoPlayground/{task}-v1", num_envs=n, num_threads=threads, seed=seed)
         obs, info = self.env.reset()
         self.priv, self.command, self.terms = obs["privileged_state"], info.get("command"), TASKS[task]
+        self.nu = self.env.action_space.shape[-1]
 
     def step(self, a):
         obs, r, term, trunc, info = self.env.step(a)
         return r, term, trunc, {k: info["reward_" + k] for k in self.terms}
 
 
-def rollout(sim, task, policy, n=256, steps=250, seed=0):
+def robot(task: str) -> str:
+    return next(r for r in RESET if task.startswith(r))
+
+
+def rollout(sim, task, policy, n, steps=250, seed=0):
     """Mean reward per step, each term's mean (scaled, per second) over the worlds whose episode
     has not terminated yet, and the share that terminated within `steps`, under `policy` ("zero": the default pose held; "random":
     uniform actions in [-1, 1] redrawn each step)."""
@@ -68,7 +95,7 @@ def rollout(sim, task, policy, n=256, steps=250, seed=0):
     fell = np.zeros(n, dtype=bool)
     rewards, terms = [], {k: [] for k in TASKS[task]}
     for _ in range(steps):
-        a = np.zeros((n, 12)) if policy == "zero" else rng.uniform(-1, 1, (n, 12))
+        a = np.zeros((n, env.nu)) if policy == "zero" else rng.uniform(-1, 1, (n, env.nu))
         r, term, trunc, t = env.step(a)
         live = ~fell
         if live.any():
@@ -81,7 +108,7 @@ def rollout(sim, task, policy, n=256, steps=250, seed=0):
 
 def throughput(sim, task, n, threads, steps=200):
     env = sim(task, n, threads, 0)
-    a = np.random.default_rng(0).uniform(-1, 1, (steps, n, 12))
+    a = np.random.default_rng(0).uniform(-1, 1, (steps, n, env.nu))
     env.step(a[0])
     t0 = time.perf_counter()
     for k in range(steps):
@@ -92,12 +119,13 @@ def throughput(sim, task, n, threads, steps=200):
 def stills(directory: str) -> None:
     """Each robot after ``reset(seed=0)`` and 20 steps holding its default pose, 480 × 480."""
     import imageio
-    for robot, task in (("Go1", "Go1JoystickFlatTerrain"),):
+    for name, task in (("Go1", "Go1JoystickFlatTerrain"), ("G1", "G1JoystickFlatTerrain"), ("T1", "T1JoystickFlatTerrain"),
+                       ("BerkeleyHumanoid", "BerkeleyHumanoidJoystickFlatTerrain")):
         env = gym.make(f"sinew/playground-{task}-v0", render_mode="rgb_array", domain_randomization=False)
         env.reset(seed=0)
         for _ in range(20):
-            env.step(np.zeros(12))
-        imageio.imwrite(f"{directory}/playground-{robot}.png", env.render())
+            env.step(np.zeros(env.action_space.shape))
+        imageio.imwrite(f"{directory}/playground-{name}.png", env.render())
 
 
 def main():
@@ -105,38 +133,42 @@ def main():
     ap.add_argument("--out", default=None)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--stills", metavar="DIR", help="write a still of each robot there instead")
+    ap.add_argument("--tasks", nargs="+", default=list(TASKS), choices=list(TASKS), help="only these tasks (a check)")
     args = ap.parse_args()
     if args.stills:
         stills(args.stills)
         return
-    lines = ["# Playground tasks: sinew beside EnvPool's port", "",
-             "`python benches/playground.py --out results/playground.md` (EnvPool "
-             f"{__import__('envpool').__version__}, 2-core machine). Checked in distribution: the two simulators' "
-             "physics differ (exact contact against MuJoCo's soft contact), so the same actions do not reach the same states.", ""]
-    for task, names in TASKS.items():
+    head = ["# Playground tasks: sinew beside EnvPool's port", "",
+            "`python benches/playground.py --out results/playground.md` (EnvPool "
+            f"{__import__('envpool').__version__}, 2-core machine; `--tasks T...` rewrites those tasks' sections "
+            "alone). Checked in distribution: the two simulators' physics differ (exact contact against MuJoCo's "
+            "soft contact), so the same actions do not reach the same states.", ""]
+    sections = {}
+    for task in args.tasks:
+        lines = []
+        names, n = TASKS[task], WORLDS[robot(task)]
         lines += [f"## {task}", ""]
-        if task.startswith("Go1Joystick"):
-            lines += ["Reset distribution (privileged state, clean readings; 256 worlds): mean ± std per group.", "",
+        if "Joystick" in task:
+            lines += [f"Reset distribution (privileged state, clean readings; {n} worlds): mean ± std per group.", "",
                       "| quantity | sinew | EnvPool |", "|---|---|---|"]
-            # EnvPool's port holds about 50 MB per world (its contact buffers): 256 at a time
-            s, e = Sinew(task, 256, 2, 0), EnvPool(task, 256, 2, 0)
-            for name, cols in RESET:
+            s, e = Sinew(task, n, 2, 0), EnvPool(task, n, 2, 0)
+            for name, cols in RESET[robot(task)]:
                 lines.append(f"| {name} | {s.priv[:, cols].mean():+.3f} ± {s.priv[:, cols].std():.3f} | "
                              f"{e.priv[:, cols].mean():+.3f} ± {e.priv[:, cols].std():.3f} |")
             lines.append(f"| command (vx, vy, ωz) std | {np.array2string(s.command.std(0), precision=2)} | "
                          f"{np.array2string(e.command.std(0), precision=2)} |")
             del s, e
             lines.append("")
-        lines += ["Fixed policies, 256 worlds × 250 steps (5 s): mean reward per step, the share of worlds whose episode "
+        lines += [f"Fixed policies, {n} worlds × 250 steps (5 s): mean reward per step, the share of worlds whose episode "
                   "terminated (a fall, or a handstand's leg touching down), and each reward term's mean (scaled, per second).", "",
                   "| policy | sim | reward/step | ended | " + " | ".join(names) + " |", "|---|---|---:|---:|" + "---:|" * len(names)]
         for policy in ("zero", "random"):
             for name, sim in (("sinew", Sinew), ("EnvPool", EnvPool)):
-                r, t, fell = rollout(sim, task, policy)
+                r, t, fell = rollout(sim, task, policy, n)
                 lines.append(f"| {policy} | {name} | {r:.4f} | {fell:.2f} | " + " | ".join(f"{t[k]:+.3f}" for k in names) + " |")
         lines += ["", "Env-steps/s, random actions, median of alternating rounds:", "",
                   "| worlds | threads | sinew | EnvPool | × |", "|---:|---:|---:|---:|---:|"]
-        for n, threads in ((256, 1), (256, 2)):
+        for threads in (1, 2):
             ours, theirs = [], []
             for _ in range(args.rounds):
                 ours.append(throughput(Sinew, task, n, threads))
@@ -144,11 +176,21 @@ def main():
             a, b = np.median(ours), np.median(theirs)
             lines.append(f"| {n} | {threads} | {a:,.0f} | {b:,.0f} | {a / b:.2f} |")
         lines.append("")
-    text = "\n".join(lines)
-    print(text)
+        sections[task] = "\n".join(lines)
+        print(sections[task], flush=True)
     if args.out:
+        # the sections of the tasks not rerun are kept, in the order of TASKS
+        kept = read_sections(args.out) if os.path.exists(args.out) else {}
+        body = [sections.get(t, kept.get(t)) for t in TASKS]
         with open(args.out, "w") as f:
-            f.write(text)
+            f.write("\n".join(head + [b for b in body if b]))
+
+
+def read_sections(path: str) -> dict:
+    """The per-task sections (``## Task`` to the next) of a table this bench wrote."""
+    text = open(path).read()
+    parts = text.split("\n## ")[1:]
+    return {p.split("\n", 1)[0]: "## " + p.rstrip("\n") + "\n" for p in parts}
 
 
 if __name__ == "__main__":

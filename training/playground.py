@@ -27,9 +27,10 @@ import numpy as np
 import torch
 from torch import nn
 
-#: Playground's state layout: command at 45:48; the privileged state's clean body-frame linear
-#: velocity at 57:60.
-COMMAND, LINVEL = slice(45, 48), slice(57, 60)
+#: Each robot's layout in Playground's observations: the command in the state, the clean
+#: body-frame linear velocity (Go1's trunk, G1's pelvis) in the privileged state.
+LAYOUT = {"Go1": (slice(45, 48), slice(57, 60)), "G1": (slice(9, 12), slice(112, 115)), "T1": (slice(9, 12), slice(94, 97)),
+          "BerkeleyHumanoid": (slice(9, 12), slice(61, 64))}
 
 
 class Normalizer(nn.Module):
@@ -62,7 +63,7 @@ def mlp(n_in: int, sizes, n_out: int) -> nn.Sequential:
 
 
 class ActorCritic(nn.Module):
-    """Playground's Go1 networks: (512, 256, 128) for the actor and the critic."""
+    """Gaussian MLP actor and MLP critic (Playground's Go1 and G1 networks: (512, 256, 128))."""
 
     def __init__(self, n_obs: int, n_priv: int, n_act: int, hidden=(512, 256, 128), init_std: float = 0.25):
         super().__init__()
@@ -90,6 +91,7 @@ class SinewVec:
                                 num_threads=threads)
         obs, info = self.env.reset(seed=seed)
         self.obs, self.priv = obs, info["privileged_state"]
+        self.n_act = self.env.single_action_space.shape[0]
 
     def step(self, a: np.ndarray):
         obs, r, term, trunc, info = self.env.step(a)
@@ -107,6 +109,7 @@ class EnvPoolVec:
         self.env = envpool.make_gymnasium(f"MuJoCoPlayground/{task}-v1", num_envs=n, num_threads=threads, seed=seed)
         obs, _ = self.env.reset()
         self.obs, self.priv = obs["state"], obs["privileged_state"]
+        self.n_act = self.env.action_space.shape[-1]
 
     def step(self, a: np.ndarray):
         obs, r, term, trunc, _ = self.env.step(a)
@@ -118,17 +121,18 @@ def make_vec(sim: str, task: str, n: int, seed: int, threads: int):
     return (SinewVec if sim == "sinew" else EnvPoolVec)(task, n, seed, threads)
 
 
-def tracking_error(obs: np.ndarray, priv: np.ndarray) -> np.ndarray:
+def tracking_error(task: str, obs: np.ndarray, priv: np.ndarray) -> np.ndarray:
     """|commanded − actual planar body-frame velocity| per world (m/s)."""
-    return np.linalg.norm(obs[:, COMMAND][:, :2] - priv[:, LINVEL][:, :2], axis=1)
+    command, linvel = next(v for robot, v in LAYOUT.items() if task.startswith(robot))
+    return np.linalg.norm(obs[:, command][:, :2] - priv[:, linvel][:, :2], axis=1)
 
 
 def train(args) -> str:
     torch.manual_seed(args.seed)
     torch.set_num_threads(args.threads)
     env = make_vec(args.sim, args.task, args.num_envs, args.seed, args.threads)
-    n, n_obs, n_priv, n_act = args.num_envs, env.obs.shape[1], env.priv.shape[1], 12
-    ac = ActorCritic(n_obs, n_priv, n_act)
+    n, n_obs, n_priv, n_act = args.num_envs, env.obs.shape[1], env.priv.shape[1], env.n_act
+    ac = ActorCritic(n_obs, n_priv, n_act, tuple(args.hidden), args.init_std)
     opt = torch.optim.Adam(ac.parameters(), lr=args.lr)
     run = os.path.join(args.out, args.task, f"{args.sim}_{args.seed}")
     os.makedirs(run, exist_ok=True)
@@ -136,7 +140,7 @@ def train(args) -> str:
     buf = {k: torch.zeros(T, n, d) for k, d in (("obs", n_obs), ("priv", n_priv), ("act", n_act))}
     for k in ("logp", "rew", "done", "val", "trunc", "valid"):
         buf[k] = torch.zeros(T, n)
-    start, steps, it, lr, rows = time.time(), 0, 0, args.lr, []
+    start, steps, it, lr, rows, env_s = time.time(), 0, 0, args.lr, [], 0.0
     # the vector envs reset a world on the step after its episode ended (gymnasium's next-step
     # autoreset), ignoring that step's action: such steps are left out of the loss
     resetting = np.zeros(n, dtype=bool)
@@ -151,8 +155,10 @@ def train(args) -> str:
                 a = d.sample()
                 buf["obs"][t], buf["priv"][t], buf["act"][t] = obs, priv, a
                 buf["logp"][t], buf["val"][t] = d.log_prob(a).sum(-1), ac.value(priv)
+                t_env = time.time()
                 r, term, trunc = env.step(np.clip(a.numpy(), -1.0, 1.0).astype(np.float64))
-                err.append(tracking_error(env.obs, env.priv)[~resetting].mean())
+                env_s += time.time() - t_env
+                err.append(tracking_error(args.task, env.obs, env.priv)[~resetting].mean())
                 buf["rew"][t] = torch.as_tensor(r, dtype=torch.float32)
                 buf["done"][t] = torch.as_tensor(term | trunc | resetting, dtype=torch.float32)
                 buf["trunc"][t] = torch.as_tensor(trunc & ~term, dtype=torch.float32)
@@ -198,14 +204,15 @@ def train(args) -> str:
         it += 1
         rows.append((round(time.time() - start, 1), steps, float(np.mean(err)), float(buf["rew"].mean())))
         if it % 10 == 0:
-            print(f"{rows[-1][0]:7.1f} s  {steps:9d} steps  tracking error {rows[-1][2]:.3f} m/s  reward/step {rows[-1][3]:.4f}", flush=True)
+            print(f"{rows[-1][0]:7.1f} s  {steps:9d} steps  tracking error {rows[-1][2]:.3f} m/s  reward/step {rows[-1][3]:.4f}  "
+                  f"stepping {env_s / (time.time() - start):.0%} of the time", flush=True)
     torch.save(ac.state_dict(), os.path.join(run, "policy.pt"))
     with open(os.path.join(run, "curve.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["wall_s", "env_steps", "tracking_error_m_s", "reward_per_step"])
         w.writerows(rows)
     with open(os.path.join(run, "config.json"), "w") as f:
-        json.dump({**vars(args), "n_obs": n_obs, "n_priv": n_priv, "iterations": it, "env_steps": steps}, f, indent=1)
+        json.dump({**vars(args), "n_obs": n_obs, "n_priv": n_priv, "n_act": n_act, "iterations": it, "env_steps": steps}, f, indent=1)
     print(f"saved {run} after {it} iterations, {steps} env steps, {time.time() - start:.0f} s")
     return run
 
@@ -213,7 +220,7 @@ def train(args) -> str:
 def evaluate(run: str, episodes: int = 16, threads: int = 2) -> tuple[float, float]:
     cfg = json.load(open(os.path.join(run, "config.json")))
     torch.set_num_threads(threads)
-    ac = ActorCritic(cfg["n_obs"], cfg["n_priv"], 12)
+    ac = ActorCritic(cfg["n_obs"], cfg["n_priv"], cfg.get("n_act", 12), tuple(cfg.get("hidden", (512, 256, 128))))
     ac.load_state_dict(torch.load(os.path.join(run, "policy.pt")))
     env = make_vec(cfg["sim"], cfg["task"], episodes, 10_000 + cfg["seed"], threads)
     alive, err_sum, err_n, falls = np.ones(episodes, dtype=bool), 0.0, 0, 0
@@ -221,7 +228,7 @@ def evaluate(run: str, episodes: int = 16, threads: int = 2) -> tuple[float, flo
         with torch.no_grad():
             a = ac.actor(ac.obs_norm(torch.as_tensor(env.obs, dtype=torch.float32))).numpy()
         _, term, _ = env.step(np.clip(a, -1.0, 1.0).astype(np.float64))
-        e = tracking_error(env.obs, env.priv)
+        e = tracking_error(cfg["task"], env.obs, env.priv)
         # a world that fell is reset by the env: its episode is over
         err_sum += e[alive & ~term].sum()
         err_n += int((alive & ~term).sum())
@@ -287,6 +294,8 @@ def main():
     ap.add_argument("--lr", type=float, default=1e-3)
     ap.add_argument("--kl", type=float, default=0.01)
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--hidden", type=int, nargs="+", default=[512, 256, 128], help="hidden layers of the actor and the critic")
+    ap.add_argument("--init-std", type=float, default=0.25, help="the policy's first standard deviation")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--out", default="runs/playground")
     args = ap.parse_args()

