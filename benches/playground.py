@@ -42,6 +42,7 @@ TASKS = {
                                             "action_rate", "feet_air_time", "feet_slip", "feet_phase", "termination", "pose"],
     "BerkeleyHumanoidJoystickRoughTerrain": ["tracking_lin_vel", "tracking_ang_vel", "ang_vel_xy", "orientation", "torques",
                                              "action_rate", "feet_air_time", "feet_slip", "feet_phase", "termination", "pose"],
+    "ApolloJoystickFlatTerrain": ["tracking", "ang_vel_xy", "orientation", "feet_phase", "pose", "collision"],
 }
 #: Privileged-state entries compared at reset, per robot: (name, columns).
 RESET = {"Go1": [("body linear velocity", slice(57, 60)), ("gravity in IMU frame", slice(54, 57)), ("gyro", slice(48, 51)),
@@ -51,9 +52,12 @@ RESET = {"Go1": [("body linear velocity", slice(57, 60)), ("gravity in IMU frame
          "T1": [("body linear velocity", slice(94, 97)), ("gravity in IMU frame", slice(91, 94)), ("gyro", slice(85, 88)),
                 ("joint angles − default", slice(100, 123))],
          "BerkeleyHumanoid": [("body linear velocity", slice(61, 64)), ("gravity in IMU frame", slice(58, 61)),
-                              ("gyro", slice(52, 55)), ("joint angles − default", slice(67, 79))]}
-#: Worlds per run: EnvPool's port holds about 50 MB per world (its contact buffers) for Go1, more for G1.
-WORLDS = {"Go1": 256, "G1": 128, "T1": 128, "BerkeleyHumanoid": 128}
+                              ("gyro", slice(52, 55)), ("joint angles − default", slice(67, 79))],
+         "Apollo": [("body linear velocity", slice(118, 121)), ("gravity in IMU frame", slice(115, 118)), ("gyro", slice(112, 115)),
+                    ("joint angles − default", slice(121, 153))]}
+#: Worlds per run: EnvPool's port holds about 50 MB per world (its contact buffers) for Go1, more
+#: for the humanoids, about 0.55 GB for Apollo.
+WORLDS = {"Go1": 256, "G1": 128, "T1": 128, "BerkeleyHumanoid": 128, "Apollo": 16}
 
 
 class Sinew:
@@ -120,7 +124,7 @@ def stills(directory: str) -> None:
     """Each robot after ``reset(seed=0)`` and 20 steps holding its default pose, 480 × 480."""
     import imageio
     for name, task in (("Go1", "Go1JoystickFlatTerrain"), ("G1", "G1JoystickFlatTerrain"), ("T1", "T1JoystickFlatTerrain"),
-                       ("BerkeleyHumanoid", "BerkeleyHumanoidJoystickFlatTerrain")):
+                       ("BerkeleyHumanoid", "BerkeleyHumanoidJoystickFlatTerrain"), ("Apollo", "ApolloJoystickFlatTerrain")):
         env = gym.make(f"sinew/playground-{task}-v0", render_mode="rgb_array", domain_randomization=False)
         env.reset(seed=0)
         for _ in range(20):

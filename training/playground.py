@@ -30,7 +30,7 @@ from torch import nn
 #: Each robot's layout in Playground's observations: the command in the state, the clean
 #: body-frame linear velocity (Go1's trunk, G1's pelvis) in the privileged state.
 LAYOUT = {"Go1": (slice(45, 48), slice(57, 60)), "G1": (slice(9, 12), slice(112, 115)), "T1": (slice(9, 12), slice(94, 97)),
-          "BerkeleyHumanoid": (slice(9, 12), slice(61, 64))}
+          "BerkeleyHumanoid": (slice(9, 12), slice(61, 64)), "Apollo": (slice(9, 12), slice(118, 121))}
 
 
 class Normalizer(nn.Module):
@@ -253,10 +253,12 @@ def report(out: str, runs: list[str]) -> None:
         with open(os.path.join(run, "curve.csv")) as f:
             curve = [tuple(map(float, r)) for r in list(csv.reader(f))[1:]]
         t, err = [c[0] / 60 for c in curve], [c[2] for c in curve]
-        ax.plot(t, err, label=f"{cfg['sim']}, {cfg['num_envs']} worlds (seed {cfg['seed']})")
+        learner = "{}, std {}, {} minibatches".format("-".join(map(str, cfg.get("hidden", (512, 256, 128)))),
+                                                      cfg.get("init_std", 0.25), cfg["minibatches"])
+        ax.plot(t, err, label=f"{cfg['sim']}, {cfg['num_envs']} worlds, {learner}")
         tracking, falls = evaluate(run)
-        rows.append(f"| {cfg['task']} | {cfg['sim']} | {cfg['num_envs']} | {cfg['seed']} | {cfg['minutes']:g} | {cfg['env_steps']:,} | "
-                    f"{err[-1]:.3f} | {tracking:.3f} | {falls:.2f} |")
+        rows.append(f"| {cfg['task']} | {cfg['sim']} | {cfg['num_envs']} | {learner} | {cfg['seed']} | {cfg['minutes']:g} | "
+                    f"{cfg['env_steps']:,} | {err[-1]:.3f} | {tracking:.3f} | {falls:.2f} |")
     ax.set_xlabel("wall time (min), training included")
     ax.set_ylabel("tracking error (m/s), training rollouts")
     ax.axhline(0.25, color="gray", linestyle=":", label="target 0.25 m/s")
@@ -266,10 +268,12 @@ def report(out: str, runs: list[str]) -> None:
     text = "\n".join([
         "# Time to a walking policy on this 2-core machine", "",
         f"`python training/playground.py --report {out} {' '.join(runs)}` after each run's "
-        "`python training/playground.py TASK --minutes M [--sim envpool] [--num-envs N]` (the same learner, "
-        "2 threads shared by the simulator and torch). Evaluation: 16 episodes of 20 s, the policy's mean action.", "",
-        "| task | sim | worlds | seed | minutes | env steps | last rollouts' tracking error (m/s) | evaluated tracking_error_m_s | fall_rate |",
-        "|---|---|---:|---:|---:|---:|---:|---:|---:|", *rows, "", f"![]({os.path.basename(png)})", ""])
+        "`python training/playground.py TASK --minutes M [--sim envpool] [--num-envs N] [--hidden H...] [--init-std S] "
+        "[--minibatches K]` (the same learner, 2 threads shared by the simulator and torch). Evaluation: 16 episodes of "
+        "20 s, the policy's mean action.", "",
+        "| task | sim | worlds | networks, first std, minibatches | seed | minutes | env steps | last rollouts' tracking error (m/s) | "
+        "evaluated tracking_error_m_s | fall_rate |",
+        "|---|---|---:|---|---:|---:|---:|---:|---:|---:|", *rows, "", f"![]({os.path.basename(png)})", ""])
     with open(out, "w") as f:
         f.write(text)
     print(text)

@@ -139,6 +139,9 @@ class Model:
     @property
     def jnt_range(self) -> NDArray[np.float64]: ...
     @property
+    def jnt_actfrcrange(self) -> NDArray[np.float64]:
+        """Each joint's total actuator force range (njnt, 2): ±inf where it is not limited."""
+    @property
     def jnt_limited(self) -> list[bool]: ...
     @property
     def geom_names(self) -> list[str]: ...

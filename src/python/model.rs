@@ -440,6 +440,14 @@ impl PyModel {
     fn jnt_range<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         ranges(py, self.inner.jnt_range.iter().copied())
     }
+    /// Each joint's total actuator force range (njnt, 2; MuJoCo's `actuatorfrcrange`): ±inf
+    /// where it is not limited.
+    #[getter]
+    fn jnt_actfrcrange<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let m = &self.inner;
+        let range = |j: usize| m.dof_actfrcrange.iter().find(|&&(d, _)| d == m.jnt_dofadr[j]).map_or([f64::NEG_INFINITY, f64::INFINITY], |&(_, r)| r);
+        ranges(py, (0..m.njnt).map(range))
+    }
     /// Whether each joint is limited.
     #[getter]
     fn jnt_limited(&self) -> Vec<bool> {

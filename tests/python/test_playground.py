@@ -26,7 +26,8 @@ SIZES = {"Go1JoystickFlatTerrain": (48, 123, 1000, 12), "Go1JoystickRoughTerrain
          "Go1Getup": (42, 91, 300, 12), "Go1Handstand": (45, 94, 500, 12), "Go1Footstand": (45, 94, 500, 12),
          "G1JoystickFlatTerrain": (103, 216, 1000, 29), "G1JoystickRoughTerrain": (103, 216, 1000, 29),
          "T1JoystickFlatTerrain": (85, 180, 1000, 23), "T1JoystickRoughTerrain": (85, 180, 1000, 23),
-         "BerkeleyHumanoidJoystickFlatTerrain": (52, 114, 1000, 12), "BerkeleyHumanoidJoystickRoughTerrain": (52, 114, 1000, 12)}
+         "BerkeleyHumanoidJoystickFlatTerrain": (52, 114, 1000, 12), "BerkeleyHumanoidJoystickRoughTerrain": (52, 114, 1000, 12),
+         "ApolloJoystickFlatTerrain": (112, 224, 1000, 32)}
 
 
 def test_every_task_is_registered_with_playgrounds_spaces_and_info():
@@ -172,6 +173,28 @@ def test_t1_holds_its_gait_clock_at_a_zero_command_and_clips_its_reward_at_zero(
     # each world's servo gains are its own (×U(0.9, 1.1)), and its observed forces use them
     gains = env.unwrapped._core.batch.params("actuator_gain")[:, :, 0]
     assert gains.std(0).max() > 0 and np.array_equal(task.gain, gains)
+
+
+def test_apollo_starts_unactuated_aims_about_its_keyframes_controls_and_observes_what_mujoco_reads():
+    """Apollo's reset leaves the controls at zero (Playground's), actions aim the servos at the
+    keyframe's controls + 0.5 a; its privileged state (gyro, gravity, velocity, joints, servo
+    forces, root pose) equals MuJoCo's at the reset state."""
+    xml = "mujoco_playground/_src/locomotion/apollo/xmls/scene_mjx_feetonly_flat_terrain.xml"
+    env = gym.make("sinew/playground-ApolloJoystickFlatTerrain-v0")
+    mj = mujoco.MjModel.from_xml_path(f"{assets_dir(G1_ASSETS)}/{xml}")
+    d = mujoco.MjData(mj)
+    _, info = env.reset(seed=0)
+    u = env.unwrapped
+    assert (u._core.batch.ctrl[0] == 0).all()
+    d.qpos[:], d.qvel[:] = u.data_qpos, u.data_qvel
+    mujoco.mj_forward(mj, d)
+    p, key = info["privileged_state"].astype(np.float64), mj.keyframe("knees_bent")
+    expect = np.concatenate([d.sensor("gyro").data, d.site("imu").xmat.reshape(3, 3).T @ [0, 0, -1], d.sensor("local_linvel").data,
+                             d.qpos[7:] - key.qpos[7:], d.qvel[6:], d.actuator_force, d.qpos[:7]])
+    np.testing.assert_allclose(p[112:], expect, atol=1e-4)
+    a = np.linspace(-1, 1, 32)
+    env.step(a)
+    np.testing.assert_allclose(u._core.batch.ctrl[0], key.ctrl + 0.5 * a, rtol=0, atol=1e-12)
 
 
 def test_reset_draws_playgrounds_initial_states_and_commands():

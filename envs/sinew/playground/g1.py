@@ -226,16 +226,19 @@ class G1Joystick(Task):
         self.advance_phase(idx)
         self.last_last_act[idx] = self.last_act[idx]
         self.last_act[idx] = actions
-        for j, rng in enumerate(rngs):
-            # Playground draws a command each step and keeps it after 500 steps
-            cmd = self.sample_command(rng)
-            if self.step[idx[j]] > 500:
-                self.command[idx[j]] = cmd
-        self.step[idx] = np.where(done | (self.step[idx] > 500), 0, self.step[idx])
+        self.next_commands(idx, rngs, done)
         self.feet_air_time[idx] *= ~contact
         self.last_contact[idx] = contact
         self.swing_peak[idx] *= ~contact
         return state, priv, reward, done, terms
+
+    def next_commands(self, idx: np.ndarray, rngs: list, done: np.ndarray) -> None:
+        """A new command after 500 steps (Playground draws one each step and keeps it then)."""
+        for j, rng in enumerate(rngs):
+            cmd = self.sample_command(rng)
+            if self.step[idx[j]] > 500:
+                self.command[idx[j]] = cmd
+        self.step[idx] = np.where(done | (self.step[idx] > 500), 0, self.step[idx])
 
     def _rewards(self, r, a, idx, done, first_contact, contact, foot_z) -> dict:
         cmd, q, qd, tau = self.command[idx], r.qpos[:, 7:], r.qvel[:, 6:], self.actuator_force(r)

@@ -99,6 +99,11 @@ class Task:
     #: Whether ``after_step`` reads joint accelerations (``sim.qacc``).
     needs_qacc: bool = False
 
+    def initial_ctrl(self, qpos: np.ndarray) -> np.ndarray:
+        """The controls an episode starts with at the drawn ``qpos`` (rows): the servos at the
+        joint angles."""
+        return qpos[:, 7:7 + self.model.nu]
+
     def perturb(self, qvel: np.ndarray, idx: np.ndarray, rngs: list) -> bool:
         """Changes the root velocities ``qvel`` (rows of the worlds ``idx``) before a step, as
         Playground's pushes do; whether any changed. None by default."""
