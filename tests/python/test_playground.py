@@ -143,6 +143,12 @@ def test_g1_resets_as_playground_and_pushes_on_its_schedule():
     assert (np.abs(cmd) <= [1.0, 0.5, 1.0]).all() and 0.03 < (cmd == 0).all(axis=1).mean() < 0.2
     assert (core.task.push_interval_steps >= 250).all() and (core.task.push_interval_steps <= 500).all()
 
+    # randomized worlds draw their feet–floor pairs' friction, U(0.4, 1), both directions alike
+    randomized = gym.make_vec(G1, num_envs=8, vectorization_mode="vector_entry_point")
+    randomized.reset(seed=0)
+    feet = randomized.unwrapped._core.batch.params("pair_friction")[:, 0:2, 0:2]
+    assert (feet >= 0.4).all() and (feet <= 1.0).all() and feet.std() > 0.05 and (feet == feet[:, :1, :1]).all()
+
     def run(push: bool) -> list:
         e = gym.make(G1, push_enable=push, push_interval_range=(0.1, 0.1), domain_randomization=False)
         e.reset(seed=1)
