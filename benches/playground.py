@@ -43,6 +43,8 @@ TASKS = {
     "BerkeleyHumanoidJoystickRoughTerrain": ["tracking_lin_vel", "tracking_ang_vel", "ang_vel_xy", "orientation", "torques",
                                              "action_rate", "feet_air_time", "feet_slip", "feet_phase", "termination", "pose"],
     "ApolloJoystickFlatTerrain": ["tracking", "ang_vel_xy", "orientation", "feet_phase", "pose", "collision"],
+    "Op3Joystick": ["tracking_lin_vel", "tracking_ang_vel", "orientation", "torques", "action_rate", "zero_cmd", "termination",
+                    "feet_slip", "energy"],
 }
 #: Privileged-state entries compared at reset, per robot: (name, columns).
 RESET = {"Go1": [("body linear velocity", slice(57, 60)), ("gravity in IMU frame", slice(54, 57)), ("gyro", slice(48, 51)),
@@ -54,10 +56,12 @@ RESET = {"Go1": [("body linear velocity", slice(57, 60)), ("gravity in IMU frame
          "BerkeleyHumanoid": [("body linear velocity", slice(61, 64)), ("gravity in IMU frame", slice(58, 61)),
                               ("gyro", slice(52, 55)), ("joint angles − default", slice(67, 79))],
          "Apollo": [("body linear velocity", slice(118, 121)), ("gravity in IMU frame", slice(115, 118)), ("gyro", slice(112, 115)),
-                    ("joint angles − default", slice(121, 153))]}
+                    ("joint angles − default", slice(121, 153))],
+         # OP3's state: its newest readings first, noisy (its reset is the keyframe at rest)
+         "Op3": [("gyro (noisy)", slice(0, 3)), ("up vector (noisy)", slice(3, 6)), ("joint angles − default (noisy)", slice(9, 29))]}
 #: Worlds per run: EnvPool's port holds about 50 MB per world (its contact buffers) for Go1, more
-#: for the humanoids, about 0.55 GB for Apollo.
-WORLDS = {"Go1": 256, "G1": 128, "T1": 128, "BerkeleyHumanoid": 128, "Apollo": 16}
+#: for the humanoids, about 0.55 GB for Apollo and 0.45 GB for OP3.
+WORLDS = {"Go1": 256, "G1": 128, "T1": 128, "BerkeleyHumanoid": 128, "Apollo": 16, "Op3": 16}
 
 
 class Sinew:
@@ -78,7 +82,9 @@ class EnvPool:
         import envpool
         self.env = envpool.make_gymnasium(f"MuJoCoPlayground/{task}-v1", num_envs=n, num_threads=threads, seed=seed)
         obs, info = self.env.reset()
-        self.priv, self.command, self.terms = obs["privileged_state"], info.get("command"), TASKS[task]
+        # OP3's port observes one array, its state (Playground's OP3 has no privileged state)
+        self.priv = obs["privileged_state"] if isinstance(obs, dict) else obs
+        self.command, self.terms = info.get("command"), TASKS[task]
         self.nu = self.env.action_space.shape[-1]
 
     def step(self, a):
@@ -124,7 +130,8 @@ def stills(directory: str) -> None:
     """Each robot after ``reset(seed=0)`` and 20 steps holding its default pose, 480 × 480."""
     import imageio
     for name, task in (("Go1", "Go1JoystickFlatTerrain"), ("G1", "G1JoystickFlatTerrain"), ("T1", "T1JoystickFlatTerrain"),
-                       ("BerkeleyHumanoid", "BerkeleyHumanoidJoystickFlatTerrain"), ("Apollo", "ApolloJoystickFlatTerrain")):
+                       ("BerkeleyHumanoid", "BerkeleyHumanoidJoystickFlatTerrain"), ("Apollo", "ApolloJoystickFlatTerrain"),
+                       ("Op3", "Op3Joystick")):
         env = gym.make(f"sinew/playground-{task}-v0", render_mode="rgb_array", domain_randomization=False)
         env.reset(seed=0)
         for _ in range(20):

@@ -121,13 +121,23 @@ def make_vec(sim: str, task: str, n: int, seed: int, threads: int):
     return (SinewVec if sim == "sinew" else EnvPoolVec)(task, n, seed, threads)
 
 
+def layout(task: str) -> tuple[slice, slice]:
+    """Where ``task``'s command and clean body velocity lie; ValueError for a task without them."""
+    for robot, where in LAYOUT.items():
+        if task.startswith(robot) and "Joystick" in task:
+            return where
+    raise ValueError(f"{task}: this script trains the joystick tasks that observe their body velocity "
+                     f"({', '.join(LAYOUT)}'s)")
+
+
 def tracking_error(task: str, obs: np.ndarray, priv: np.ndarray) -> np.ndarray:
     """|commanded − actual planar body-frame velocity| per world (m/s)."""
-    command, linvel = next(v for robot, v in LAYOUT.items() if task.startswith(robot))
+    command, linvel = layout(task)
     return np.linalg.norm(obs[:, command][:, :2] - priv[:, linvel][:, :2], axis=1)
 
 
 def train(args) -> str:
+    layout(args.task)
     torch.manual_seed(args.seed)
     torch.set_num_threads(args.threads)
     env = make_vec(args.sim, args.task, args.num_envs, args.seed, args.threads)

@@ -27,7 +27,7 @@ SIZES = {"Go1JoystickFlatTerrain": (48, 123, 1000, 12), "Go1JoystickRoughTerrain
          "G1JoystickFlatTerrain": (103, 216, 1000, 29), "G1JoystickRoughTerrain": (103, 216, 1000, 29),
          "T1JoystickFlatTerrain": (85, 180, 1000, 23), "T1JoystickRoughTerrain": (85, 180, 1000, 23),
          "BerkeleyHumanoidJoystickFlatTerrain": (52, 114, 1000, 12), "BerkeleyHumanoidJoystickRoughTerrain": (52, 114, 1000, 12),
-         "ApolloJoystickFlatTerrain": (112, 224, 1000, 32)}
+         "ApolloJoystickFlatTerrain": (112, 224, 1000, 32), "Op3Joystick": (147, 147, 1000, 20)}
 
 
 def test_every_task_is_registered_with_playgrounds_spaces_and_info():
@@ -201,6 +201,26 @@ def test_apollo_starts_unactuated_aims_about_its_keyframes_controls_and_observes
     a = np.linspace(-1, 1, 32)
     env.step(a)
     np.testing.assert_allclose(u._core.batch.ctrl[0], key.ctrl + 0.5 * a, rtol=0, atol=1e-12)
+
+
+def test_op3_observes_its_last_three_readings_newest_first_and_ends_when_tilted():
+    env = gym.make("sinew/playground-Op3Joystick-v0")
+    obs0, _ = env.reset(seed=0)
+    assert (obs0[49:] == 0).all() and (u := env.unwrapped)._core.batch.ctrl[0].tolist() == [0.0] * 20
+    obs1, *_ = env.step(np.zeros(20))
+    obs2, *_ = env.step(np.zeros(20))
+    np.testing.assert_array_equal(obs2[49:98], obs1[:49])
+    np.testing.assert_array_equal(obs2[98:], obs0[:49])
+    # the newest readings: gyro, up vector, command, joints − default, last action (noise ±0.05)
+    default = u.model.keyframe("stand_bent_knees")["qpos"][7:]
+    assert np.all(np.abs(obs2[9:29] - (u.data_qpos[7:] - default)) <= 0.05 + 1e-6)
+    lo, hi = u.model.actuator_ctrlrange.T
+    np.testing.assert_array_equal(u._core.batch.ctrl[0], np.clip(default, lo, hi))
+    qpos = u.data_qpos.copy()
+    qpos[3:7] = [np.cos(np.pi / 8), np.sin(np.pi / 8), 0, 0]    # rolled 45°: the up vector's z 0.71 < 0.85
+    u.set_state(qpos, u.data_qvel)
+    _, _, terminated, _, _ = env.step(np.zeros(20))
+    assert terminated
 
 
 def test_reset_draws_playgrounds_initial_states_and_commands():
