@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from sinew.playground.g1 import NOISE, gait_height
+from sinew.playground.g1 import gait_height
 from sinew.playground.t1 import T1Joystick
-from sinew.playground.task import site_rot, uniform_noise
+from sinew.playground.task import redraw_commands
 
 APOLLO = "mujoco_playground/_src/locomotion/apollo/xmls"
 
@@ -87,29 +87,14 @@ class ApolloJoystick(T1Joystick):
 
     def next_commands(self, idx: np.ndarray, rngs: list, done: np.ndarray) -> None:
         """Go1's: a redraw when the wait is over, a new wait then or after a fall."""
-        self.steps_until_next_cmd[idx] -= 1
-        for j, rng in enumerate(rngs):
-            i = idx[j]
-            due = self.steps_until_next_cmd[i] <= 0
-            if due:
-                self.command[i] = self.sample_command(rng, self.command[i])
-            if due or done[j]:
-                self.steps_until_next_cmd[i] = round(rng.exponential() * 5.0 / self.dt)
+        redraw_commands(self, idx, rngs, done)
 
     def terminated(self, r) -> np.ndarray:
         return r.sensor("upvector")[:, 2] < 0.0
 
     def observe(self, r, idx: np.ndarray, rngs: list):
-        gyro, linvel = r.sensor("gyro"), r.sensor("local_linvel")
-        gravity = -site_rot(r, self.model, self.imu)[:, 2, :]
+        state, gyro, linvel, gravity = self.noisy_state(r, idx, rngs)
         q, qd = r.qpos[:, 7:], r.qvel[:, 6:]
-        nu = self.model.nu
-        u = uniform_noise(rngs, 9 + 2 * nu, self.noise_level)
-        phase = self.phase[idx]
-        state = np.hstack([
-            linvel + u[:, 0:3] * NOISE["linvel"], gyro + u[:, 3:6] * NOISE["gyro"], gravity + u[:, 6:9] * NOISE["gravity"],
-            self.command[idx], q + u[:, 9:9 + nu] * NOISE["joint_pos"] - self.default_pose,
-            qd + u[:, 9 + nu:] * NOISE["joint_vel"], self.last_act[idx], np.cos(phase), np.sin(phase)])
         priv = np.hstack([state, gyro, gravity, linvel, q - self.default_pose, qd, self.actuator_force(r), r.qpos[:, :7]])
         return state.astype(np.float32), priv.astype(np.float32)
 

@@ -191,7 +191,9 @@ class G1Joystick(Task):
         """The gait clock's step, wrapped to [−π, π)."""
         self.phase[idx] = np.fmod(self.phase[idx] + self.phase_dt[idx, None] + np.pi, 2 * np.pi) - np.pi
 
-    def observe(self, r, idx: np.ndarray, rngs: list):
+    def noisy_state(self, r, idx: np.ndarray, rngs: list):
+        """The state (noisy velocity, gyro, gravity in the IMU's frame, command, joints, last
+        action, gait clock) and the clean gyro, velocity and gravity it was drawn from."""
         gyro, linvel = r.sensor(self.gyro), r.sensor(self.linvel)
         gravity = -site_rot(r, self.model, self.imu)[:, 2, :]
         q, qd = r.qpos[:, 7:], r.qvel[:, 6:]
@@ -202,6 +204,11 @@ class G1Joystick(Task):
             linvel + u[:, 0:3] * NOISE["linvel"], gyro + u[:, 3:6] * NOISE["gyro"], gravity + u[:, 6:9] * NOISE["gravity"],
             self.command[idx], q + u[:, 9:9 + nu] * self.joint_noise - self.default_pose,
             qd + u[:, 9 + nu:] * NOISE["joint_vel"], self.last_act[idx], np.cos(phase), np.sin(phase)])
+        return state, gyro, linvel, gravity
+
+    def observe(self, r, idx: np.ndarray, rngs: list):
+        state, gyro, linvel, gravity = self.noisy_state(r, idx, rngs)
+        q, qd = r.qpos[:, 7:], r.qvel[:, 6:]
         feet_vel = np.hstack([r.sensor(f"{f}_global_linvel") for f in self.feet])
         priv = np.hstack([state, gyro, r.sensor(self.accel), gravity, linvel, r.sensor(self.angvel),
                           q - self.default_pose, qd, r.qpos[:, 2:3], self.actuator_force(r), self.contact(r), feet_vel,

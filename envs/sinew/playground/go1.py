@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from sinew.playground.task import Task, drop_pose, limit_cost, site_rot, site_world, soft_limits, uniform_noise
+from sinew.playground.task import Task, drop_pose, redraw_commands, servo_gains, limit_cost, site_rot, site_world, soft_limits, uniform_noise
 
 GO1 = "mujoco_playground/_src/locomotion/go1/xmls"
 #: Playground's order of the feet (its ``FEET_SITES`` and ``FEET_GEOMS``).
@@ -54,12 +54,7 @@ class Go1(Task):
 
     def model_edits(self) -> dict:
         """Playground's ``Go1Env`` sets the joints' damping to Kd and the servos' gains to Kp."""
-        m = self.model
-        damping = m.param("dof_damping").copy()
-        damping[6:] = self.Kd
-        gain, bias = m.param("actuator_gain").copy(), m.param("actuator_bias").copy()
-        gain[:, 0], bias[:, 1] = self.Kp, -self.Kp
-        return {"dof_damping": damping, "actuator_gain": gain, "actuator_bias": bias}
+        return servo_gains(self.model, self.Kp, self.Kd)
 
     def randomize(self, batch, idx: np.ndarray, rngs: list) -> None:
         """``randomize.domain_randomize``: floor friction U(0.4, 1), joint friction ×U(0.9, 1.1),
@@ -172,15 +167,7 @@ class Go1Joystick(Go1):
         reward = np.clip(sum(terms.values()) * self.dt, 0.0, 10000.0)
         self.last_last_act[idx] = self.last_act[idx]
         self.last_act[idx] = actions
-        self.steps_until_next_cmd[idx] -= 1
-        for j, rng in enumerate(rngs):
-            i = idx[j]
-            # Playground splits two keys each step: the new command's and the next wait's
-            due = self.steps_until_next_cmd[i] <= 0
-            if due:
-                self.command[i] = self.sample_command(rng, self.command[i])
-            if due or done[j]:
-                self.steps_until_next_cmd[i] = round(rng.exponential() * 5.0 / self.dt)
+        redraw_commands(self, idx, rngs, done)
         self.feet_air_time[idx] *= ~contact
         self.last_contact[idx] = contact
         self.swing_peak[idx] *= ~contact

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from sinew.playground.task import Task, site_world, uniform_noise
+from sinew.playground.task import Task, servo_gains, site_world, uniform_noise
 
 OP3 = "mujoco_playground/_src/locomotion/op3/xmls"
 FEET = ("left_foot", "right_foot")
@@ -61,12 +61,7 @@ class Op3Joystick(Task):
 
     def model_edits(self) -> dict:
         """Playground's ``Op3Env`` sets the joints' damping to Kd and the servos' gains to Kp."""
-        m = self.model
-        damping = m.param("dof_damping").copy()
-        damping[6:] = self.Kd
-        gain, bias = m.param("actuator_gain").copy(), m.param("actuator_bias").copy()
-        gain[:, 0], bias[:, 1] = self.Kp, -self.Kp
-        return {"dof_damping": damping, "actuator_gain": gain, "actuator_bias": bias}
+        return servo_gains(self.model, self.Kp, self.Kd)
 
     def sample_command(self, rng) -> np.ndarray:
         """``sample_command``: each component U(lo, hi), all zero with probability 0.1."""

@@ -49,6 +49,30 @@ def limit_cost(q: np.ndarray, soft_lo: np.ndarray, soft_hi: np.ndarray) -> np.nd
     return np.sum(-np.minimum(q - soft_lo, 0.0) + np.maximum(q - soft_hi, 0.0), axis=1)
 
 
+def servo_gains(model, Kp: float, Kd: float) -> dict:
+    """The per-model values of a Playground env that sets its joints' damping to Kd and its
+    position servos' gains to Kp (Go1's, OP3's ``model_edits``)."""
+    damping = model.param("dof_damping").copy()
+    damping[6:] = Kd
+    gain, bias = model.param("actuator_gain").copy(), model.param("actuator_bias").copy()
+    gain[:, 0], bias[:, 1] = Kp, -Kp
+    return {"dof_damping": damping, "actuator_gain": gain, "actuator_bias": bias}
+
+
+def redraw_commands(task, idx: np.ndarray, rngs: list, done: np.ndarray) -> None:
+    """Go1's command schedule (Apollo's too): a redraw by ``task.sample_command`` when a world's
+    wait is over, a new exponential wait of mean 5 s then or after its episode ended."""
+    task.steps_until_next_cmd[idx] -= 1
+    for j, rng in enumerate(rngs):
+        i = idx[j]
+        # Playground splits two keys each step: the new command's and the next wait's
+        due = task.steps_until_next_cmd[i] <= 0
+        if due:
+            task.command[i] = task.sample_command(rng, task.command[i])
+        if due or done[j]:
+            task.steps_until_next_cmd[i] = round(rng.exponential() * 5.0 / task.dt)
+
+
 class Task:
     """One Playground task: its model file, timing and action mapping, and how it resets, observes
     and rewards N worlds at once (arrays with one row per world). ``rngs`` holds one numpy
