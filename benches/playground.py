@@ -30,6 +30,10 @@ TASKS = {
                  "dof_vel"],
     "Go1Handstand": ["height", "orientation", "contact", "dof_pos_limits", "pose"],
     "Go1Footstand": ["height", "orientation", "contact", "dof_pos_limits", "pose"],
+    "SpotFlatTerrainJoystick": ["tracking_lin_vel", "tracking_ang_vel", "orientation", "posture", "torques", "action_rate",
+                                "energy", "feet_clearance", "feet_slip", "feet_air_time", "termination"],
+    "SpotJoystickGaitTracking": ["feet_phase", "tracking_lin_vel", "tracking_ang_vel", "ang_vel_xy", "lin_vel_z", "hip_splay"],
+    "SpotGetup": ["orientation", "torso_height", "posture", "stand_still"],
     "G1JoystickFlatTerrain": ["tracking_lin_vel", "tracking_ang_vel", "ang_vel_xy", "orientation", "feet_air_time", "feet_slip",
                               "feet_phase", "stand_still", "termination", "contact_force", "pose"],
     "G1JoystickRoughTerrain": ["tracking_lin_vel", "tracking_ang_vel", "ang_vel_xy", "orientation", "feet_air_time", "feet_slip",
@@ -42,6 +46,8 @@ TASKS = {
                                             "action_rate", "feet_air_time", "feet_slip", "feet_phase", "termination", "pose"],
     "BerkeleyHumanoidJoystickRoughTerrain": ["tracking_lin_vel", "tracking_ang_vel", "ang_vel_xy", "orientation", "torques",
                                              "action_rate", "feet_air_time", "feet_slip", "feet_phase", "termination", "pose"],
+    "H1InplaceGaitTracking": ["feet_phase", "pose", "ang_vel", "lin_vel"],
+    "H1JoystickGaitTracking": ["feet_phase", "tracking_lin_vel", "tracking_ang_vel", "pose", "action_rate"],
     "ApolloJoystickFlatTerrain": ["tracking", "ang_vel_xy", "orientation", "feet_phase", "pose", "collision"],
     "Op3Joystick": ["tracking_lin_vel", "tracking_ang_vel", "orientation", "torques", "action_rate", "zero_cmd", "termination",
                     "feet_slip", "energy"],
@@ -49,6 +55,11 @@ TASKS = {
 #: Privileged-state entries compared at reset, per robot: (name, columns).
 RESET = {"Go1": [("body linear velocity", slice(57, 60)), ("gravity in IMU frame", slice(54, 57)), ("gyro", slice(48, 51)),
                  ("joint angles − default", slice(63, 75))],
+         # Spot's gait task observes one array, its noisy state (Playground gives it no privileged one)
+         "SpotJoystickGaitTracking": [("gyro (noisy)", slice(0, 3)), ("up vector (noisy)", slice(3, 6)),
+                                      ("joint angles (noisy)", slice(6, 18))],
+         "Spot": [("body linear velocity", slice(90, 93)), ("up vector", slice(87, 90)), ("gyro", slice(81, 84)),
+                  ("joint angles − default", slice(96, 108))],
          "G1": [("pelvis linear velocity", slice(112, 115)), ("gravity in pelvis IMU frame", slice(109, 112)),
                 ("gyro", slice(103, 106)), ("joint angles − default", slice(118, 147))],
          "T1": [("body linear velocity", slice(94, 97)), ("gravity in IMU frame", slice(91, 94)), ("gyro", slice(85, 88)),
@@ -57,11 +68,12 @@ RESET = {"Go1": [("body linear velocity", slice(57, 60)), ("gravity in IMU frame
                               ("gyro", slice(52, 55)), ("joint angles − default", slice(67, 79))],
          "Apollo": [("body linear velocity", slice(118, 121)), ("gravity in IMU frame", slice(115, 118)), ("gyro", slice(112, 115)),
                     ("joint angles − default", slice(121, 153))],
+         "H1": [("gyro (noisy)", slice(0, 3)), ("up vector (noisy)", slice(3, 6)), ("joint angles − default (noisy)", slice(6, 25))],
          # OP3's state: its newest readings first, noisy (its reset is the keyframe at rest)
          "Op3": [("gyro (noisy)", slice(0, 3)), ("up vector (noisy)", slice(3, 6)), ("joint angles − default (noisy)", slice(9, 29))]}
 #: Worlds per run: EnvPool's port holds about 50 MB per world (its contact buffers) for Go1, more
 #: for the humanoids, about 0.55 GB for Apollo and 0.45 GB for OP3.
-WORLDS = {"Go1": 256, "G1": 128, "T1": 128, "BerkeleyHumanoid": 128, "Apollo": 16, "Op3": 16}
+WORLDS = {"Go1": 256, "SpotJoystickGaitTracking": 256, "Spot": 256, "H1": 128, "G1": 128, "T1": 128, "BerkeleyHumanoid": 128, "Apollo": 16, "Op3": 16}
 
 
 class Sinew:
@@ -82,7 +94,8 @@ class EnvPool:
         import envpool
         self.env = envpool.make_gymnasium(f"MuJoCoPlayground/{task}-v1", num_envs=n, num_threads=threads, seed=seed)
         obs, info = self.env.reset()
-        # OP3's port observes one array, its state (Playground's OP3 has no privileged state)
+        # OP3's, H1's and two of Spot's tasks observe one array, their state (Playground gives
+        # them no privileged state)
         self.priv = obs["privileged_state"] if isinstance(obs, dict) else obs
         self.command, self.terms = info.get("command"), TASKS[task]
         self.nu = self.env.action_space.shape[-1]
@@ -129,7 +142,8 @@ def throughput(sim, task, n, threads, steps=200):
 def stills(directory: str) -> None:
     """Each robot after ``reset(seed=0)`` and 20 steps holding its default pose, 480 × 480."""
     import imageio
-    for name, task in (("Go1", "Go1JoystickFlatTerrain"), ("G1", "G1JoystickFlatTerrain"), ("T1", "T1JoystickFlatTerrain"),
+    for name, task in (("Go1", "Go1JoystickFlatTerrain"), ("Spot", "SpotFlatTerrainJoystick"), ("H1", "H1InplaceGaitTracking"),
+                       ("G1", "G1JoystickFlatTerrain"), ("T1", "T1JoystickFlatTerrain"),
                        ("BerkeleyHumanoid", "BerkeleyHumanoidJoystickFlatTerrain"), ("Apollo", "ApolloJoystickFlatTerrain"),
                        ("Op3", "Op3Joystick")):
         env = gym.make(f"sinew/playground-{task}-v0", render_mode="rgb_array", domain_randomization=False)

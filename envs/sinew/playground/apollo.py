@@ -6,9 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from sinew.playground.g1 import gait_height
 from sinew.playground.t1 import T1Joystick
-from sinew.playground.task import redraw_commands
+from sinew.playground.task import gait_height, redraw_commands
 
 APOLLO = "mujoco_playground/_src/locomotion/apollo/xmls"
 

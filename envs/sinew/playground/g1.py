@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from sinew.playground.task import Task, drop_pose, limit_cost, site_rot, site_world, soft_limits, uniform_noise
+from sinew.playground.task import Task, drop_pose, gait_height, limit_cost, servo_force, site_rot, site_world, soft_limits, uniform_command, uniform_noise
 
 G1 = "mujoco_playground/_src/locomotion/g1/xmls"
 FEET = ("left_foot", "right_foot")
@@ -21,17 +21,6 @@ JOYSTICK_SCALES = dict(
 NOISE = dict(joint_pos=0.03, joint_vel=1.5, gravity=0.05, linvel=0.1, gyro=0.2)
 #: The contact sensors whose reading ends an episode: feet on each other or on the other shin.
 CROSSED = ("right_foot_left_foot_found", "left_foot_right_shin_found", "right_foot_left_shin_found")
-
-
-def gait_height(phase: np.ndarray, swing_height: float) -> np.ndarray:
-    """``gait.get_rz``: a foot's desired height over its phase in [−π, π) (cubic Bézier up over
-    the first half, down over the second)."""
-    x = (phase + np.pi) / (2 * np.pi)
-
-    def bezier(y0, y1, t):
-        return y0 + (y1 - y0) * (t ** 3 + 3 * t ** 2 * (1 - t))
-
-    return np.where(x <= 0.5, bezier(0.0, swing_height, 2 * x), bezier(swing_height, 0.0, 2 * x - 1))
 
 
 class G1Joystick(Task):
@@ -136,8 +125,7 @@ class G1Joystick(Task):
 
     def sample_command(self, rng) -> np.ndarray:
         """``sample_command``: each component U(lo, hi), all zero with probability 0.1."""
-        cmd = rng.uniform(self.cmd_lo, self.cmd_hi)
-        return np.zeros(3) if rng.random() < 0.1 else cmd
+        return uniform_command(rng, self.cmd_lo, self.cmd_hi)
 
     def reset(self, idx: np.ndarray, rngs: list):
         k = len(idx)
@@ -169,10 +157,7 @@ class G1Joystick(Task):
     def actuator_force(self, r) -> np.ndarray:
         """The position servos' forces (MuJoCo's ``actuator_force``): gain · clamped target + bias
         at the joints' state, clamped to the actuators' force range."""
-        target = np.clip(r.ctrl, self.ctrl_lo, self.ctrl_hi)
-        gain, bias = self.gain[r.rows], self.bias[r.rows]
-        f = gain * target + bias[..., 0] + bias[..., 1] * r.qpos[:, 7:] + bias[..., 2] * r.qvel[:, 6:]
-        return np.clip(f, self.force_lo, self.force_hi)
+        return servo_force(r, self.gain[r.rows], self.bias[r.rows], (self.ctrl_lo, self.ctrl_hi), (self.force_lo, self.force_hi))
 
     def joint_pos_noise(self, nu: int) -> np.ndarray:
         """Each joint angle's noise half-width."""

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from sinew.playground.task import Task, servo_gains, site_world, uniform_noise
+from sinew.playground.task import Task, servo_gains, site_world, uniform_command, uniform_noise
 
 OP3 = "mujoco_playground/_src/locomotion/op3/xmls"
 FEET = ("left_foot", "right_foot")
@@ -65,8 +65,7 @@ class Op3Joystick(Task):
 
     def sample_command(self, rng) -> np.ndarray:
         """``sample_command``: each component U(lo, hi), all zero with probability 0.1."""
-        cmd = rng.uniform(self.cmd_lo, self.cmd_hi)
-        return np.zeros(3) if rng.random() < 0.1 else cmd
+        return uniform_command(rng, self.cmd_lo, self.cmd_hi)
 
     def reset(self, idx: np.ndarray, rngs: list):
         """The bent-knee keyframe at rest (Playground draws no pose for OP3)."""

@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from sinew.playground.g1 import FEET, G1Joystick, gait_height
-from sinew.playground.task import limit_cost, site_rot, site_world
+from sinew.playground.g1 import FEET, G1Joystick
+from sinew.playground.task import gait_height, limit_cost, site_rot, site_world
 
 T1 = "mujoco_playground/_src/locomotion/t1/xmls"
 

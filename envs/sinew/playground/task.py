@@ -18,7 +18,7 @@ def site_rot(r, model, site: int) -> np.ndarray:
 
 def uniform_noise(rngs: list, n: int, level: float) -> np.ndarray:
     """Each world's n draws U(−1, 1) times the noise level (worlds, n)."""
-    return np.stack([2.0 * rng.random(n) - 1.0 for rng in rngs]) * level
+    return np.array([2.0 * rng.random(n) - 1.0 for rng in rngs]).reshape(len(rngs), n) * level
 
 
 def drop_pose(rngs: list, qpos: np.ndarray, qvel: np.ndarray) -> None:
@@ -57,6 +57,33 @@ def servo_gains(model, Kp: float, Kd: float) -> dict:
     gain, bias = model.param("actuator_gain").copy(), model.param("actuator_bias").copy()
     gain[:, 0], bias[:, 1] = Kp, -Kp
     return {"dof_damping": damping, "actuator_gain": gain, "actuator_bias": bias}
+
+
+def uniform_command(rng, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Playground's ``sample_command`` of most tasks: each component U(lo, hi), all zero with
+    probability 0.1."""
+    cmd = rng.uniform(lo, hi)
+    return np.zeros(3) if rng.random() < 0.1 else cmd
+
+
+def servo_force(r, gain: np.ndarray, bias: np.ndarray, ctrl_range: tuple, force_range: tuple) -> np.ndarray:
+    """MuJoCo's ``actuator_force`` of position servos on the joints after a free root, in each
+    world of readings ``r`` (worlds, nu): gain · clamped control + bias₀ + bias₁ q + bias₂ q̇, clamped
+    to the force range; ``gain`` (…, nu) and ``bias`` (…, nu, 3) per model or per world."""
+    target = np.clip(r.ctrl, *ctrl_range)
+    f = gain * target + bias[..., 0] + bias[..., 1] * r.qpos[:, 7:] + bias[..., 2] * r.qvel[:, 6:]
+    return np.clip(f, *force_range)
+
+
+def gait_height(phase: np.ndarray, swing_height) -> np.ndarray:
+    """``gait.get_rz``: a foot's desired height over its phase in [−π, π) (cubic Bézier up over
+    the first half, down over the second)."""
+    x = (phase + np.pi) / (2 * np.pi)
+
+    def bezier(y0, y1, t):
+        return y0 + (y1 - y0) * (t ** 3 + 3 * t ** 2 * (1 - t))
+
+    return np.where(x <= 0.5, bezier(0.0, swing_height, 2 * x), bezier(swing_height, 0.0, 2 * x - 1))
 
 
 def redraw_commands(task, idx: np.ndarray, rngs: list, done: np.ndarray) -> None:
