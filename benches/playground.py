@@ -34,6 +34,8 @@ TASKS = {
                                 "energy", "feet_clearance", "feet_slip", "feet_air_time", "termination"],
     "SpotJoystickGaitTracking": ["feet_phase", "tracking_lin_vel", "tracking_ang_vel", "ang_vel_xy", "lin_vel_z", "hip_splay"],
     "SpotGetup": ["orientation", "torso_height", "posture", "stand_still"],
+    "BarkourJoystick": ["tracking_lin_vel", "tracking_ang_vel", "lin_vel_z", "ang_vel_xy", "orientation", "torques", "action_rate",
+                        "stand_still", "termination", "feet_air_time"],
     "G1JoystickFlatTerrain": ["tracking_lin_vel", "tracking_ang_vel", "ang_vel_xy", "orientation", "feet_air_time", "feet_slip",
                               "feet_phase", "stand_still", "termination", "contact_force", "pose"],
     "G1JoystickRoughTerrain": ["tracking_lin_vel", "tracking_ang_vel", "ang_vel_xy", "orientation", "feet_air_time", "feet_slip",
@@ -60,6 +62,8 @@ RESET = {"Go1": [("body linear velocity", slice(57, 60)), ("gravity in IMU frame
                                       ("joint angles (noisy)", slice(6, 18))],
          "Spot": [("body linear velocity", slice(90, 93)), ("up vector", slice(87, 90)), ("gyro", slice(81, 84)),
                   ("joint angles − default", slice(96, 108))],
+         # Barkour's state: its newest readings first, noisy (its reset is the keyframe at rest)
+         "Barkour": [("up vector (noisy)", slice(1, 4)), ("joint angles − default (noisy)", slice(7, 19))],
          "G1": [("pelvis linear velocity", slice(112, 115)), ("gravity in pelvis IMU frame", slice(109, 112)),
                 ("gyro", slice(103, 106)), ("joint angles − default", slice(118, 147))],
          "T1": [("body linear velocity", slice(94, 97)), ("gravity in IMU frame", slice(91, 94)), ("gyro", slice(85, 88)),
@@ -73,7 +77,8 @@ RESET = {"Go1": [("body linear velocity", slice(57, 60)), ("gravity in IMU frame
          "Op3": [("gyro (noisy)", slice(0, 3)), ("up vector (noisy)", slice(3, 6)), ("joint angles − default (noisy)", slice(9, 29))]}
 #: Worlds per run: EnvPool's port holds about 50 MB per world (its contact buffers) for Go1, more
 #: for the humanoids, about 0.55 GB for Apollo and 0.45 GB for OP3.
-WORLDS = {"Go1": 256, "SpotJoystickGaitTracking": 256, "Spot": 256, "H1": 128, "G1": 128, "T1": 128, "BerkeleyHumanoid": 128, "Apollo": 16, "Op3": 16}
+WORLDS = {"Go1": 256, "SpotJoystickGaitTracking": 256, "Spot": 256, "Barkour": 256, "H1": 128, "G1": 128, "T1": 128,
+          "BerkeleyHumanoid": 128, "Apollo": 16, "Op3": 16}
 
 
 class Sinew:
@@ -94,7 +99,7 @@ class EnvPool:
         import envpool
         self.env = envpool.make_gymnasium(f"MuJoCoPlayground/{task}-v1", num_envs=n, num_threads=threads, seed=seed)
         obs, info = self.env.reset()
-        # OP3's, H1's and two of Spot's tasks observe one array, their state (Playground gives
+        # OP3's, H1's, Barkour's and two of Spot's tasks observe one array, their state (Playground gives
         # them no privileged state)
         self.priv = obs["privileged_state"] if isinstance(obs, dict) else obs
         self.command, self.terms = info.get("command"), TASKS[task]
@@ -142,7 +147,8 @@ def throughput(sim, task, n, threads, steps=200):
 def stills(directory: str) -> None:
     """Each robot after ``reset(seed=0)`` and 20 steps holding its default pose, 480 × 480."""
     import imageio
-    for name, task in (("Go1", "Go1JoystickFlatTerrain"), ("Spot", "SpotFlatTerrainJoystick"), ("H1", "H1InplaceGaitTracking"),
+    for name, task in (("Go1", "Go1JoystickFlatTerrain"), ("Spot", "SpotFlatTerrainJoystick"), ("Barkour", "BarkourJoystick"),
+                       ("H1", "H1InplaceGaitTracking"),
                        ("G1", "G1JoystickFlatTerrain"), ("T1", "T1JoystickFlatTerrain"),
                        ("BerkeleyHumanoid", "BerkeleyHumanoidJoystickFlatTerrain"), ("Apollo", "ApolloJoystickFlatTerrain"),
                        ("Op3", "Op3Joystick")):

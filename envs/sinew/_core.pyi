@@ -348,6 +348,12 @@ class Batch:
     def site_pos(self, site: int) -> NDArray[np.float64]:
         """The site's position in its body's frame in every world (N, 3)."""
     def set_task(self, kind: str, **params: Any) -> None: ...
+    def set_xfrc_applied(self, values: ArrayLike, worlds: Optional[ArrayLike] = None) -> None:
+        """Applies Cartesian forces to the bodies (MuJoCo's xfrc_applied): (nbody, 6) or (k, nbody, 6),
+        per body a force at its centre of mass then a torque, world axes; held until set again or reset."""
+    @property
+    def xfrc_applied(self) -> NDArray[np.float64]:
+        """The forces set_xfrc_applied applies in every world (N, nbody, 6): a copy."""
     def render(self, width: int = 480, height: int = 480, camera: Union[Camera, Sequence[Camera]] = None,
                worlds: Optional[ArrayLike] = None, *, rgb: bool = True, depth: bool = False
                ) -> Union[NDArray[np.uint8], NDArray[np.float32], tuple[NDArray[np.uint8], NDArray[np.float32]]]:

@@ -261,10 +261,12 @@ impl Batch {
         share_out(self.workers.as_ref(), &self.scratch, worlds, |w, scratch| env_step(root, spec, n, w, scratch));
     }
 
-    /// Resets world `i` to qpos0 at rest (its constraint forces cleared) in the given rows.
+    /// Resets world `i` to qpos0 at rest (its constraint and applied body forces cleared) in the
+    /// given rows.
     pub fn reset(&mut self, i: usize, qpos: &mut [f64], qvel: &mut [f64], act: &mut [f64]) {
         reset_state(world_model(&self.own, &self.model, i), qpos, qvel, act);
         self.data[i].forget_history();
+        self.data[i].set_xfrc_applied(&[]);
     }
 
     /// The readings of the file sensors `which` (indices) of every world at the state in `st`

@@ -5,6 +5,7 @@ pub mod aba;
 pub mod activation;
 pub mod crba;
 pub mod energy;
+pub mod external;
 pub mod muscle;
 pub mod fluid;
 pub mod forces;
@@ -29,8 +30,13 @@ pub struct DynamicsData {
     pub aba: AbaData,
     /// Tendon lengths and Jacobians.
     pub ten: TendonData,
-    /// Total applied generalised force (nv): actuators + passive.
+    /// Total applied generalised force (nv): actuators, passive, fluid and the bodies' external
+    /// forces.
     pub qfrc_applied: Vec<f64>,
+    /// Forces applied to the bodies from outside (nbody × 6: force at the centre of mass, then
+    /// torque, world axes; MuJoCo's `xfrc_applied`); empty when none (a batch keeps them per
+    /// world).
+    pub xfrc_applied: Vec<f64>,
     /// Dry friction known ahead of the solve (nv): −loss · sign(q̇) on each dof sliding on, zero
     /// elsewhere (`constraint::dry_friction`); read only while `friction_known`.
     pub qfrc_friction: Vec<f64>,
@@ -52,7 +58,7 @@ pub struct DynamicsData {
 impl DynamicsData {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
-        DynamicsData { kin: KinData::new(m), ten: TendonData::new(m), aba: AbaData::new(m), qfrc_applied: vec![0.0; m.nv], qfrc_friction: vec![0.0; m.nv], friction_known: false, tau: vec![0.0; m.nv], qacc: vec![0.0; m.nv], act_dot: vec![0.0; m.na], ahead: KinCache::new(m), v_other: vec![Motion::ZERO; if m.opt.density > 0.0 || m.opt.viscosity > 0.0 { m.nnode } else { 0 }] }
+        DynamicsData { kin: KinData::new(m), ten: TendonData::new(m), aba: AbaData::new(m), qfrc_applied: vec![0.0; m.nv], xfrc_applied: Vec::new(), qfrc_friction: vec![0.0; m.nv], friction_known: false, tau: vec![0.0; m.nv], qacc: vec![0.0; m.nv], act_dot: vec![0.0; m.na], ahead: KinCache::new(m), v_other: vec![Motion::ZERO; if m.opt.density > 0.0 || m.opt.viscosity > 0.0 { m.nnode } else { 0 }] }
     }
 }
 
@@ -80,6 +86,7 @@ pub fn accelerations(m: &Model, dy: &mut DynamicsData, qpos: &[f64], qvel: &[f64
     tendon::evaluate(m, &dy.kin, qpos, &mut dy.ten);
     forces::applied(m, &dy.ten, qpos, qvel, (ctrl, act), &mut dy.qfrc_applied);
     fluid::add_forces(m, &dy.kin, &dy.kin.v, &mut dy.qfrc_applied);
+    external::add_forces(m, &dy.kin, &dy.xfrc_applied, &mut dy.qfrc_applied);
     let tau = total_force(&dy.qfrc_applied, &dy.qfrc_friction, dy.friction_known, &mut dy.tau);
     aba::backward(m, &dy.kin, tau, h_damp, &mut dy.aba);
     aba::forward(m, &dy.kin, &mut dy.aba, &mut dy.qacc);

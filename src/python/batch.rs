@@ -623,6 +623,38 @@ impl PyBatch {
         self.moved.positions(py, &self.inner.model, self.inner.len(), Placed::Site(site))
     }
 
+    /// Applies Cartesian forces to the bodies of the worlds `worlds` (all when None) from the
+    /// next step on, as MuJoCo's `xfrc_applied`: `values` (nbody, 6) for each of them or
+    /// (k, nbody, 6), per body a force at its centre of mass, then a torque, in world axes. They
+    /// hold until set again or the world is reset.
+    #[pyo3(signature = (values, worlds=None))]
+    fn set_xfrc_applied(&mut self, values: Bound<'_, PyAny>, worlds: Option<Bound<'_, PyAny>>) -> PyResult<()> {
+        let which = self.worlds(worlds)?;
+        let size = 6 * self.inner.model.nbody;
+        let rows = if as_f64(&values, "values")?.ndim() == 2 {
+            vec![checked_values(&values, "values", &[self.inner.model.nbody, 6])?; which.len()].concat()
+        } else {
+            checked_values(&values, "values", &[which.len(), self.inner.model.nbody, 6])?
+        };
+        for (k, &i) in which.iter().enumerate() {
+            self.inner.data[i].set_xfrc_applied(&rows[k * size..(k + 1) * size]);
+        }
+        Ok(())
+    }
+
+    /// The forces `set_xfrc_applied` applies in every world (N, nbody, 6): a copy.
+    #[getter]
+    fn xfrc_applied<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        let nb = self.inner.model.nbody;
+        let mut all = vec![0.0; self.inner.len() * 6 * nb];
+        for (row, d) in all.chunks_exact_mut(6 * nb.max(1)).zip(&self.inner.data) {
+            if !d.xfrc_applied().is_empty() {
+                row.copy_from_slice(d.xfrc_applied());
+            }
+        }
+        PyArray1::from_vec(py, all).reshape([self.inner.len(), nb, 6])
+    }
+
     /// Draws worlds in parallel: rgb (n, H, W, 3) uint8 and/or depth (n, H, W) float32, a tuple
     /// when both. `worlds`: None for all, a boolean mask (N,) or a sequence of world indices
     /// (rendering every 100th world costs a hundredth). `camera` as in `Sim.render`, or a list

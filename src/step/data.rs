@@ -80,6 +80,7 @@ impl Data {
     pub fn swap_kept(&mut self, k: &mut Kept) {
         let c = &mut self.constraints;
         std::mem::swap(&mut self.dynamics.ahead, &mut k.ahead);
+        std::mem::swap(&mut self.dynamics.xfrc_applied, &mut k.xfrc_applied);
         std::mem::swap(&mut self.coll, &mut k.coll);
         std::mem::swap(&mut self.energy, &mut k.energy);
         std::mem::swap(&mut c.history, &mut k.history);
@@ -140,7 +141,7 @@ impl Data {
 }
 
 /// What a world keeps from one step to the next, and what is read after a step: the kinematics
-/// computed ahead for the next step, collision's poses, caches and contacts, the energy bound,
+/// computed ahead for the next step, the forces applied to its bodies, collision's poses, caches and contacts, the energy bound,
 /// the constraint history, the forces the rows applied, motion control's feed-forward, the
 /// counters and the last fault's message. The rest of a [`Data`] — the kinematics being
 /// evaluated, the tendons, applied forces, ABA quantities and accelerations, RK4's stages, the
@@ -151,6 +152,7 @@ impl Data {
 #[derive(Clone, Debug, Default)]
 pub struct Kept {
     ahead: KinCache,
+    xfrc_applied: Vec<f64>,
     coll: CollisionData,
     energy: EnergyBound,
     history: History,
@@ -170,6 +172,21 @@ impl Kept {
         Data::new(m).swap_kept(&mut k);
         k.history.rng = crate::math::splitmix64(seed);
         k
+    }
+
+    /// The forces applied to the bodies (nbody × 6: force at the centre of mass, then torque,
+    /// world axes; empty: none).
+    pub fn xfrc_applied(&self) -> &[f64] {
+        &self.xfrc_applied
+    }
+
+    /// Applies `xfrc` (nbody × 6, as [`Kept::xfrc_applied`]) to the bodies from the next step on;
+    /// all zero is kept as none.
+    pub fn set_xfrc_applied(&mut self, xfrc: &[f64]) {
+        self.xfrc_applied.clear();
+        if xfrc.iter().any(|&x| x != 0.0) {
+            self.xfrc_applied.extend_from_slice(xfrc);
+        }
     }
 
     /// Re-seeds the world's random stream (its friction tangents, drawn from it, are redrawn).

@@ -4,7 +4,7 @@ use crate::constraint::impact::needs_impact;
 use crate::constraint::rows::refresh;
 use crate::constraint::solve::{apply, solve_rows, Level};
 use crate::constraint::{impact_speed, World};
-use crate::dynamics::{self, aba, fluid, forces, kinematics, tendon};
+use crate::dynamics::{self, aba, external, fluid, forces, kinematics, tendon};
 use crate::model::Model;
 use crate::state::WorldState;
 use crate::timing::{timed, Stage};
@@ -52,6 +52,7 @@ fn new_velocities(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) {
         kinematics::velocities(m, &dy.kin, qvel, &mut dy.v_other);
         fluid::add_forces(m, &dy.kin, &dy.v_other, &mut dy.qfrc_applied);
     }
+    external::add_forces(m, &dy.kin, &dy.xfrc_applied, &mut dy.qfrc_applied);
     let tau = dynamics::total_force(&dy.qfrc_applied, &dy.qfrc_friction, dy.friction_known, &mut dy.tau);
     aba::backward_bias(m, &dy.kin, tau, &mut dy.aba);
     aba::forward(m, &data.dynamics.kin, &mut data.dynamics.aba, &mut data.dynamics.qacc);

@@ -12,7 +12,7 @@ import warnings
 import numpy as np
 from gymnasium import spaces
 
-from sinew._core import Model, ModelWarning
+from sinew._core import ModelWarning
 from sinew.core import Worlds, camera_index
 
 
@@ -65,7 +65,7 @@ class PlaygroundCore(Worlds):
             # Playground's files declare sensors no task reads, and texture their floors
             warnings.filterwarnings("ignore", message=".*not computed by sinew.*", category=ModelWarning)
             warnings.filterwarnings("ignore", message=".*image files are not drawn.*", category=ModelWarning)
-            model = Model.from_mjcf(os.path.join(assets_dir(self.task.assets), self.task.xml))
+            model = self.task.load(os.path.join(assets_dir(self.task.assets), self.task.xml))
         super().__init__(model.with_options(timestep=self.task.sim_dt), num_envs, num_threads)
         n_sub = self.task.ctrl_dt / self.task.sim_dt
         if abs(n_sub - round(n_sub)) > 1e-8:
@@ -162,6 +162,9 @@ class PlaygroundCore(Worlds):
         qvel = b.qvel[rows]
         if self.task.perturb(qvel, rows, rngs):
             b.qvel[rows] = qvel
+        forces = self.task.body_forces(rows, rngs)
+        if forces is not None:
+            b.set_xfrc_applied(forces, rows)
         b.ctrl[rows] = self.task.motor_targets(actions[rows], b.qpos[rows], b.ctrl[rows])
         if self.task.needs_qacc:
             # the last physics step's accelerations: its change of velocity over the step (Euler)

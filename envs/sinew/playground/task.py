@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from sinew._core import Model
+
 
 def site_world(r, model, site: int) -> np.ndarray:
     """A site's world position in each world of readings ``r`` (worlds, 3)."""
@@ -131,6 +133,10 @@ class Task:
     #: The names of the task's per-world state arrays (one row per world).
     state: tuple = ()
 
+    def load(self, path: str):
+        """The compiled model of the task's file at ``path`` (the file as it is)."""
+        return Model.from_mjcf(path)
+
     def setup(self, model, num_envs: int) -> None:
         """Reads what the task needs from the compiled model and allocates its per-world state."""
 
@@ -159,6 +165,12 @@ class Task:
         """Changes the root velocities ``qvel`` (rows of the worlds ``idx``) before a step, as
         Playground's pushes do; whether any changed. None by default."""
         return False
+
+    def body_forces(self, idx: np.ndarray, rngs: list) -> np.ndarray | None:
+        """The forces on the bodies of the worlds ``idx`` (rows, nbody, 6: MuJoCo's
+        ``xfrc_applied``) through the next step, as Playground's kicks; None: unchanged (none
+        by default)."""
+        return None
 
     def motor_targets(self, actions: np.ndarray, qpos: np.ndarray, ctrl: np.ndarray) -> np.ndarray:
         """The position servos' targets of actions in [-1, 1] at the worlds' state (qpos) and

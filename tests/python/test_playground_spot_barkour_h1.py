@@ -1,6 +1,7 @@
-"""Spot's and H1's Playground tasks: what they observe at a state against MuJoCo on the same file
-(with the gains Playground's env sets), their servo-error histories and gait clocks, their
-command schedules, and the reward formulas Playground computes (its argument order included)."""
+"""Spot's, Barkour's and H1's Playground tasks: what they observe at a state against MuJoCo on the
+same file (with the gains and sensors Playground's env adds), their histories and gait clocks,
+their command and kick schedules, and the reward formulas Playground computes (its argument
+order included)."""
 
 import gymnasium as gym
 import mujoco
@@ -9,6 +10,7 @@ import pytest
 
 import sinew  # noqa: F401  (registers the envs)
 from sinew.playground import assets_dir
+from sinew.playground.barkour import FEET as BARKOUR_FEET
 from sinew.playground.spot import FEET, PHASES
 
 SPOT_XML = "mujoco_playground/_src/locomotion/spot/xmls/scene_mjx_feetonly_flat_terrain.xml"
@@ -112,6 +114,48 @@ def test_spot_getup_drops_six_in_ten_from_a_metre_and_ends_beyond_a_joint_range(
     env.step(a)
     lo, hi = core.model.actuator_ctrlrange.T
     np.testing.assert_allclose(core.batch.ctrl, np.clip(q0 + 0.6 * a, lo, hi))
+
+
+def test_barkour_observes_its_last_fifteen_readings_with_the_contact_sensors_playground_adds():
+    env = gym.make("sinew/playground-BarkourJoystick-v0")
+    obs, info = env.reset(seed=0)
+    u = env.unwrapped
+    model, task = u._core.model, u._core.task
+    assert [n for n in model.sensor_names if n.endswith("_floor_found")] == [f"{g}_floor_found" for g in BARKOUR_FEET]
+    mj = mujoco.MjModel.from_xml_path(f"{assets_dir()}/{task.xml}")
+    d = mujoco.MjData(mj)
+    d.qpos[:], d.qvel[:] = u.data_qpos, u.data_qvel
+    mujoco.mj_forward(mj, d)
+    clean = np.concatenate([[0.25 * d.sensor("gyro").data[2]], d.sensor("upvector").data, info["command"] * [2.0, 2.0, 0.25],
+                            d.qpos[7:] - mj.keyframe("home").qpos[7:], np.zeros(12)])
+    assert (np.abs(obs[:31] - clean) <= 0.05 + 1e-6).all()
+    np.testing.assert_array_equal(obs[31:], 0.0)
+    first = obs[:31].copy()
+    obs, *_ = env.step(np.zeros(12, np.float32))
+    np.testing.assert_array_equal(obs[31:62], first)
+    readings = u._core.batch.watched_readings[0]
+    assert (readings[-4:] > 0).all(), "four feet on the floor at home"
+
+
+def test_barkour_kicks_its_trunk_on_playgrounds_schedule():
+    """Every ``kick_wait_steps`` steps a kick starts; its force on the trunk (planar, others
+    none) is 0.5 sin(π k / D) M v / (D ctrl_dt) at its k-th step, zero from its D-th."""
+    env = gym.make("sinew/playground-BarkourJoystick-v0")
+    env.reset(seed=2)
+    core = env.unwrapped._core
+    task, batch = core.task, core.batch
+    wait, dur, v = task.kick_wait_steps[0], task.kick_duration_steps[0], task.vel_kick[0]
+    mass = float(core.model.param("body_mass")[1:].sum())
+    pushes = []
+    for _ in range(wait + 12):
+        env.step(np.zeros(12, np.float32))
+        x = batch.xfrc_applied[0]
+        assert (np.delete(x, task.torso, axis=0) == 0).all() and (x[task.torso, 2:] == 0).all()
+        pushes.append(np.linalg.norm(x[task.torso, :2]))
+    k = np.arange(len(pushes)) - wait
+    expect = np.where((k >= 0) & (k < dur), 0.5 * np.sin(np.pi * np.maximum(k, 0) / dur) * mass * v / (dur * 0.02), 0.0)
+    np.testing.assert_allclose(pushes, expect, rtol=1e-12, atol=1e-9)
+    assert max(pushes) > 0 or dur == 1
 
 
 def test_h1_reads_its_feet_contacts_as_playgrounds_step_does():
