@@ -50,6 +50,8 @@ TASKS = {
                                              "action_rate", "feet_air_time", "feet_slip", "feet_phase", "termination", "pose"],
     "H1InplaceGaitTracking": ["feet_phase", "pose", "ang_vel", "lin_vel"],
     "H1JoystickGaitTracking": ["feet_phase", "tracking_lin_vel", "tracking_ang_vel", "pose", "action_rate"],
+    "PandaPickCube": ["gripper_box", "box_target", "no_floor_collision", "robot_target_qpos"],
+    "PandaPickCubeOrientation": ["gripper_box", "box_target", "no_floor_collision", "robot_target_qpos"],
     "ApolloJoystickFlatTerrain": ["tracking", "ang_vel_xy", "orientation", "feet_phase", "pose", "collision"],
     "Op3Joystick": ["tracking_lin_vel", "tracking_ang_vel", "orientation", "torques", "action_rate", "zero_cmd", "termination",
                     "feet_slip", "energy"],
@@ -73,12 +75,13 @@ RESET = {"Go1": [("body linear velocity", slice(57, 60)), ("gravity in IMU frame
          "Apollo": [("body linear velocity", slice(118, 121)), ("gravity in IMU frame", slice(115, 118)), ("gyro", slice(112, 115)),
                     ("joint angles − default", slice(121, 153))],
          "H1": [("gyro (noisy)", slice(0, 3)), ("up vector (noisy)", slice(3, 6)), ("joint angles − default (noisy)", slice(6, 25))],
+         "Panda": [],
          # OP3's state: its newest readings first, noisy (its reset is the keyframe at rest)
          "Op3": [("gyro (noisy)", slice(0, 3)), ("up vector (noisy)", slice(3, 6)), ("joint angles − default (noisy)", slice(9, 29))]}
 #: Worlds per run: EnvPool's port holds about 50 MB per world (its contact buffers) for Go1, more
 #: for the humanoids, about 0.55 GB for Apollo and 0.45 GB for OP3.
 WORLDS = {"Go1": 256, "SpotJoystickGaitTracking": 256, "Spot": 256, "Barkour": 256, "H1": 128, "G1": 128, "T1": 128,
-          "BerkeleyHumanoid": 128, "Apollo": 16, "Op3": 16}
+          "BerkeleyHumanoid": 128, "Apollo": 16, "Op3": 16, "Panda": 128}
 
 
 class Sinew:
@@ -99,7 +102,7 @@ class EnvPool:
         import envpool
         self.env = envpool.make_gymnasium(f"MuJoCoPlayground/{task}-v1", num_envs=n, num_threads=threads, seed=seed)
         obs, info = self.env.reset()
-        # OP3's, H1's, Barkour's and two of Spot's tasks observe one array, their state (Playground gives
+        # OP3's, H1's, Barkour's, Panda's and two of Spot's tasks observe one array, their state (Playground gives
         # them no privileged state)
         self.priv = obs["privileged_state"] if isinstance(obs, dict) else obs
         self.command, self.terms = info.get("command"), TASKS[task]
@@ -151,7 +154,7 @@ def stills(directory: str) -> None:
                        ("H1", "H1InplaceGaitTracking"),
                        ("G1", "G1JoystickFlatTerrain"), ("T1", "T1JoystickFlatTerrain"),
                        ("BerkeleyHumanoid", "BerkeleyHumanoidJoystickFlatTerrain"), ("Apollo", "ApolloJoystickFlatTerrain"),
-                       ("Op3", "Op3Joystick")):
+                       ("Op3", "Op3Joystick"), ("Panda", "PandaPickCube")):
         env = gym.make(f"sinew/playground-{task}-v0", render_mode="rgb_array", domain_randomization=False)
         env.reset(seed=0)
         for _ in range(20):

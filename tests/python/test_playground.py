@@ -30,7 +30,8 @@ SIZES = {"Go1JoystickFlatTerrain": (48, 123, 1000, 12), "Go1JoystickRoughTerrain
          "ApolloJoystickFlatTerrain": (112, 224, 1000, 32), "Op3Joystick": (147, 147, 1000, 20),
          "SpotFlatTerrainJoystick": (81, 167, 1000, 12), "SpotJoystickGaitTracking": (69, 69, 1000, 12),
          "SpotGetup": (30, 30, 300, 12), "BarkourJoystick": (465, 465, 1000, 12), "H1InplaceGaitTracking": (186, 186, 1000, 19),
-         "H1JoystickGaitTracking": (113, 113, 1000, 19)}
+         "H1JoystickGaitTracking": (113, 113, 1000, 19), "PandaPickCube": (66, 66, 150, 8),
+         "PandaPickCubeOrientation": (66, 66, 150, 8)}
 
 
 def test_every_task_is_registered_with_playgrounds_spaces_and_info():

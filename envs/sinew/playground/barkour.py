@@ -27,7 +27,6 @@ class BarkourJoystick(Task):
 
     xml = "mujoco_menagerie/google_barkour_vb/scene_mjx.xml"
     camera = dict(distance=1.5, elevation=-20.0, azimuth=120.0, trackbodyid=1, lookat=np.array([0.0, 0.0, 0.15]))
-    pixels_camera = "default"
     sensors = ("gyro", "upvector", "local_linvel", "global_linvel", "global_angvel", *(f"{f}_floor_found" for f in FEET))
     obs_sizes = (465, 465)
     reward_scales = JOYSTICK_SCALES

@@ -110,6 +110,7 @@ class PlaygroundCore(Worlds):
             key = self.model.keyframe(keyframe)
             qpos, qvel = np.tile(key["qpos"], (len(idx), 1)), np.tile(key["qvel"], (len(idx), 1))
         self.reset_batch(idx, rngs, qpos, qvel)
+        self.task.place(self.batch, idx)
         self.batch.ctrl[idx] = self.task.initial_ctrl(qpos)
         if self.task.settle_steps and keyframe is None:
             mask = np.zeros(self.num_envs, dtype=bool)

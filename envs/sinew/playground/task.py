@@ -120,8 +120,8 @@ class Task:
     action_scale: float = 0.5
     #: The free camera's settings for ``render()`` without a camera.
     camera: dict = {}
-    #: The model camera pixel observations use by default.
-    pixels_camera: str = "track"
+    #: The model camera pixel observations use by default (-1: the free camera).
+    pixels_camera: str | int = "track"
     #: Keyword arguments the task takes (its config's knobs).
     kwargs: dict = {}
     #: The sensors the task reads, by name (every step reads them in its parallel pass).
@@ -146,6 +146,10 @@ class Task:
 
     def randomize(self, batch, idx: np.ndarray, rngs: list) -> None:
         """Playground's domain randomization for the worlds ``idx``."""
+
+    def place(self, batch, idx: np.ndarray) -> None:
+        """Moves what the worlds ``idx`` draw for their new episodes (a target's body), after
+        ``reset``; nothing by default."""
 
     def reset(self, idx: np.ndarray, rngs: list) -> tuple[np.ndarray, np.ndarray]:
         """The initial (qpos, qvel) of the worlds ``idx``; resets their task state."""

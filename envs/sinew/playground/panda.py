@@ -1,0 +1,142 @@
+"""Franka Emika Panda's Playground tasks (``mujoco_playground/_src/manipulation/franka_emika_panda``):
+bring a cube to a target position (and orientation), written from Playground's ``pick.py`` and
+``panda.py`` (no domain randomization: Playground has none for these tasks)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from sinew.playground.task import Task, site_rot, site_world
+
+PANDA = "mujoco_playground/_src/manipulation/franka_emika_panda/xmls"
+ARM = tuple(f"joint{i}" for i in range(1, 8))
+FINGERS = ("finger_joint1", "finger_joint2")
+#: The geoms whose touching the floor costs the ``no_floor_collision`` reward.
+HAND = ("left_finger_pad", "right_finger_pad", "hand_capsule")
+#: Reward scales of Playground's ``pick.default_config()``.
+PICK_SCALES = dict(gripper_box=4.0, box_target=8.0, no_floor_collision=0.25, robot_target_qpos=0.3)
+
+
+def quat_to_mat(q: np.ndarray) -> np.ndarray:
+    """Rotation matrices (k, 3, 3) of unit quaternions (k, 4: w, x, y, z)."""
+    w, x, y, z = q.T
+    return np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
+                     2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+                     2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=1).reshape(-1, 3, 3)
+
+
+class PandaPickCube(Task):
+    """``PandaPickCube``: bring the cube (placed at random within ±0.2 m) to a target 0.2–0.4 m
+    above a random point; actions move the servo targets by ``action_scale`` · a from the last
+    ones; the reward (not scaled by ``ctrl_dt``) pays for the gripper near the cube, the cube near
+    the target once the gripper has reached it, no hand on the floor and the arm near its home
+    pose; the episode ends when the cube leaves the 1 m box about the origin or sinks below the
+    floor."""
+
+    xml = f"{PANDA}/mjx_single_cube.xml"
+    sim_dt, episode_length, action_scale = 0.005, 150, 0.04
+    camera = dict(distance=1.6, elevation=-25.0, azimuth=150.0, trackbodyid=-1, lookat=np.array([0.45, 0.0, 0.2]))
+    #: The file has no camera: pixels come from the free camera.
+    pixels_camera = -1
+    sensors = tuple(f"{g}_floor_found" for g in HAND)
+    obs_sizes = (66, 66)
+    reward_scales = PICK_SCALES
+    state = ("target_pos", "target_quat", "reached_box")
+    #: Whether the target's orientation is drawn (else the identity).
+    sample_orientation = False
+
+    def __init__(self, action_scale: float = 0.04, reward_scales: dict | None = None):
+        self.kwargs = dict(action_scale=action_scale)
+        unknown = set(reward_scales or {}) - set(PICK_SCALES)
+        if unknown:
+            raise ValueError(f"unknown reward terms {sorted(unknown)}; this task's: {list(PICK_SCALES)}")
+        self.reward_scales = {**PICK_SCALES, **(reward_scales or {})}
+        self.action_scale = float(action_scale)
+
+    def setup(self, model, n: int) -> None:
+        self.model = model
+        key = model.keyframe("home")
+        self.init_q, self.init_ctrl = np.asarray(key["qpos"], dtype=np.float64), np.asarray(key["ctrl"], dtype=np.float64)
+        adr = {name: model.jnt_qposadr[k] for k, name in enumerate(model.joint_names)}
+        self.arm = np.array([adr[j] for j in ARM])
+        self.robot = np.array([adr[j] for j in ARM + FINGERS])
+        self.gripper = model.site_names.index("gripper")
+        self.box = model.body_names.index("box")
+        # the cube's free joint, the file's only one
+        self.box_adr = next(a for t, a in zip(model.joint_types, model.jnt_qposadr) if t == "free")
+        self.init_box = self.init_q[self.box_adr:self.box_adr + 3].copy()
+        target = model.body_names.index("mocap_target")
+        self.target_geom = next(g for g in range(model.ngeom) if model.geom_body[g] == target)
+        # the body sits unrotated: its geom's place in its frame is the target less its origin
+        self.target_origin = model.body_pos[target]
+        self.lowers, self.uppers = model.actuator_ctrlrange.T
+        self.target_pos, self.target_quat = np.zeros((n, 3)), np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))
+        self.reached_box = np.zeros(n)
+
+    def reset(self, idx: np.ndarray, rngs: list):
+        """The home keyframe with the cube moved by U(±0.2, ±0.2, 0) and a target drawn."""
+        k = len(idx)
+        qpos = np.tile(self.init_q, (k, 1))
+        for j, rng in enumerate(rngs):
+            i = idx[j]
+            qpos[j, self.box_adr:self.box_adr + 3] = rng.uniform([-0.2, -0.2, 0.0], [0.2, 0.2, 0.0]) + self.init_box
+            self.target_pos[i] = rng.uniform([-0.2, -0.2, 0.2], [0.2, 0.2, 0.4]) + self.init_box
+            if self.sample_orientation:
+                axis = rng.uniform(-1.0, 1.0, 3)
+                axis /= np.linalg.norm(axis)
+                half = 0.5 * rng.uniform(0.0, np.deg2rad(45))
+                self.target_quat[i] = [np.cos(half), *(np.sin(half) * axis)]
+        self.reached_box[idx] = 0
+        return qpos, np.zeros((k, self.model.nv))
+
+    def place(self, batch, idx: np.ndarray) -> None:
+        """The target's box (Playground's mocap body, without contacts) drawn at the episode's
+        target position."""
+        batch.set_geom_pos(self.target_geom, self.target_pos[idx] - self.target_origin, idx)
+
+    def initial_ctrl(self, qpos: np.ndarray) -> np.ndarray:
+        """The keyframe's controls."""
+        return np.tile(self.init_ctrl, (len(qpos), 1))
+
+    def motor_targets(self, actions, qpos, ctrl):
+        return np.clip(ctrl + actions * self.action_scale, self.lowers, self.uppers)
+
+    def observe(self, r, idx: np.ndarray, rngs: list):
+        gripper, box = site_world(r, self.model, self.gripper), r.xpos(self.box)
+        box_mat = r.xmat(self.box).reshape(-1, 9)
+        target_mat = quat_to_mat(self.target_quat[idx]).reshape(-1, 9)
+        state = np.hstack([r.qpos, r.qvel, gripper, site_rot(r, self.model, self.gripper).reshape(-1, 9)[:, 3:], box_mat[:, 3:],
+                           box - gripper, self.target_pos[idx] - box, target_mat[:, :6] - box_mat[:, :6],
+                           r.ctrl - r.qpos[:, self.robot[:-1]]]).astype(np.float32)
+        return state, state.copy()
+
+    def after_step(self, r, actions: np.ndarray, idx: np.ndarray, rngs: list):
+        box, gripper = r.xpos(self.box), site_world(r, self.model, self.gripper)
+        box_mat = r.xmat(self.box).reshape(-1, 9)
+        target_mat = quat_to_mat(self.target_quat[idx]).reshape(-1, 9)
+        pos_err = np.linalg.norm(self.target_pos[idx] - box, axis=1)
+        rot_err = np.linalg.norm(target_mat[:, :6] - box_mat[:, :6], axis=1)
+        reach = np.linalg.norm(box - gripper, axis=1)
+        self.reached_box[idx] = np.maximum(self.reached_box[idx], reach < 0.012)
+        floor = np.any([r.sensor(s)[:, 0] > 0 for s in self.sensors], axis=0)
+        terms = {
+            "gripper_box": 1 - np.tanh(5 * reach),
+            "box_target": (1 - np.tanh(5 * (0.9 * pos_err + 0.1 * rot_err))) * self.reached_box[idx],
+            "no_floor_collision": 1.0 - floor,
+            "robot_target_qpos": 1 - np.tanh(np.linalg.norm(r.qpos[:, self.arm] - self.init_q[self.arm], axis=1)),
+        }
+        terms = {k: v * self.reward_scales[k] for k, v in terms.items()}
+        reward = np.clip(sum(terms.values()), -1e4, 1e4)
+        done = np.any(np.abs(box) > 1.0, axis=1) | (box[:, 2] < 0.0)
+        state, priv = self.observe(r, idx, rngs)
+        return state, priv, reward, done, terms
+
+
+class PandaPickCubeOrientation(PandaPickCube):
+    """``PandaPickCubeOrientation``: the same with the target turned by up to 45° about a random
+    axis."""
+
+    sample_orientation = True
+
+
+TASKS = {"PandaPickCube": PandaPickCube, "PandaPickCubeOrientation": PandaPickCubeOrientation}

@@ -1,0 +1,76 @@
+"""Panda's Playground tasks: the observation Playground's ``pick.py`` computes (against MuJoCo at
+the same state), its targets and reward terms, and a grasp that holds (exact contact: the lifted
+cube does not slide in the fingers)."""
+
+import gymnasium as gym
+import mujoco
+import numpy as np
+
+import sinew  # noqa: F401  (registers the envs)
+from sinew import Batch, Model
+from sinew.playground import assets_dir
+from sinew.playground.panda import quat_to_mat
+
+XML = "mujoco_playground/_src/manipulation/franka_emika_panda/xmls/mjx_single_cube.xml"
+
+
+def test_pick_observes_what_mujoco_reads_and_draws_its_cube_and_target():
+    env = gym.make_vec("sinew/playground-PandaPickCubeOrientation-v0", num_envs=32, vectorization_mode="vector_entry_point")
+    obs, _ = env.reset(seed=0)
+    core = env.unwrapped._core
+    task = core.task
+    mj = mujoco.MjModel.from_xml_path(f"{assets_dir()}/{XML}")
+    d = mujoco.MjData(mj)
+    home = mj.keyframe("home")
+    box = mj.body("box").id
+    offsets = core.batch.qpos[:, 9:12] - home.qpos[9:12]
+    assert (np.abs(offsets[:, :2]) <= 0.2).all() and (offsets[:, 2] == 0).all() and offsets[:, :2].std() > 0.05
+    lift = task.target_pos - home.qpos[9:12]
+    assert ((lift[:, 2] >= 0.2) & (lift[:, 2] <= 0.4)).all()
+    np.testing.assert_allclose(core.batch.geom_pos(task.target_geom), task.target_pos)    # drawn there
+    angle = 2 * np.arccos(np.clip(task.target_quat[:, 0], -1, 1))
+    assert (angle <= np.deg2rad(45) + 1e-9).all() and angle.max() > np.deg2rad(20)
+    obs, reward, term, _, info = env.step(np.random.default_rng(0).uniform(-1, 1, (32, 8)))
+    for i in (0, 7):
+        d.qpos[:], d.qvel[:], d.ctrl[:] = core.batch.qpos[i], core.batch.qvel[i], core.batch.ctrl[i]
+        mujoco.mj_forward(mj, d)
+        g = mj.site("gripper").id
+        target_mat = quat_to_mat(task.target_quat[i:i + 1]).reshape(9)
+        expect = np.concatenate([d.qpos, d.qvel, d.site_xpos[g], d.site_xmat[g][3:], d.xmat[box][3:], d.xpos[box] - d.site_xpos[g],
+                                 task.target_pos[i] - d.xpos[box], target_mat[:6] - d.xmat[box][:6], d.ctrl - d.qpos[:8]])
+        np.testing.assert_allclose(obs[i], expect, atol=2e-5)
+        reach = np.linalg.norm(d.xpos[box] - d.site_xpos[g])
+        np.testing.assert_allclose(info["gripper_box"][i], 4.0 * (1 - np.tanh(5 * reach)), rtol=1e-9)
+        q = d.qpos[:7] - home.qpos[:7]
+        np.testing.assert_allclose(info["robot_target_qpos"][i], 0.3 * (1 - np.tanh(np.linalg.norm(q))), rtol=1e-9)
+    np.testing.assert_allclose(reward, info["gripper_box"] + info["box_target"] + info["no_floor_collision"]
+                               + info["robot_target_qpos"], rtol=1e-12)
+    assert (info["box_target"] == 0).all(), "no gripper reached its cube in one step"
+    # each action moves the servo targets from the last ones
+    lo, hi = mj.actuator_ctrlrange.T
+    before = core.batch.ctrl.copy()
+    env.step(np.ones((32, 8)))
+    np.testing.assert_allclose(core.batch.ctrl, np.clip(before + 0.04, lo, hi))
+
+
+def test_a_grasped_cube_is_lifted_and_held_without_sliding():
+    """From the file's "pickup" keyframe: close the fingers, raise the arm 40 cm, hold 1 s: the
+    cube rises with the hand and stays put in the fingers (MuJoCo's soft contacts let it slide
+    by about a millimetre over the same second)."""
+    model = Model.from_mjcf(f"{assets_dir()}/{XML}").with_options(timestep=0.005)
+    b = Batch(model, 1)
+    key = model.keyframe("pickup")
+    b.reset(qpos=np.asarray(key["qpos"])[None], qvel=np.zeros((1, model.nv)))
+    box = model.body_names.index("box")
+    ctrl = np.array(key["ctrl"], dtype=float)
+    ctrl[7] = 0.0
+    b.ctrl[0] = ctrl
+    b.step(100)
+    ctrl[1] -= 0.4
+    ctrl[3] += 0.3
+    b.ctrl[0] = ctrl
+    b.step(200)
+    lifted = b.xpos[0, box].copy()
+    assert lifted[2] > 0.4
+    b.step(200)
+    np.testing.assert_allclose(b.xpos[0, box], lifted, atol=2e-4)
