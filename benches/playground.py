@@ -52,6 +52,7 @@ TASKS = {
     "H1JoystickGaitTracking": ["feet_phase", "tracking_lin_vel", "tracking_ang_vel", "pose", "action_rate"],
     "PandaPickCube": ["gripper_box", "box_target", "no_floor_collision", "robot_target_qpos"],
     "PandaPickCubeOrientation": ["gripper_box", "box_target", "no_floor_collision", "robot_target_qpos"],
+    "PandaOpenCabinet": ["gripper_box", "box_target", "no_barrier_collision", "robot_target_qpos"],
     "ApolloJoystickFlatTerrain": ["tracking", "ang_vel_xy", "orientation", "feet_phase", "pose", "collision"],
     "Op3Joystick": ["tracking_lin_vel", "tracking_ang_vel", "orientation", "torques", "action_rate", "zero_cmd", "termination",
                     "feet_slip", "energy"],

@@ -181,6 +181,9 @@ class Model:
     @property
     def geom_body(self) -> list[int]: ...
     @property
+    def pair_geoms(self) -> list[tuple[int, int]]:
+        """The two geoms (lower index first) of each <contact><pair>, in the file's order."""
+    @property
     def geom_pos(self) -> NDArray[np.float64]: ...
     @property
     def geom_mat(self) -> NDArray[np.float64]: ...

@@ -540,6 +540,12 @@ impl PyModel {
     fn site_size<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
         rows3(py, self.inner.site_size.iter().copied())
     }
+    /// The two geoms (lower index first) of each `<contact><pair>`, in the file's order (npair, 2):
+    /// MuJoCo's `pair_geom1`, `pair_geom2`.
+    #[getter]
+    fn pair_geoms(&self) -> Vec<(usize, usize)> {
+        self.inner.pair_geoms.clone()
+    }
     /// Body of each geom.
     #[getter]
     fn geom_body(&self) -> Vec<usize> {

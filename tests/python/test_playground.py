@@ -31,7 +31,7 @@ SIZES = {"Go1JoystickFlatTerrain": (48, 123, 1000, 12), "Go1JoystickRoughTerrain
          "SpotFlatTerrainJoystick": (81, 167, 1000, 12), "SpotJoystickGaitTracking": (69, 69, 1000, 12),
          "SpotGetup": (30, 30, 300, 12), "BarkourJoystick": (465, 465, 1000, 12), "H1InplaceGaitTracking": (186, 186, 1000, 19),
          "H1JoystickGaitTracking": (113, 113, 1000, 19), "PandaPickCube": (66, 66, 150, 8),
-         "PandaPickCubeOrientation": (66, 66, 150, 8)}
+         "PandaPickCubeOrientation": (66, 66, 150, 8), "PandaOpenCabinet": (55, 55, 150, 8)}
 
 
 def test_every_task_is_registered_with_playgrounds_spaces_and_info():

@@ -74,3 +74,32 @@ def test_a_grasped_cube_is_lifted_and_held_without_sliding():
     assert lifted[2] > 0.4
     b.step(200)
     np.testing.assert_allclose(b.xpos[0, box], lifted, atol=2e-4)
+
+
+def test_cabinet_starts_from_a_moved_arm_and_lets_the_hand_touch_the_handle_and_barrier():
+    """PandaOpenCabinet: the arm's joints moved within Playground's bounds, the servos' targets
+    with them; the hand capsule's contacts with the handle, shelf and barrier that Playground's
+    env enables (conaffinity 3) are the file's pairs here; the observation is MuJoCo's at the same
+    state (with that conaffinity)."""
+    env = gym.make_vec("sinew/playground-PandaOpenCabinet-v0", num_envs=32, vectorization_mode="vector_entry_point")
+    obs, _ = env.reset(seed=0)
+    core = env.unwrapped._core
+    model, task, b = core.model, core.task, core.batch
+    eps = np.deg2rad(30)
+    moved = b.qpos[:, :7]
+    assert (moved >= np.array([-eps, -eps, -eps, -2 * eps, -eps, 0, -eps]) - 1e-12).all()
+    assert (moved <= np.array([eps, eps, eps, 0, eps, 2 * eps, eps]) + 1e-12).all() and moved.std() > 0.1
+    np.testing.assert_allclose(b.ctrl[:, :7], moved)
+    assert ((task.target_pos[:, 0] >= 0.2) & (task.target_pos[:, 0] <= 0.4)).all()
+    names = model.geom_names
+    pairs = {tuple(sorted((names[g1], names[g2]))) for g1, g2 in model.pair_geoms}
+    assert {("hand_capsule", "handle"), ("hand_capsule", "shelf"), ("barrier", "hand_capsule")} <= pairs
+    mj = mujoco.MjModel.from_xml_path(f"{assets_dir()}/mujoco_playground/_src/manipulation/franka_emika_panda/xmls/mjx_cabinet.xml")
+    mj.geom("hand_capsule").conaffinity = 3
+    d = mujoco.MjData(mj)
+    d.qpos[:], d.qvel[:], d.ctrl[:] = b.qpos[3], b.qvel[3], b.ctrl[3]
+    mujoco.mj_forward(mj, d)
+    g, h = mj.site("gripper").id, mj.body("handle").id
+    expect = np.concatenate([d.qpos, d.qvel, d.site_xpos[g], d.site_xmat[g][3:], d.xmat[h][3:], d.xpos[h] - d.site_xpos[g],
+                             task.target_pos[3] - d.xpos[h], np.eye(3).ravel()[:6] - d.xmat[h][:6], d.ctrl - d.qpos[:8]])
+    np.testing.assert_allclose(obs[3], expect, atol=2e-5)

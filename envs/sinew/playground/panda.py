@@ -1,11 +1,13 @@
 """Franka Emika Panda's Playground tasks (``mujoco_playground/_src/manipulation/franka_emika_panda``):
-bring a cube to a target position (and orientation), written from Playground's ``pick.py`` and
-``panda.py`` (no domain randomization: Playground has none for these tasks)."""
+bring a cube to a target position (and orientation), pull a cabinet's handle open, written from
+Playground's ``pick.py``, ``open_cabinet.py`` and ``panda.py`` (no domain randomization:
+Playground has none for these tasks)."""
 
 from __future__ import annotations
 
 import numpy as np
 
+from sinew._core import Model
 from sinew.playground.task import Task, site_rot, site_world
 
 PANDA = "mujoco_playground/_src/manipulation/franka_emika_panda/xmls"
@@ -13,8 +15,12 @@ ARM = tuple(f"joint{i}" for i in range(1, 8))
 FINGERS = ("finger_joint1", "finger_joint2")
 #: The geoms whose touching the floor costs the ``no_floor_collision`` reward.
 HAND = ("left_finger_pad", "right_finger_pad", "hand_capsule")
-#: Reward scales of Playground's ``pick.default_config()``.
+#: Reward scales of Playground's ``pick.default_config()`` and ``open_cabinet.default_config()``.
 PICK_SCALES = dict(gripper_box=4.0, box_target=8.0, no_floor_collision=0.25, robot_target_qpos=0.3)
+CABINET_SCALES = dict(gripper_box=4.0, box_target=8.0, no_barrier_collision=0.25, robot_target_qpos=0.3)
+#: The contacts Playground's cabinet env enables by raising the hand capsule's conaffinity to 3:
+#: the capsule against the handle, the shelf and the barrier (contype 2).
+HAND_PAIRS = "<contact>" + "".join(f'<pair geom1="hand_capsule" geom2="{g}"/>' for g in ("handle", "shelf", "barrier")) + "</contact>"
 
 
 def quat_to_mat(q: np.ndarray) -> np.ndarray:
@@ -44,27 +50,28 @@ class PandaPickCube(Task):
     state = ("target_pos", "target_quat", "reached_box")
     #: Whether the target's orientation is drawn (else the identity).
     sample_orientation = False
+    #: The object brought to the target, the keyframe episodes start from, and the reward term
+    #: for keeping the hand off (the floor, or the cabinet's barrier: ``sensors`` tell).
+    obj, keyframe, keep_off = "box", "home", "no_floor_collision"
 
     def __init__(self, action_scale: float = 0.04, reward_scales: dict | None = None):
         self.kwargs = dict(action_scale=action_scale)
-        unknown = set(reward_scales or {}) - set(PICK_SCALES)
+        defaults = type(self).reward_scales
+        unknown = set(reward_scales or {}) - set(defaults)
         if unknown:
-            raise ValueError(f"unknown reward terms {sorted(unknown)}; this task's: {list(PICK_SCALES)}")
-        self.reward_scales = {**PICK_SCALES, **(reward_scales or {})}
+            raise ValueError(f"unknown reward terms {sorted(unknown)}; this task's: {list(defaults)}")
+        self.reward_scales = {**defaults, **(reward_scales or {})}
         self.action_scale = float(action_scale)
 
     def setup(self, model, n: int) -> None:
         self.model = model
-        key = model.keyframe("home")
+        key = model.keyframe(self.keyframe)
         self.init_q, self.init_ctrl = np.asarray(key["qpos"], dtype=np.float64), np.asarray(key["ctrl"], dtype=np.float64)
         adr = {name: model.jnt_qposadr[k] for k, name in enumerate(model.joint_names)}
         self.arm = np.array([adr[j] for j in ARM])
         self.robot = np.array([adr[j] for j in ARM + FINGERS])
         self.gripper = model.site_names.index("gripper")
-        self.box = model.body_names.index("box")
-        # the cube's free joint, the file's only one
-        self.box_adr = next(a for t, a in zip(model.joint_types, model.jnt_qposadr) if t == "free")
-        self.init_box = self.init_q[self.box_adr:self.box_adr + 3].copy()
+        self.box = model.body_names.index(self.obj)
         target = model.body_names.index("mocap_target")
         self.target_geom = next(g for g in range(model.ngeom) if model.geom_body[g] == target)
         # the body sits unrotated: its geom's place in its frame is the target less its origin
@@ -72,6 +79,12 @@ class PandaPickCube(Task):
         self.lowers, self.uppers = model.actuator_ctrlrange.T
         self.target_pos, self.target_quat = np.zeros((n, 3)), np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))
         self.reached_box = np.zeros(n)
+        self.setup_object(model)
+
+    def setup_object(self, model) -> None:
+        # the cube's free joint, the file's only one
+        self.box_adr = next(a for t, a in zip(model.joint_types, model.jnt_qposadr) if t == "free")
+        self.init_box = self.init_q[self.box_adr:self.box_adr + 3].copy()
 
     def reset(self, idx: np.ndarray, rngs: list):
         """The home keyframe with the cube moved by U(±0.2, ±0.2, 0) and a target drawn."""
@@ -95,8 +108,15 @@ class PandaPickCube(Task):
         batch.set_geom_pos(self.target_geom, self.target_pos[idx] - self.target_origin, idx)
 
     def initial_ctrl(self, qpos: np.ndarray) -> np.ndarray:
-        """The keyframe's controls."""
-        return np.tile(self.init_ctrl, (len(qpos), 1))
+        """The keyframe's controls, the arm's moved as its joints were."""
+        ctrl = np.tile(self.init_ctrl, (len(qpos), 1))
+        ctrl[:, :7] += qpos[:, self.arm] - self.init_q[self.arm]
+        return ctrl
+
+    def target_error(self, r, idx: np.ndarray, box: np.ndarray, box_mat: np.ndarray) -> np.ndarray:
+        """How far the object is from the target: 0.9 · distance + 0.1 · the rotations' difference."""
+        target_mat = quat_to_mat(self.target_quat[idx]).reshape(-1, 9)
+        return 0.9 * np.linalg.norm(self.target_pos[idx] - box, axis=1) + 0.1 * np.linalg.norm(target_mat[:, :6] - box_mat[:, :6], axis=1)
 
     def motor_targets(self, actions, qpos, ctrl):
         return np.clip(ctrl + actions * self.action_scale, self.lowers, self.uppers)
@@ -112,17 +132,14 @@ class PandaPickCube(Task):
 
     def after_step(self, r, actions: np.ndarray, idx: np.ndarray, rngs: list):
         box, gripper = r.xpos(self.box), site_world(r, self.model, self.gripper)
-        box_mat = r.xmat(self.box).reshape(-1, 9)
-        target_mat = quat_to_mat(self.target_quat[idx]).reshape(-1, 9)
-        pos_err = np.linalg.norm(self.target_pos[idx] - box, axis=1)
-        rot_err = np.linalg.norm(target_mat[:, :6] - box_mat[:, :6], axis=1)
+        error = self.target_error(r, idx, box, r.xmat(self.box).reshape(-1, 9))
         reach = np.linalg.norm(box - gripper, axis=1)
         self.reached_box[idx] = np.maximum(self.reached_box[idx], reach < 0.012)
-        floor = np.any([r.sensor(s)[:, 0] > 0 for s in self.sensors], axis=0)
+        touching = np.any([r.sensor(s)[:, 0] > 0 for s in self.sensors], axis=0)
         terms = {
             "gripper_box": 1 - np.tanh(5 * reach),
-            "box_target": (1 - np.tanh(5 * (0.9 * pos_err + 0.1 * rot_err))) * self.reached_box[idx],
-            "no_floor_collision": 1.0 - floor,
+            "box_target": (1 - np.tanh(5 * error)) * self.reached_box[idx],
+            self.keep_off: 1.0 - touching,
             "robot_target_qpos": 1 - np.tanh(np.linalg.norm(r.qpos[:, self.arm] - self.init_q[self.arm], axis=1)),
         }
         terms = {k: v * self.reward_scales[k] for k, v in terms.items()}
@@ -139,4 +156,45 @@ class PandaPickCubeOrientation(PandaPickCube):
     sample_orientation = True
 
 
-TASKS = {"PandaPickCube": PandaPickCube, "PandaPickCubeOrientation": PandaPickCubeOrientation}
+class PandaOpenCabinet(PandaPickCube):
+    """``PandaOpenCabinet``: pull the cabinet's handle (a slide joint) to a target 0.2 ± 0.1 m
+    towards the robot, from the upright pose with the arm's joints moved by up to 30° (60° for two
+    of them, one way); the hand capsule touches the handle, shelf and barrier (Playground raises
+    its conaffinity), and touching the barrier costs ``no_barrier_collision``."""
+
+    xml = f"{PANDA}/mjx_cabinet.xml"
+    sensors = tuple(f"barrier_{g}_found" for g in HAND)
+    obs_sizes = (55, 55)
+    reward_scales = CABINET_SCALES
+    state = ("target_pos", "reached_box")
+    pixels_camera = "side"
+    obj, keyframe, keep_off = "handle", "upright", "no_barrier_collision"
+
+    def load(self, path: str):
+        with open(path) as f:
+            xml = f.read()
+        at = xml.rindex("</mujoco>")
+        return Model.from_mjcf_string(xml[:at] + HAND_PAIRS + xml[at:], path)
+
+    def setup_object(self, model) -> None:
+        pass
+
+    def reset(self, idx: np.ndarray, rngs: list):
+        """The upright keyframe, the arm's joints moved by U(−30°, 30°) (the fourth by U(−60°, 0),
+        the sixth by U(0, 60°)); a target x of 0.3 ± 0.1 m."""
+        k = len(idx)
+        qpos = np.tile(self.init_q, (k, 1))
+        eps = np.deg2rad(30)
+        lo, hi = np.array([-eps, -eps, -eps, -2 * eps, -eps, 0, -eps]), np.array([eps, eps, eps, 0, eps, 2 * eps, eps])
+        for j, rng in enumerate(rngs):
+            self.target_pos[idx[j]] = [0.3 + rng.uniform(-0.1, 0.1), 0.0, 0.5]
+            qpos[j, self.arm] += rng.uniform(lo, hi)
+        self.reached_box[idx] = 0
+        return qpos, np.zeros((k, self.model.nv))
+
+    def target_error(self, r, idx: np.ndarray, box: np.ndarray, box_mat: np.ndarray) -> np.ndarray:
+        return np.linalg.norm(self.target_pos[idx] - box, axis=1)
+
+
+TASKS = {"PandaPickCube": PandaPickCube, "PandaPickCubeOrientation": PandaPickCubeOrientation,
+         "PandaOpenCabinet": PandaOpenCabinet}
