@@ -1,0 +1,68 @@
+"""The LEAP hand's Playground task: its privileged state against MuJoCo at the same state, the
+reset and randomization Playground draws, and a cube that rests in the still hand."""
+
+import gymnasium as gym
+import mujoco
+import numpy as np
+
+import sinew  # noqa: F401  (registers the envs)
+from sinew.playground import assets_dir
+from sinew.playground.leap import JOINTS, TIPS
+
+XML = "mujoco_playground/_src/manipulation/leap_hand/xmls/scene_mjx_cube.xml"
+
+
+def test_leap_observes_what_mujoco_reads_at_the_same_state():
+    env = gym.make("sinew/playground-LeapCubeRotateZAxis-v0", domain_randomization=False)
+    mj = mujoco.MjModel.from_xml_path(f"{assets_dir()}/{XML}")
+    d = mujoco.MjData(mj)
+    q_ids = [mj.jnt_qposadr[mj.joint(j).id] for j in JOINTS]
+    obs, info = env.reset(seed=0)
+    obs, _, _, _, info = env.step(np.random.default_rng(0).uniform(-1, 1, 16).astype(np.float32))
+    u = env.unwrapped
+    d.qpos[:], d.qvel[:], d.ctrl[:] = u.data_qpos, u.data_qvel, u._core.batch.ctrl[0]
+    mujoco.mj_forward(mj, d)
+    p = info["privileged_state"].astype(np.float64)
+    cube = mj.body("cube").id
+    expect = {"joints": (32, d.qpos[q_ids]), "velocities": (48, d.qvel[q_ids]), "servo forces": (64, d.actuator_force),
+              "fingertips": (80, np.concatenate([d.sensor(f"{t}_position").data for t in TIPS])),
+              "palm − cube": (92, d.sensor("palm_position").data - d.xpos[cube]), "cube quat": (95, d.xquat[cube]),
+              "cube angvel": (99, d.sensor("cube_angvel").data), "cube linvel": (102, d.sensor("cube_linvel").data)}
+    for name, (at, value) in expect.items():
+        np.testing.assert_allclose(p[at:at + len(value)], value, rtol=1e-5, atol=1e-5, err_msg=name)
+    assert (np.abs(obs[:16] - d.qpos[q_ids]) <= 0.05 + 1e-6).all()
+    np.testing.assert_allclose(obs[16:32], p[16:32])
+
+
+def test_leap_resets_and_randomizes_as_playground():
+    env = gym.make_vec("sinew/playground-LeapCubeRotateZAxis-v0", num_envs=64, vectorization_mode="vector_entry_point")
+    env.reset(seed=0)
+    core = env.unwrapped._core
+    m, b, task = core.model, core.batch, core.task
+    cube = b.qpos[:, task.cube_q:task.cube_q + 7]
+    assert (np.abs(cube[:, :3] - [0.1, 0.0, 0.05]) <= 0.01 + 1e-12).all()
+    np.testing.assert_allclose(np.linalg.norm(cube[:, 3:], axis=1), 1.0, rtol=1e-12)
+    assert np.abs(cube[:, 3:].mean(axis=0)).max() < 0.2, "orientations drawn all about"
+    np.testing.assert_allclose(b.ctrl, b.qpos[:, task.q_ids])
+    gain, bias = b.params("actuator_gain")[:, :, 0], b.params("actuator_bias")[:, :, 1]
+    np.testing.assert_array_equal(bias, -gain)
+    np.testing.assert_array_equal(task.gain, gain)
+    ratio = gain / m.param("actuator_gain")[:, 0]
+    assert (ratio >= 0.8).all() and (ratio <= 1.2).all() and ratio.std() > 0.05
+    mass, inertia = b.params("body_mass"), b.params("body_inertia")
+    scale = mass[:, task.cube] / m.param("body_mass")[task.cube]
+    np.testing.assert_allclose(inertia[:, task.cube], np.outer(scale, m.param("body_inertia")[task.cube]), rtol=1e-12)
+    palm = m.body_names.index("palm")
+    np.testing.assert_allclose(inertia[:, palm], np.tile(m.param("body_inertia")[palm], (64, 1)), rtol=1e-12)
+    tips = b.params("geom_friction")[:, task.tips, 0]
+    assert (tips >= 0.5).all() and (tips <= 1.0).all() and (tips == tips[:, :1]).all()
+
+
+def test_a_still_hand_holds_the_cube():
+    """Holding the home pose, the cube stays in the hand for 5 s in every world."""
+    env = gym.make_vec("sinew/playground-LeapCubeRotateZAxis-v0", num_envs=16, vectorization_mode="vector_entry_point")
+    env.reset(seed=1)
+    for _ in range(100):
+        _, _, term, _, _ = env.step(np.zeros((16, 16)))
+        assert not term.any()
+    assert np.isfinite(env.unwrapped._core.batch.qpos).all()
