@@ -54,6 +54,7 @@ TASKS = {
     "PandaPickCubeOrientation": ["gripper_box", "box_target", "no_floor_collision", "robot_target_qpos"],
     "PandaOpenCabinet": ["gripper_box", "box_target", "no_barrier_collision", "robot_target_qpos"],
     "LeapCubeRotateZAxis": ["angvel", "termination"],
+    "LeapCubeReorient": ["orientation", "position", "termination", "hand_pose", "action_rate", "energy"],
     "ApolloJoystickFlatTerrain": ["tracking", "ang_vel_xy", "orientation", "feet_phase", "pose", "collision"],
     "Op3Joystick": ["tracking_lin_vel", "tracking_ang_vel", "orientation", "torques", "action_rate", "zero_cmd", "termination",
                     "feet_slip", "energy"],

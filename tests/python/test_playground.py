@@ -32,7 +32,7 @@ SIZES = {"Go1JoystickFlatTerrain": (48, 123, 1000, 12), "Go1JoystickRoughTerrain
          "SpotGetup": (30, 30, 300, 12), "BarkourJoystick": (465, 465, 1000, 12), "H1InplaceGaitTracking": (186, 186, 1000, 19),
          "H1JoystickGaitTracking": (113, 113, 1000, 19), "PandaPickCube": (66, 66, 150, 8),
          "PandaPickCubeOrientation": (66, 66, 150, 8), "PandaOpenCabinet": (55, 55, 150, 8),
-         "LeapCubeRotateZAxis": (32, 105, 500, 16)}
+         "LeapCubeRotateZAxis": (32, 105, 500, 16), "LeapCubeReorient": (57, 128, 1000, 16)}
 
 
 def test_every_task_is_registered_with_playgrounds_spaces_and_info():

@@ -66,3 +66,37 @@ def test_a_still_hand_holds_the_cube():
         _, _, term, _, _ = env.step(np.zeros((16, 16)))
         assert not term.any()
     assert np.isfinite(env.unwrapped._core.batch.qpos).all()
+
+
+def test_reorient_observes_the_cube_against_its_goal_and_pays_a_success():
+    """LeapCubeReorient: the privileged state's cube readings against MuJoCo's (its rotation
+    relative to the goal: the last six entries of mat(cube ⊗ goal⁻¹)); a cube within 0.1 rad of its
+    goal is a success: +100 and the goal spins off at 1–5 rad/s per axis."""
+    env = gym.make("sinew/playground-LeapCubeReorient-v0", domain_randomization=False)
+    obs, info = env.reset(seed=0)
+    u = env.unwrapped
+    task = u._core.task
+    mj = mujoco.MjModel.from_xml_path(f"{assets_dir()}/{XML}")
+    d = mujoco.MjData(mj)
+    d.qpos[:], d.qvel[:], d.ctrl[:] = u.data_qpos, u.data_qvel, u._core.batch.ctrl[0]
+    mujoco.mj_forward(mj, d)
+    cube = mj.body("cube").id
+    goal_inv = np.zeros(4)
+    mujoco.mju_negQuat(goal_inv, task.goal_quat[0])
+    rel = np.zeros(4)
+    mujoco.mju_mulQuat(rel, d.xquat[cube], goal_inv)
+    mat = np.zeros(9)
+    mujoco.mju_quat2Mat(mat, rel)
+    p = info["privileged_state"].astype(np.float64)
+    np.testing.assert_allclose(p[57 + 44:57 + 47], d.sensor("palm_position").data - d.xpos[cube], atol=1e-6)
+    np.testing.assert_allclose(p[57 + 47:57 + 53], mat[3:], atol=1e-6)
+    np.testing.assert_allclose(obs[16:32], obs[:16] - u._core.batch.ctrl[0], atol=1e-6)   # servo errors at reset
+    # the goal set to the orientation the cube rests at after 1 s: a success
+    for _ in range(20):
+        env.step(np.zeros(16, np.float32))
+    assert task.success_count[0] == 0
+    task.goal_quat[0] = u.data_qpos[task.cube_q + 3:task.cube_q + 7]
+    _, reward, _, _, info = env.step(np.zeros(16, np.float32))
+    assert task.success_count[0] == 1 and reward > 99.0
+    assert ((task.goal_quat_dquat[0] >= 1.0) & (task.goal_quat_dquat[0] <= 5.0)).all()
+    np.testing.assert_allclose(np.linalg.norm(task.goal_quat[0]), 1.0, rtol=1e-12)

@@ -1,6 +1,6 @@
-"""The LEAP hand's Playground task (``mujoco_playground/_src/manipulation/leap_hand``): spin a cube
-about the vertical in the hand without dropping it, written from Playground's ``rotate_z.py`` and
-``base.py``, with its domain randomization."""
+"""The LEAP hand's Playground tasks (``mujoco_playground/_src/manipulation/leap_hand``): spin a cube
+about the vertical in the hand without dropping it, and turn it to goal orientations, written from
+Playground's ``rotate_z.py``, ``reorient.py`` and ``base.py``, with their domain randomization."""
 
 from __future__ import annotations
 
@@ -15,8 +15,34 @@ TIPS = ("th_tip", "if_tip", "mf_tip", "rf_tip")
 #: The hand's bodies whose masses the randomization scales.
 HAND_BODIES = ("palm", "if_bs", "if_px", "if_md", "if_ds", "mf_bs", "mf_px", "mf_md", "mf_ds", "rf_bs", "rf_px", "rf_md", "rf_ds",
                "th_mp", "th_bs", "th_px", "th_ds")
-#: Reward scales of Playground's ``rotate_z.default_config()``.
+#: Reward scales of Playground's ``rotate_z.default_config()`` and ``reorient.default_config()``.
 ROTATE_SCALES = dict(angvel=1.0, linvel=0.0, pose=0.0, torques=0.0, energy=0.0, termination=-100.0, action_rate=0.0)
+REORIENT_SCALES = dict(orientation=5.0, position=0.5, termination=-100.0, hand_pose=-0.5, action_rate=-0.001, joint_vel=0.0,
+                       energy=-1e-3)
+
+
+def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton products of quaternions (rows: w, x, y, z)."""
+    w1, x1, y1, z1 = a.T
+    w2, x2, y2, z2 = b.T
+    return np.stack([w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+                     w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2], axis=1)
+
+
+def quat_conj(q: np.ndarray) -> np.ndarray:
+    return q * [1.0, -1.0, -1.0, -1.0]
+
+
+def newest_first(history: np.ndarray, new: np.ndarray) -> np.ndarray:
+    """A history (rows) with ``new`` put first and its oldest entries dropped."""
+    return np.hstack([new, history[:, :history.shape[1] - new.shape[1]]])
+
+
+def linear_tolerance(x: np.ndarray, upper: float, margin: float) -> np.ndarray:
+    """``reward.tolerance(x, (0, upper), margin, sigmoid="linear")``: 1 within the bounds, falling
+    linearly to 0.1 at ``margin`` beyond them (and to 0 at 10/9 of it)."""
+    d = np.maximum(x - upper, 0.0) / margin * 0.9
+    return np.where(x <= upper, 1.0, np.where(d < 1.0, 1.0 - d, 0.0))
 
 
 def uniform_quat(rng) -> np.ndarray:
@@ -131,7 +157,7 @@ class LeapCubeRotateZAxis(Task):
     def observe(self, r, idx: np.ndarray, rngs: list):
         q = r.qpos[:, self.q_ids]
         state = np.hstack([q + uniform_noise(rngs, 16, self.noise), self.last_act[idx]])
-        self.history[idx] = np.hstack([state, self.history[idx][:, :-32]])
+        self.history[idx] = newest_first(self.history[idx], state)
         tips = np.hstack([r.sensor(f"{t}_position") for t in TIPS])
         priv = np.hstack([state, q, r.qvel[:, self.v_ids], self.actuator_force(r), tips,
                           r.sensor("palm_position") - r.sensor("cube_position"), r.sensor("cube_orientation"),
@@ -158,4 +184,122 @@ class LeapCubeRotateZAxis(Task):
         return state, priv, reward, done, terms
 
 
-TASKS = {"LeapCubeRotateZAxis": LeapCubeRotateZAxis}
+class LeapCubeReorient(LeapCubeRotateZAxis):
+    """``LeapCubeReorient``: turn the cube to a goal orientation (drawn uniformly per episode;
+    after each success, within 0.1 rad, the goal spins off at a decaying random rate) and keep it
+    in the palm; the servo targets step by 0.5 a from the last; the state holds noisy joint angles,
+    servo errors, the noisy cube's offset from the palm and its rotation relative to the goal."""
+
+    sim_dt, ctrl_dt, episode_length, action_scale = 0.01, 0.05, 1000, 0.5
+    sensors = ("cube_position", "cube_orientation", "cube_linvel", "cube_angvel", "palm_position",
+               *(f"{t}_position" for t in TIPS))
+    reward_scales = REORIENT_SCALES
+    state = ("last_act", "last_last_act", "qpos_error_history", "cube_pos_error_history", "cube_ori_error_history", "goal_quat",
+             "goal_quat_dquat", "steps_since_last_success", "success_count")
+
+    def __init__(self, action_scale: float = 0.5, history_len: int = 1, noise_level: float = 1.0, joint_pos_noise: float = 0.05,
+                 cube_pos_noise: float = 0.02, cube_ori_noise: float = 0.1, success_threshold: float = 0.1,
+                 success_reward: float = 100.0, reward_scales: dict | None = None):
+        self.kwargs = {k: v for k, v in locals().items() if k not in ("self", "__class__", "reward_scales")}
+        unknown = set(reward_scales or {}) - set(REORIENT_SCALES)
+        if unknown:
+            raise ValueError(f"unknown reward terms {sorted(unknown)}; this task's: {list(REORIENT_SCALES)}")
+        self.reward_scales = {**REORIENT_SCALES, **(reward_scales or {})}
+        self.action_scale, self.history_len = float(action_scale), int(history_len)
+        level = float(noise_level)
+        self.noise, self.pos_noise, self.ori_noise = level * float(joint_pos_noise), level * float(cube_pos_noise), level * float(cube_ori_noise)
+        self.threshold, self.success_reward = float(success_threshold), float(success_reward)
+        h = self.history_len
+        self.obs_sizes = (32 + 25 * h, 32 + 25 * h + 71)
+
+    def setup(self, model, n: int) -> None:
+        super().setup(model, n)
+        h = self.history_len
+        self.qpos_error_history, self.cube_pos_error_history = np.zeros((n, 16 * h)), np.zeros((n, 3 * h))
+        self.cube_ori_error_history = np.zeros((n, 6 * h))
+        self.goal_quat, self.goal_quat_dquat = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1)), np.zeros((n, 3))
+        self.steps_since_last_success, self.success_count = np.zeros(n, dtype=np.int64), np.zeros(n, dtype=np.int64)
+
+    def reset(self, idx: np.ndarray, rngs: list):
+        """A goal drawn uniformly, then the hand and cube as ``LeapCubeRotateZAxis`` draws them."""
+        for j, rng in enumerate(rngs):
+            self.goal_quat[idx[j]] = uniform_quat(rng)
+        qpos, qvel = super().reset(idx, rngs)
+        for a in (self.qpos_error_history, self.cube_pos_error_history, self.cube_ori_error_history, self.goal_quat_dquat,
+                  self.steps_since_last_success, self.success_count):
+            a[idx] = 0
+        return qpos, qvel
+
+    def motor_targets(self, actions, qpos, ctrl):
+        return np.clip(ctrl + actions * self.action_scale, self.lowers, self.uppers)
+
+    def relative_rotation(self, quat: np.ndarray, idx: np.ndarray) -> np.ndarray:
+        """The last six entries of the rotation matrix of quat ⊗ goal⁻¹."""
+        w, x, y, z = quat_mul(quat, quat_conj(self.goal_quat[idx])).T
+        return np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+                         2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=1)
+
+    def observe(self, r, idx: np.ndarray, rngs: list):
+        q = r.qpos[:, self.q_ids]
+        noisy_q = q + uniform_noise(rngs, 16, self.noise)
+        push = newest_first
+        self.qpos_error_history[idx] = push(self.qpos_error_history[idx], noisy_q - r.ctrl)
+        cube_pos, cube_quat, palm = r.sensor("cube_position"), r.sensor("cube_orientation"), r.sensor("palm_position")
+        noisy_quat = cube_quat + np.array([rng.normal(size=4) for rng in rngs]).reshape(-1, 4) * self.ori_noise
+        noisy_quat /= np.linalg.norm(noisy_quat, axis=1, keepdims=True)
+        noisy_pos = cube_pos + uniform_noise(rngs, 3, self.pos_noise)
+        self.cube_pos_error_history[idx] = push(self.cube_pos_error_history[idx], palm - noisy_pos)
+        self.cube_ori_error_history[idx] = push(self.cube_ori_error_history[idx], self.relative_rotation(noisy_quat, idx))
+        state = np.hstack([noisy_q, self.qpos_error_history[idx], self.cube_pos_error_history[idx], self.cube_ori_error_history[idx],
+                           self.last_act[idx]])
+        tips = np.hstack([r.sensor(f"{t}_position") for t in TIPS])
+        # no perturbation (Playground's are off by default): its direction and force are zero
+        priv = np.hstack([state, q, r.qvel[:, self.v_ids], tips, palm - cube_pos, self.relative_rotation(cube_quat, idx),
+                          r.sensor("cube_linvel"), r.sensor("cube_angvel"), np.zeros((len(idx), 12))])
+        return state.astype(np.float32), priv.astype(np.float32)
+
+    def orientation_error(self, r, idx: np.ndarray) -> np.ndarray:
+        """The angle between the cube's orientation and the goal's."""
+        d = quat_mul(r.sensor("cube_orientation"), quat_conj(self.goal_quat[idx]))
+        d /= np.linalg.norm(d, axis=1, keepdims=True)
+        return 2.0 * np.arcsin(np.minimum(np.linalg.norm(d[:, 1:], axis=1), 1.0))
+
+    def after_step(self, r, actions: np.ndarray, idx: np.ndarray, rngs: list):
+        error = self.orientation_error(r, idx)
+        success = error < self.threshold
+        self.steps_since_last_success[idx] = np.where(success, 0, self.steps_since_last_success[idx] + 1)
+        self.success_count[idx] += success
+        done = r.sensor("cube_position")[:, 2] < -0.05
+        state, priv = self.observe(r, idx, rngs)
+        q, qd, tau = r.qpos[:, self.q_ids], r.qvel[:, self.v_ids], self.actuator_force(r)
+        last, last_last = self.last_act[idx], self.last_last_act[idx]
+        terms = {
+            "orientation": linear_tolerance(error, 0.2, np.pi),
+            "position": linear_tolerance(np.linalg.norm(r.sensor("palm_position") - r.sensor("cube_position"), axis=1), 0.02, 0.05),
+            "termination": done.astype(np.float64),
+            "hand_pose": np.sum((q - self.default_pose) ** 2, axis=1),
+            "action_rate": np.sum((actions - last) ** 2, axis=1) + np.sum((actions - 2 * last + last_last) ** 2, axis=1),
+            "joint_vel": np.sum((qd / 4.0) ** 2, axis=1),
+            "energy": np.sum(np.abs(qd) * np.abs(tau), axis=1),
+        }
+        terms = {k: v * self.reward_scales[k] for k, v in terms.items()}
+        reward = sum(terms.values()) * self.dt + success * self.success_reward
+        # a reached goal spins off at 3 + U(±2) rad/s about each of its axes, a rate that decays by
+        # 0.8 a step
+        for j, rng in enumerate(rngs):
+            draw = 3.0 + rng.uniform(-2.0, 2.0, 3)
+            i = idx[j]
+            self.goal_quat_dquat[i] = draw if success[j] else 0.8 * self.goal_quat_dquat[i]
+            w = self.goal_quat_dquat[i]
+            angle = np.linalg.norm(w) * 2 * self.dt
+            if angle > 0.0:
+                axis = w / np.linalg.norm(w)
+                turn = np.array([[np.cos(angle / 2), *(np.sin(angle / 2) * axis)]])
+                g = quat_mul(self.goal_quat[i:i + 1], turn)[0]
+                self.goal_quat[i] = g / np.linalg.norm(g)
+        self.last_last_act[idx] = last
+        self.last_act[idx] = actions
+        return state, priv, reward, done, terms
+
+
+TASKS = {"LeapCubeRotateZAxis": LeapCubeRotateZAxis, "LeapCubeReorient": LeapCubeReorient}
