@@ -37,6 +37,11 @@ class Worlds:
         #: observation (``sinew.randomize.RandomizeParams`` sets it).
         self.randomize = None
 
+    @property
+    def dt(self) -> float:
+        """Simulated time per env step."""
+        return self.task.dt
+
     def check_actions(self, actions, single: bool = False) -> np.ndarray:
         """The actions as an (N, nu) float64 array; ``ValueError`` for a wrong shape or a value
         that is not finite or beyond ±MAX_ACTION. `single`: one env's action, (nu,) only."""

@@ -224,7 +224,7 @@ class SinewEnv(gymnasium.Env, EzPickle):
         self.observation_space = self._core.observation_space
         self.model = self._core.model
         self.frame_skip = self._core.task.frame_skip
-        self.dt = self._core.task.dt
+        self.dt = self._core.dt
         self.metadata = {"render_modes": RENDER_MODES, "render_fps": int(np.round(1.0 / self.dt))}
         self._needs_reset = True
         # a dm_control task counts its own steps (its length depends on action_repeat); a
@@ -398,7 +398,7 @@ class SinewVectorEnv(VectorEnv):
         self.observation_space = gymnasium.vector.utils.batch_space(self.single_observation_space, num_envs)
         self.max_episode_steps = max_episode_steps or self._core.task.max_episode_steps
         self.metadata = {"autoreset_mode": self.autoreset_mode, "render_modes": RENDER_MODES[1:],
-                         "render_fps": int(np.round(1.0 / self._core.task.dt))}
+                         "render_fps": int(np.round(1.0 / self._core.dt))}
         self._rngs = [seeding.np_random()[0] for _ in range(num_envs)]
         self._steps = np.zeros(num_envs, dtype=np.int64)
         self._autoreset = np.zeros(num_envs, dtype=bool)

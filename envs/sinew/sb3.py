@@ -37,7 +37,7 @@ class SinewVecEnv(VecEnv):
                               self._core.task.camera if default_camera_config is None else default_camera_config)
         super().__init__(n_envs, self._core.observation_space, self._core.action_space)
         # as the gymnasium envs': a video of the frames plays at the simulation's pace
-        self.metadata = {"render_modes": ["rgb_array"], "render_fps": int(np.round(1.0 / self._core.task.dt))}
+        self.metadata = {"render_modes": ["rgb_array"], "render_fps": int(np.round(1.0 / self._core.dt))}
         self.max_episode_steps = max_episode_steps or self._core.task.max_episode_steps
         self._base_seed = seed
         self._rngs = [seeding.np_random(None if seed is None else seed + i)[0] for i in range(n_envs)]

@@ -71,7 +71,7 @@ class PlaygroundCore(Worlds):
         if abs(n_sub - round(n_sub)) > 1e-8:
             raise ValueError(f"ctrl_dt {self.task.ctrl_dt} is not a multiple of sim_dt {self.task.sim_dt}")
         self.n_sub_steps = int(round(n_sub))
-        self.task.frame_skip, self.task.dt = self.n_sub_steps, self.task.ctrl_dt
+        self.task.frame_skip, self.task.dt = self.n_sub_steps * self.task.action_repeat, self.task.ctrl_dt
         self.task.max_episode_steps = self.task.episode_length
         self.task.setup(self.model, num_envs)
         for field, values in self.task.model_edits().items():
@@ -96,6 +96,11 @@ class PlaygroundCore(Worlds):
             self.observation_space = spaces.Box(0, 255, shape=(*self.size, 3), dtype=np.uint8)
         self._priv = np.zeros((num_envs, n_priv), dtype=np.float32)
         self.info_names = list(self.task.reward_scales)
+
+    @property
+    def dt(self) -> float:
+        """Simulated time per env step: ``ctrl_dt`` times the task's ``action_repeat``."""
+        return self.task.ctrl_dt * self.task.action_repeat
 
     def reset_worlds(self, idx: np.ndarray, rngs: list, keyframe=None) -> None:
         """Resets the worlds `idx` (ascending) as the task starts an episode (or at the model's
@@ -153,13 +158,9 @@ class PlaygroundCore(Worlds):
             info["command"] = self.task.command.copy()
         return info
 
-    def step(self, actions: np.ndarray, active: np.ndarray | None = None, blank: np.ndarray | None = None):
-        """One control step (``ctrl_dt``) of the worlds `active` (all when None); the others'
-        results are discarded (the vector env resets them). A diverged world gets reward 0 and
-        terminates."""
+    def _substeps(self, actions: np.ndarray, rows: np.ndarray, rngs: list, active: np.ndarray | None):
+        """The physics steps of one task step of the worlds ``rows`` and the task's results."""
         b = self.batch
-        rows = np.arange(self.num_envs) if active is None else np.flatnonzero(active)
-        rngs = [self._seeded_by[i] for i in rows]
         qvel = b.qvel[rows]
         if self.task.perturb(qvel, rows, rngs):
             b.qvel[rows] = qvel
@@ -178,7 +179,22 @@ class PlaygroundCore(Worlds):
         r = Readings(b, self.sensors, rows, b.watched_readings[rows])
         if self.task.needs_qacc:
             r.qacc = qacc
-        state, priv, reward, terminated, terms = self.task.after_step(r, actions[rows], rows, rngs)
+        return self.task.after_step(r, actions[rows], rows, rngs)
+
+    def step(self, actions: np.ndarray, active: np.ndarray | None = None, blank: np.ndarray | None = None):
+        """One control step (``ctrl_dt``) of the worlds `active` (all when None); the others'
+        results are discarded (the vector env resets them). A diverged world gets reward 0 and
+        terminates."""
+        b = self.batch
+        rows = np.arange(self.num_envs) if active is None else np.flatnonzero(active)
+        rngs = [self._seeded_by[i] for i in rows]
+        state, priv, reward, terminated, terms = self._substeps(actions, rows, rngs, active)
+        # an action repeated (Playground's action_repeat): each repeat a whole step of the task,
+        # its rewards and terms summed
+        for _ in range(self.task.action_repeat - 1):
+            state, priv, r, done, t = self._substeps(actions, rows, rngs, active)
+            reward, terminated = reward + r, terminated | done
+            terms = {k: terms[k] + v for k, v in t.items()}
         n = self.num_envs
         self._state[rows], self._priv[rows] = state, priv
         self._draw(rows)

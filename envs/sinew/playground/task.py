@@ -116,6 +116,9 @@ class Task:
     ctrl_dt: float = 0.02
     #: Control steps per episode.
     episode_length: int = 1000
+    #: Task steps (of ``ctrl_dt`` each) one action is held for, their rewards summed (Playground's
+    #: ``action_repeat``).
+    action_repeat: int = 1
     #: Position targets are ``default_pose + action_scale * action``.
     action_scale: float = 0.5
     #: The free camera's settings for ``render()`` without a camera.
