@@ -30,7 +30,8 @@ from torch import nn
 #: Each robot's layout in Playground's observations: the command in the state, the clean
 #: body-frame linear velocity (Go1's trunk, G1's pelvis) in the privileged state.
 LAYOUT = {"Go1": (slice(45, 48), slice(57, 60)), "G1": (slice(9, 12), slice(112, 115)), "T1": (slice(9, 12), slice(94, 97)),
-          "BerkeleyHumanoid": (slice(9, 12), slice(61, 64)), "Apollo": (slice(9, 12), slice(118, 121))}
+          "BerkeleyHumanoid": (slice(9, 12), slice(61, 64)), "Apollo": (slice(9, 12), slice(118, 121)),
+          "SpotFlatTerrainJoystick": (slice(78, 81), slice(90, 93))}
 
 
 class Normalizer(nn.Module):
