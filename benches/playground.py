@@ -55,6 +55,7 @@ TASKS = {
     "PandaOpenCabinet": ["gripper_box", "box_target", "no_barrier_collision", "robot_target_qpos"],
     "LeapCubeRotateZAxis": ["angvel", "termination"],
     "LeapCubeReorient": ["orientation", "position", "termination", "hand_pose", "action_rate", "energy"],
+    "AeroCubeRotateZAxis": ["angvel", "termination", "action_rate"],
     "AlohaHandOver": ["gripper_box", "box_handover", "handover_target", "no_table_collision"],
     "AlohaSinglePegInsertion": ["left_reward", "right_reward", "no_table_collision", "socket_entrance_reward", "peg_end2_reward",
                                 "peg_insertion_reward"],
@@ -81,14 +82,14 @@ RESET = {"Go1": [("body linear velocity", slice(57, 60)), ("gravity in IMU frame
          "Apollo": [("body linear velocity", slice(118, 121)), ("gravity in IMU frame", slice(115, 118)), ("gyro", slice(112, 115)),
                     ("joint angles − default", slice(121, 153))],
          "H1": [("gyro (noisy)", slice(0, 3)), ("up vector (noisy)", slice(3, 6)), ("joint angles − default (noisy)", slice(6, 25))],
-         "Panda": [], "Leap": [], "Aloha": [],
+         "Panda": [], "Leap": [], "Aero": [], "Aloha": [],
          # OP3's state: its newest readings first, noisy (its reset is the keyframe at rest)
          "Op3": [("gyro (noisy)", slice(0, 3)), ("up vector (noisy)", slice(3, 6)), ("joint angles − default (noisy)", slice(9, 29))]}
 #: Worlds per run: EnvPool's port holds about 50 MB per world (its contact buffers) for Go1, more
 #: for the humanoids, about 0.55 GB for Apollo and 0.45 GB for OP3.
 WORLDS = {"Go1": 256, "SpotJoystickGaitTracking": 256, "Spot": 256, "Barkour": 256, "H1": 128, "G1": 128, "T1": 128,
           "BerkeleyHumanoid": 128, "Apollo": 16, "Op3": 16, "Panda": 128,
-          "Leap": 64, "Aloha": 64}
+          "Leap": 64, "Aero": 64, "Aloha": 64}
 
 
 class Sinew:
@@ -162,7 +163,7 @@ def stills(directory: str) -> None:
                        ("G1", "G1JoystickFlatTerrain"), ("T1", "T1JoystickFlatTerrain"),
                        ("BerkeleyHumanoid", "BerkeleyHumanoidJoystickFlatTerrain"), ("Apollo", "ApolloJoystickFlatTerrain"),
                        ("Op3", "Op3Joystick"), ("Panda", "PandaPickCube"),
-                       ("Leap", "LeapCubeRotateZAxis"), ("Aloha", "AlohaHandOver")):
+                       ("Leap", "LeapCubeRotateZAxis"), ("Aero", "AeroCubeRotateZAxis"), ("Aloha", "AlohaHandOver")):
         env = gym.make(f"sinew/playground-{task}-v0", render_mode="rgb_array", domain_randomization=False)
         env.reset(seed=0)
         for _ in range(20):

@@ -54,7 +54,7 @@ def test_leap_resets_and_randomizes_as_playground():
     np.testing.assert_allclose(inertia[:, task.cube], np.outer(scale, m.param("body_inertia")[task.cube]), rtol=1e-12)
     palm = m.body_names.index("palm")
     np.testing.assert_allclose(inertia[:, palm], np.tile(m.param("body_inertia")[palm], (64, 1)), rtol=1e-12)
-    tips = b.params("geom_friction")[:, task.tips, 0]
+    tips = b.params("geom_friction")[:, task.tip_geoms, 0]
     assert (tips >= 0.5).all() and (tips <= 1.0).all() and (tips == tips[:, :1]).all()
 
 
@@ -100,3 +100,22 @@ def test_reorient_observes_the_cube_against_its_goal_and_pays_a_success():
     assert task.success_count[0] == 1 and reward > 99.0
     assert ((task.goal_quat_dquat[0] >= 1.0) & (task.goal_quat_dquat[0] <= 5.0)).all()
     np.testing.assert_allclose(np.linalg.norm(task.goal_quat[0]), 1.0, rtol=1e-12)
+
+
+def test_aero_observes_its_tendons_and_servo_forces_as_mujoco():
+    """AeroCubeRotateZAxis: the servos' forces on tendons and the thumb's joint (from the tendon and
+    joint length sensors) equal MuJoCo's ``actuator_force``; the state's tendon lengths lie within
+    5 mm of MuJoCo's."""
+    env = gym.make("sinew/playground-AeroCubeRotateZAxis-v0", domain_randomization=False)
+    env.reset(seed=0)
+    obs, _, _, _, info = env.step(np.random.default_rng(0).uniform(-1, 1, 7).astype(np.float32))
+    u = env.unwrapped
+    mj = mujoco.MjModel.from_xml_path(f"{assets_dir()}/mujoco_playground/_src/manipulation/aero_hand/xmls/scene_mjx_cube.xml")
+    d = mujoco.MjData(mj)
+    d.qpos[:], d.qvel[:], d.ctrl[:] = u.data_qpos, u.data_qvel, u._core.batch.ctrl[0]
+    mujoco.mj_forward(mj, d)
+    p = info["privileged_state"].astype(np.float64)
+    assert np.abs(d.actuator_force).max() > 1e-3
+    np.testing.assert_allclose(p[46:53], d.actuator_force, rtol=1e-4, atol=1e-4)
+    lengths = [d.sensor(s).data[0] for s in ("len_if", "len_mf", "len_rf", "len_pf", "len_th1", "len_th2")]
+    assert (np.abs(obs[:6] - lengths) <= 0.005 + 1e-6).all()

@@ -69,6 +69,10 @@ class LeapCubeRotateZAxis(Task):
     obs_sizes = (32, 105)
     reward_scales = ROTATE_SCALES
     state = ("last_act", "last_last_act", "history")
+    #: The hand's joints, fingertips (sites and geoms of these names) and links.
+    joints, tips, hand_bodies = JOINTS, TIPS, HAND_BODIES
+    #: The cube's friction's range, when the randomization draws it.
+    cube_friction: tuple | None = None
 
     def __init__(self, action_scale: float = 0.6, history_len: int = 1, noise_level: float = 1.0, joint_pos_noise: float = 0.05,
                  reward_scales: dict | None = None):
@@ -84,17 +88,19 @@ class LeapCubeRotateZAxis(Task):
     def setup(self, model, n: int) -> None:
         self.model = model
         adr = {name: (model.jnt_qposadr[k], model.jnt_dofadr[k]) for k, name in enumerate(model.joint_names)}
-        self.q_ids = np.array([adr[j][0] for j in JOINTS])
-        self.v_ids = np.array([adr[j][1] for j in JOINTS])
+        self.q_ids = np.array([adr[j][0] for j in self.joints])
+        self.v_ids = np.array([adr[j][1] for j in self.joints])
         self.init_q = np.asarray(model.keyframe("home")["qpos"], dtype=np.float64)
         self.default_pose = self.init_q[self.q_ids]
         self.lowers, self.uppers = model.actuator_ctrlrange.T
         self.forces = tuple(model.actuator_forcerange.T)
+        #: The range a reset's hand pose is clamped to.
+        self.pose_range = (self.lowers, self.uppers)
         # the cube's free joint, the file's only one
         self.cube_q = next(a for t, a in zip(model.joint_types, model.jnt_qposadr) if t == "free")
-        self.cube = model.body_names.index("cube")
-        self.tips = [model.geom_names.index(t) for t in TIPS]
-        self.hand_bodies = [model.body_names.index(b) for b in HAND_BODIES]
+        self.cube, self.cube_geom = model.body_names.index("cube"), model.geom_names.index("cube")
+        self.tip_geoms = [model.geom_names.index(t) for t in self.tips]
+        self.hand_body_ids = [model.body_names.index(b) for b in self.hand_bodies]
         # each world's servo gains (the randomization scales them)
         self.gain = np.tile(model.param("actuator_gain")[:, 0], (n, 1))
         self.bias = np.tile(model.param("actuator_bias"), (n, 1, 1))
@@ -113,17 +119,20 @@ class LeapCubeRotateZAxis(Task):
                 ("geom_friction", "body_mass", "body_ipos", "dof_frictionloss", "dof_armature", "dof_damping", "actuator_gain",
                  "actuator_bias", "body_inertia")}
         for j, rng in enumerate(rngs):
-            rows["geom_friction"][j, self.tips, 0] = rng.uniform(0.5, 1.0)
+            rows["geom_friction"][j, self.tip_geoms, 0] = rng.uniform(0.5, 1.0)
             scale = rng.uniform(0.8, 1.2)
             rows["body_mass"][j, self.cube] *= scale
             rows["body_inertia"][j, self.cube] *= scale
             rows["body_ipos"][j, self.cube] += rng.uniform(-5e-3, 5e-3, 3)
-            rows["dof_frictionloss"][j, self.v_ids] *= rng.uniform(0.5, 2.0, 16)
-            rows["dof_armature"][j, self.v_ids] *= rng.uniform(1.0, 1.05, 16)
-            rows["body_mass"][j, self.hand_bodies] *= rng.uniform(0.9, 1.1, len(self.hand_bodies))
+            nh = len(self.v_ids)
+            if self.cube_friction:
+                rows["geom_friction"][j, self.cube_geom, 0] = rng.uniform(*self.cube_friction)
+            rows["dof_frictionloss"][j, self.v_ids] *= rng.uniform(0.5, 2.0, nh)
+            rows["dof_armature"][j, self.v_ids] *= rng.uniform(1.0, 1.05, nh)
+            rows["body_mass"][j, self.hand_body_ids] *= rng.uniform(0.9, 1.1, len(self.hand_body_ids))
             kp = rows["actuator_gain"][j, :, 0] * rng.uniform(0.8, 1.2, m.nu)
             rows["actuator_gain"][j, :, 0], rows["actuator_bias"][j, :, 1] = kp, -kp
-            rows["dof_damping"][j, self.v_ids] *= rng.uniform(0.8, 1.2, 16)
+            rows["dof_damping"][j, self.v_ids] *= rng.uniform(0.8, 1.2, nh)
         # a new mass scales a body's inertia with it: the inertias are set after the masses
         for field in ("geom_friction", "body_mass", "body_inertia", "body_ipos", "dof_frictionloss", "dof_armature", "dof_damping",
                       "actuator_gain", "actuator_bias"):
@@ -137,7 +146,7 @@ class LeapCubeRotateZAxis(Task):
         k = len(idx)
         qpos = np.tile(self.init_q, (k, 1))
         for j, rng in enumerate(rngs):
-            qpos[j, self.q_ids] = np.clip(self.default_pose + 0.1 * rng.normal(size=16), self.lowers, self.uppers)
+            qpos[j, self.q_ids] = np.clip(self.default_pose + 0.1 * rng.normal(size=len(self.q_ids)), *self.pose_range)
             qpos[j, self.cube_q:self.cube_q + 3] = np.array([0.1, 0.0, 0.05]) + rng.uniform(-0.01, 0.01, 3)
             qpos[j, self.cube_q + 3:self.cube_q + 7] = uniform_quat(rng)
         for a in (self.last_act, self.last_last_act, self.history):
@@ -158,7 +167,7 @@ class LeapCubeRotateZAxis(Task):
         q = r.qpos[:, self.q_ids]
         state = np.hstack([q + uniform_noise(rngs, 16, self.noise), self.last_act[idx]])
         self.history[idx] = newest_first(self.history[idx], state)
-        tips = np.hstack([r.sensor(f"{t}_position") for t in TIPS])
+        tips = np.hstack([r.sensor(f"{t}_position") for t in self.tips])
         priv = np.hstack([state, q, r.qvel[:, self.v_ids], self.actuator_force(r), tips,
                           r.sensor("palm_position") - r.sensor("cube_position"), r.sensor("cube_orientation"),
                           r.sensor("cube_angvel"), r.sensor("cube_linvel")])
@@ -252,7 +261,7 @@ class LeapCubeReorient(LeapCubeRotateZAxis):
         self.cube_ori_error_history[idx] = push(self.cube_ori_error_history[idx], self.relative_rotation(noisy_quat, idx))
         state = np.hstack([noisy_q, self.qpos_error_history[idx], self.cube_pos_error_history[idx], self.cube_ori_error_history[idx],
                            self.last_act[idx]])
-        tips = np.hstack([r.sensor(f"{t}_position") for t in TIPS])
+        tips = np.hstack([r.sensor(f"{t}_position") for t in self.tips])
         # no perturbation (Playground's are off by default): its direction and force are zero
         priv = np.hstack([state, q, r.qvel[:, self.v_ids], tips, palm - cube_pos, self.relative_rotation(cube_quat, idx),
                           r.sensor("cube_linvel"), r.sensor("cube_angvel"), np.zeros((len(idx), 12))])
