@@ -63,7 +63,8 @@ pub(super) fn hfield_contacts(h: &HField, p: DVec3, rot: DMat3, other: Shape, ma
                 for &(f, at, n, d) in m.iter() {
                     let repeat = pts.iter().any(|q: &Point| q.1.distance(at) <= tol && q.2.dot(n) > 1.0 - 1e-9);
                     if !repeat && !pts.is_full() {
-                        pts.push((f.wrapping_add(id), at, n, d));
+                        // the low 53 bits: a feature stays exact as a float64 (a full state's history)
+                        pts.push((f.wrapping_add(id) & ((1 << 53) - 1), at, n, d));
                     }
                 }
             }

@@ -355,18 +355,25 @@ def test_vector_env_equals_single_envs_for_any_thread_count():
 
 
 
-def test_copies_step_on_bit_identically():
-    env = gym.make(FLAT)
+@pytest.mark.parametrize("task", sorted(SIZES))
+def test_copies_step_on_bit_identically(task):
+    """A pickled copy of any task's env, taken mid-episode, steps on as the original does (task
+    state, per-world values, placed targets and all)."""
+    env = gym.make(f"sinew/playground-{task}-v0")
     env.reset(seed=3)
+    nu = env.action_space.shape[0]
     for _ in range(10):
-        env.step(np.full(12, 0.3))
+        env.step(np.full(nu, 0.3, np.float32))
     twin = pickle.loads(pickle.dumps(env))
     for _ in range(10):
-        a = np.full(12, -0.2)
-        o1, r1, *_ = env.step(a)
-        o2, r2, *_ = twin.step(a)
+        a = np.full(nu, -0.2, np.float32)
+        o1, r1, t1, _, i1 = env.step(a)
+        o2, r2, t2, _, i2 = twin.step(a)
         np.testing.assert_array_equal(o1, o2)
-        assert r1 == r2
+        np.testing.assert_array_equal(i1["privileged_state"], i2["privileged_state"])
+        assert r1 == r2 and t1 == t2
+        if t1:
+            break
 
 
 def test_bad_actions_and_keywords_raise():

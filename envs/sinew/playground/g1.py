@@ -51,7 +51,7 @@ class G1Joystick(Task):
     #: The gait clock's frequency range (Hz); whether the reward is clipped at 0.
     gait_frequency, clip_reward = (1.25, 1.5), False
     state = ("command", "step", "last_act", "last_last_act", "feet_air_time", "last_contact", "swing_peak", "phase_dt",
-             "phase", "push_step", "push_interval_steps")
+             "phase", "push_step", "push_interval_steps", "gain", "bias")
 
     def __init__(self, action_scale: float = 0.5, noise_level: float = 1.0, soft_joint_pos_limit_factor: float = 0.95,
                  tracking_sigma: float = 0.25, max_foot_height: float = 0.15, base_height_target: float = 0.5,

@@ -68,7 +68,7 @@ class LeapCubeRotateZAxis(Task):
                *(f"{t}_position" for t in TIPS))
     obs_sizes = (32, 105)
     reward_scales = ROTATE_SCALES
-    state = ("last_act", "last_last_act", "history")
+    state = ("last_act", "last_last_act", "history", "gain", "bias")
     #: The hand's joints, fingertips (sites and geoms of these names) and links.
     joints, tips, hand_bodies = JOINTS, TIPS, HAND_BODIES
     #: The cube's friction's range, when the randomization draws it.
@@ -204,7 +204,7 @@ class LeapCubeReorient(LeapCubeRotateZAxis):
                *(f"{t}_position" for t in TIPS))
     reward_scales = REORIENT_SCALES
     state = ("last_act", "last_last_act", "qpos_error_history", "cube_pos_error_history", "cube_ori_error_history", "goal_quat",
-             "goal_quat_dquat", "steps_since_last_success", "success_count")
+             "goal_quat_dquat", "steps_since_last_success", "success_count", "gain", "bias")
 
     def __init__(self, action_scale: float = 0.5, history_len: int = 1, noise_level: float = 1.0, joint_pos_noise: float = 0.05,
                  cube_pos_noise: float = 0.02, cube_ori_noise: float = 0.1, success_threshold: float = 0.1,
