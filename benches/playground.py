@@ -53,6 +53,7 @@ TASKS = {
     "PandaPickCube": ["gripper_box", "box_target", "no_floor_collision", "robot_target_qpos"],
     "PandaPickCubeOrientation": ["gripper_box", "box_target", "no_floor_collision", "robot_target_qpos"],
     "PandaOpenCabinet": ["gripper_box", "box_target", "no_barrier_collision", "robot_target_qpos"],
+    "PandaPickCubeCartesian": ["gripper_box", "box_target", "no_floor_collision", "no_box_collision"],
     "LeapCubeRotateZAxis": ["angvel", "termination"],
     "LeapCubeReorient": ["orientation", "position", "termination", "hand_pose", "action_rate", "energy"],
     "AeroCubeRotateZAxis": ["angvel", "termination", "action_rate"],

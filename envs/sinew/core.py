@@ -30,6 +30,8 @@ class Worlds:
     def __init__(self, model, num_envs: int, num_threads: int | None = None):
         self.model = model
         self.num_envs = num_envs
+        #: Each env's number of actions (the model's controls unless the task maps fewer).
+        self.action_size = model.nu
         self.batch = Batch(model, num_envs, seed=0, num_threads=num_threads)
         # the generator that last seeded each world's physics stream
         self._seeded_by: list = [None] * num_envs
@@ -46,7 +48,7 @@ class Worlds:
         """The actions as an (N, nu) float64 array; ``ValueError`` for a wrong shape or a value
         that is not finite or beyond ±MAX_ACTION. `single`: one env's action, (nu,) only."""
         a = np.asarray(actions, dtype=np.float64)
-        shape = (self.num_envs, self.model.nu)
+        shape = (self.num_envs, self.action_size)
         if single and a.shape != shape[1:]:
             raise ValueError(f"action shape mismatch: expected {shape[1:]}, got {a.shape}")
         if a.shape != shape:

@@ -103,3 +103,35 @@ def test_cabinet_starts_from_a_moved_arm_and_lets_the_hand_touch_the_handle_and_
     expect = np.concatenate([d.qpos, d.qvel, d.site_xpos[g], d.site_xmat[g][3:], d.xmat[h][3:], d.xpos[h] - d.site_xpos[g],
                              task.target_pos[3] - d.xpos[h], np.eye(3).ravel()[:6] - d.xmat[h][:6], d.ctrl - d.qpos[:8]])
     np.testing.assert_allclose(obs[3], expect, atol=2e-5)
+
+
+def test_cartesian_pick_moves_the_hand_through_the_inverse_kinematics():
+    """PandaPickCubeCartesian: each action moves the tip target by (0, a₀, a₁) · 5 mm and the arm's
+    servo targets are the inverse kinematics' solution, which Playground's forward kinematics puts
+    back at that tip (to round-off); the third action closes the gripper 2 cm below zero; the cube
+    placed with its centre in the floor's plane is eased up onto it, not flung."""
+    from sinew.playground import panda_kinematics as kinematics
+    env = gym.make_vec("sinew/playground-PandaPickCubeCartesian-v0", num_envs=8, vectorization_mode="vector_entry_point")
+    obs, _ = env.reset(seed=0)
+    core = env.unwrapped._core
+    task, b = core.task, core.batch
+    assert env.single_action_space.shape == (3,) and obs.shape == (8, 70)
+    plain = (b.ctrl == task.init_ctrl).all(axis=1)
+    assert plain.sum() >= 6, "one episode in twenty starts from the picked keyframe"
+    start = task.current_pos.copy()
+    np.testing.assert_allclose(kinematics.forward(b.ctrl[plain, :7])[:, :3, 3], start[plain], atol=1e-12)
+    gripper = b.ctrl[:, 7].copy()
+    a = np.tile([1.0, 0.5, -1.0], (8, 1))
+    obs, *_ = env.step(a)
+    moved = ~task.no_soln.astype(bool)
+    assert moved.all()
+    np.testing.assert_allclose(task.current_pos, start + [0.0, 0.005, 0.0025], atol=1e-12)
+    np.testing.assert_allclose(kinematics.forward(b.ctrl[:, :7])[:, :3, 3], task.current_pos, atol=1e-9)
+    lo = core.model.actuator_ctrlrange[7, 0]
+    np.testing.assert_allclose(b.ctrl[:, 7], np.maximum(gripper - 0.02, lo))
+    np.testing.assert_array_equal(obs[:, 66], 0.0)                 # a solution was found
+    np.testing.assert_allclose(obs[:, 67:70], a, atol=1e-7)         # the action, observed
+    for _ in range(20):
+        env.step(np.zeros((8, 3)))
+    cube = b.qpos[:, task.box_adr:task.box_adr + 3]
+    assert (np.abs(cube[plain, 2] - 0.03) < 2e-3).all() and (np.abs(b.qvel[plain, -6:]) < 0.5).all()

@@ -58,11 +58,11 @@ class AeroCubeRotateZAxis(LeapCubeRotateZAxis):
         # a reset's hand pose is clamped to the joints' ranges
         self.pose_range = tuple(model.jnt_range[[model.joint_names.index(j) for j in JOINTS]].T)
 
-    def initial_ctrl(self, qpos: np.ndarray) -> np.ndarray:
+    def initial_ctrl(self, qpos: np.ndarray, idx: np.ndarray) -> np.ndarray:
         """The keyframe's controls (the tendons' and the thumb's rest targets)."""
         return np.tile(self.default_ctrl, (len(qpos), 1))
 
-    def motor_targets(self, actions, qpos, ctrl):
+    def motor_targets(self, actions, qpos, ctrl, idx):
         return self.default_ctrl + actions * self.action_scale
 
     def actuator_force(self, r) -> np.ndarray:

@@ -66,11 +66,11 @@ class Aloha(Task):
         # free joints, in the file's order
         self.free = [a for t, a in zip(model.joint_types, model.jnt_qposadr) if t == "free"]
 
-    def initial_ctrl(self, qpos: np.ndarray) -> np.ndarray:
+    def initial_ctrl(self, qpos: np.ndarray, idx: np.ndarray) -> np.ndarray:
         """The keyframe's controls."""
         return np.tile(self.init_ctrl, (len(qpos), 1))
 
-    def motor_targets(self, actions, qpos, ctrl):
+    def motor_targets(self, actions, qpos, ctrl, idx):
         return np.clip(ctrl + actions * self.action_scale, self.lowers, self.uppers)
 
     def table_collision(self, r) -> np.ndarray:

@@ -61,11 +61,11 @@ class ApolloJoystick(T1Joystick):
     def randomize(self, batch, idx: np.ndarray, rngs: list) -> None:
         """None: Playground's Apollo has no domain randomization."""
 
-    def initial_ctrl(self, qpos: np.ndarray) -> np.ndarray:
+    def initial_ctrl(self, qpos: np.ndarray, idx: np.ndarray) -> np.ndarray:
         """Zero, as Playground's reset leaves it."""
         return np.zeros((len(qpos), self.model.nu))
 
-    def motor_targets(self, actions, qpos, ctrl):
+    def motor_targets(self, actions, qpos, ctrl, idx):
         return self.default_ctrl + actions * self.action_scale
 
     def sample_command(self, rng, x: np.ndarray | None = None) -> np.ndarray:

@@ -93,7 +93,7 @@ class BarkourJoystick(Task):
             a[idx] = 0
         return np.tile(self.init_q, (len(idx), 1)), np.zeros((len(idx), self.model.nv))
 
-    def initial_ctrl(self, qpos: np.ndarray) -> np.ndarray:
+    def initial_ctrl(self, qpos: np.ndarray, idx: np.ndarray) -> np.ndarray:
         """Zero, as Playground's reset leaves it."""
         return np.zeros((len(qpos), self.model.nu))
 
@@ -115,7 +115,7 @@ class BarkourJoystick(Task):
         forces[:, self.torso, :3] = magnitude[:, None] * self.kick_dir[idx]
         return forces
 
-    def motor_targets(self, actions, qpos, ctrl):
+    def motor_targets(self, actions, qpos, ctrl, idx):
         return np.clip(self.default_pose + actions * self.action_scale, self.lowers, self.uppers)
 
     def actuator_force(self, r) -> np.ndarray:

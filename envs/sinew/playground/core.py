@@ -84,7 +84,8 @@ class PlaygroundCore(Worlds):
         self.batch.watch_sensors(ids)
         offsets = np.cumsum([0] + [dim[i] for i in ids])
         self.sensors = {s: (int(offsets[k]), dim[i]) for k, (s, i) in enumerate(zip(self.task.sensors, ids))}
-        self.action_space = spaces.Box(-1.0, 1.0, shape=(self.model.nu,), dtype=np.float32)
+        self.action_size = self.task.action_size or self.model.nu
+        self.action_space = spaces.Box(-1.0, 1.0, shape=(self.action_size,), dtype=np.float32)
         n_state, n_priv = self.task.obs_sizes
         self.observation_space = spaces.Box(-np.inf, np.inf, shape=(n_state,), dtype=np.float32)
         self._state = np.zeros((num_envs, n_state), dtype=np.float32)
@@ -116,7 +117,7 @@ class PlaygroundCore(Worlds):
             qpos, qvel = np.tile(key["qpos"], (len(idx), 1)), np.tile(key["qvel"], (len(idx), 1))
         self.reset_batch(idx, rngs, qpos, qvel)
         self.task.place(self.batch, idx)
-        self.batch.ctrl[idx] = self.task.initial_ctrl(qpos)
+        self.batch.ctrl[idx] = self.task.initial_ctrl(qpos, idx)
         if self.task.settle_steps and keyframe is None:
             mask = np.zeros(self.num_envs, dtype=bool)
             mask[idx] = True
@@ -167,7 +168,7 @@ class PlaygroundCore(Worlds):
         forces = self.task.body_forces(rows, rngs)
         if forces is not None:
             b.set_xfrc_applied(forces, rows)
-        b.ctrl[rows] = self.task.motor_targets(actions[rows], b.qpos[rows], b.ctrl[rows])
+        b.ctrl[rows] = self.task.motor_targets(actions[rows], b.qpos[rows], b.ctrl[rows], rows)
         if self.task.needs_qacc:
             # the last physics step's accelerations: its change of velocity over the step (Euler)
             b.step(self.n_sub_steps - 1, active)

@@ -253,7 +253,7 @@ class Go1Handstand(Go1):
         self.last_act[idx] = 0
         return qpos, qvel
 
-    def motor_targets(self, actions, qpos, ctrl):
+    def motor_targets(self, actions, qpos, ctrl, idx):
         return ctrl + actions * self.action_scale
 
     def observe(self, r, idx: np.ndarray, rngs: list):
@@ -342,7 +342,7 @@ class Go1Getup(Go1):
         self.last_last_act[idx] = 0
         return qpos, qvel
 
-    def motor_targets(self, actions, qpos, ctrl):
+    def motor_targets(self, actions, qpos, ctrl, idx):
         return qpos[:, 7:] + actions * self.action_scale
 
     def observe(self, r, idx: np.ndarray, rngs: list):

@@ -107,11 +107,11 @@ class H1InplaceGaitTracking(Task):
             a[idx] = 0
         return np.tile(self.init_q, (len(idx), 1)), np.zeros((len(idx), self.model.nv))
 
-    def initial_ctrl(self, qpos: np.ndarray) -> np.ndarray:
+    def initial_ctrl(self, qpos: np.ndarray, idx: np.ndarray) -> np.ndarray:
         """Zero, as Playground's reset leaves it."""
         return np.zeros((len(qpos), self.model.nu))
 
-    def motor_targets(self, actions, qpos, ctrl):
+    def motor_targets(self, actions, qpos, ctrl, idx):
         return np.clip(self.default_pose + actions * self.action_scale, self.lowers, self.uppers)
 
     def contact(self, r, stepped: bool) -> np.ndarray:
@@ -216,7 +216,7 @@ class H1JoystickGaitTracking(H1InplaceGaitTracking):
             a[idx] = 0
         return qpos, qvel
 
-    def motor_targets(self, actions, qpos, ctrl):
+    def motor_targets(self, actions, qpos, ctrl, idx):
         return np.clip(ctrl + actions * self.action_scale, self.lowers, self.uppers)
 
     def after_step(self, r, actions: np.ndarray, idx: np.ndarray, rngs: list):

@@ -153,7 +153,7 @@ class LeapCubeRotateZAxis(Task):
             a[idx] = 0
         return qpos, np.zeros((k, self.model.nv))
 
-    def initial_ctrl(self, qpos: np.ndarray) -> np.ndarray:
+    def initial_ctrl(self, qpos: np.ndarray, idx: np.ndarray) -> np.ndarray:
         """The drawn joint angles."""
         return qpos[:, self.q_ids]
 
@@ -239,7 +239,7 @@ class LeapCubeReorient(LeapCubeRotateZAxis):
             a[idx] = 0
         return qpos, qvel
 
-    def motor_targets(self, actions, qpos, ctrl):
+    def motor_targets(self, actions, qpos, ctrl, idx):
         return np.clip(ctrl + actions * self.action_scale, self.lowers, self.uppers)
 
     def relative_rotation(self, quat: np.ndarray, idx: np.ndarray) -> np.ndarray:

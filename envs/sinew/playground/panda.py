@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from sinew._core import Model
+from sinew.playground import panda_kinematics as kinematics
 from sinew.playground.task import Task, site_rot, site_world
 
 PANDA = "mujoco_playground/_src/manipulation/franka_emika_panda/xmls"
@@ -44,7 +45,9 @@ class PandaPickCube(Task):
     camera = dict(distance=1.6, elevation=-25.0, azimuth=150.0, trackbodyid=-1, lookat=np.array([0.45, 0.0, 0.2]))
     #: The file has no camera: pixels come from the free camera.
     pixels_camera = -1
-    sensors = tuple(f"{g}_floor_found" for g in HAND)
+    #: The contact sensors of the hand the ``keep_off`` term reads.
+    touch = tuple(f"{g}_floor_found" for g in HAND)
+    sensors = touch
     obs_sizes = (66, 66)
     reward_scales = PICK_SCALES
     state = ("target_pos", "target_quat", "reached_box")
@@ -107,7 +110,7 @@ class PandaPickCube(Task):
         target position."""
         batch.set_geom_pos(self.target_geom, self.target_pos[idx] - self.target_origin, idx)
 
-    def initial_ctrl(self, qpos: np.ndarray) -> np.ndarray:
+    def initial_ctrl(self, qpos: np.ndarray, idx: np.ndarray) -> np.ndarray:
         """The keyframe's controls, the arm's moved as its joints were."""
         ctrl = np.tile(self.init_ctrl, (len(qpos), 1))
         ctrl[:, :7] += qpos[:, self.arm] - self.init_q[self.arm]
@@ -118,7 +121,7 @@ class PandaPickCube(Task):
         target_mat = quat_to_mat(self.target_quat[idx]).reshape(-1, 9)
         return 0.9 * np.linalg.norm(self.target_pos[idx] - box, axis=1) + 0.1 * np.linalg.norm(target_mat[:, :6] - box_mat[:, :6], axis=1)
 
-    def motor_targets(self, actions, qpos, ctrl):
+    def motor_targets(self, actions, qpos, ctrl, idx):
         return np.clip(ctrl + actions * self.action_scale, self.lowers, self.uppers)
 
     def observe(self, r, idx: np.ndarray, rngs: list):
@@ -135,7 +138,7 @@ class PandaPickCube(Task):
         error = self.target_error(r, idx, box, r.xmat(self.box).reshape(-1, 9))
         reach = np.linalg.norm(box - gripper, axis=1)
         self.reached_box[idx] = np.maximum(self.reached_box[idx], reach < 0.012)
-        touching = np.any([r.sensor(s)[:, 0] > 0 for s in self.sensors], axis=0)
+        touching = np.any([r.sensor(s)[:, 0] > 0 for s in self.touch], axis=0)
         terms = {
             "gripper_box": 1 - np.tanh(5 * reach),
             "box_target": (1 - np.tanh(5 * error)) * self.reached_box[idx],
@@ -163,7 +166,7 @@ class PandaOpenCabinet(PandaPickCube):
     its conaffinity), and touching the barrier costs ``no_barrier_collision``."""
 
     xml = f"{PANDA}/mjx_cabinet.xml"
-    sensors = tuple(f"barrier_{g}_found" for g in HAND)
+    sensors = touch = tuple(f"barrier_{g}_found" for g in HAND)
     obs_sizes = (55, 55)
     reward_scales = CABINET_SCALES
     state = ("target_pos", "reached_box")
@@ -198,3 +201,114 @@ class PandaOpenCabinet(PandaPickCube):
 
 TASKS = {"PandaPickCube": PandaPickCube, "PandaPickCubeOrientation": PandaPickCubeOrientation,
          "PandaOpenCabinet": PandaOpenCabinet}
+
+
+#: Reward scales of Playground's ``pick_cartesian.default_config()`` (``no_box_collision`` is
+#: reported, not paid: Playground adds it to its terms after summing them).
+CARTESIAN_SCALES = dict(gripper_box=4.0, box_target=8.0, no_floor_collision=0.25, no_box_collision=0.05, robot_target_qpos=0.0)
+
+
+class PandaPickCubeCartesian(PandaPickCube):
+    """``PandaPickCubeCartesian``: lift the cube (placed on a line in front of the hand) 20 cm, the
+    hand moved in the y–z plane by 5 mm per unit action through Playground's analytic inverse
+    kinematics (the third action closes the gripper below zero, else opens it, 2 cm a step); the
+    reward is the progress of a dense reward plus bonuses for lifting (0.5) and success (2, which
+    ends the episode); one episode in twenty starts from the file's "picked" keyframe."""
+
+    xml = f"{PANDA}/mjx_single_cube_camera.xml"
+    sim_dt, ctrl_dt, episode_length, action_scale, action_size = 0.005, 0.05, 200, 0.005, 3
+    sensors = (*PandaPickCube.touch, "box_hand_found")
+    obs_sizes = (70, 70)
+    reward_scales = CARTESIAN_SCALES
+    pixels_camera = "front"
+    keyframe = "low_home"
+    state = ("target_pos", "target_quat", "reached_box", "prev_reward", "current_pos", "prev_action", "steps", "start_ctrl")
+
+    def __init__(self, action_scale: float = 0.005, box_init_range: float = 0.05, success_threshold: float = 0.05,
+                 guide_sample_prob: float = 0.05, action_rate: float = -0.0005, no_soln_reward: float = -0.01,
+                 lifted_reward: float = 0.5, success_reward: float = 2.0, reward_scales: dict | None = None):
+        super().__init__(action_scale, reward_scales)
+        self.kwargs = {k: v for k, v in locals().items() if k not in ("self", "__class__", "reward_scales")}
+        self.box_range, self.threshold, self.guide = float(box_init_range), float(success_threshold), float(guide_sample_prob)
+        self.action_rate, self.no_soln_reward = float(action_rate), float(no_soln_reward)
+        self.lifted_reward, self.success_reward = float(lifted_reward), float(success_reward)
+
+    def setup(self, model, n: int) -> None:
+        super().setup(model, n)
+        picked = model.keyframe("picked")
+        self.guide_q, self.guide_ctrl = np.asarray(picked["qpos"], dtype=np.float64), np.asarray(picked["ctrl"], dtype=np.float64)
+        self.start_tip = kinematics.forward(self.init_ctrl[None, :7])[0]
+        self.prev_reward, self.current_pos = np.zeros(n), np.tile(self.start_tip[:3, 3], (n, 1))
+        self.prev_action, self.steps, self.no_soln = np.zeros((n, 3)), np.zeros(n, dtype=np.int64), np.zeros(n)
+        self.start_ctrl = np.tile(self.init_ctrl, (n, 1))
+
+    def reset(self, idx: np.ndarray, rngs: list):
+        """The cube at y ~ U(±0.05) on the line 3 cm short of the hand's x, its centre in the
+        floor's plane (as Playground places it), the target 20 cm above the line's middle; with
+        probability 0.05 the file's "picked" keyframe instead (Playground swaps it in at the
+        episode's first step)."""
+        k = len(idx)
+        x_plane = self.start_tip[0, 3] - 0.03
+        qpos = np.tile(self.init_q, (k, 1))
+        for j, rng in enumerate(rngs):
+            i = idx[j]
+            qpos[j, self.box_adr:self.box_adr + 3] = [x_plane, rng.uniform(-self.box_range, self.box_range), 0.0]
+            self.target_pos[i] = [x_plane, 0.0, 0.20]
+            guided = rng.random() < self.guide
+            if guided:
+                qpos[j] = self.guide_q
+            self.start_ctrl[i] = self.guide_ctrl if guided else self.init_ctrl
+        self.current_pos[idx] = self.start_tip[:3, 3]
+        for a in (self.reached_box, self.prev_reward, self.prev_action, self.steps, self.no_soln):
+            a[idx] = 0
+        return qpos, np.zeros((k, self.model.nv))
+
+    def initial_ctrl(self, qpos: np.ndarray, idx: np.ndarray) -> np.ndarray:
+        """The keyframe's controls (the "picked" one's for a guided episode)."""
+        return self.start_ctrl[idx]
+
+    def motor_targets(self, actions, qpos, ctrl, idx):
+        """Playground's ``_move_tip``: the tip moved by (0, a₀, a₁) · scale within its box, the arm's
+        targets from the inverse kinematics (kept where the pose has none), the gripper's target
+        2 cm more closed (a₂ < 0) or open."""
+        tip = self.current_pos[idx] + np.hstack([np.zeros((len(idx), 1)), actions[:, :2]]) * self.action_scale
+        tip = np.clip(tip, [0.25, -0.32, 0.02], [0.77, 0.32, 0.5])
+        pose = np.tile(self.start_tip, (len(idx), 1, 1))
+        pose[:, :3, 3] = tip
+        q = kinematics.inverse(pose, ctrl[:, 6], ctrl[:, :7])
+        none = np.isnan(q).any(axis=1)
+        q[none] = ctrl[none, :7]
+        self.current_pos[idx] = np.where(none[:, None], self.current_pos[idx], tip)
+        self.no_soln[idx] = none
+        new = ctrl.copy()
+        new[:, :7] = q
+        new[:, 7] += np.where(actions[:, 2] < 0, -0.02, 0.02)
+        return np.clip(new, self.lowers, self.uppers)
+
+    def observe(self, r, idx: np.ndarray, rngs: list):
+        state, _ = super().observe(r, idx, rngs)
+        state = np.hstack([state, self.no_soln[idx, None], self.prev_action[idx]]).astype(np.float32)
+        return state, state.copy()
+
+    def after_step(self, r, actions: np.ndarray, idx: np.ndarray, rngs: list):
+        fresh = self.steps[idx] == 0
+        box = r.xpos(self.box)
+        _, _, dense, _, terms = super().after_step(r, actions, idx, rngs)
+        terms = dict(terms)
+        terms["no_box_collision"] = self.reward_scales["no_box_collision"] * (r.sensor("box_hand_found")[:, 0] <= 0)
+        total = dense + self.action_rate * np.linalg.norm(actions - self.prev_action[idx], axis=1)
+        total += self.no_soln_reward * self.no_soln[idx] + self.lifted_reward * (box[:, 2] > 0.05)
+        success = np.linalg.norm(box - self.target_pos[idx], axis=1) < self.threshold
+        total += self.success_reward * success
+        # the progress of the total, never negative, nothing on an episode's first step
+        reward = np.where(fresh, 0.0, np.maximum(total - self.prev_reward[idx], 0.0))
+        self.prev_reward[idx] = np.maximum(total, self.prev_reward[idx])
+        self.prev_action[idx] = actions
+        done = np.any(np.abs(box) > 1.0, axis=1) | (box[:, 2] < 0.0) | success
+        self.steps[idx] += 1
+        self.steps[idx] = np.where(done | (self.steps[idx] >= self.episode_length), 0, self.steps[idx])
+        state, priv = self.observe(r, idx, rngs)
+        return state, priv, reward, done, terms
+
+
+TASKS["PandaPickCubeCartesian"] = PandaPickCubeCartesian

@@ -83,10 +83,10 @@ class Spot(Task):
         last, last_last = self.last_act[idx], self.last_last_act[idx]
         return np.sum((a - last) ** 2, axis=1) + np.sum((a - 2 * last + last_last) ** 2, axis=1)
 
-    def motor_targets(self, actions, qpos, ctrl):
+    def motor_targets(self, actions, qpos, ctrl, idx):
         return np.clip(self.default_pose + actions * self.action_scale, self.lowers, self.uppers)
 
-    def initial_ctrl(self, qpos: np.ndarray) -> np.ndarray:
+    def initial_ctrl(self, qpos: np.ndarray, idx: np.ndarray) -> np.ndarray:
         """Zero, as Playground's reset leaves it (the servos' forces at reset read it)."""
         return np.zeros((len(qpos), self.model.nu))
 
@@ -323,11 +323,11 @@ class SpotGetup(Spot):
         self.last_last_act[idx] = 0
         return qpos, qvel
 
-    def initial_ctrl(self, qpos: np.ndarray) -> np.ndarray:
+    def initial_ctrl(self, qpos: np.ndarray, idx: np.ndarray) -> np.ndarray:
         """The drawn joint angles, which the servos hold while the robot settles."""
         return qpos[:, 7:7 + self.model.nu]
 
-    def motor_targets(self, actions, qpos, ctrl):
+    def motor_targets(self, actions, qpos, ctrl, idx):
         return np.clip(qpos[:, 7:] + actions * self.action_scale, self.lowers, self.uppers)
 
     def observe(self, r, idx: np.ndarray, rngs: list):

@@ -121,6 +121,8 @@ class Task:
     action_repeat: int = 1
     #: Position targets are ``default_pose + action_scale * action``.
     action_scale: float = 0.5
+    #: Actions per step (None: one per actuator).
+    action_size: int | None = None
     #: The free camera's settings for ``render()`` without a camera.
     camera: dict = {}
     #: The model camera pixel observations use by default (-1: the free camera).
@@ -163,9 +165,9 @@ class Task:
     #: Whether ``after_step`` reads joint accelerations (``sim.qacc``).
     needs_qacc: bool = False
 
-    def initial_ctrl(self, qpos: np.ndarray) -> np.ndarray:
-        """The controls an episode starts with at the drawn ``qpos`` (rows): the servos at the
-        joint angles."""
+    def initial_ctrl(self, qpos: np.ndarray, idx: np.ndarray) -> np.ndarray:
+        """The controls the worlds ``idx`` start an episode with at the drawn ``qpos`` (rows): the
+        servos at the joint angles."""
         return qpos[:, 7:7 + self.model.nu]
 
     def perturb(self, qvel: np.ndarray, idx: np.ndarray, rngs: list) -> bool:
@@ -179,9 +181,9 @@ class Task:
         by default)."""
         return None
 
-    def motor_targets(self, actions: np.ndarray, qpos: np.ndarray, ctrl: np.ndarray) -> np.ndarray:
-        """The position servos' targets of actions in [-1, 1] at the worlds' state (qpos) and
-        last targets (ctrl): here default pose + scale · action."""
+    def motor_targets(self, actions: np.ndarray, qpos: np.ndarray, ctrl: np.ndarray, idx: np.ndarray) -> np.ndarray:
+        """The position servos' targets of actions in [-1, 1] of the worlds ``idx`` at their state
+        (qpos) and last targets (ctrl): here default pose + scale · action."""
         return self.default_pose + actions * self.action_scale
 
     def observe(self, sim, idx: np.ndarray, rngs: list) -> tuple[np.ndarray, np.ndarray]:
