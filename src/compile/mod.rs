@@ -97,6 +97,7 @@ fn compile(mut spec: ModelSpec, x: &include::Expanded) -> Result<Model> {
         body_name: spec.bodies.iter().map(|b| b.name.clone()).collect(),
         body_parent: spec.bodies.iter().map(|b| b.parent).collect(),
         body_mocap: spec.bodies.iter().map(|b| b.mocap).collect(),
+        body_gravcomp: spec.bodies.iter().enumerate().filter(|(_, b)| b.gravcomp != 0.0).map(|(i, b)| (i, b.gravcomp)).collect(),
         body_pos: spec.bodies.iter().map(|b| b.pos).collect(),
         body_quat: spec.bodies.iter().map(|b| b.quat).collect(),
         body_mass: inertia.iter().map(|i| i.mass).collect(),

@@ -87,6 +87,7 @@ pub fn accelerations(m: &Model, dy: &mut DynamicsData, qpos: &[f64], qvel: &[f64
     forces::applied(m, &dy.ten, qpos, qvel, (ctrl, act), &mut dy.qfrc_applied);
     fluid::add_forces(m, &dy.kin, &dy.kin.v, &mut dy.qfrc_applied);
     external::add_forces(m, &dy.kin, &dy.xfrc_applied, &mut dy.qfrc_applied);
+    external::add_gravcomp(m, &dy.kin, &mut dy.qfrc_applied);
     let tau = total_force(&dy.qfrc_applied, &dy.qfrc_friction, dy.friction_known, &mut dy.tau);
     aba::backward(m, &dy.kin, tau, h_damp, &mut dy.aba);
     aba::forward(m, &dy.kin, &mut dy.aba, &mut dy.qacc);

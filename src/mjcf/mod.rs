@@ -311,6 +311,9 @@ pub struct BodySpec {
     /// A mocap body (MuJoCo's `mocap="true"`): a child of the world without joints, placed per
     /// world at run time.
     pub mocap: bool,
+    /// Gravity compensation (MuJoCo's `gravcomp`): this fraction of the body's weight is held up
+    /// by a force at its centre of mass.
+    pub gravcomp: f64,
     /// Source line.
     pub line: u32,
 }

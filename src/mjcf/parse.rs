@@ -91,6 +91,7 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
                 cameras: vec![],
                 lights: vec![],
                 mocap: false,
+                gravcomp: 0.0,
                 line: line(&doc, root),
             }],
             actuators: vec![],
@@ -350,7 +351,7 @@ impl<'d> Parser<'d> {
             };
             if !allowed.is_empty() {
                 let e = El { node: c, line: line(self.doc, c), defaults: vec![] };
-                e.check(allowed, &self.warnings)?;
+                e.check(allowed)?;
             }
             let list: Vec<(String, String)> = c.attributes().map(|a| (a.name().to_string(), a.value().to_string())).collect();
             if ACTUATOR_KINDS.contains(&kind) {

@@ -336,6 +336,9 @@ pub struct Model {
     /// Whether the body is a mocap body (nbody): fixed to the world, placed per world at run time
     /// through `body_pos` and `body_quat`.
     pub body_mocap: Vec<bool>,
+    /// The bodies whose weight is compensated, with the fraction (MuJoCo's `gravcomp`: a force of
+    /// −fraction · mass · gravity at the centre of mass, a passive force).
+    pub body_gravcomp: Vec<(usize, f64)>,
     /// Position relative to the parent body (nbody).
     pub body_pos: Vec<DVec3>,
     /// Orientation relative to the parent body (nbody).

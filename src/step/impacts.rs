@@ -53,6 +53,7 @@ fn new_velocities(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) {
         fluid::add_forces(m, &dy.kin, &dy.v_other, &mut dy.qfrc_applied);
     }
     external::add_forces(m, &dy.kin, &dy.xfrc_applied, &mut dy.qfrc_applied);
+    external::add_gravcomp(m, &dy.kin, &mut dy.qfrc_applied);
     let tau = dynamics::total_force(&dy.qfrc_applied, &dy.qfrc_friction, dy.friction_known, &mut dy.tau);
     aba::backward_bias(m, &dy.kin, tau, &mut dy.aba);
     aba::forward(m, &data.dynamics.kin, &mut data.dynamics.aba, &mut data.dynamics.qacc);

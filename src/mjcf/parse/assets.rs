@@ -20,7 +20,7 @@ const HFIELD_ATTRS: &[&str] = &["name", "file", "nrow", "ncol", "size", "elevati
 impl Parser<'_> {
     pub(super) fn hfield(&mut self, n: Node) -> Result<HFieldSpec> {
         let e = self.el(n, None)?;
-        e.check(HFIELD_ATTRS, &self.warnings)?;
+        e.check(HFIELD_ATTRS)?;
         let (file, name) = file_and_name(&e, "height field")?;
         let size = e.arr::<4>("size")?.ok_or_else(|| e.err("size", "a height field needs a size (x y z base)"))?;
         if size.iter().any(|&s| s <= 0.0) {
@@ -45,7 +45,7 @@ impl Parser<'_> {
 
     pub(super) fn mesh(&mut self, n: Node) -> Result<MeshSpec> {
         let e = self.el(n, None)?;
-        e.check(MESH_ATTRS, &self.warnings)?;
+        e.check(MESH_ATTRS)?;
         let (file, name) = file_and_name(&e, "mesh")?;
         let vertex = e.nums("vertex")?.unwrap_or_default();
         if vertex.len() % 3 != 0 {

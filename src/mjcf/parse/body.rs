@@ -21,7 +21,7 @@ pub(super) const GEOM_ATTRS: &[&str] = &[
 ];
 pub(super) const SITE_ATTRS: &[&str] =
     &["name", "class", "type", "size", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "fromto"];
-pub(super) const BODY_ATTRS: &[&str] = &["name", "childclass", "mocap", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis"];
+pub(super) const BODY_ATTRS: &[&str] = &["name", "childclass", "mocap", "gravcomp", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis"];
 pub(super) const INERTIAL_ATTRS: &[&str] =
     &["pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "mass", "diaginertia", "fullinertia"];
 
@@ -75,7 +75,7 @@ impl Parser<'_> {
     /// its `childclass` their default).
     fn frame(&mut self, n: Node, body: usize, childclass: Option<&str>) -> Result<()> {
         let e = El { node: n, line: line(self.doc, n), defaults: vec![] };
-        e.check(&["name", "childclass", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis"], &self.warnings)?;
+        e.check(&["name", "childclass", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis"])?;
         let cc = self.childclass(n, childclass, &e)?;
         let (t, q) = (e.vec3("pos", DVec3::ZERO)?, self.orientation(&e)?);
         let b = &self.spec.bodies[body];
@@ -121,7 +121,7 @@ impl Parser<'_> {
 
     pub(super) fn body_at(&mut self, n: Node, parent: usize, childclass: Option<&str>) -> Result<()> {
         let e = El { node: n, line: line(self.doc, n), defaults: vec![] };
-        e.check(BODY_ATTRS, &self.warnings)?;
+        e.check(BODY_ATTRS)?;
         let mocap = e.tristate("mocap")?.unwrap_or(false);
         if mocap && parent != 0 {
             return Err(e.err("mocap", "a mocap body must be a child of the world body"));
@@ -144,6 +144,7 @@ impl Parser<'_> {
             cameras: vec![],
             lights: vec![],
             mocap,
+            gravcomp: e.f64("gravcomp", 0.0)?,
             line: e.line,
         });
         self.body_children(n, id, cc.as_deref())?;
@@ -156,7 +157,7 @@ impl Parser<'_> {
     pub(super) fn joint(&mut self, n: Node, childclass: Option<&str>) -> Result<JointSpec> {
         let e = self.el(n, childclass)?;
         if n.has_tag_name("freejoint") {
-            e.check(&["name", "group", "align"], &self.warnings)?;
+            e.check(&["name", "group", "align"])?;
             return Ok(JointSpec {
                 name: e.str("name").to_string(),
                 kind: JointType::Free,
@@ -176,7 +177,7 @@ impl Parser<'_> {
                 line: e.line,
             });
         }
-        e.check(JOINT_ATTRS, &self.warnings)?;
+        e.check(JOINT_ATTRS)?;
         let kind = match e.get("type").unwrap_or("hinge") {
             "hinge" => JointType::Hinge,
             "slide" => JointType::Slide,
@@ -240,7 +241,7 @@ impl Parser<'_> {
 
     pub(super) fn geom(&mut self, n: Node, childclass: Option<&str>) -> Result<GeomSpec> {
         let e = self.el(n, childclass)?;
-        e.check(GEOM_ATTRS, &self.warnings)?;
+        e.check(GEOM_ATTRS)?;
         let kind = match e.get("type").unwrap_or("sphere") {
             "plane" => GeomType::Plane,
             "sphere" => GeomType::Sphere,
@@ -343,7 +344,7 @@ impl Parser<'_> {
 
     pub(super) fn site(&mut self, n: Node, childclass: Option<&str>) -> Result<SiteSpec> {
         let e = self.el(n, childclass)?;
-        e.check(SITE_ATTRS, &self.warnings)?;
+        e.check(SITE_ATTRS)?;
         let (mut pos, mut quat) = (e.vec3("pos", DVec3::ZERO)?, self.orientation(&e)?);
         if let Some(ft) = e.arr::<6>("fromto")? {
             let (a, b) = (DVec3::new(ft[0], ft[1], ft[2]), DVec3::new(ft[3], ft[4], ft[5]));
@@ -376,7 +377,7 @@ impl Parser<'_> {
 
     pub(super) fn inertial(&mut self, n: Node) -> Result<InertialSpec> {
         let e = El { node: n, line: line(self.doc, n), defaults: vec![] };
-        e.check(INERTIAL_ATTRS, &self.warnings)?;
+        e.check(INERTIAL_ATTRS)?;
         let mass = e.arr::<1>("mass")?.ok_or_else(|| e.err("mass", "required"))?[0];
         if mass < 0.0 {
             return Err(e.err("mass", "must be non-negative"));

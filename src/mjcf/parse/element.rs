@@ -1,7 +1,6 @@
 //! Reading one element: its attributes, falling back on its default class chain, as numbers,
 //! vectors and flags, each error naming the element, attribute and line.
 
-use std::cell::RefCell;
 
 use glam::DVec3;
 use roxmltree::{Document, Node};
@@ -16,8 +15,6 @@ const IGNORED: &[&str] = &[
 ];
 
 /// Attributes that change MuJoCo's physics but are not modelled; non-default values give a warning.
-const WARN_NONZERO: &[&str] = &["gravcomp"];
-
 pub(super) fn line(doc: &Document, n: Node) -> u32 {
     doc.text_pos_at(n.range().start).row
 }
@@ -104,23 +101,11 @@ impl<'a, 'd> El<'a, 'd> {
             Some(v) => Err(self.err(name, format!("expected true, false or auto, got '{v}'"))),
         }
     }
-    /// Rejects attributes outside `allowed` and [`IGNORED`]; warns on non-default physics ones.
-    pub(super) fn check(&self, allowed: &[&str], warnings: &RefCell<Vec<String>>) -> Result<()> {
+    /// Rejects attributes outside `allowed` and [`IGNORED`].
+    pub(super) fn check(&self, allowed: &[&str]) -> Result<()> {
         for a in self.node.attributes() {
             let n = a.name();
             if allowed.contains(&n) || IGNORED.contains(&n) {
-                continue;
-            }
-            if WARN_NONZERO.contains(&n) {
-                if a.value().split_whitespace().any(|t| !t.parse::<f64>().is_ok_and(|x| x == 0.0)) {
-                    warnings.borrow_mut().push(format!(
-                        "<{}> '{}' at line {}: {n}={} is not modelled by sinew and is ignored",
-                        self.tag(),
-                        self.str("name"),
-                        self.line,
-                        a.value()
-                    ));
-                }
                 continue;
             }
             return Err(self.err(n, "unsupported attribute"));

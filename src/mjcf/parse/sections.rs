@@ -85,7 +85,7 @@ impl Parser<'_> {
                     return Err(e.err(t, "only joint and tendon transmissions are supported"));
                 }
             }
-            e.check(actuator_attrs(kind), &self.warnings)?;
+            e.check(actuator_attrs(kind))?;
             let target = match (e.get("joint"), e.get("tendon")) {
                 (Some(j), None) => TransmissionSpec::Joint(j.to_string()),
                 (None, Some(t)) => TransmissionSpec::Tendon(t.to_string()),
@@ -248,7 +248,7 @@ impl Parser<'_> {
                 return Err(self.err(c, None, format!("unsupported tendon <{kind}>: <fixed> and <spatial> are")));
             }
             let e = self.el_as(c, None, "tendon")?;
-            e.check(TENDON_ATTRS, &self.warnings)?;
+            e.check(TENDON_ATTRS)?;
             if e.f64("armature", 0.0)? != 0.0 {
                 return Err(e.err("armature", "tendon armature is not supported"));
             }
@@ -289,7 +289,7 @@ impl Parser<'_> {
             if !j.has_tag_name("joint") {
                 return Err(self.err(j, None, format!("unsupported element <{}> in a fixed tendon", j.tag_name().name())));
             }
-            je.check(&["joint", "coef"], &self.warnings)?;
+            je.check(&["joint", "coef"])?;
             let name = je.get("joint").ok_or_else(|| je.err("joint", "required"))?;
             joints.push((name.to_string(), je.f64("coef", 1.0)?));
         }
@@ -304,15 +304,15 @@ impl Parser<'_> {
             let required = |attr: &str| pe.get(attr).map(str::to_string).ok_or_else(|| pe.err(attr, "required"));
             let item = match p.tag_name().name() {
                 "site" => {
-                    pe.check(&["site"], &self.warnings)?;
+                    pe.check(&["site"])?;
                     PathSpec::Site(required("site")?)
                 }
                 "geom" => {
-                    pe.check(&["geom", "sidesite"], &self.warnings)?;
+                    pe.check(&["geom", "sidesite"])?;
                     PathSpec::Geom { geom: required("geom")?, sidesite: pe.get("sidesite").map(str::to_string) }
                 }
                 "pulley" => {
-                    pe.check(&["divisor"], &self.warnings)?;
+                    pe.check(&["divisor"])?;
                     let divisor = pe.f64("divisor", 0.0)?;
                     if divisor <= 0.0 {
                         return Err(pe.err("divisor", format!("must be positive, got {divisor}")));
@@ -335,7 +335,7 @@ impl Parser<'_> {
         for c in n.children().filter(Node::is_element) {
             let e = El { node: c, line: line(self.doc, c), defaults: vec![] };
             // noise, cutoff and user do not change what sinew computes
-            e.check(&[OBJECTS, CONTACT, &["name", "noise", "cutoff", "nsample", "interp", "delay", "interval"]].concat(), &self.warnings)?;
+            e.check(&[OBJECTS, CONTACT, &["name", "noise", "cutoff", "nsample", "interp", "delay", "interval"]].concat())?;
             let attrs = OBJECTS.iter().chain(CONTACT).filter_map(|&a| e.get(a).map(|v| (a.to_string(), v.to_string()))).collect();
             self.spec.sensors.push(SensorSpec { kind: c.tag_name().name().to_string(), name: e.str("name").to_string(), attrs, line: e.line });
         }
@@ -357,7 +357,7 @@ impl Parser<'_> {
             };
             let e = self.el_as(c, None, "equality")?;
             let (a1, a2) = if tendon { ("tendon1", "tendon2") } else { ("joint1", "joint2") };
-            e.check(&["name", "class", a1, a2, "polycoef", "active"], &self.warnings)?;
+            e.check(&["name", "class", a1, a2, "polycoef", "active"])?;
             let obj1 = e.get(a1).ok_or_else(|| e.err(a1, "required"))?.to_string();
             let coef = e.nums("polycoef")?.unwrap_or_else(|| vec![0.0, 1.0]);
             if coef.len() > 5 {
@@ -389,7 +389,7 @@ impl Parser<'_> {
         } else {
             &["name", "class", "body1", "body2", "anchor", "active"]
         };
-        e.check(allowed, &self.warnings)?;
+        e.check(allowed)?;
         if weld && e.nums("relpose")?.is_some_and(|r| r != [0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]) {
             return Err(e.err("relpose", "a weld holds the relative pose of qpos0; a given relpose is not supported"));
         }
@@ -417,7 +417,7 @@ impl Parser<'_> {
                 return Err(self.err(c, None, format!("unsupported element <{}> in <keyframe>", c.tag_name().name())));
             }
             let e = El { node: c, line: line(self.doc, c), defaults: vec![] };
-            e.check(&["name", "time", "qpos", "qvel", "ctrl", "act", "mpos", "mquat"], &self.warnings)?;
+            e.check(&["name", "time", "qpos", "qvel", "ctrl", "act", "mpos", "mquat"])?;
             self.spec.keys.push(KeySpec {
                 name: e.str("name").to_string(),
                 time: e.f64("time", 0.0)?,
@@ -437,7 +437,7 @@ impl Parser<'_> {
     /// `gap` and the torsional and rolling coefficients are ignored as for geoms).
     fn pair(&mut self, c: Node) -> Result<()> {
         let e = self.el(c, None)?;
-        e.check(&["name", "class", "geom1", "geom2", "condim", "friction", "margin", "solreffriction"], &self.warnings)?;
+        e.check(&["name", "class", "geom1", "geom2", "condim", "friction", "margin", "solreffriction"])?;
         let (Some(g1), Some(g2)) = (e.get("geom1"), e.get("geom2")) else {
             return Err(e.err("geom1", "geom1 and geom2 are required"));
         };

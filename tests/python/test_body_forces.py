@@ -1,5 +1,7 @@
-"""Forces applied to bodies from outside (Batch.set_xfrc_applied, MuJoCo's xfrc_applied): Newton's
-and Euler's laws on a free body, MuJoCo's step on an articulated one, per world, cleared at reset."""
+"""Cartesian forces on bodies: those applied from outside (Batch.set_xfrc_applied, MuJoCo's
+xfrc_applied: Newton's and Euler's laws on a free body, MuJoCo's step on an articulated one, per
+world, cleared at reset) and gravity compensation (MuJoCo's gravcomp: MuJoCo's step, a fully
+compensated arm hanging still)."""
 
 import mujoco
 import numpy as np
@@ -81,3 +83,33 @@ def test_bad_forces_raise():
     bad[1, 2] = np.nan
     with pytest.raises(ValueError, match="finite"):
         b.set_xfrc_applied(bad)
+
+
+def test_gravity_compensation_steps_as_in_mujoco_and_holds_a_compensated_arm_still():
+    xml = CHAIN.replace('<body name="arm" pos="0.2 0 0">', '<body name="arm" pos="0.2 0 0" gravcomp="1">').replace(
+        '<body name="hand" pos="0.3 0 0">', '<body name="hand" pos="0.3 0 0" gravcomp="0.5">')
+    model = Model.from_mjcf_string(xml)
+    assert not any("gravcomp" in w for w in model.warnings)
+    mj = mujoco.MjModel.from_xml_string(xml)
+    d = mujoco.MjData(mj)
+    rng = np.random.default_rng(5)
+    b = Batch(model, 3)
+    qpos = np.tile(mj.qpos0, (3, 1))
+    qpos[:, 7] = rng.uniform(-1, 1, 3)
+    qvel = rng.normal(size=(3, mj.nv))
+    b.reset(qpos=qpos, qvel=qvel)
+    b.step()
+    for i in range(3):
+        mujoco.mj_resetData(mj, d)
+        d.qpos[:], d.qvel[:] = qpos[i], qvel[i]
+        mujoco.mj_step(mj, d)
+        np.testing.assert_allclose(b.qvel[i], d.qvel, rtol=1e-9, atol=1e-9)
+    # an arm fixed at its shoulder, fully compensated, hangs still wherever it is put
+    arm = """<mujoco><worldbody><body gravcomp="1"><joint type="hinge" axis="0 1 0"/>
+             <geom type="capsule" fromto="0 0 0 0.4 0 0" size="0.03" mass="2"/>
+             <body pos="0.4 0 0" gravcomp="1"><joint type="hinge" axis="0 1 0"/>
+             <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="1"/></body></body></worldbody></mujoco>"""
+    b = Batch(Model.from_mjcf_string(arm), 1)
+    b.reset(qpos=np.array([[0.3, -0.7]]), qvel=np.zeros((1, 2)))
+    b.step(500)
+    np.testing.assert_allclose(b.qpos[0], [0.3, -0.7], atol=1e-12)
