@@ -54,6 +54,7 @@ TASKS = {
     "PandaPickCubeOrientation": ["gripper_box", "box_target", "no_floor_collision", "robot_target_qpos"],
     "PandaOpenCabinet": ["gripper_box", "box_target", "no_barrier_collision", "robot_target_qpos"],
     "PandaPickCubeCartesian": ["gripper_box", "box_target", "no_floor_collision", "no_box_collision"],
+    "PandaRobotiqPushCube": ["box_target", "box_orientation", "gripper_box", "joint_vel", "total_command", "action_rate"],
     "LeapCubeRotateZAxis": ["angvel", "termination"],
     "LeapCubeReorient": ["orientation", "position", "termination", "hand_pose", "action_rate", "energy"],
     "AeroCubeRotateZAxis": ["angvel", "termination", "action_rate"],
@@ -83,13 +84,13 @@ RESET = {"Go1": [("body linear velocity", slice(57, 60)), ("gravity in IMU frame
          "Apollo": [("body linear velocity", slice(118, 121)), ("gravity in IMU frame", slice(115, 118)), ("gyro", slice(112, 115)),
                     ("joint angles − default", slice(121, 153))],
          "H1": [("gyro (noisy)", slice(0, 3)), ("up vector (noisy)", slice(3, 6)), ("joint angles − default (noisy)", slice(6, 25))],
-         "Panda": [], "Leap": [], "Aero": [], "Aloha": [],
+         "PandaRobotiq": [], "Panda": [], "Leap": [], "Aero": [], "Aloha": [],
          # OP3's state: its newest readings first, noisy (its reset is the keyframe at rest)
          "Op3": [("gyro (noisy)", slice(0, 3)), ("up vector (noisy)", slice(3, 6)), ("joint angles − default (noisy)", slice(9, 29))]}
 #: Worlds per run: EnvPool's port holds about 50 MB per world (its contact buffers) for Go1, more
 #: for the humanoids, about 0.55 GB for Apollo and 0.45 GB for OP3.
 WORLDS = {"Go1": 256, "SpotJoystickGaitTracking": 256, "Spot": 256, "Barkour": 256, "H1": 128, "G1": 128, "T1": 128,
-          "BerkeleyHumanoid": 128, "Apollo": 16, "Op3": 16, "Panda": 128,
+          "BerkeleyHumanoid": 128, "Apollo": 16, "Op3": 16, "PandaRobotiq": 64, "Panda": 128,
           "Leap": 64, "Aero": 64, "Aloha": 64}
 
 

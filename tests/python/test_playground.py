@@ -32,10 +32,10 @@ SIZES = {"Go1JoystickFlatTerrain": (48, 123, 1000, 12), "Go1JoystickRoughTerrain
          "SpotGetup": (30, 30, 300, 12), "BarkourJoystick": (465, 465, 1000, 12), "H1InplaceGaitTracking": (186, 186, 1000, 19),
          "H1JoystickGaitTracking": (113, 113, 1000, 19), "PandaPickCube": (66, 66, 150, 8),
          "PandaPickCubeOrientation": (66, 66, 150, 8), "PandaOpenCabinet": (55, 55, 150, 8),
-         "PandaPickCubeCartesian": (70, 70, 200, 3),
+         "PandaPickCubeCartesian": (70, 70, 200, 3), "PandaRobotiqPushCube": (48, 48, 750, 7),
          "LeapCubeRotateZAxis": (32, 105, 500, 16), "LeapCubeReorient": (57, 128, 1000, 16),
          "AeroCubeRotateZAxis": (14, 81, 500, 7),
-         "AlohaHandOver": (83, 83, 250, 14), "AlohaSinglePegInsertion": (82, 82, 1000, 14)}
+         "AlohaHandOver": (83, 83, 250, 14), "AlohaSinglePegInsertion": (82, 82, 500, 14)}
 
 
 def test_every_task_is_registered_with_playgrounds_spaces_and_info():
@@ -46,7 +46,8 @@ def test_every_task_is_registered_with_playgrounds_spaces_and_info():
         assert obs.shape == (n_state,) and obs.dtype == np.float32 and env.observation_space.contains(obs)
         assert env.action_space == gym.spaces.Box(-1, 1, (nu,), np.float32)
         assert info["privileged_state"].shape == (n_priv,)
-        dt = 0.05 if name.startswith(("Leap", "Aero", "PandaPickCubeCartesian")) else 0.005 if name == "AlohaSinglePegInsertion" else 0.02
+        dt = {"AlohaSinglePegInsertion": 0.005, "PandaRobotiqPushCube": 0.02}.get(name, 0.05 if name.startswith(
+            ("Leap", "Aero", "PandaPickCubeCartesian")) else 0.02)
         assert env.spec.max_episode_steps == length and env.unwrapped.dt == dt
         _, _, _, _, info = env.step(env.action_space.sample())
         assert set(TASKS[f"playground-{name}"].reward_scales) <= set(info)

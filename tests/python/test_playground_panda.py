@@ -135,3 +135,31 @@ def test_cartesian_pick_moves_the_hand_through_the_inverse_kinematics():
         env.step(np.zeros((8, 3)))
     cube = b.qpos[:, task.box_adr:task.box_adr + 3]
     assert (np.abs(cube[plain, 2] - 0.03) < 2e-3).all() and (np.abs(b.qvel[plain, -6:]) < 0.5).all()
+
+
+def test_robotiq_push_acts_late_observes_late_and_holds_the_gripper_closed():
+    """PandaRobotiqPushCube: an action's torques act one or two physics steps late, scaled by 0.1
+    and limited to 8 N·m (over the gears), the gripper's target held at 0.82; an observation is
+    6–11 physics steps old, so the first env step (four physics steps) observes the empty history;
+    at reset the readings themselves: the target's pose and the arm's joints shifted by one draw
+    in [0, 0.1)."""
+    from sinew.playground.panda_robotiq import GEAR
+    env = gym.make_vec("sinew/playground-PandaRobotiqPushCube-v0", num_envs=16, vectorization_mode="vector_entry_point")
+    obs, _ = env.reset(seed=0)
+    core = env.unwrapped._core
+    task, b = core.task, core.batch
+    assert env.single_action_space.shape == (7,) and obs.shape == (16, 48)
+    np.testing.assert_allclose(obs[:, :3], task.target_pos, atol=1e-6)
+    np.testing.assert_array_equal(obs[:, 9:16], 0.0)
+    shift = obs[:, 16:23] - b.qpos[:, :7]
+    assert (shift >= -1e-6).all() and (shift < 0.1 + 1e-6).all() and np.allclose(shift, shift[:, :1], atol=1e-6)
+    a = np.random.default_rng(0).uniform(-1, 1, (16, 7))
+    obs, *_ = env.step(a)
+    np.testing.assert_array_equal(obs, 0.0)
+    torque = np.clip(a * 0.1, -8.0 / GEAR, 8.0 / GEAR)
+    np.testing.assert_allclose(b.ctrl[:, :7], torque)       # the fourth physics step acts on a
+    np.testing.assert_allclose(b.ctrl[:, 7], 0.82)
+    np.testing.assert_allclose(task.last_action, a)
+    for _ in range(3):
+        obs, *_ = env.step(a)
+    assert (np.abs(obs).sum(axis=1) > 0).all(), "by then the observations are 6–11 steps old readings"

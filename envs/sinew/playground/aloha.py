@@ -180,7 +180,8 @@ class AlohaSinglePegInsertion(Aloha):
 
     xml = f"{ALOHA}/mjx_single_peg_insertion.xml"
     sim_dt = ctrl_dt = 0.0025
-    action_repeat, episode_length = 2, 1000
+    # Playground counts its episode (1000) in task steps: 500 env steps of two (EnvPool's port runs 1000)
+    action_repeat, episode_length = 2, 500
     obs_sizes = (82, 82)
     reward_scales = defaults = PEG_SCALES
     socket_goal, peg_goal = np.array([-0.05, 0.0, 0.15]), np.array([0.05, 0.0, 0.15])
