@@ -30,7 +30,7 @@ pub struct DynamicsData {
     pub aba: AbaData,
     /// Tendon lengths and Jacobians.
     pub ten: TendonData,
-    /// Total applied generalised force (nv): actuators, passive, fluid and the bodies' external
+X
     /// forces.
     pub qfrc_applied: Vec<f64>,
     /// Forces applied to the bodies from outside (nbody × 6: force at the centre of mass, then
