@@ -30,8 +30,8 @@ pub struct DynamicsData {
     pub aba: AbaData,
     /// Tendon lengths and Jacobians.
     pub ten: TendonData,
-X
-    /// forces.
+    /// Total applied generalised force (nv): actuators, passive (gravity compensation too), fluid
+    /// and the bodies' external forces.
     pub qfrc_applied: Vec<f64>,
     /// Forces applied to the bodies from outside (nbody × 6: force at the centre of mass, then
     /// torque, world axes; MuJoCo's `xfrc_applied`); empty when none (a batch keeps them per
