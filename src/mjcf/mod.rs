@@ -318,6 +318,27 @@ pub struct BodySpec {
     pub line: u32,
 }
 
+impl BodySpec {
+    /// The world body (index 0, its own parent), declared at `line`.
+    pub fn world(line: u32) -> BodySpec {
+        BodySpec {
+            name: "world".into(),
+            parent: 0,
+            pos: DVec3::ZERO,
+            quat: DQuat::IDENTITY,
+            joints: vec![],
+            geoms: vec![],
+            sites: vec![],
+            inertial: None,
+            cameras: vec![],
+            lights: vec![],
+            mocap: false,
+            gravcomp: 0.0,
+            line,
+        }
+    }
+}
+
 /// What an actuator pulls on.
 #[derive(Clone, Debug, PartialEq)]
 pub enum TransmissionSpec {

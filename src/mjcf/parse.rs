@@ -3,7 +3,7 @@
 use std::cell::RefCell;
 use std::collections::HashMap;
 
-use glam::{DQuat, DVec3};
+use glam::DVec3;
 use roxmltree::{Document, Node};
 
 use super::{BodySpec, InertiaFromGeom, Integrator, ModelSpec, OptionSpec, VisualSpec};
@@ -79,21 +79,7 @@ pub fn parse(xml: &str) -> Result<ModelSpec> {
                 wind: DVec3::ZERO,
                 nconmax: None,
             },
-            bodies: vec![BodySpec {
-                name: "world".into(),
-                parent: 0,
-                pos: DVec3::ZERO,
-                quat: DQuat::IDENTITY,
-                joints: vec![],
-                geoms: vec![],
-                sites: vec![],
-                inertial: None,
-                cameras: vec![],
-                lights: vec![],
-                mocap: false,
-                gravcomp: 0.0,
-                line: line(&doc, root),
-            }],
+            bodies: vec![BodySpec::world(line(&doc, root))],
             actuators: vec![],
             tendons: vec![],
             sensors: vec![],

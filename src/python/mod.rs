@@ -12,6 +12,7 @@ mod placed;
 mod render;
 mod sim;
 mod task;
+mod urdf;
 
 use pyo3::prelude::*;
 
@@ -26,7 +27,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<sim::PySim>()?;
     m.add_class::<batch::PyBatch>()?;
     m.add_function(wrap_pyfunction!(task::task_specs, m)?)?;
-    m.add_function(wrap_pyfunction!(model::urdf_to_mjcf, m)?)?;
+    m.add_function(wrap_pyfunction!(urdf::urdf_to_mjcf, m)?)?;
     m.add("ModelError", py.get_type::<errors::ModelError>())?;
     m.add("ModelWarning", py.get_type::<errors::ModelWarning>())?;
     m.add("SimulationError", py.get_type::<errors::SimulationError>())?;

@@ -162,7 +162,7 @@ class PandaRobotiqPushCube(Task):
         vector, and the hand's turn angle from the joints' key), the box's pose (turned by U(0,
         7.5°) about a random direction, moved by U(±0.015) per axis)."""
         k = len(idx)
-        u = np.array([rng.random(9) for rng in rngs]).reshape(k, 9)
+        u = np.array([rng.random(7) for rng in rngs]).reshape(k, 7)
         dirs = np.array([np.concatenate([rand_dir(rng), rand_dir(rng)]) for rng in rngs]).reshape(k, 6)
         nz = self.noise
         noisy_box_mat = quat_to_mat(axis_angle_quat(dirs[:, :3], u[:, 0] * nz["obj_angle"])) @ r.xmat(self.box)
