@@ -163,3 +163,17 @@ def test_robotiq_push_acts_late_observes_late_and_holds_the_gripper_closed():
     for _ in range(3):
         obs, *_ = env.step(a)
     assert (np.abs(obs).sum(axis=1) > 0).all(), "by then the observations are 6–11 steps old readings"
+
+
+def test_the_inverse_kinematics_inverts_the_forward_kinematics():
+    """Playground's analytic Franka IK, on the branch of the arm's current angles, returns the
+    angles whose forward kinematics gave the pose (200 poses about the home configuration), and
+    NaN for a pose out of reach."""
+    from sinew.playground import panda_kinematics as kinematics
+    rng = np.random.default_rng(1)
+    q = np.array([0.0, 0.3, 0.0, -1.57079, 0.0, 2.0, -0.7853]) + rng.uniform(-0.2, 0.2, (200, 7))
+    pose = kinematics.forward(q)
+    np.testing.assert_allclose(kinematics.inverse(pose, q[:, 6], q), q, atol=1e-9)
+    far = pose[:1].copy()
+    far[0, :3, 3] = [2.0, 0.0, 0.5]
+    assert np.isnan(kinematics.inverse(far, q[:1, 6], q[:1])).any()

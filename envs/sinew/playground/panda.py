@@ -180,7 +180,7 @@ class PandaOpenCabinet(PandaPickCube):
         return Model.from_mjcf_string(xml[:at] + HAND_PAIRS + xml[at:], path)
 
     def setup_object(self, model) -> None:
-        pass
+        """Nothing: the handle slides on its joint (no free joint to place)."""
 
     def reset(self, idx: np.ndarray, rngs: list):
         """The upright keyframe, the arm's joints moved by U(−30°, 30°) (the fourth by U(−60°, 0),
