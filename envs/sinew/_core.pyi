@@ -253,6 +253,12 @@ class Sim:
     def ten_velocity(self) -> NDArray[np.float64]: ...
     @property
     def ten_J(self) -> NDArray[np.float64]: ...
+    def set_xfrc_applied(self, values: ArrayLike) -> None:
+        """Applies Cartesian forces to the bodies (MuJoCo's xfrc_applied): (nbody, 6), per body a force at
+        its centre of mass then a torque, world axes; held until set again or reset."""
+    @property
+    def xfrc_applied(self) -> NDArray[np.float64]:
+        """The forces set_xfrc_applied applies (nbody, 6): a copy."""
     @property
     def contacts(self) -> list[dict[str, Any]]: ...
     @property

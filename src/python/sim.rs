@@ -292,8 +292,31 @@ impl PySim {
         self.qacc.bind(py).readwrite().as_slice_mut()?.fill(0.0);
         self.time = k.map_or(0.0, |k| k.time);
         self.data.constraints.feedforward.fill(0.0);
+        self.data.dynamics.xfrc_applied.clear();
         self.data.restore_history(&History::new());
         Ok(())
+    }
+
+    /// Applies Cartesian forces to the bodies from the next step on, as MuJoCo's `xfrc_applied`:
+    /// (nbody, 6), per body a force at its centre of mass, then a torque, in world axes; held
+    /// until set again or reset.
+    fn set_xfrc_applied(&mut self, values: Bound<'_, PyAny>) -> PyResult<()> {
+        let v = checked_values(&values, "values", &[self.model.nbody, 6])?;
+        let xfrc = &mut self.data.dynamics.xfrc_applied;
+        xfrc.clear();
+        if v.iter().any(|&x| x != 0.0) {
+            xfrc.extend_from_slice(&v);
+        }
+        Ok(())
+    }
+
+    /// The forces `set_xfrc_applied` applies (nbody, 6): a copy.
+    #[getter]
+    fn xfrc_applied<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let nb = self.model.nbody;
+        let x = &self.data.dynamics.xfrc_applied;
+        let rows = if x.is_empty() { vec![0.0; 6 * nb] } else { x.clone() };
+        PyArray1::from_vec(py, rows).reshape([nb, 6])
     }
 
     /// The state as one float64 array: [time, qpos (nq), qvel (nv), act (na), ctrl (nu)], MuJoCo's

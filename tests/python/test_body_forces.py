@@ -113,3 +113,21 @@ def test_gravity_compensation_steps_as_in_mujoco_and_holds_a_compensated_arm_sti
     b.reset(qpos=np.array([[0.3, -0.7]]), qvel=np.zeros((1, 2)))
     b.step(500)
     np.testing.assert_allclose(b.qpos[0], [0.3, -0.7], atol=1e-12)
+
+
+def test_a_sim_applies_body_forces_as_a_batch_world_does():
+    from sinew import Sim
+    model = Model.from_mjcf_string(CHAIN)
+    f = np.random.default_rng(2).normal(size=(model.nbody, 6))
+    f[0] = 0.0
+    sim, b = Sim(model), Batch(model, 1)
+    sim.set_xfrc_applied(f)
+    b.set_xfrc_applied(f)
+    np.testing.assert_array_equal(sim.xfrc_applied, f)
+    for _ in range(20):
+        sim.step()
+        b.step()
+    np.testing.assert_array_equal(sim.qpos, b.qpos[0])
+    np.testing.assert_array_equal(sim.qvel, b.qvel[0])
+    sim.reset()
+    np.testing.assert_array_equal(sim.xfrc_applied, 0.0)
