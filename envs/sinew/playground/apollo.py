@@ -97,7 +97,7 @@ class ApolloJoystick(T1Joystick):
         priv = np.hstack([state, gyro, gravity, linvel, q - self.default_pose, qd, self.actuator_force(r), r.qpos[:, :7]])
         return state.astype(np.float32), priv.astype(np.float32)
 
-    def _rewards(self, r, a, idx, done, first_contact, contact, foot_z) -> dict:
+    def reward_terms(self, r, a, idx, done, first_contact, contact, foot_z) -> dict:
         cmd, q, qd, tau = self.command[idx], r.qpos[:, 7:], r.qvel[:, 6:], self.actuator_force(r)
         local, gyro = r.sensor("local_linvel"), r.sensor("gyro")
         weights = np.where(np.linalg.norm(cmd, axis=1)[:, None] < 0.01, 1.0, POSE_WEIGHTS)

@@ -66,7 +66,7 @@ class BerkeleyHumanoidJoystick(T1Joystick):
         """The gait clock's step, wrapped to [−π, π) (running at a zero command too)."""
         super(T1Joystick, self).advance_phase(idx)
 
-    def _rewards(self, r, a, idx, done, first_contact, contact, foot_z) -> dict:
+    def reward_terms(self, r, a, idx, done, first_contact, contact, foot_z) -> dict:
         v, w = r.sensor("global_linvel"), r.sensor("global_angvel")
         return {**self._shared_terms(r, a, idx, done, first_contact, contact, foot_z),
                 "lin_vel_z": v[:, 2] ** 2, "ang_vel_xy": np.sum(w[:, :2] ** 2, axis=1)}

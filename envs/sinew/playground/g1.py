@@ -208,7 +208,7 @@ class G1Joystick(Task):
         self.swing_peak[idx] = np.maximum(self.swing_peak[idx], foot_z)
         state, priv = self.observe(r, idx, rngs)
         done = self.terminated(r)
-        terms = self._rewards(r, actions, idx, done, first_contact, contact, foot_z)
+        terms = self.reward_terms(r, actions, idx, done, first_contact, contact, foot_z)
         terms = {k: v * self.reward_scales[k] for k, v in terms.items()}
         reward = sum(terms.values()) * self.dt
         if self.clip_reward:
@@ -232,7 +232,7 @@ class G1Joystick(Task):
                 self.command[idx[j]] = cmd
         self.step[idx] = np.where(done | (self.step[idx] > 500), 0, self.step[idx])
 
-    def _rewards(self, r, a, idx, done, first_contact, contact, foot_z) -> dict:
+    def reward_terms(self, r, a, idx, done, first_contact, contact, foot_z) -> dict:
         cmd, q, qd, tau = self.command[idx], r.qpos[:, 7:], r.qvel[:, 6:], self.actuator_force(r)
         local, gyro = r.sensor("local_linvel_pelvis"), r.sensor("gyro_pelvis")
         pelvis_v, torso_v = r.sensor("global_linvel_pelvis"), r.sensor("global_linvel_torso")

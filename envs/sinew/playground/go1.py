@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from sinew.playground.task import Task, drop_pose, redraw_commands, servo_gains, limit_cost, site_rot, site_world, soft_limits, uniform_noise
+from sinew.playground.task import Task, drop_pose, joystick_step, redraw_commands, servo_gains, limit_cost, site_rot, site_world, soft_limits, uniform_noise
 
 GO1 = "mujoco_playground/_src/locomotion/go1/xmls"
 #: Playground's order of the feet (its ``FEET_SITES`` and ``FEET_GEOMS``).
@@ -154,24 +154,9 @@ class Go1Joystick(Go1):
 
     def after_step(self, r, actions: np.ndarray, idx: np.ndarray, rngs: list):
         contact = np.hstack([r.sensor(f"{f}_floor_found") for f in FEET]) > 0
-        contact_filt = contact | self.last_contact[idx]
-        first_contact = (self.feet_air_time[idx] > 0.0) & contact_filt
-        self.feet_air_time[idx] += self.dt
         foot_z = np.stack([site_world(r, self.model, s)[:, 2] for s in self.feet_sites], axis=1)
-        self.swing_peak[idx] = np.maximum(self.swing_peak[idx], foot_z)
-        state, priv = self.observe(r, idx, rngs)
-        up = r.sensor("upvector")
-        done = up[:, 2] < 0.0
-        terms = self._rewards(r, actions, idx, done, first_contact, contact, foot_z)
-        terms = {k: v * self.reward_scales[k] for k, v in terms.items()}
-        reward = np.clip(sum(terms.values()) * self.dt, 0.0, 10000.0)
-        self.last_last_act[idx] = self.last_act[idx]
-        self.last_act[idx] = actions
-        redraw_commands(self, idx, rngs, done)
-        self.feet_air_time[idx] *= ~contact
-        self.last_contact[idx] = contact
-        self.swing_peak[idx] *= ~contact
-        return state, priv, reward, done, terms
+        done = r.sensor("upvector")[:, 2] < 0.0
+        return joystick_step(self, r, actions, idx, rngs, contact, foot_z, done, redraw_commands)
 
     def sample_command(self, rng, x: np.ndarray) -> np.ndarray:
         """``sample_command``: each component kept with probability 1/2, else redrawn from
@@ -181,7 +166,7 @@ class Go1Joystick(Go1):
         w = rng.random(3) < 0.5
         return x - w * (x - y * z)
 
-    def _rewards(self, r, a, idx, done, first_contact, contact, foot_z) -> dict:
+    def reward_terms(self, r, a, idx, done, first_contact, contact, foot_z) -> dict:
         cmd = self.command[idx]
         local, gyro = r.sensor("local_linvel"), r.sensor("gyro")
         glin, gang, up = r.sensor("global_linvel"), r.sensor("global_angvel"), r.sensor("upvector")

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from sinew.playground.task import Task, gait_height, site_world, uniform_noise
+from sinew.playground.task import Task, draw_gait, gait_height, site_world, uniform_noise
 
 H1 = "mujoco_playground/_src/locomotion/h1/xmls"
 FEET = ("left_foot", "right_foot")
@@ -98,11 +98,7 @@ class H1InplaceGaitTracking(Task):
     def reset(self, idx: np.ndarray, rngs: list):
         """The home keyframe at rest, with a gait drawn."""
         for j, rng in enumerate(rngs):
-            i = idx[j]
-            self.gait_freq[i] = rng.uniform(*self.freq_range)
-            self.gait[i] = rng.integers(self.gaits)
-            self.foot_height[i] = rng.uniform(*self.height_range)
-        self.phase[idx] = PHASES[self.gait[idx]]
+            draw_gait(self, idx[j], rng, PHASES[:self.gaits])
         for a in (self.last_act, self.last_last_act, self.qvel_history, self.qpos_error_history, self.swing_peak):
             a[idx] = 0
         return np.tile(self.init_q, (len(idx), 1)), np.zeros((len(idx), self.model.nv))

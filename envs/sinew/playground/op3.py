@@ -102,7 +102,7 @@ class Op3Joystick(Task):
         done = np.any((q < self.lowers) | (q > self.uppers), axis=1)
         if self.early_termination:
             done |= (r.sensor("upvector")[:, 2] < 0.85) | (r.xpos(self.torso)[:, 2] < 0.21)
-        terms = self._rewards(r, actions, idx, done)
+        terms = self.reward_terms(r, actions, idx, done)
         terms = {k: v * self.reward_scales[k] for k, v in terms.items()}
         reward = np.clip(sum(terms.values()) * self.dt, 0.0, 10000.0)
         self.last_last_act[idx] = self.last_act[idx]
@@ -116,7 +116,7 @@ class Op3Joystick(Task):
         self.step[idx] = np.where(done | (self.step[idx] > 500), 0, self.step[idx])
         return state, priv, reward, done, terms
 
-    def _rewards(self, r, a, idx, done) -> dict:
+    def reward_terms(self, r, a, idx, done) -> dict:
         cmd, tau = self.command[idx], self.actuator_force(r)
         local, gyro = r.sensor("local_linvel"), r.sensor("gyro")
         v, w = r.sensor("global_linvel"), r.sensor("global_angvel")

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from sinew.playground.task import Task, gait_height, servo_force, servo_gains, site_world, uniform_command, uniform_noise
+from sinew.playground.task import Task, draw_gait, gait_height, joystick_step, servo_force, servo_gains, site_world, uniform_command, uniform_noise
 
 SPOT = "mujoco_playground/_src/locomotion/spot/xmls"
 #: Playground's order of the feet (its ``FEET_SITES`` and ``FEET_GEOMS``).
@@ -149,25 +149,10 @@ class SpotJoystick(Spot):
         return state.astype(np.float32), priv.astype(np.float32)
 
     def after_step(self, r, actions: np.ndarray, idx: np.ndarray, rngs: list):
-        contact = self.contact(r)
-        first_contact = (self.feet_air_time[idx] > 0.0) & (contact | self.last_contact[idx])
-        self.feet_air_time[idx] += self.dt
-        foot_z = self.foot_z(r)
-        self.swing_peak[idx] = np.maximum(self.swing_peak[idx], foot_z)
-        state, priv = self.observe(r, idx, rngs)
         done = r.sensor("upvector")[:, 2] < 0.85 if self.early_termination else np.zeros(len(idx), dtype=bool)
-        terms = self._rewards(r, actions, idx, done, first_contact, contact, foot_z)
-        terms = {k: v * self.reward_scales[k] for k, v in terms.items()}
-        reward = np.clip(sum(terms.values()) * self.dt, 0.0, 10000.0)
-        self.last_last_act[idx] = self.last_act[idx]
-        self.last_act[idx] = actions
-        next_commands(self, idx, rngs, done)
-        self.feet_air_time[idx] *= ~contact
-        self.last_contact[idx] = contact
-        self.swing_peak[idx] *= ~contact
-        return state, priv, reward, done, terms
+        return joystick_step(self, r, actions, idx, rngs, self.contact(r), self.foot_z(r), done, next_commands)
 
-    def _rewards(self, r, a, idx, done, first_contact, contact, foot_z) -> dict:
+    def reward_terms(self, r, a, idx, done, first_contact, contact, foot_z) -> dict:
         cmd, q, qd, tau = self.command[idx], r.qpos[:, 7:], r.qvel[:, 6:], self.actuator_force(r)
         local, gyro, up = r.sensor("local_linvel"), r.sensor("gyro"), r.sensor("upvector")
         moving = np.linalg.norm(cmd, axis=1) >= 0.01
@@ -235,12 +220,8 @@ class SpotGaitTracking(Spot):
 
     def reset(self, idx: np.ndarray, rngs: list):
         for j, rng in enumerate(rngs):
-            i = idx[j]
-            self.gait_freq[i] = rng.uniform(*self.freq_range)
-            self.gait[i] = rng.integers(len(PHASES))
-            self.foot_height[i] = rng.uniform(*self.height_range)
-            self.command[i] = uniform_command(rng, self.cmd_lo, self.cmd_hi)
-        self.phase[idx] = PHASES[self.gait[idx]]
+            draw_gait(self, idx[j], rng, PHASES)
+            self.command[idx[j]] = uniform_command(rng, self.cmd_lo, self.cmd_hi)
         for a in (self.step, self.last_act, self.last_last_act, self.qpos_error_history, self.swing_peak, self.last_contact):
             a[idx] = 0
         return np.tile(self.init_q, (len(idx), 1)), np.zeros((len(idx), self.model.nv))

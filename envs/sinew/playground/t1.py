@@ -80,7 +80,7 @@ class T1Joystick(G1Joystick):
         still = np.linalg.norm(self.command[idx], axis=1) <= 0.01
         self.phase[idx[still]] = np.pi
 
-    def _rewards(self, r, a, idx, done, first_contact, contact, foot_z) -> dict:
+    def reward_terms(self, r, a, idx, done, first_contact, contact, foot_z) -> dict:
         local, gyro, qd = r.sensor("local_linvel"), r.sensor("gyro"), r.qvel[:, 6:]
         rot = site_rot(r, self.model, self.imu)
         yaw = np.arctan2(rot[:, 1, 0], rot[:, 0, 0])

@@ -102,6 +102,37 @@ def redraw_commands(task, idx: np.ndarray, rngs: list, done: np.ndarray) -> None
             task.steps_until_next_cmd[i] = round(rng.exponential() * 5.0 / task.dt)
 
 
+def joystick_step(task, r, actions: np.ndarray, idx: np.ndarray, rngs: list, contact: np.ndarray, foot_z: np.ndarray,
+                  done: np.ndarray, schedule) -> tuple:
+    """Go1's and Spot's joystick step once the physics has run: the feet's air times and swing
+    peaks, the observation, the reward terms (``task.reward_terms``) summed times ``ctrl_dt`` and
+    clipped at 0, the last actions, the command ``schedule(task, idx, rngs, done)`` and the feet's
+    bookkeeping. The task's ``after_step`` result."""
+    first_contact = (task.feet_air_time[idx] > 0.0) & (contact | task.last_contact[idx])
+    task.feet_air_time[idx] += task.dt
+    task.swing_peak[idx] = np.maximum(task.swing_peak[idx], foot_z)
+    state, priv = task.observe(r, idx, rngs)
+    terms = task.reward_terms(r, actions, idx, done, first_contact, contact, foot_z)
+    terms = {k: v * task.reward_scales[k] for k, v in terms.items()}
+    reward = np.clip(sum(terms.values()) * task.dt, 0.0, 10000.0)
+    task.last_last_act[idx] = task.last_act[idx]
+    task.last_act[idx] = actions
+    schedule(task, idx, rngs, done)
+    task.feet_air_time[idx] *= ~contact
+    task.last_contact[idx] = contact
+    task.swing_peak[idx] *= ~contact
+    return state, priv, reward, done, terms
+
+
+def draw_gait(task, i: int, rng, phases: np.ndarray) -> None:
+    """A gait for world ``i``'s episode: its frequency, which of ``phases`` (each foot's offset)
+    and its foot height, and the clock at those offsets."""
+    task.gait_freq[i] = rng.uniform(*task.freq_range)
+    task.gait[i] = rng.integers(len(phases))
+    task.foot_height[i] = rng.uniform(*task.height_range)
+    task.phase[i] = phases[task.gait[i]]
+
+
 class Task:
     """One Playground task: its model file, timing and action mapping, and how it resets, observes
     and rewards N worlds at once (arrays with one row per world). ``rngs`` holds one numpy
