@@ -77,7 +77,9 @@ fn accelerations(m: &Model, d: &mut Data, s: State<'_>) -> Accelerations {
     let mut f_ext = vec![Force::ZERO; m.nbody];
     let mut node_f = vec![Force::ZERO; m.nnode];
     let last = (&d.constraints.applied, &d.coll.contacts[..]);
-    generalized_constraint_force(m, &dy.kin, last, &mut node_f, &mut qfrc_c, |b, at, f| f_ext[b] += Force::at_point(at - origin, f));
+    generalized_constraint_force(m, &dy.kin, last, &mut node_f, &mut qfrc_c, |b, at, f, couple| {
+        f_ext[b] += Force::at_point(at - origin, f) + Force { ang: couple, lin: DVec3::ZERO }
+    });
     let tau: Vec<f64> = dy.qfrc_applied.iter().zip(&qfrc_c).map(|(a, c)| a + c).collect();
     aba::backward(m, &dy.kin, &tau, 0.0, &mut dy.aba);
     aba::forward(m, &dy.kin, &mut dy.aba, &mut dy.qacc);
@@ -367,9 +369,10 @@ fn contacts(m: &Model, c: &ContactSensor, (forces, list): (&AppliedForces, &[Con
 
 /// The last step's constraint forces (`last`: what its rows applied, and its contacts) as
 /// generalised forces `qfrc` (Jᵀ f, nv), with each contact force on a body passed to
-/// `on_body(body, point, force)`; `node_f` (nnode) is scratch.
+/// `on_body(body, point, force, couple)` (the couple of torsional and rolling friction); `node_f`
+/// (nnode) is scratch.
 pub fn generalized_constraint_force(
-    m: &Model, kin: &KinData, (forces, contacts): (&AppliedForces, &[Contact]), node_f: &mut [Force], qfrc: &mut [f64], mut on_body: impl FnMut(usize, DVec3, DVec3),
+    m: &Model, kin: &KinData, (forces, contacts): (&AppliedForces, &[Contact]), node_f: &mut [Force], qfrc: &mut [f64], mut on_body: impl FnMut(usize, DVec3, DVec3, DVec3),
 ) {
     qfrc.fill(0.0);
     if forces.contact.is_empty() && forces.connect.is_empty() && forces.joint.is_empty() {
@@ -378,17 +381,20 @@ pub fn generalized_constraint_force(
     // spatial constraint forces per node (world coordinates about the kinematics' origin), for Jᵀ f
     node_f.fill(Force::ZERO);
     for (c, f) in contacts.iter().zip(&forces.contact) {
-        let f_c = f.total;
-        if f_c == DVec3::ZERO {
+        let (f_c, t_c) = (f.total, f.torque);
+        if f_c == DVec3::ZERO && t_c == DVec3::ZERO {
             continue;
         }
         for (g, sign) in [(c.geom1, 1.0), (c.geom2, -1.0)] {
             let b = m.geom_body[g];
-            let fs = f_c * sign;
-            on_body(b, c.pos, fs);
+            let (fs, ts) = (f_c * sign, t_c * sign);
+            on_body(b, c.pos, fs, ts);
             let n = m.body_node[b];
             if n != WORLD {
                 node_f[n] += Force::at_point(c.pos - kin.origin, fs);
+                if ts != DVec3::ZERO {
+                    node_f[n] += Force { ang: ts, lin: DVec3::ZERO };
+                }
             }
         }
     }

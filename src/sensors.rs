@@ -184,8 +184,8 @@ fn com_based(f: &Frame<'_>, out: &mut Sensors<'_>) {
 fn constraint_forces(f: &Frame<'_>, c: &AppliedForces, contacts: &[Contact], node_f: &mut [Force], out: &mut Sensors<'_>) {
     out.cfrc_ext.fill(0.0);
     let cfrc_ext = &mut *out.cfrc_ext;
-    generalized_constraint_force(f.m, f.kin, (c, contacts), node_f, out.qfrc_constraint, |b, at, fs| {
-        let torque = (at - f.com_of_root(b)).cross(fs);
+    generalized_constraint_force(f.m, f.kin, (c, contacts), node_f, out.qfrc_constraint, |b, at, fs, couple| {
+        let torque = (at - f.com_of_root(b)).cross(fs) + couple;
         for k in 0..3 {
             cfrc_ext[6 * b + k] += torque[k];
             cfrc_ext[6 * b + 3 + k] += fs[k];

@@ -8,7 +8,7 @@ mod common;
 use common::{random_state, random_tree_mjcf, Rng};
 use sinew::dynamics::crba::{cholesky_solve, crba};
 use sinew::math::{DVec3, Motion};
-use sinew::model::{GeomType, Model, WORLD};
+use sinew::model::{GeomType, Model, PairFriction, WORLD};
 use sinew::collision::Contact;
 use sinew::constraint::{self, ConstraintData, RowKind};
 use sinew::dynamics::{aba, kinematics};
@@ -35,6 +35,11 @@ fn jacobian(m: &Model, data: &Data, con: &ConstraintData) -> Vec<Vec<f64>> {
         for j in 0..con.len() {
             rows[j][dof] = match con.kind[j] {
                 RowKind::Limit | RowKind::Motion { .. } => if con.dof[j].0 == dof { con.dof[j].1 } else { 0.0 },
+                // torsional and rolling friction: the sides' relative turning about dir
+                RowKind::Spin { .. } => {
+                    let w = |side: usize| if con.node[j][side] == WORLD { DVec3::ZERO } else { a[con.node[j][side]].ang };
+                    con.dir[j].dot(w(0) - w(1))
+                }
                 _ => {
                     let mut acc = DVec3::ZERO;
                     for side in 0..2 {
@@ -79,8 +84,8 @@ fn check(xml: &str, seed: u64) {
             pos: DVec3::new(r.uniform(-1.0, 1.0), r.uniform(-1.0, 1.0), r.uniform(-1.0, 1.0)),
             normal: n,
             dist: -1e-4,
-            mu: 0.8,
-            friction: true,
+            // every third contact with torsional and rolling friction (condim 6)
+            friction: PairFriction::new(if k % 3 == 0 { 6 } else { 3 }, [0.8, 0.02, 0.005]),
         });
     }
     // a world geom to stand for the ground: index past the end maps to the world below
@@ -104,6 +109,7 @@ fn check(xml: &str, seed: u64) {
     constraint::test_forces::assemble(&m2, &data.dynamics.kin, &data.dynamics.aba, &qacc, &mut con);
     let nr = con.len();
     assert!(nr >= 6, "rows {nr}");
+    assert!(contacts.iter().all(|c| c.friction.condim != 6) || con.kind.iter().any(|k| matches!(k, RowKind::Spin { .. })));
     let j = jacobian(&m2, &data, &con);
     let mass = crba(&m, &data.dynamics.kin);
     let mut worst = 0.0f64;

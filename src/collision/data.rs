@@ -4,7 +4,7 @@
 use glam::{DMat3, DVec3};
 
 use crate::dynamics::kinematics::KinData;
-use crate::model::{GeomType, Model, WORLD};
+use crate::model::{GeomType, Model, PairFriction, WORLD};
 
 /// One contact point. The normal points from geom2 to geom1: pushing body1 along +n and body2
 /// along −n separates them.
@@ -23,10 +23,8 @@ pub struct Contact {
     pub normal: DVec3,
     /// Signed distance: negative when penetrating.
     pub dist: f64,
-    /// Friction coefficient.
-    pub mu: f64,
-    /// Whether friction applies (condim > 1 for both geoms).
-    pub friction: bool,
+    /// Friction: sliding, torsional and rolling, as the pair's condim asks.
+    pub friction: PairFriction,
 }
 
 /// World poses of all geoms, the pairs' gaps, and the contact list.

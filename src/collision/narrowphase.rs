@@ -10,33 +10,33 @@ use super::ellipsoid;
 use super::terrain::hfield_contacts;
 use super::shapes::{box_box, boxes_part, closest_on_segment, closest_segments, point_box, segment_box_points, shape, spheres, Shape};
 use crate::dynamics::kinematics::KinData;
-use crate::model::{GeomPair, Model};
+use crate::model::{GeomPair, Model, PairFriction};
 
-/// The sliding friction coefficient of a contact between geoms i and j, and whether it has
-/// friction (condim > 1), as MuJoCo combines them: the higher-priority geom's, else the larger of
-/// each (a condim-1 foot on a condim-3 floor has friction).
-pub fn contact_friction(m: &Model, i: usize, j: usize) -> (f64, bool) {
-    let (mu, condim) = match m.geom_priority[i].cmp(&m.geom_priority[j]) {
-        std::cmp::Ordering::Greater => (m.geom_friction[i][0], m.geom_condim[i]),
-        std::cmp::Ordering::Less => (m.geom_friction[j][0], m.geom_condim[j]),
-        std::cmp::Ordering::Equal => (m.geom_friction[i][0].max(m.geom_friction[j][0]), m.geom_condim[i].max(m.geom_condim[j])),
+/// The friction of a contact between geoms i and j as MuJoCo combines them: the higher-priority
+/// geom's condim and coefficients, else the larger of each (a condim-1 foot on a condim-3 floor
+/// has friction).
+pub fn contact_friction(m: &Model, i: usize, j: usize) -> PairFriction {
+    let (fi, fj) = (m.geom_friction[i], m.geom_friction[j]);
+    let (coef, condim) = match m.geom_priority[i].cmp(&m.geom_priority[j]) {
+        std::cmp::Ordering::Greater => (fi, m.geom_condim[i]),
+        std::cmp::Ordering::Less => (fj, m.geom_condim[j]),
+        std::cmp::Ordering::Equal => (std::array::from_fn(|k| fi[k].max(fj[k])), m.geom_condim[i].max(m.geom_condim[j])),
     };
-    (mu, condim > 1)
+    PairFriction::new(condim, coef)
 }
 
 /// Where a pair's contacts go: kept when within the margin, with the pair's friction.
 struct Sink<'a> {
     m: &'a Model,
     margin: f64,
-    mu: f64,
-    friction: bool,
+    friction: PairFriction,
 }
 
 impl Sink<'_> {
     /// Appends a contact of geoms g1 and g2 within the margin (the deepest kept when full).
     #[allow(clippy::too_many_arguments)]
     fn add(&self, cd: &mut CollisionData, g1: usize, g2: usize, feature: usize, pos: DVec3, normal: DVec3, dist: f64) {
-        let c = Contact { geom1: g1, geom2: g2, feature, pos, normal, dist, mu: self.mu, friction: self.friction };
+        let c = Contact { geom1: g1, geom2: g2, feature, pos, normal, dist, friction: self.friction };
         if dist > self.margin || repeats_joint_contact(self.m, &cd.contacts, &c) {
             return;
         }
@@ -58,8 +58,8 @@ pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, p: &GeomPai
     pose_axes(m, kin, cd, i);
     pose_axes(m, kin, cd, j);
     let (si, sj) = (shape(m, cd, i), shape(m, cd, j));
-    let (mu, friction) = explicit.unwrap_or_else(|| contact_friction(m, i, j));
-    let sink = Sink { m, margin, mu, friction };
+    let friction = explicit.unwrap_or_else(|| contact_friction(m, i, j));
+    let sink = Sink { m, margin, friction };
     // order so that a plane or height field, if any, is geom2 (the normal then points out of it)
     let (g1, g2, s1, s2) = match (si, sj) {
         (Shape::Plane { .. } | Shape::HField { .. }, _) => (j, i, sj, si),

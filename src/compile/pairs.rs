@@ -6,7 +6,7 @@ use glam::DVec3;
 
 use crate::error::{Error, Result};
 use crate::mjcf::ModelSpec;
-use crate::model::{GeomPair, GeomType, Model, PairTest, WORLD};
+use crate::model::{GeomPair, GeomType, Model, PairFriction, PairTest, WORLD};
 
 /// Bounding radius of a geom about its centre (planes: infinite).
 pub fn geom_rbound(kind: GeomType, s: [f64; 3]) -> f64 {
@@ -66,7 +66,9 @@ pub fn explicit_pairs(m: &mut Model, spec: &ModelSpec) -> Result<Vec<GeomPair>> 
             return Err(Error::Compile(format!("<pair> at line {}: geoms '{}' and '{}' make no pair", p.line, p.geoms[0], p.geoms[1])));
         }
         let mut pair = geom_pair(m, i, j);
-        (pair.margin, pair.friction) = (p.margin, Some((p.friction[0], p.condim > 1)));
+        // MuJoCo's five: two sliding, one torsional, two rolling (the first of each pair is used)
+        let [slide, _, spin, roll, _] = p.friction;
+        (pair.margin, pair.friction) = (p.margin, Some(PairFriction::new(p.condim, [slide, spin, roll])));
         match out.iter().position(|q| (q.g1, q.g2) == (i, j)) {
             Some(k) => {
                 m.pair_friction[k] = p.friction;

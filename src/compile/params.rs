@@ -7,7 +7,7 @@ use glam::{DMat3, DVec3};
 use crate::dynamics::DynamicsData;
 use crate::error::{Error, Result};
 use crate::math::{SpatialInertia, Xform, MAX_STATE};
-use crate::model::{EqRef, Model, Transmission, Wrap, WORLD};
+use crate::model::{EqRef, Model, PairFriction, Transmission, Wrap, WORLD};
 
 /// A model field that may vary per world.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -292,8 +292,9 @@ impl Param {
             Param::PairFriction => {
                 m.pair_friction = values.chunks(5).map(|r| [r[0], r[1], r[2], r[3], r[4]]).collect();
                 for p in m.collision_pairs.iter_mut() {
-                    if let (Some((f, _)), Some(k)) = (p.friction.as_mut(), m.pair_geoms.iter().position(|&g| g == (p.g1, p.g2))) {
-                        *f = m.pair_friction[k][0];
+                    if let (Some(f), Some(k)) = (p.friction.as_mut(), m.pair_geoms.iter().position(|&g| g == (p.g1, p.g2))) {
+                        let [slide, _, spin, roll, _] = m.pair_friction[k];
+                        *f = PairFriction::new(f.condim, [slide, spin, roll]);
                     }
                 }
             }

@@ -15,8 +15,10 @@ pub struct ContactForce {
     pub total: DVec3,
     /// Along the normal.
     pub normal: f64,
-    /// The friction rows' part.
+    /// The sliding friction rows' part.
     pub friction: DVec3,
+    /// The couple of the torsional and rolling friction rows (N m).
+    pub torque: DVec3,
 }
 
 /// One connect row's force, pulling its two points together.
@@ -64,6 +66,7 @@ impl AppliedForces {
         for j in 0..con.len() {
             let f = force[j] * per_force;
             match con.kind[j] {
+                RowKind::Spin { .. } => self.contact[con.source[j]].torque += con.dir[j] * f,
                 RowKind::Normal | RowKind::Tangent { .. } => {
                     let c = &mut self.contact[con.source[j]];
                     // as the outputs have always summed them, bit for bit

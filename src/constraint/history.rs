@@ -48,8 +48,9 @@ pub enum RowKey {
         /// Lower limit.
         lower: bool,
     },
-    /// A row of a contact: the pair's geoms and feature, and the row's place in the contact (0:
-    /// the normal, then its friction rows).
+    /// A row of a contact: the pair's geoms and feature, the row's place in the contact (0: the
+    /// normal, then its sliding, torsional and rolling friction rows) and the place of the row
+    /// owning its λ (0: the normal's, for the sliding rows).
     Contact {
         /// First geom.
         geom1: usize,
@@ -59,6 +60,8 @@ pub enum RowKey {
         feature: usize,
         /// Place within the contact.
         within: usize,
+        /// Place of the row owning the row's λ.
+        cone: usize,
     },
     /// A motion-control row: the actuator, whether its force is bounded, and whether it pushes
     /// the joint forward.
@@ -94,25 +97,26 @@ pub enum RowKey {
 }
 
 impl RowKey {
-    /// Five integers (kind 0 limit, 1 contact, 2 motion, 3 dry friction, 4 equality, 5 connect; then the kind's fields, zeros filling),
+    /// Six integers (kind 0 limit, 1 contact, 2 motion, 3 dry friction, 4 equality, 5 connect; then the kind's fields, zeros filling),
     /// as [`History::to_flat`] writes them.
-    fn to_flat(self) -> [u64; 5] {
+    fn to_flat(self) -> [u64; ROW_KEY_LEN] {
         match self {
-            RowKey::Limit { joint, lower } => [0, joint as u64, 0, 0, lower as u64],
-            RowKey::Contact { geom1, geom2, feature, within } => [1, geom1 as u64, geom2 as u64, feature as u64, within as u64],
-            RowKey::Motion { actuator, bounded, positive } => [2, actuator as u64, 0, bounded as u64, positive as u64],
-            RowKey::DryFriction { dof, positive } => [3, dof as u64, 0, 0, positive as u64],
-            RowKey::Equality { equality, positive } => [4, equality as u64, 0, 0, positive as u64],
-            RowKey::Connect { axis, positive } => [5, axis as u64, 0, 0, positive as u64],
+            RowKey::Limit { joint, lower } => [0, joint as u64, 0, 0, lower as u64, 0],
+            RowKey::Contact { geom1, geom2, feature, within, cone } => [1, geom1 as u64, geom2 as u64, feature as u64, within as u64, cone as u64],
+            RowKey::Motion { actuator, bounded, positive } => [2, actuator as u64, 0, bounded as u64, positive as u64, 0],
+            RowKey::DryFriction { dof, positive } => [3, dof as u64, 0, 0, positive as u64, 0],
+            RowKey::Equality { equality, positive } => [4, equality as u64, 0, 0, positive as u64, 0],
+            RowKey::Connect { axis, positive } => [5, axis as u64, 0, 0, positive as u64, 0],
         }
     }
 
     /// The key [`RowKey::to_flat`] wrote, or None for integers no key writes.
-    fn from_flat([kind, a, b, c, d]: [u64; 5]) -> Option<RowKey> {
+    fn from_flat([kind, a, b, c, d, e]: [u64; ROW_KEY_LEN]) -> Option<RowKey> {
         let flag = |x: u64| (x <= 1).then_some(x == 1);
         match kind {
+            1 => Some(RowKey::Contact { geom1: a as usize, geom2: b as usize, feature: c as usize, within: d as usize, cone: e as usize }),
+            _ if e != 0 => None,
             0 if b == 0 && c == 0 => Some(RowKey::Limit { joint: a as usize, lower: flag(d)? }),
-            1 => Some(RowKey::Contact { geom1: a as usize, geom2: b as usize, feature: c as usize, within: d as usize }),
             2 if b == 0 => Some(RowKey::Motion { actuator: a as usize, bounded: flag(c)?, positive: flag(d)? }),
             3 if b == 0 && c == 0 => Some(RowKey::DryFriction { dof: a as usize, positive: flag(d)? }),
             4 if b == 0 && c == 0 => Some(RowKey::Equality { equality: a as usize, positive: flag(d)? }),
@@ -125,7 +129,7 @@ impl RowKey {
 /// Numbers a tangent takes in [`History::to_flat`]: geom1, geom2, feature, then the vector.
 const TANGENT_LEN: usize = 6;
 /// Numbers a warm-start row's identity takes in [`History::to_flat`].
-const ROW_KEY_LEN: usize = 5;
+const ROW_KEY_LEN: usize = 6;
 /// Numbers in the shortest flat history (nothing kept): regrow rate, the random state's two
 /// halves, the tangent, warm-start variable and row counts, the last step's kind and the sliding
 /// dofs' count.
@@ -241,9 +245,13 @@ fn check_rows(rows: &[RowKey]) -> Result<(), String> {
     }
     for (i, &key) in rows.iter().enumerate() {
         let ok = match key {
-            RowKey::Contact { geom1, geom2, feature, within } if within > 0 => {
-                within <= i && rows[i - within] == RowKey::Contact { geom1, geom2, feature, within: 0 }
+            RowKey::Contact { geom1, geom2, feature, within, cone } if within > 0 => {
+                within <= i
+                    && rows[i - within] == RowKey::Contact { geom1, geom2, feature, within: 0, cone: 0 }
+                    && cone <= within
+                    && (cone == 0 || matches!(rows[i - within + cone], RowKey::Contact { cone: c, within: w, .. } if c == cone && w == cone))
             }
+            RowKey::Contact { cone, .. } => cone == 0,
             _ => true,
         };
         if !ok {

@@ -199,7 +199,7 @@ pub fn push_contact_rows(m: &Model, kin: &KinData, aba: &AbaData, contacts: &[Co
         let g = m.opt.gravity;
         let arel = point_accel(kin, &aba.a, g, nodes[0], r) - point_accel(kin, &aba.a, g, nodes[1], r);
         let normal_row = out.len();
-        out.push(m, NewRow::contact(RowKind::Normal, nodes, pts, c.normal, c.mu, ci));
+        out.push(m, NewRow::contact(RowKind::Normal, nodes, pts, c.normal, c.friction.mu, ci));
         out.vel[normal_row] = c.normal.dot(vrel);
         out.jac[normal_row] = jacobian(nodes, [r; 2], [c.normal; 2]);
         out.arm[normal_row] = r;
@@ -215,14 +215,16 @@ pub fn push_contact_rows(m: &Model, kin: &KinData, aba: &AbaData, contacts: &[Co
         };
         out.centre[normal_row] = [centre(c.geom1, 1.0, nodes[0], pts[0]), centre(c.geom2, -1.0, nodes[1], pts[1])];
         out.lift[normal_row] = arc_lift(kin, out, normal_row, h, lever);
-        if c.friction && c.mu > 0.0 {
+        let fr = c.friction;
+        // in a planar model a normal in the plane leaves one tangent line that motion can use
+        let line = m.motion_plane.filter(|p| p.dot(c.normal).abs() < 1e-9).map(|p| p.cross(c.normal).normalize());
+        let mut tangent = None;
+        if fr.sliding && fr.mu > 0.0 {
             let vt = vrel - c.normal * c.normal.dot(vrel);
             let at = arel - c.normal * c.normal.dot(arel);
             let t = tangent_for(ci, c.normal, vt, at);
-            // in a planar model a normal in the plane leaves one tangent line that motion can
-            // use: the tangent is turned onto it, and the pyramid's rows across the plane, which
-            // no force could move, are not built
-            let line = m.motion_plane.filter(|p| p.dot(c.normal).abs() < 1e-9).map(|p| p.cross(c.normal).normalize());
+            // the tangent is turned onto a planar model's line, and the pyramid's rows across
+            // the plane, which no force could move, are not built
             let t = match line {
                 Some(e) if t.dot(e) < 0.0 => -e,
                 Some(e) => e,
@@ -238,13 +240,56 @@ pub fn push_contact_rows(m: &Model, kin: &KinData, aba: &AbaData, contacts: &[Co
             };
             for (k, d) in dirs.into_iter().enumerate().filter(|(_, d)| *d != DVec3::ZERO) {
                 let row = out.len();
-                out.push(m, NewRow::contact(RowKind::Tangent { normal: normal_row }, nodes, pts, d, c.mu, ci));
+                out.push(m, NewRow::contact(RowKind::Tangent { normal: normal_row }, nodes, pts, d, fr.mu, ci));
                 out.vel[row] = d.dot(vrel);
                 out.jac[row] = jacobian(nodes, [r; 2], [d; 2]);
                 out.arm[row] = r;
                 if k % 2 == 1 {
                     out.mirror[row] = row - 1;
                 }
+            }
+            tangent = Some(t);
+        }
+        if !fr.sliding || (fr.spin <= 0.0 && fr.roll <= 0.0) {
+            continue;
+        }
+        // torsional friction about the normal (none in a planar model whose normal lies in the
+        // plane: that turn leaves the plane); rolling friction about the tangents, the first
+        // along the relative rolling (so that the pyramid's full μ opposes it), else the sliding
+        // tangent (a planar model's: about the plane's normal alone)
+        let omega = |n: usize| if n == WORLD { DVec3::ZERO } else { kin.v[n].ang };
+        let wrel = omega(nodes[0]) - omega(nodes[1]);
+        if fr.spin > 0.0 && line.is_none() {
+            push_spin_rows(m, (nodes, pts, ci, normal_row), &[c.normal], fr.spin, wrel, out);
+        }
+        if fr.roll > 0.0 {
+            let rolling = wrel - c.normal * c.normal.dot(wrel);
+            let a = match (line, tangent) {
+                (Some(_), _) => m.motion_plane.unwrap_or(DVec3::Z),
+                _ if rolling.length() > SLIDING_SPEED => rolling / rolling.length(),
+                (None, Some(t)) => t,
+                (None, None) => c.normal.any_orthonormal_vector(),
+            };
+            let axes = [a, c.normal.cross(a)];
+            push_spin_rows(m, (nodes, pts, ci, normal_row), &axes[..if line.is_some() { 1 } else { 2 }], fr.roll, wrel, out);
+        }
+    }
+}
+
+/// One group of torsional or rolling friction rows of contact `ci` (normal row `normal_row`,
+/// between `pts` on `nodes`): a ± pair of couples about each of `axes`, bounded together by
+/// `mu` f_n through the λ of the group's first row; `wrel` the sides' relative angular velocity.
+fn push_spin_rows(m: &Model, (nodes, pts, ci, normal_row): ([usize; 2], [DVec3; 2], usize, usize), axes: &[DVec3], mu: f64, wrel: DVec3, out: &mut ConstraintData) {
+    let cone = out.len();
+    for &axis in axes {
+        for d in [axis, -axis] {
+            let row = out.len();
+            out.push(m, NewRow::contact(RowKind::Spin { normal: normal_row, cone }, nodes, pts, d, mu, ci));
+            let couple = |side: usize, s: f64| if nodes[side] == WORLD { Force::ZERO } else { Force { ang: d * s, lin: DVec3::ZERO } };
+            out.jac[row] = [couple(0, 1.0), couple(1, -1.0)];
+            out.vel[row] = d.dot(wrel);
+            if d != axis {
+                out.mirror[row] = row - 1;
             }
         }
     }
@@ -545,7 +590,7 @@ fn motion_target(m: &Model, a: usize, (kp, kd): (f64, f64), qpos: &[f64], qvel: 
 /// Row j's velocity J_j q̇, from the nodes' spatial velocities `v` of that `qvel`.
 pub fn row_velocity(out: &ConstraintData, j: usize, v: &[Motion], qvel: &[f64]) -> f64 {
     match out.kind[j] {
-        RowKind::Normal | RowKind::Tangent { .. } | RowKind::Connect { .. } => {
+        RowKind::Normal | RowKind::Tangent { .. } | RowKind::Spin { .. } | RowKind::Connect { .. } => {
             let side = |s: usize| if out.node[j][s] == WORLD { 0.0 } else { v[out.node[j][s]].dot(&out.jac[j][s]) };
             side(0) + side(1)
         }

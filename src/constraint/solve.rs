@@ -164,6 +164,12 @@ pub fn leave_out(data: &mut World<'_>, level: Level, n: usize) -> bool {
                 let idle = warm && guess[normal] && (normal + 1..con.len()).take_while(|&r| con.kind[r] == RowKind::Tangent { normal }).all(|r| !guess[r]);
                 (out[j], out[data.constraints.solve.lambda[normal]]) = (left || idle, left);
             }
+            // torsional and rolling rows likewise, group by group
+            RowKind::Spin { normal, cone } => {
+                let left = out[normal];
+                let idle = warm && guess[normal] && (cone..con.len()).take_while(|&r| con.kind[r] == RowKind::Spin { normal, cone }).all(|r| !guess[r]);
+                (out[j], out[data.constraints.solve.lambda[cone]]) = (left || idle, left);
+            }
             _ => {}
         }
     }
@@ -192,7 +198,7 @@ pub fn warm_guess(data: &mut World<'_>, level: Level, n: usize) -> bool {
     let (keys, warm) = (&history.warm_rows, &history.warm);
     // last step's λ (σ) variable of each owner row, from its rows' identities
     let old_n = number_lambdas(keys.len(), |i| match keys[i] {
-        RowKey::Contact { within, .. } if within > 0 => i.checked_sub(within),
+        RowKey::Contact { within, cone, .. } if within > 0 => i.checked_sub(within - cone),
         RowKey::Motion { bounded: true, .. } | RowKey::DryFriction { .. } => Some(i),
         _ => None,
     }, old_lambda);
@@ -209,7 +215,7 @@ pub fn warm_guess(data: &mut World<'_>, level: Level, n: usize) -> bool {
             // a friction row of such a contact sticking against the demand
             guess[j] = match con.kind[j] {
                 RowKind::Normal | RowKind::Limit => q[j] < 0.0,
-                RowKind::Tangent { normal } => guess[normal] && q[j] < 0.0,
+                RowKind::Tangent { normal } | RowKind::Spin { normal, .. } => guess[normal] && q[j] < 0.0,
                 _ => false,
             };
             continue;
@@ -224,7 +230,8 @@ pub fn warm_guess(data: &mut World<'_>, level: Level, n: usize) -> bool {
 }
 
 /// Numbers the LCP's λ variables after the `nr` rows, into `lambda` (per row: the λ it owns, or
-/// usize::MAX): one per contact with friction rows, shared by them (eq. 21 sums their forces), and
+/// usize::MAX): one per contact with friction rows, shared by them (eq. 21 sums their forces), one
+/// per group of torsional or rolling rows, owned by its first row, and
 /// one σ per torque-bounded motion-control row (the same pattern with a constant bound), in the
 /// order of their rows; `owner(j)` is the row owning row j's λ. Returns the variable count.
 pub fn number_lambdas(nr: usize, owner: impl Fn(usize) -> Option<usize>, lambda: &mut Vec<usize>) -> usize {
@@ -253,6 +260,7 @@ pub fn lcp_vector(m: &Model, data: &mut World<'_>, level: Level) -> Option<usize
     let kind = &data.constraints.con.kind;
     let n = number_lambdas(nr, |j| match kind[j] {
         RowKind::Tangent { normal } => Some(normal),
+        RowKind::Spin { cone, .. } => Some(cone),
         RowKind::Motion { bounded: true } | RowKind::DryFriction => Some(j),
         _ => None,
     }, &mut data.constraints.solve.lambda);
@@ -280,12 +288,12 @@ pub fn lcp_vector(m: &Model, data: &mut World<'_>, level: Level) -> Option<usize
             (RowKind::DryFriction, Level::Acceleration) => -vel / h,
             (RowKind::DryFriction, Level::Velocity) => 0.0,
             (RowKind::DryFriction, Level::TimeStep) => -(vel + h * con.b[j]),
-            (RowKind::Tangent { .. }, Level::Acceleration) => -vel / h,
-            (RowKind::Tangent { .. }, Level::Velocity) => -vel,
+            (RowKind::Tangent { .. } | RowKind::Spin { .. }, Level::Acceleration) => -vel / h,
+            (RowKind::Tangent { .. } | RowKind::Spin { .. }, Level::Velocity) => -vel,
             // time stepping: end-of-step velocity v⁺ (tangents: 0; normals: close the gap or remove
             // a fraction of the penetration; restitution for fast approach) against the predicted
             // constraint-free v_p = v + h b
-            (RowKind::Tangent { .. }, Level::TimeStep) => -(vel + h * con.b[j]),
+            (RowKind::Tangent { .. } | RowKind::Spin { .. }, Level::TimeStep) => -(vel + h * con.b[j]),
             (_, Level::TimeStep) => {
                 let mut target = closing_velocity(dist, con.dist_start[j], h, lever) + con.lift[j];
                 if -vel > impact && dist + lever * vel < 0.0 && m.opt.restitution > 0.0 {
@@ -316,7 +324,7 @@ pub fn lcp_vector(m: &Model, data: &mut World<'_>, level: Level) -> Option<usize
             Level::Velocity | Level::TimeStep => -desired,
         };
     }
-    let trivial = (0..nr).all(|j| q[j] >= 0.0 || matches!(con.kind[j], RowKind::Tangent { .. }));
+    let trivial = (0..nr).all(|j| q[j] >= 0.0 || con.kind[j].friction_group().is_some());
     (!trivial).then_some(n)
 }
 
@@ -329,7 +337,7 @@ pub fn lcp_vector(m: &Model, data: &mut World<'_>, level: Level) -> Option<usize
 /// `impact`: [`impact_speed`].
 fn apart(m: &Model, con: &ConstraintData, j: usize, impact: f64) -> bool {
     let r = match con.kind[j] {
-        RowKind::Tangent { normal } => normal,
+        RowKind::Tangent { normal } | RowKind::Spin { normal, .. } => normal,
         RowKind::Normal | RowKind::Limit => j,
         RowKind::Motion { .. } | RowKind::DryFriction | RowKind::Equality | RowKind::Connect { .. } => return false,
     };
@@ -407,9 +415,11 @@ pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, islan
         mm[a * k + rows..(a + 1) * k].fill(0.0);
         mm[a * k + a] = kjj + lcp::REGULARISATION * kjj.abs().max(1e-300);
         match con.kind[j] {
-            RowKind::Tangent { normal } => {
-                // (20): (a_t − a_t^d) + λ ≥ 0;  (21): μ f_n − Σ f_t ≥ 0 ⟂ λ ≥ 0
-                let (lam, normal) = (at(lambda[normal]), at(normal));
+            RowKind::Tangent { .. } | RowKind::Spin { .. } => {
+                // (20): (a_t − a_t^d) + λ ≥ 0;  (21): μ f_n − Σ f_t ≥ 0 ⟂ λ ≥ 0, over the rows
+                // of the λ's group (a torsional or rolling group's μ a length, its rows couples)
+                let (normal, owner) = con.kind[j].friction_group().unwrap_or((j, j));
+                let (lam, normal) = (at(lambda[owner]), at(normal));
                 mm[a * k + lam] = 1.0;
                 mm[lam * k + normal] = con.mu[j];
                 mm[lam * k + a] = -1.0;
@@ -543,11 +553,12 @@ pub fn row_key(con: &ConstraintData, contacts: &[collision::Contact], j: usize) 
         RowKind::Connect { .. } => RowKey::Connect { axis: con.source[j], positive: con.mirror[j] == usize::MAX },
         kind => {
             let c = &contacts[con.source[j]];
-            let within = match kind {
-                RowKind::Tangent { normal } => j - normal,
-                _ => 0,
+            let (within, cone) = match kind {
+                RowKind::Tangent { normal } => (j - normal, 0),
+                RowKind::Spin { normal, cone } => (j - normal, cone - normal),
+                _ => (0, 0),
             };
-            RowKey::Contact { geom1: c.geom1, geom2: c.geom2, feature: c.feature, within }
+            RowKey::Contact { geom1: c.geom1, geom2: c.geom2, feature: c.feature, within, cone }
         }
     }
 }

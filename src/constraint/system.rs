@@ -18,6 +18,17 @@ pub enum RowKind {
         /// Index of the contact's normal row.
         normal: usize,
     },
+    /// Friction against the contact's relative turning about `dir` (MuJoCo's condim 4 and 6):
+    /// torsional about the normal, rolling about a tangent. One of a ± pair of couples, bounded
+    /// with its group's other rows by μ f_n (μ the torsional or rolling coefficient, a length)
+    /// through the λ owned by row `cone`, the group's first row, as the sliding rows are by the
+    /// normal's (seed eqs. 20–21 with a λ per group).
+    Spin {
+        /// Index of the contact's normal row.
+        normal: usize,
+        /// The row owning the group's λ.
+        cone: usize,
+    },
     /// A joint's limit (source: the joint) or a tendon's (source: njnt + the tendon, its J the
     /// row's `terms`): the force pushes away from the limit.
     Limit,
@@ -49,13 +60,29 @@ pub enum RowKind {
 impl RowKind {
     /// Contact rows (normal and friction), as opposed to joint rows (limits, motion control).
     pub fn is_contact(self) -> bool {
-        matches!(self, RowKind::Normal | RowKind::Tangent { .. })
+        matches!(self, RowKind::Normal | RowKind::Tangent { .. } | RowKind::Spin { .. })
+    }
+
+    /// A contact friction row's (sliding, torsional, rolling) normal row and the row owning its
+    /// λ (the normal's for sliding rows, the group's first for the others).
+    pub fn friction_group(self) -> Option<(usize, usize)> {
+        match self {
+            RowKind::Tangent { normal } => Some((normal, normal)),
+            RowKind::Spin { normal, cone } => Some((normal, cone)),
+            _ => None,
+        }
+    }
+
+    /// Rows whose Jacobian is a pure couple (a weld's rotation rows, torsional and rolling
+    /// friction): their measure is the sides' relative angular acceleration.
+    pub fn is_couple(self) -> bool {
+        matches!(self, RowKind::Connect { angular: true } | RowKind::Spin { .. })
     }
 
     /// Rows whose Jacobian is a spatial force at each side's node (contacts and connects), as
     /// opposed to torques on dofs.
     pub fn is_point(self) -> bool {
-        matches!(self, RowKind::Normal | RowKind::Tangent { .. } | RowKind::Connect { .. })
+        matches!(self, RowKind::Normal | RowKind::Tangent { .. } | RowKind::Spin { .. } | RowKind::Connect { .. })
     }
 }
 
@@ -318,7 +345,7 @@ impl ConstraintData {
         self.kind.push(kind);
         self.node.push(node);
         self.tree.push(match kind {
-            RowKind::Normal | RowKind::Tangent { .. } | RowKind::Connect { .. } => node.map(tree_of),
+            RowKind::Normal | RowKind::Tangent { .. } | RowKind::Spin { .. } | RowKind::Connect { .. } => node.map(tree_of),
             RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction | RowKind::Equality => [tree_of(m.jnt_node[m.dof_jnt[dof.0]]), WORLD],
         });
         self.term_span.push((self.terms.len(), 0));

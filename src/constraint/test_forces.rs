@@ -293,7 +293,7 @@ impl PointAccel {
         let normal = match cd.kind[j] {
             RowKind::Normal => j,
             RowKind::Tangent { normal } => normal,
-            RowKind::Connect { .. } => return cd.dir[j].dot(accel()),
+            RowKind::Connect { .. } | RowKind::Spin { .. } => return cd.dir[j].dot(accel()),
             RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction | RowKind::Equality => return cd.joint_rate(j, qacc),
         };
         if self.normal != normal {
@@ -335,7 +335,7 @@ fn delta_accels(cd: &ConstraintData, nv: usize, trees: [usize; 2], cols: &[usize
     let normal = match cd.kind[j] {
         RowKind::Normal => j,
         RowKind::Tangent { normal } => normal,
-        RowKind::Connect { .. } => return dot3(cd.dir[j], &point_accels(cd, trees, j)),
+        RowKind::Connect { .. } | RowKind::Spin { .. } => return dot3(cd.dir[j], &point_accels(cd, trees, j)),
         RowKind::Limit | RowKind::Motion { .. } | RowKind::DryFriction | RowKind::Equality => {
             return Lanes(std::array::from_fn(|l| cols.get(l).map_or(0.0, |&k| cd.joint_rate(j, &cd.dqdd[k * nv..(k + 1) * nv]))));
         }
@@ -346,13 +346,13 @@ fn delta_accels(cd: &ConstraintData, nv: usize, trees: [usize; 2], cols: &[usize
     dot3(cd.dir[j], &point.accel)
 }
 
-/// The relative acceleration of row j's points (a weld's couple: its bodies' relative angular
+/// The relative acceleration of row j's points (a couple's: its bodies' relative angular
 /// acceleration) in every lane, as [`delta_accels`] reads it.
 #[inline(always)]
 fn point_accels(cd: &ConstraintData, trees: [usize; 2], j: usize) -> [Lanes; 3] {
     let ([n0, n1], [t0, t1], r) = (cd.node[j], cd.tree[j], cd.arm[j]);
     let a = &cd.delta.a;
-    if cd.kind[j] == (RowKind::Connect { angular: true }) {
+    if cd.kind[j].is_couple() {
         let side = |n: usize, t: usize| if moves(trees, t) { [a[n][0], a[n][1], a[n][2]] } else { [Lanes::ZERO; 3] };
         let (s0, s1) = (side(n0, t0), side(n1, t1));
         return [s0[0] - s1[0], s0[1] - s1[1], s0[2] - s1[2]];
@@ -384,7 +384,7 @@ pub(super) fn measure(m: &Model, kin: &KinData, aba: &AbaData, qacc0: &[f64], cd
     }
     point.row(cd, j, qacc0, || {
         let ([n0, n1], [p0, p1]) = (cd.node[j], cd.point[j]);
-        if cd.kind[j] == (RowKind::Connect { angular: true }) {
+        if cd.kind[j].is_couple() {
             let alpha = |n: usize| if n == WORLD { DVec3::ZERO } else { aba.a[n].ang };
             return alpha(n0) - alpha(n1);
         }

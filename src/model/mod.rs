@@ -15,7 +15,7 @@ pub mod visual;
 use glam::{DMat3, DQuat, DVec3};
 
 pub use crate::mjcf::{ActuatorDyn, GeomType, Integrator, JointType};
-pub use pairs::{geom_tree, same_tree, GapPair, GeomPair, PairTest, PlaneGroup, PAIR_BITS_GEOMS};
+pub use pairs::{geom_tree, same_tree, GapPair, GeomPair, PairFriction, PairTest, PlaneGroup, PAIR_BITS_GEOMS};
 pub use sensor::{ContactObject, ContactSensor, SensorFrame, SensorKind};
 use crate::math::{SpatialInertia, Xform};
 

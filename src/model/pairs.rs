@@ -16,12 +16,36 @@ pub struct GeomPair {
     pub margin: f64,
     /// The bounding radii of the bounded geoms, summed.
     pub radii: f64,
-    /// An explicit pair's (`<contact><pair>`) friction coefficient and whether friction applies;
-    /// None: the geoms' ([`crate::collision::contact_friction`]).
-    pub friction: Option<(f64, bool)>,
+    /// An explicit pair's (`<contact><pair>`) friction; None: the geoms'
+    /// ([`crate::collision::contact_friction`]).
+    pub friction: Option<PairFriction>,
     /// Whether both geoms move (neither is the world's nor a plane): their relative motion then
     /// bounds how near the step can bring them.
     pub both_move: bool,
+}
+
+/// The friction of a pair's contacts: the sliding coefficient and whether friction applies
+/// (condim > 1), and the torsional (condim ≥ 4, a length) and rolling (condim 6, a length)
+/// coefficients, zero where the condim leaves them out.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PairFriction {
+    /// MuJoCo's condim: 1, 3, 4 or 6.
+    pub condim: u32,
+    /// Sliding friction coefficient.
+    pub mu: f64,
+    /// Whether friction applies (condim > 1).
+    pub sliding: bool,
+    /// Torsional coefficient: the largest couple about the normal per unit normal force.
+    pub spin: f64,
+    /// Rolling coefficient: the largest couple about a tangent per unit normal force.
+    pub roll: f64,
+}
+
+impl PairFriction {
+    /// The friction of condim `condim` with MuJoCo's coefficients (sliding, torsional, rolling).
+    pub fn new(condim: u32, [mu, spin, roll]: [f64; 3]) -> PairFriction {
+        PairFriction { condim, mu, sliding: condim > 1, spin: if condim >= 4 { spin } else { 0.0 }, roll: if condim >= 6 { roll } else { 0.0 } }
+    }
 }
 
 /// A pair of two bounded geoms ([`PairTest::Spheres`]), which keeps a lower bound on its distance

@@ -357,7 +357,8 @@ impl PySim {
     }
 
     /// Contacts of the last step: dicts with geom1, geom2, body1, body2, pos, normal, dist (m,
-    /// negative when penetrating), normal_force and friction_force (world vector, N).
+    /// negative when penetrating), normal_force, friction_force (world vector, N) and
+    /// friction_torque (the torsional and rolling friction's couple on geom 1, world, N m).
     #[getter]
     fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, pyo3::types::PyDict>>> {
         let m = &*self.model;
@@ -374,6 +375,7 @@ impl PySim {
             d.set_item("dist", c.dist)?;
             d.set_item("normal_force", f.normal)?;
             d.set_item("friction_force", f.friction.to_array())?;
+            d.set_item("friction_torque", f.torque.to_array())?;
             out.push(d);
         }
         Ok(out)
@@ -381,7 +383,7 @@ impl PySim {
 
     /// The constraint system a step from the current state starts with, computed afresh at it
     /// (the world and its history are untouched): a dict of `kind` (per row: "normal",
-    /// "friction", "limit" or "motion"), `J` (rows × nv), `K` (rows × rows, every column by unit
+    /// "friction", "spin" (torsional or rolling friction), "limit", "motion", "dry_friction", "equality" or "connect"), `J` (rows × nv), `K` (rows × rows, every column by unit
     /// test forces through the articulated-body quantities), `b` (rows,) and `M` (nv × nv, the
     /// CRBA inertia K is built with: M + h × joint damping, which the constrained step treats
     /// implicitly), so that K = J M⁻¹ Jᵀ.
@@ -401,6 +403,7 @@ impl PySim {
             .map(|k| match k {
                 RowKind::Normal => "normal",
                 RowKind::Tangent { .. } => "friction",
+                RowKind::Spin { .. } => "spin",
                 RowKind::Limit => "limit",
                 RowKind::Motion { .. } => "motion",
                 RowKind::DryFriction => "dry_friction",

@@ -67,8 +67,8 @@ def split_history(state, short, nu):
     warm = h[at + 1:at + 1 + nw]
     at += 1 + nw
     nr = int(h[at])
-    rows = [h[at + 1 + 5 * k:at + 6 + 5 * k] for k in range(nr)]
-    return h[:at - nw - 1], warm, rows, h[at + 1 + 5 * nr:]
+    rows = [h[at + 1 + 6 * k:at + 7 + 6 * k] for k in range(nr)]
+    return h[:at - nw - 1], warm, rows, h[at + 1 + 6 * nr:]
 
 
 def join_history(state, short, nu, head, warm, rows, tail):

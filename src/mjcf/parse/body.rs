@@ -325,19 +325,11 @@ impl Parser<'_> {
         })
     }
 
-    /// A geom's or pair's `condim` (1, 3, 4 or 6; default 3), with a warning for 4 and 6.
+    /// A geom's or pair's `condim` (1, 3, 4 or 6; default 3).
     pub(super) fn condim(&self, e: &El) -> Result<u32> {
         let condim = e.uint("condim", 3)?;
         if ![1, 3, 4, 6].contains(&condim) {
             return Err(e.err("condim", format!("must be 1, 3, 4 or 6, got {condim}")));
-        }
-        if condim > 3 {
-            self.warnings.borrow_mut().push(format!(
-                "<{}> '{}' at line {}: condim={condim} asks for torsional or rolling friction, which sinew does not model (sliding friction only, as condim=3)",
-                e.tag(),
-                e.str("name"),
-                e.line
-            ));
         }
         Ok(condim)
     }
