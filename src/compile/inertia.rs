@@ -55,11 +55,50 @@ fn geom_moments(kind: GeomType, s: [f64; 3], m: f64) -> DVec3 {
     }
 }
 
+/// Mass and principal moments of a primitive geom whose mass is on its surface
+/// (`shellinertia`: `density` per area, unless `mass` is given), as MuJoCo's compiler computes
+/// them; None for the shapes sinew gives no shell (ellipsoids, meshes).
+fn shell(kind: GeomType, s: [f64; 3], density: f64, mass: Option<f64>) -> Option<(f64, DVec3)> {
+    use std::f64::consts::PI;
+    let (r, h) = (s[0], 2.0 * s[1]);
+    if kind == GeomType::Box {
+        let [a, b, c] = s.map(|x| 2.0 * x);
+        let area = 2.0 * (a * b + a * c + b * c);
+        let m = mass.unwrap_or(density * area);
+        // about the first axis: the two faces across it, then the two pairs beside it, each
+        // plate's moment moved off by half the box
+        let moment = |(a, b, c): (f64, f64, f64)| m / area * 2.0 * (b * c * (b * b + c * c) / 12.0 + a * c * (b * b / 4.0 + c * c / 12.0) + a * b * (b * b / 12.0 + c * c / 4.0));
+        return Some((m, DVec3::new(moment((a, b, c)), moment((b, a, c)), moment((c, a, b)))));
+    }
+    // the parts' areas: a cylinder's side and caps, a capsule's side and sphere
+    let (side, ends) = match kind {
+        GeomType::Sphere => (0.0, 4.0 * PI * r * r),
+        GeomType::Cylinder => (2.0 * PI * r * h, 2.0 * PI * r * r),
+        GeomType::Capsule => (2.0 * PI * r * h, 4.0 * PI * r * r),
+        _ => return None,
+    };
+    let m = mass.unwrap_or(density * (side + ends));
+    let (ms, me) = (m * side / (side + ends), m * ends / (side + ends));
+    // a thin tube: r² about its axis, r²/2 + h²/12 across it
+    let (tube_z, tube_x) = (ms * r * r, ms * (r * r / 2.0 + h * h / 12.0));
+    let (z, x) = match kind {
+        GeomType::Sphere => (2.0 / 3.0 * me * r * r, 2.0 / 3.0 * me * r * r),
+        // two disks at ±h/2
+        GeomType::Cylinder => (me * r * r / 2.0, me * (r * r / 4.0 + h * h / 4.0)),
+        // two hemispherical shells at ±h/2, each one's centroid r/2 beyond its rim
+        _ => (2.0 / 3.0 * me * r * r, me * (2.0 / 3.0 * r * r + h * r / 2.0 + h * h / 4.0)),
+    };
+    Some((m, DVec3::new(tube_x + x, tube_x + x, tube_z + z)))
+}
+
 /// Rigid inertia of a geom expressed in its body's frame.
 pub fn geom_inertia(g: &GeomSpec) -> SpatialInertia {
-    let m = g.mass.unwrap_or_else(|| g.density * geom_volume(g.kind, g.size));
+    let (m, moments) = g.shell.then(|| shell(g.kind, g.size, g.density, g.mass)).flatten().unwrap_or_else(|| {
+        let m = g.mass.unwrap_or_else(|| g.density * geom_volume(g.kind, g.size));
+        (m, geom_moments(g.kind, g.size, m))
+    });
     let rot = DMat3::from_quat(g.quat);
-    let local = SpatialInertia::new(m, DVec3::ZERO, DMat3::from_diagonal(geom_moments(g.kind, g.size, m)));
+    let local = SpatialInertia::new(m, DVec3::ZERO, DMat3::from_diagonal(moments));
     local.to_parent(rot, g.pos)
 }
 

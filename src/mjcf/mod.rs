@@ -184,6 +184,8 @@ pub struct GeomSpec {
     pub density: f64,
     /// Explicit mass, overriding density.
     pub mass: Option<f64>,
+    /// `shellinertia`: the mass on the surface (density per area), not through the volume.
+    pub shell: bool,
     /// Sliding, torsional, rolling friction.
     pub friction: [f64; 3],
     /// Contact type bitmask.

@@ -102,6 +102,23 @@ def test_boundmass_and_boundinertia_raise_light_bodies_as_mujoco_does():
     np.testing.assert_allclose(sim.qacc, d.qacc, rtol=1e-9, atol=1e-9)
 
 
+@pytest.mark.parametrize("shape, size", [("sphere", ".02"), ("box", ".1 .2 .3"), ("capsule", ".05 .2"), ("cylinder", ".05 .2")])
+@pytest.mark.parametrize("extra", ["", 'mass="2"', 'density="300"'])
+def test_shellinertia_puts_a_primitives_mass_on_its_surface_as_mujoco_does(shape, size, extra):
+    xml = f"""<mujoco><worldbody><body><freejoint/><geom type="{shape}" size="{size}" pos=".1 0 0" euler="10 20 30"
+        shellinertia="true" {extra}/></body></worldbody></mujoco>"""
+    mj, sm = both(xml)
+    np.testing.assert_allclose(sm.body_mass, mj.body_mass, rtol=1e-12)
+    moments = np.sort(np.linalg.eigvalsh(np.asarray(sm.body_inertia_tensor)[1]))
+    np.testing.assert_allclose(moments, np.sort(mj.body_inertia[1]), rtol=1e-9)
+
+
+def test_shellinertia_on_an_ellipsoid_is_warned_and_solid():
+    with pytest.warns(sinew.ModelWarning, match="shellinertia"):
+        sm = sinew.Model.from_mjcf_string('<mujoco><worldbody><body><freejoint/><geom type="ellipsoid" size=".1 .2 .3" shellinertia="true"/></body></worldbody></mujoco>')
+    assert sm.body_mass[1] == pytest.approx(1000 * 4 / 3 * np.pi * 0.006)
+
+
 MOCAP = """
 <mujoco>
   <worldbody>

@@ -16,7 +16,7 @@ pub(super) const JOINT_ATTRS: &[&str] = &[
 ];
 pub(super) const GEOM_ATTRS: &[&str] = &[
     "name", "class", "type", "size", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "fromto", "density",
-    "mass", "friction", "contype", "conaffinity", "condim", "priority", "margin", "rgba", "material", "mesh", "hfield",
+    "mass", "shellinertia", "friction", "contype", "conaffinity", "condim", "priority", "margin", "rgba", "material", "mesh", "hfield",
     "fluidshape", "fluidcoef",
 ];
 pub(super) const SITE_ATTRS: &[&str] =
@@ -301,6 +301,14 @@ impl Parser<'_> {
         let mut fr = [1.0, 0.005, 0.0001];
         fr[..friction.len()].copy_from_slice(&friction);
         let condim = self.condim(&e)?;
+        let shell = e.tristate("shellinertia")?.unwrap_or(false);
+        if shell && matches!(kind, GeomType::Ellipsoid | GeomType::Mesh) {
+            self.warnings.borrow_mut().push(format!(
+                "<geom> '{}' at line {}: shellinertia on an ellipsoid or a mesh is not modelled (its mass and inertia are the solid's)",
+                e.str("name"),
+                e.line
+            ));
+        }
         Ok(GeomSpec {
             name: e.str("name").to_string(),
             kind,
@@ -309,6 +317,7 @@ impl Parser<'_> {
             quat,
             density: e.nonneg("density", 1000.0)?,
             mass,
+            shell,
             friction: fr,
             contype: e.uint("contype", 1)?,
             conaffinity: e.uint("conaffinity", 1)?,
