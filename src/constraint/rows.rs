@@ -189,6 +189,9 @@ pub fn push_contact_rows(m: &Model, kin: &KinData, aba: &AbaData, contacts: &[Co
     if !contacts.is_empty() {
         velocity_products(m, kin, &mut out.a_vp);
     }
+    // the run of contacts of one geom pair (contacts of a pair come together) and its first
+    // contact's normal row and sliding tangent
+    let mut run = (0, 0, None);
     for (ci, c) in contacts.iter().enumerate() {
         let nodes = [node_of_geom(m, c.geom1), node_of_geom(m, c.geom2)];
         let local = |n: usize| if n == WORLD { c.pos } else { kin.node_rot[n].transpose() * (c.pos - kin.node_pos[n]) };
@@ -250,29 +253,48 @@ pub fn push_contact_rows(m: &Model, kin: &KinData, aba: &AbaData, contacts: &[Co
             }
             tangent = Some(t);
         }
-        if !fr.sliding || (fr.spin <= 0.0 && fr.roll <= 0.0) {
-            continue;
+        let pair = |c: &Contact| (c.geom1, c.geom2);
+        if ci == 0 || pair(&contacts[ci - 1]) != pair(c) {
+            run = (ci, normal_row, tangent);
         }
-        // torsional friction about the normal (none in a planar model whose normal lies in the
-        // plane: that turn leaves the plane); rolling friction about the tangents, the first
-        // along the relative rolling (so that the pyramid's full μ opposes it), else the sliding
-        // tangent (a planar model's: about the plane's normal alone)
-        let omega = |n: usize| if n == WORLD { DVec3::ZERO } else { kin.v[n].ang };
-        let wrel = omega(nodes[0]) - omega(nodes[1]);
-        if fr.spin > 0.0 && line.is_none() {
-            push_spin_rows(m, (nodes, pts, ci, normal_row), &[c.normal], fr.spin, wrel, out);
+        if contacts.get(ci + 1).is_none_or(|next| pair(next) != pair(c)) {
+            push_turning_rows(m, kin, contacts, run, out);
         }
-        if fr.roll > 0.0 {
-            let rolling = wrel - c.normal * c.normal.dot(wrel);
-            let a = match (line, tangent) {
-                (Some(_), _) => m.motion_plane.unwrap_or(DVec3::Z),
-                _ if rolling.length() > SLIDING_SPEED => rolling / rolling.length(),
-                (None, Some(t)) => t,
-                (None, None) => c.normal.any_orthonormal_vector(),
-            };
-            let axes = [a, c.normal.cross(a)];
-            push_spin_rows(m, (nodes, pts, ci, normal_row), &axes[..if line.is_some() { 1 } else { 2 }], fr.roll, wrel, out);
-        }
+    }
+}
+
+/// The torsional and rolling friction rows of a run of contacts of one geom pair (`run`: its
+/// first contact, that contact's normal row and sliding tangent): the couples are the same at
+/// every contact of the pair, so they are built once, after the run's last contact, bounded by μ
+/// times the run's normal forces together (`constraint::solve`). Torsional friction about the
+/// first normal (none in a planar model whose normal lies in the plane: that turn leaves the
+/// plane); rolling friction about the tangents, the first along the relative rolling (so that
+/// the pyramid's full μ opposes it), else the sliding tangent (a planar model's: about the
+/// plane's normal alone).
+fn push_turning_rows(m: &Model, kin: &KinData, contacts: &[Contact], (ci, normal_row, tangent): (usize, usize, Option<DVec3>), out: &mut ConstraintData) {
+    let c = &contacts[ci];
+    let fr = c.friction;
+    if !fr.sliding || (fr.spin <= 0.0 && fr.roll <= 0.0) {
+        return;
+    }
+    let nodes = [out.node[normal_row][0], out.node[normal_row][1]];
+    let pts = out.point[normal_row];
+    let line = m.motion_plane.filter(|p| p.dot(c.normal).abs() < 1e-9);
+    let omega = |n: usize| if n == WORLD { DVec3::ZERO } else { kin.v[n].ang };
+    let wrel = omega(nodes[0]) - omega(nodes[1]);
+    if fr.spin > 0.0 && line.is_none() {
+        push_spin_rows(m, (nodes, pts, ci, normal_row), &[c.normal], fr.spin, wrel, out);
+    }
+    if fr.roll > 0.0 {
+        let rolling = wrel - c.normal * c.normal.dot(wrel);
+        let a = match (line, tangent) {
+            (Some(p), _) => p,
+            _ if rolling.length() > SLIDING_SPEED => rolling / rolling.length(),
+            (None, Some(t)) => t,
+            (None, None) => c.normal.any_orthonormal_vector(),
+        };
+        let axes = [a, c.normal.cross(a)];
+        push_spin_rows(m, (nodes, pts, ci, normal_row), &axes[..if line.is_some() { 1 } else { 2 }], fr.roll, wrel, out);
     }
 }
 

@@ -166,8 +166,11 @@ pub fn leave_out(data: &mut World<'_>, level: Level, n: usize) -> bool {
             }
             // torsional and rolling rows likewise, group by group
             RowKind::Spin { normal, cone } => {
-                let left = out[normal];
-                let idle = warm && guess[normal] && (cone..con.len()).take_while(|&r| con.kind[r] == RowKind::Spin { normal, cone }).all(|r| !guess[r]);
+                // bounded by the normal forces of its geom pair's contacts (the normal rows
+                // between the first one and the group)
+                let normals = (normal..cone).filter(|&r| con.kind[r] == RowKind::Normal);
+                let left = normals.clone().all(|r| out[r]);
+                let idle = warm && normals.clone().any(|r| guess[r]) && (cone..con.len()).take_while(|&r| con.kind[r] == RowKind::Spin { normal, cone }).all(|r| !guess[r]);
                 (out[j], out[data.constraints.solve.lambda[cone]]) = (left || idle, left);
             }
             _ => {}
@@ -415,15 +418,29 @@ pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, islan
         mm[a * k + rows..(a + 1) * k].fill(0.0);
         mm[a * k + a] = kjj + lcp::REGULARISATION * kjj.abs().max(1e-300);
         match con.kind[j] {
-            RowKind::Tangent { .. } | RowKind::Spin { .. } => {
-                // (20): (a_t − a_t^d) + λ ≥ 0;  (21): μ f_n − Σ f_t ≥ 0 ⟂ λ ≥ 0, over the rows
-                // of the λ's group (a torsional or rolling group's μ a length, its rows couples)
-                let (normal, owner) = con.kind[j].friction_group().unwrap_or((j, j));
-                let (lam, normal) = (at(lambda[owner]), at(normal));
+            RowKind::Tangent { normal } => {
+                // (20): (a_t − a_t^d) + λ ≥ 0;  (21): μ f_n − Σ f_t ≥ 0 ⟂ λ ≥ 0
+                let (lam, normal) = (at(lambda[normal]), at(normal));
                 mm[a * k + lam] = 1.0;
                 mm[lam * k + normal] = con.mu[j];
                 mm[lam * k + a] = -1.0;
                 role[a] = lcp::Role::Friction { normal, lambda: lam, mu: con.mu[j] };
+            }
+            RowKind::Spin { normal, cone } => {
+                // the same over a torsional or rolling group (μ a length, the rows couples),
+                // with f_n the normal force of its geom pair's contacts together; the role's
+                // normal is a kept one of them
+                let lam = at(lambda[cone]);
+                let mut kept = at(normal);
+                for r in (normal..cone).filter(|&r| con.kind[r] == RowKind::Normal) {
+                    mm[lam * k + at(r)] = con.mu[j];
+                    if out[kept] && !out[at(r)] {
+                        kept = at(r);
+                    }
+                }
+                mm[a * k + lam] = 1.0;
+                mm[lam * k + a] = -1.0;
+                role[a] = lcp::Role::Friction { normal: kept, lambda: lam, mu: con.mu[j] };
             }
             RowKind::Motion { bounded: true } | RowKind::DryFriction => {
                 // (a − a^d) + σ ≥ 0 ⟂ f ≥ 0;  f_max − f ≥ 0 ⟂ σ ≥ 0, f_max a force (an impulse per step

@@ -143,3 +143,30 @@ def test_a_pinch_of_two_point_contacts_holds_a_twist_only_with_torsional_frictio
         assert turn < 1e-7
     else:
         assert turn > 1.0
+
+
+@pytest.mark.parametrize("scale, holds", [(0.9, True), (1.1, False)])
+def test_a_boxs_corner_contacts_share_one_torsion_group_bounded_by_its_weight(scale, holds):
+    # no sliding friction: only the torsional couple, μ_t times the four corners' normal forces
+    # together, holds the twist
+    mu_t, a = 0.02, 0.1
+    xml = f"""<mujoco><option timestep="0.002"/><worldbody>
+    <geom name="floor" type="plane" size="5 5 .1" condim="4" friction="0 {mu_t} 0"/>
+    <body pos="0 0 {a}"><freejoint/><geom type="box" size="{a} {a} {a}" mass="{M}" condim="4" friction="0 {mu_t} 0"/></body>
+    </worldbody></mujoco>"""
+    sim = sinew.Sim(sinew.Model.from_mjcf_string(xml))
+    for _ in range(50):
+        sim.step()
+    kinds = list(sim.constraint_system()["kind"])
+    assert kinds.count("normal") == 4 and kinds.count("spin") == 2
+    tau = scale * mu_t * M * G
+    xf = np.zeros((sim.model.nbody, 6))
+    xf[1, 5] = tau
+    sim.set_xfrc_applied(xf)
+    for _ in range(500):
+        sim.step()
+    if holds:
+        assert abs(sim.qvel[5]) < 1e-8
+    else:
+        i_z = M * (2 * a) ** 2 / 6
+        assert sim.qvel[5] == pytest.approx((tau - mu_t * M * G) / i_z, rel=1e-3)
