@@ -426,22 +426,7 @@ pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, islan
                 mm[lam * k + a] = -1.0;
                 role[a] = lcp::Role::Friction { normal, lambda: lam, mu: con.mu[j] };
             }
-            RowKind::Spin { normal, cone } => {
-                // the same over a torsional or rolling group (μ a length, the rows couples),
-                // with f_n the normal force of its geom pair's contacts together; the role's
-                // normal is a kept one of them
-                let lam = at(lambda[cone]);
-                let mut kept = at(normal);
-                for r in (normal..cone).filter(|&r| con.kind[r] == RowKind::Normal) {
-                    mm[lam * k + at(r)] = con.mu[j];
-                    if out[kept] && !out[at(r)] {
-                        kept = at(r);
-                    }
-                }
-                mm[a * k + lam] = 1.0;
-                mm[lam * k + a] = -1.0;
-                role[a] = lcp::Role::Friction { normal: kept, lambda: lam, mu: con.mu[j] };
-            }
+            RowKind::Spin { normal, cone } => role[a] = spin_coupling(con, j, (normal, cone), a, &at, lambda, out, (mm, k)),
             RowKind::Motion { bounded: true } | RowKind::DryFriction => {
                 // (a − a^d) + σ ≥ 0 ⟂ f ≥ 0;  f_max − f ≥ 0 ⟂ σ ≥ 0, f_max a force (an impulse per step
                 // when time stepping, none during an impact)
@@ -467,6 +452,26 @@ pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, islan
         }
     }
     solved
+}
+
+/// Torsional or rolling row j's couplings, as a sliding row's (seed eqs. 20–21) over its group
+/// (μ a length, the rows couples) with f_n the normal force of its geom pair's contacts together
+/// (the normal rows from `normal` to the group's first row `cone`), into the island's k × k
+/// matrix `mm` (row j its variable a, `at` the island's number of a variable); its role, whose
+/// normal is a kept one of them.
+#[allow(clippy::too_many_arguments)]
+fn spin_coupling(con: &ConstraintData, j: usize, (normal, cone): (usize, usize), a: usize, at: &impl Fn(usize) -> usize, lambda: &[usize], out: &[bool], (mm, k): (&mut [f64], usize)) -> lcp::Role {
+    let lam = at(lambda[cone]);
+    let mut kept = at(normal);
+    for r in (normal..cone).filter(|&r| con.kind[r] == RowKind::Normal) {
+        mm[lam * k + at(r)] = con.mu[j];
+        if out[kept] && !out[at(r)] {
+            kept = at(r);
+        }
+    }
+    mm[a * k + lam] = 1.0;
+    mm[lam * k + a] = -1.0;
+    lcp::Role::Friction { normal: kept, lambda: lam, mu: con.mu[j] }
 }
 
 /// Gathers an island's variables `vars` from the whole problem's (q, left out, warm set) into

@@ -301,14 +301,7 @@ impl Parser<'_> {
         let mut fr = [1.0, 0.005, 0.0001];
         fr[..friction.len()].copy_from_slice(&friction);
         let condim = self.condim(&e)?;
-        let shell = e.tristate("shellinertia")?.unwrap_or(false);
-        if shell && matches!(kind, GeomType::Ellipsoid | GeomType::Mesh) {
-            self.warnings.borrow_mut().push(format!(
-                "<geom> '{}' at line {}: shellinertia on an ellipsoid or a mesh is not modelled (its mass and inertia are the solid's)",
-                e.str("name"),
-                e.line
-            ));
-        }
+        let shell = self.shell_inertia(&e, kind)?;
         Ok(GeomSpec {
             name: e.str("name").to_string(),
             kind,
@@ -332,6 +325,19 @@ impl Parser<'_> {
             fluid: fluid_shape(&e)?,
             line: e.line,
         })
+    }
+
+    /// A geom's `shellinertia`, with a warning where sinew gives the shape no shell.
+    fn shell_inertia(&self, e: &El, kind: GeomType) -> Result<bool> {
+        let shell = e.tristate("shellinertia")?.unwrap_or(false);
+        if shell && matches!(kind, GeomType::Ellipsoid | GeomType::Mesh) {
+            self.warnings.borrow_mut().push(format!(
+                "<geom> '{}' at line {}: shellinertia on an ellipsoid or a mesh is not modelled (its mass and inertia are the solid's)",
+                e.str("name"),
+                e.line
+            ));
+        }
+        Ok(shell)
     }
 
     /// A geom's or pair's `condim` (1, 3, 4 or 6; default 3).
