@@ -95,6 +95,8 @@ pub struct LcpWork {
     used: Vec<bool>,
     /// Candidate rows of the ratio test.
     cand: Vec<usize>,
+    /// Projected Gauss–Seidel's sums of each λ's friction forces.
+    pgs_sum: Vec<f64>,
     /// Bounded forces an active-set solve holds at their caps, with their slacks, and which
     /// variables those are.
     pinned: Vec<(usize, usize)>,
@@ -476,7 +478,7 @@ fn cascade(p: Problem<'_>, warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpW
     work.stiff = stiff;
     // Lemke failed the check: projected Gauss–Seidel, polished (near the solution, its active set
     // often settles it exactly), unless Lemke's answer was the closer one
-    if pgs(n, m, q, role, z) {
+    if pgs(n, m, q, role, z, &mut work.pgs_sum) {
         let pgs_res = polish(n, m, q, role, z, work);
         if pgs_res <= lemke_res {
             if pgs_res <= ACCEPT_RESIDUAL {

@@ -55,6 +55,8 @@ pub struct SolveData {
     pub warm: Vec<bool>,
     /// Last step's λ variable of each of its rows that owns one, scratch for `constraint::solve::warm_guess`.
     pub warm_lambda: Vec<usize>,
+    /// Last step's rows in the order of their identities, scratch for `constraint::solve::warm_guess`.
+    pub warm_by_key: Vec<usize>,
     /// Lemke tableau.
     pub work: LcpWork,
 }
@@ -189,7 +191,7 @@ pub fn leave_out(data: &mut World<'_>, level: Level, n: usize) -> bool {
 pub fn warm_guess(data: &mut World<'_>, level: Level, n: usize) -> bool {
     let coll = &*data.coll;
     let Constraints { con, history, solve, .. } = &mut *data.constraints;
-    let SolveData { impact_warm, warm: guess, lambda: lcp_lambda, warm_lambda: old_lambda, q, .. } = solve;
+    let SolveData { impact_warm, warm: guess, lambda: lcp_lambda, warm_lambda: old_lambda, warm_by_key: by_key, q, .. } = solve;
     guess.clear();
     if level == Level::Velocity {
         return false;
@@ -209,11 +211,16 @@ pub fn warm_guess(data: &mut World<'_>, level: Level, n: usize) -> bool {
         return false;
     }
     guess.resize(n, false);
-    // rows keep their order across steps, so each search starts after the last match
+    // rows keep their order across steps, so each row's key is looked for after the last match
+    // first, then among the keys in order (each key is recorded once)
+    by_key.clear();
+    by_key.extend(0..keys.len());
+    by_key.sort_unstable_by_key(|&i| keys[i]);
     let mut at = 0;
     for j in 0..con.len() {
         let key = row_key(con, &coll.contacts, j);
-        let Some(i) = (at..keys.len()).chain(0..at.min(keys.len())).find(|&i| keys[i] == key) else {
+        let found = if keys.get(at) == Some(&key) { Some(at) } else { by_key.binary_search_by_key(&key, |&i| keys[i]).ok().map(|k| by_key[k]) };
+        let Some(i) = found else {
             // a new row: a contact or limit the motion without force drives into starts pressing,
             // a friction row of such a contact sticking against the demand
             guess[j] = match con.kind[j] {
