@@ -70,8 +70,6 @@ pub struct StabilizeData {
     ten: TendonData,
     /// Variables the solve leaves out.
     left_out: Vec<bool>,
-    /// The active set the LCP starts from: the rows that penetrate.
-    guess: Vec<bool>,
 }
 
 impl StabilizeData {
@@ -370,9 +368,7 @@ fn solve(m: &Model, data: &mut World<'_>, qpos: &mut [f64]) {
         // nothing is left out, so one solve; were rows brought back, M is complete and the solve
         // is simply repeated
         post.left_out.clear();
-        post.guess.clear();
-        post.guess.extend(post.gap.iter().map(|&d| d < 0.0));
-        while !lcp::solve(lcp::Problem { n: k, m: &post.m, q: &post.gap, role: &post.role }, true, Some(&post.guess), &mut post.left_out, &mut post.p, &mut post.work, stats) {}
+        while !lcp::solve(lcp::Problem { n: k, m: &post.m, q: &post.gap, role: &post.role }, true, None, &mut post.left_out, &mut post.p, &mut post.work, stats) {}
         post.dq.fill(0.0);
         for a in 0..k {
             let p = post.p[a];
