@@ -170,3 +170,21 @@ def test_a_boxs_corner_contacts_share_one_torsion_group_bounded_by_its_weight(sc
     else:
         i_z = M * (2 * a) ** 2 / 6
         assert sim.qvel[5] == pytest.approx((tau - mu_t * M * G) / i_z, rel=1e-3)
+
+
+def test_a_planar_balls_rolling_friction_is_one_pair_about_the_planes_normal():
+    # a ball on x, z slides and a y hinge: torsion would leave the plane, so only the rolling
+    # pair about y is built, and the ball stops where the 3D one does
+    mu_r, v0 = 0.005, 1.0
+    xml = f"""<mujoco><option timestep="0.002"/><worldbody>
+    <geom type="plane" size="5 5 .1" condim="6" friction="1 0.01 {mu_r}"/>
+    <body pos="0 0 {R}"><joint type="slide" axis="1 0 0"/><joint type="slide" axis="0 0 1"/><joint type="hinge" axis="0 1 0"/>
+    <geom type="sphere" size="{R}" mass="{M}" condim="6" friction="1 0.01 {mu_r}"/></body></worldbody></mujoco>"""
+    sim = sinew.Sim(sinew.Model.from_mjcf_string(xml))
+    sim.qvel[:] = [v0, 0.0, v0 / R]
+    sim.step()
+    assert list(sim.constraint_system()["kind"]).count("spin") == 2
+    for _ in range(1999):
+        sim.step()
+    assert sim.qpos[0] == pytest.approx(v0**2 / (2 * 5 * mu_r * G / (7 * R)), rel=2e-3)
+    assert np.abs(sim.qvel).max() < 1e-9
