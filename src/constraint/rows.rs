@@ -222,7 +222,7 @@ pub fn push_contact_rows(m: &Model, kin: &KinData, aba: &AbaData, contacts: &[Co
         // in a planar model a normal in the plane leaves one tangent line that motion can use
         let line = m.motion_plane.filter(|p| p.dot(c.normal).abs() < 1e-9).map(|p| p.cross(c.normal).normalize());
         let mut tangent = None;
-        if fr.sliding && fr.mu > 0.0 {
+        if fr.sliding() && fr.mu > 0.0 {
             let vt = vrel - c.normal * c.normal.dot(vrel);
             let at = arel - c.normal * c.normal.dot(arel);
             let t = tangent_for(ci, c.normal, vt, at);
@@ -274,7 +274,7 @@ pub fn push_contact_rows(m: &Model, kin: &KinData, aba: &AbaData, contacts: &[Co
 fn push_turning_rows(m: &Model, kin: &KinData, contacts: &[Contact], (ci, normal_row, tangent): (usize, usize, Option<DVec3>), out: &mut ConstraintData) {
     let c = &contacts[ci];
     let fr = c.friction;
-    if !fr.sliding || (fr.spin <= 0.0 && fr.roll <= 0.0) {
+    if !fr.sliding() || (fr.spin <= 0.0 && fr.roll <= 0.0) {
         return;
     }
     let nodes = [out.node[normal_row][0], out.node[normal_row][1]];

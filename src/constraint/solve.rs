@@ -212,14 +212,20 @@ pub fn warm_guess(data: &mut World<'_>, level: Level, n: usize) -> bool {
     }
     guess.resize(n, false);
     // rows keep their order across steps, so each row's key is looked for after the last match
-    // first, then among the keys in order (each key is recorded once)
+    // first, then among the keys in order (each key is recorded once), sorted at the first miss
     by_key.clear();
-    by_key.extend(0..keys.len());
-    by_key.sort_unstable_by_key(|&i| keys[i]);
     let mut at = 0;
     for j in 0..con.len() {
         let key = row_key(con, &coll.contacts, j);
-        let found = if keys.get(at) == Some(&key) { Some(at) } else { by_key.binary_search_by_key(&key, |&i| keys[i]).ok().map(|k| by_key[k]) };
+        let found = if keys.get(at) == Some(&key) {
+            Some(at)
+        } else {
+            if by_key.is_empty() {
+                by_key.extend(0..keys.len());
+                by_key.sort_unstable_by_key(|&i| keys[i]);
+            }
+            by_key.binary_search_by_key(&key, |&i| keys[i]).ok().map(|k| by_key[k])
+        };
         let Some(i) = found else {
             // a new row: a contact or limit the motion without force drives into starts pressing,
             // a friction row of such a contact sticking against the demand
@@ -334,7 +340,7 @@ pub fn lcp_vector(m: &Model, data: &mut World<'_>, level: Level) -> Option<usize
             Level::Velocity | Level::TimeStep => -desired,
         };
     }
-    let trivial = (0..nr).all(|j| q[j] >= 0.0 || con.kind[j].friction_group().is_some());
+    let trivial = (0..nr).all(|j| q[j] >= 0.0 || con.kind[j].is_friction());
     (!trivial).then_some(n)
 }
 

@@ -63,14 +63,9 @@ impl RowKind {
         matches!(self, RowKind::Normal | RowKind::Tangent { .. } | RowKind::Spin { .. })
     }
 
-    /// A contact friction row's (sliding, torsional, rolling) normal row and the row owning its
-    /// λ (the normal's for sliding rows, the group's first for the others).
-    pub fn friction_group(self) -> Option<(usize, usize)> {
-        match self {
-            RowKind::Tangent { normal } => Some((normal, normal)),
-            RowKind::Spin { normal, cone } => Some((normal, cone)),
-            _ => None,
-        }
+    /// Contact friction rows: sliding, torsional and rolling.
+    pub fn is_friction(self) -> bool {
+        matches!(self, RowKind::Tangent { .. } | RowKind::Spin { .. })
     }
 
     /// Rows whose Jacobian is a pure couple (a weld's rotation rows, torsional and rolling

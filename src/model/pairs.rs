@@ -24,8 +24,7 @@ pub struct GeomPair {
     pub both_move: bool,
 }
 
-/// The friction of a pair's contacts: the sliding coefficient and whether friction applies
-/// (condim > 1), and the torsional (condim ≥ 4, a length) and rolling (condim 6, a length)
+/// The friction of a pair's contacts: its condim, the sliding coefficient, and the torsional (condim ≥ 4, a length) and rolling (condim 6, a length)
 /// coefficients, zero where the condim leaves them out.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PairFriction {
@@ -33,8 +32,6 @@ pub struct PairFriction {
     pub condim: u32,
     /// Sliding friction coefficient.
     pub mu: f64,
-    /// Whether friction applies (condim > 1).
-    pub sliding: bool,
     /// Torsional coefficient: the largest couple about the normal per unit normal force.
     pub spin: f64,
     /// Rolling coefficient: the largest couple about a tangent per unit normal force.
@@ -42,9 +39,14 @@ pub struct PairFriction {
 }
 
 impl PairFriction {
+    /// Whether friction applies (condim > 1).
+    pub fn sliding(&self) -> bool {
+        self.condim > 1
+    }
+
     /// The friction of condim `condim` with MuJoCo's coefficients (sliding, torsional, rolling).
     pub fn new(condim: u32, [mu, spin, roll]: [f64; 3]) -> PairFriction {
-        PairFriction { condim, mu, sliding: condim > 1, spin: if condim >= 4 { spin } else { 0.0 }, roll: if condim >= 6 { roll } else { 0.0 } }
+        PairFriction { condim, mu, spin: if condim >= 4 { spin } else { 0.0 }, roll: if condim >= 6 { roll } else { 0.0 } }
     }
 }
 

@@ -137,15 +137,10 @@ impl Parser<'_> {
             parent,
             pos: e.vec3("pos", DVec3::ZERO)?,
             quat: self.orientation(&e)?,
-            joints: vec![],
-            geoms: vec![],
-            sites: vec![],
-            inertial: None,
-            cameras: vec![],
-            lights: vec![],
             mocap,
             gravcomp: e.f64("gravcomp", 0.0)?,
-            line: e.line,
+            // no joints, geoms, sites, inertial, cameras or lights until its children are read
+            ..BodySpec::world(e.line)
         });
         self.body_children(n, id, cc.as_deref())?;
         if mocap && !self.spec.bodies[id].joints.is_empty() {
