@@ -6,6 +6,7 @@ use glam::DVec3;
 use super::broadphase::{apart, own_reach_of, test_margin};
 use super::data::{has_own_reach, pose, posed, reach, CollisionData};
 use super::narrowphase::pair;
+use super::pair_narrowed;
 use crate::dynamics::aba::AbaData;
 use crate::dynamics::kinematics::KinData;
 use crate::math::quat_wxyz;
@@ -109,7 +110,11 @@ pub(super) fn test_lazily(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Col
         return spheres_gap(out, p, spare);
     }
     let tested = test_margin(m, kin, aba, out, k, margin);
-    if tested < margin && apart(out, p, tested) { spheres_gap(out, p, spare) } else { pair(m, kin, out, p, tested) }
+    if tested < margin {
+        if apart(out, p, tested) { spheres_gap(out, p, spare) } else { pair(m, kin, out, p, tested) }
+    } else {
+        pair_narrowed(m, kin, aba, out, k, margin)
+    }
 }
 
 /// The distance between a pair's bounding spheres where it exceeds `spare`, else −∞ (also for

@@ -37,6 +37,7 @@
 
 use crate::model::Model;
 
+use crate::dynamics::aba::AbaData;
 use crate::dynamics::kinematics::KinData;
 use crate::dynamics::DynamicsData;
 use crate::state::WorldState;
@@ -138,15 +139,23 @@ pub fn collide(m: &Model, dy: &DynamicsData, s: &WorldState<'_>, out: &mut Colli
             }
             continue;
         }
-        let before = out.contacts.len();
-        pair(m, kin, out, p, margin);
-        // two moving geoms: only their relative motion can close the gap (bounded only where a
-        // contact found lies farther than that could matter)
-        if p.both_move && out.contacts[before..].iter().any(|c| c.dist > p.margin + fall(m)) {
-            narrow(out, k, before, (p.margin + relative_reach(m, kin, aba, out, p)).min(margin));
-        }
+        pair_narrowed(m, kin, aba, out, k, margin);
     }
     out.near = near;
+}
+
+/// Pair k's narrowphase within `margin`, its geoms' own reaches: where both geoms move, the
+/// contacts found farther than their relative motion can close are dropped (bounded only where a
+/// contact found lies farther than that could matter: two feet of a falling robot keep their
+/// distance). Returns [`pair`]'s distance.
+fn pair_narrowed(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData, k: usize, margin: f64) -> f64 {
+    let p = &m.collision_pairs[k];
+    let before = out.contacts.len();
+    let dist = pair(m, kin, out, p, margin);
+    if p.both_move && out.contacts[before..].iter().any(|c| c.dist > p.margin + fall(m)) {
+        narrow(out, k, before, (p.margin + relative_reach(m, kin, aba, out, p)).min(margin));
+    }
+    dist
 }
 
 /// Drops the contacts from `before` on (pair k's) farther than `margin`, and notes the pair's
