@@ -296,30 +296,33 @@ fn the_sweep_finds_the_contacts_of_testing_every_pair() {
     assert!(touching > states / 2, "{touching} of {states} steps touch: not a test of the sweep");
 }
 
-/// Two box feet 2 cm apart on the legs of a robot falling at 20 m/s with no floor (so every pair
-/// is tested through the gaps' path): each foot's own reach is 8 cm, but the feet move alike, and
-/// detection bounds the pair by their relative motion: no (speculative) contact between them at
-/// any step, as in MuJoCo. A kick that swings the legs together brings the contacts back.
+/// Two feet 2 cm apart (boxes, cylinders, capsules) on the legs of a robot falling at 20 m/s with
+/// no floor (so every pair is tested through the gaps' path): each foot's own reach is 8 cm, but
+/// the feet move alike, and detection bounds the pair by their relative motion: no (speculative)
+/// contact between them at any step, as in MuJoCo. A kick that swings the legs together brings
+/// the contacts back.
 #[test]
 fn a_falling_robots_feet_keep_their_distance() {
-    let m = Model::from_mjcf(
-        r#"<mujoco><option timestep=".004"/><worldbody><body name="pelvis"><freejoint/><geom type="box" size=".1 .1 .05"/>
-        <body pos="0 .06 0"><joint type="hinge" axis="1 0 0"/><geom type="box" size=".05 .05 .02" pos="0 0 -.3"/></body>
-        <body pos="0 -.06 0"><joint type="hinge" axis="1 0 0"/><geom type="box" size=".05 .05 .02" pos="0 0 -.3"/></body>
-        </body></worldbody></mujoco>"#,
-    )
-    .unwrap();
-    let mut s = sinew::State::new(&m);
-    s.qvel[2] = -20.0;
-    for step in 0..50 {
-        s.step(&m);
-        assert!(s.data.coll.contacts.is_empty(), "step {step}: {:?}", s.data.coll.contacts);
+    for foot in [r#"type="box" size=".05 .05 .02""#, r#"type="cylinder" size=".05 .02""#, r#"type="capsule" size=".02 .03" quat="1 1 0 0""#] {
+        let m = Model::from_mjcf(&format!(
+            r#"<mujoco><option timestep=".004"/><worldbody><body name="pelvis"><freejoint/><geom type="box" size=".1 .1 .05"/>
+            <body pos="0 .06 0"><joint type="hinge" axis="1 0 0"/><geom {foot} pos="0 0 -.3"/></body>
+            <body pos="0 -.06 0"><joint type="hinge" axis="1 0 0"/><geom {foot} pos="0 0 -.3"/></body>
+            </body></worldbody></mujoco>"#
+        ))
+        .unwrap();
+        let mut s = sinew::State::new(&m);
+        s.qvel[2] = -20.0;
+        for step in 0..50 {
+            s.step(&m);
+            assert!(s.data.coll.contacts.is_empty(), "{foot} step {step}: {:?}", s.data.coll.contacts);
+        }
+        // the legs swing toward each other at 5 rad/s (0.3 m arms: 1.5 m/s, 6 mm a step each)
+        (s.qvel[6], s.qvel[7]) = (-5.0, 5.0);
+        let touched = (0..20).any(|_| {
+            s.step(&m);
+            !s.data.coll.contacts.is_empty()
+        });
+        assert!(touched, "{foot}: the swinging feet found no contact");
     }
-    // the legs swing toward each other at 5 rad/s (0.3 m arms: 1.5 m/s, 6 mm a step each)
-    (s.qvel[6], s.qvel[7]) = (-5.0, 5.0);
-    let touched = (0..20).any(|_| {
-        s.step(&m);
-        !s.data.coll.contacts.is_empty()
-    });
-    assert!(touched, "the swinging feet found no contact");
 }

@@ -233,13 +233,15 @@ pub(super) fn relative_reach(m: &Model, kin: &KinData, aba: &AbaData, out: &Coll
 }
 
 /// The margin pair k is tested within, `margin` from each geom's own bound: where both geoms move
-/// and one is a mesh, whose test costs far more than [`relative_reach`], the narrower margin of
-/// their relative motion, noted in [`CollisionData::narrowed`] (two links of a falling robot
-/// test their meshes only for what their joints can close).
+/// and one is a mesh, a cylinder or an ellipsoid, whose test (GJK) costs far more than
+/// [`relative_reach`], the narrower margin of their relative motion, noted in
+/// [`CollisionData::narrowed`] (two links of a falling robot test their meshes and cylinders only
+/// for what their joints can close).
 #[inline(always)]
 pub(super) fn test_margin(m: &Model, kin: &KinData, aba: &AbaData, out: &mut CollisionData, k: usize, margin: f64) -> f64 {
     let p = &m.collision_pairs[k];
-    if !(p.both_move && (m.geom_type[p.g1] == GeomType::Mesh || m.geom_type[p.g2] == GeomType::Mesh)) {
+    let dear = |g: usize| matches!(m.geom_type[g], GeomType::Mesh | GeomType::Cylinder | GeomType::Ellipsoid);
+    if !(p.both_move && (dear(p.g1) || dear(p.g2))) {
         return margin;
     }
     let relative = p.margin + relative_reach(m, kin, aba, out, p);
