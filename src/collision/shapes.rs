@@ -92,12 +92,15 @@ pub(super) fn shape<'a>(m: &'a Model, cd: &CollisionData, g: usize) -> Shape<'a>
 
 /// Features of box–box face contacts start here (edge contacts are 32–40).
 const FACE_FEATURES: usize = 64;
+/// |cos| of the angle between an edge axis and the best face axis above which [`box_box`] takes
+/// the face (3°).
+const EDGE_ON_FACE: f64 = 0.99863;
 
 /// Box–box contacts by the separating-axis test (Gottschalk, Lin & Manocha, *OBBTree*, 1996), as
 /// ODE's `dBoxBox`: of the 15 candidate axes, the one of least penetration (or widest gap) is the
-/// normal, a face axis preferred unless an edge axis is clearly better. Face axis: the other box's
-/// face most opposed to it is clipped against the reference face's rectangle (Sutherland–Hodgman),
-/// up to 8 points. Edge axis: the closest points of the two supporting edges, one point. Returns
+/// normal, a face axis preferred unless an edge axis is clearly better and not within 3° of it.
+/// Face axis: the other box's face most opposed to it is clipped against the reference face's
+/// rectangle (Sutherland–Hodgman), up to 8 points. Edge axis: the closest points of the two supporting edges, one point. Returns
 /// (feature, point, normal from box 2 to box 1, signed distance) for points within `margin`.
 #[allow(clippy::type_complexity)]
 pub(super) fn box_box(c1: DVec3, r1: DMat3, h1: DVec3, c2: DVec3, r2: DMat3, h2: DVec3, margin: f64) -> ([(usize, DVec3, DVec3, f64); 8], usize) {
@@ -131,7 +134,11 @@ pub(super) fn box_box(c1: DVec3, r1: DMat3, h1: DVec3, c2: DVec3, r2: DMat3, h2:
             }
         }
     }
-    if edge.0 > face.0 + 0.05 * face.0.abs() + 1e-9 * scale {
+    // an edge axis within a few degrees of the face axis is an edge lying on that face (a thin
+    // box's edge across a cube's face): the face's clipping gives the segment's two ends, where
+    // the edges' closest points give one, about which the box would rock
+    let on_face = |axis: DVec3| axis.dot(if face.1 { r1.col(face.2) } else { r2.col(face.2) }).abs() > EDGE_ON_FACE;
+    if edge.0 > face.0 + 0.05 * face.0.abs() + 1e-9 * scale && !on_face(edge.3) {
         if edge.0 > margin {
             return (out, 0);
         }
@@ -374,6 +381,26 @@ mod tests {
                 Some(f) => assert_eq!(&features, f, "round-off {eps}"),
                 None => first = Some(features),
             }
+        }
+    }
+
+    /// A thin bar lying across a cube's top face along one edge (turned 45° about that edge, so
+    /// that its edge, not a face, touches), tilted within the face by up to 2° with one end
+    /// lifted by up to 0.5 mm: an edge axis then beats the face axis by round-off or by the lift,
+    /// yet the contact is the edge's stretch over the face, two points at its ends within the
+    /// margin (one point would be a pivot the cube rocks about, as Playground's Aero hand did).
+    #[test]
+    fn a_bar_edge_across_a_face_touches_at_both_ends() {
+        let (cube, bar) = (DVec3::splat(0.025), DVec3::new(0.007, 0.042, 0.013));
+        for k in 0..40 {
+            let (turn, lift) = ((k as f64 / 40.0 - 0.5) * 0.07, (k % 5) as f64 * 1e-4);
+            // the bar's x and z faces turned 45° about its length (y): its lowest edge along y
+            let rot = DMat3::from_rotation_z(turn) * DMat3::from_rotation_x(lift / 0.05) * DMat3::from_rotation_y(std::f64::consts::FRAC_PI_4);
+            let low = (0.007f64.powi(2) + 0.013f64.powi(2)).sqrt() * (std::f64::consts::FRAC_PI_4 - (0.007f64 / 0.013).atan()).cos();
+            let (pts, n) = box_box(DVec3::new(0.0, 0.0, 0.025 + low), rot, bar, DVec3::ZERO, DMat3::IDENTITY, cube, 2e-3);
+            assert_eq!(n, 2, "turn {turn}, lift {lift}: {:?}", &pts[..n]);
+            let ys: Vec<f64> = pts[..n].iter().map(|p| p.1.y).collect();
+            assert!(ys.iter().any(|&y| y > 0.02) && ys.iter().any(|&y| y < -0.02), "turn {turn}, lift {lift}: {:?}", &pts[..n]);
         }
     }
 }
