@@ -12,9 +12,10 @@ Loading: every `.xml` under ROOT whose root element is `<mujoco>` and that MuJoC
 more than an empty world (fragments whose bodies lie outside a `<worldbody>` it reads as none).
 Stepping: each such file under a `mujoco_menagerie` or `mujoco_playground` directory with a
 `<worldbody>`, from its "home" keyframe (else its first, else qpos0) with that keyframe's
-controls held, 300 steps, one world each, in a fresh process (timed out after 120 s): the median
-step time of each simulator, sinew's slowest step over its median, and whether its state stays
-finite.
+controls held, 300 steps, one world each, in a fresh process (timed out after 300 s), three rounds
+from the same start, sinew's and MuJoCo's in turn: the median over rounds of each simulator's
+median step time, sinew's slowest step (the least over rounds: the same step each time) over its
+median, and whether its state stays finite.
 """
 
 import argparse
@@ -33,28 +34,44 @@ STEP = r"""
 import json, sys, time, warnings
 import numpy as np, mujoco, sinew
 warnings.simplefilter("ignore")
-path, n = sys.argv[1], int(sys.argv[2])
+path, n, rounds = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 mj = mujoco.MjModel.from_xml_path(path); d = mujoco.MjData(mj)
 sim = sinew.Sim(sinew.Model.from_mjcf(path))
-if mj.nkey:
-    names = [mj.key(i).name for i in range(mj.nkey)]
-    k = names.index("home") if "home" in names else 0
-    mujoco.mj_resetDataKeyframe(mj, d, k)
-    sim.qpos[:], sim.ctrl[:] = mj.key_qpos[k], mj.key_ctrl[k]
-    sim.forward()
-ours, theirs, error = [], [], ""
-for _ in range(n):
-    t = time.perf_counter()
-    try:
-        sim.step(1)
-    except Exception as e:
-        error = type(e).__name__
+names = [mj.key(i).name for i in range(mj.nkey)]
+k = (names.index("home") if "home" in names else 0) if names else None
+def reset():
+    if k is None:
+        mujoco.mj_resetData(mj, d)
+        sim.reset()
+    else:
+        mujoco.mj_resetDataKeyframe(mj, d, k)
+        sim.reset()
+        sim.qpos[:], sim.ctrl[:] = mj.key_qpos[k], mj.key_ctrl[k]
+        sim.forward()
+ours, theirs, worst, error, steps, finite = [], [], [], "", n, True
+for _ in range(rounds):
+    reset()
+    times = []
+    for _ in range(steps):
+        t = time.perf_counter()
+        try:
+            sim.step(1)
+        except Exception as e:
+            error = type(e).__name__
+            break
+        times.append(time.perf_counter() - t)
+    steps = len(times)
+    finite &= bool(np.isfinite(sim.get_state()).all())
+    if not times:
         break
-    ours.append(time.perf_counter() - t)
-for _ in ours:
-    t = time.perf_counter(); mujoco.mj_step(mj, d); theirs.append(time.perf_counter() - t)
-print(json.dumps({"steps": len(ours), "error": error, "finite": bool(np.isfinite(sim.get_state()).all()),
-                  "ours": float(np.median(ours)) if ours else None, "worst": float(max(ours)) if ours else None,
+    ours.append(float(np.median(times)))
+    worst.append(max(times))
+    times = []
+    for _ in range(steps):
+        t = time.perf_counter(); mujoco.mj_step(mj, d); times.append(time.perf_counter() - t)
+    theirs.append(float(np.median(times)))
+print(json.dumps({"steps": steps if ours else 0, "error": error, "finite": finite,
+                  "ours": float(np.median(ours)) if ours else None, "worst": float(min(worst)) if ours else None,
                   "theirs": float(np.median(theirs)) if theirs else None}))
 """
 
@@ -88,6 +105,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--root", required=True, help="directory of the unpacked packages")
     ap.add_argument("--steps", type=int, default=300)
+    ap.add_argument("--rounds", type=int, default=3, help="alternating rounds from the same start; medians of their medians")
     ap.add_argument("--out", default=None)
     args = ap.parse_args()
     import sinew
@@ -121,7 +139,7 @@ def main():
                 continue
         name = os.path.relpath(f, root).split("assets" + os.sep)[-1]
         try:
-            out = subprocess.run([sys.executable, "-c", STEP, f, str(args.steps)], capture_output=True, text=True, timeout=120)
+            out = subprocess.run([sys.executable, "-c", STEP, f, str(args.steps), str(args.rounds)], capture_output=True, text=True, timeout=300)
             r = json.loads(out.stdout.strip().splitlines()[-1])
         except (subprocess.TimeoutExpired, IndexError, json.JSONDecodeError):
             lines.append(f"| {name} | timed out or failed | | | | | |")

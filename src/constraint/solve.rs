@@ -7,6 +7,7 @@ use super::history::RowKey;
 use super::impact::{approaching, rebound, INERT_ROW};
 use super::lcp::LcpWork;
 use super::lcp;
+use super::stabilize::corrected_start;
 use super::system::{ConstraintData, RowKind};
 use super::test_forces::{add_response, prepare, responses};
 use super::{closing_velocity, correction_velocity, impact_speed, Constraints, World};
@@ -311,14 +312,14 @@ pub fn lcp_vector(m: &Model, data: &mut World<'_>, level: Level) -> Option<usize
             // constraint-free v_p = v + h b
             (RowKind::Tangent { .. } | RowKind::Spin { .. }, Level::TimeStep) => -(vel + h * con.b[j]),
             (_, Level::TimeStep) => {
-                let mut target = closing_velocity(dist, con.dist_start[j], h, lever) + con.lift[j];
+                let mut target = closing_velocity(dist, corrected_start(con.kind[j], con.dist_start[j]), h, lever) + con.lift[j];
                 if -vel > impact && dist + lever * vel < 0.0 && m.opt.restitution > 0.0 {
                     target = target.max(rebound(vel, dist, con.b[j], m.opt.restitution, h, m.opt.integrator));
                 }
                 target - (vel + h * con.b[j])
             }
             (_, Level::Acceleration) => {
-                let target = closing_velocity(dist, con.dist_start[j], h, lever) + con.lift[j];
+                let target = closing_velocity(dist, corrected_start(con.kind[j], con.dist_start[j]), h, lever) + con.lift[j];
                 (target - vel) / h
             }
             // end-of-step velocity v⁺ for a row that closes within this step: the rebound with
@@ -612,7 +613,7 @@ pub fn correction_work(m: &Model, data: &World<'_>, level: Level) -> f64 {
     for j in (0..con.len()).filter(|&j| solve.force[j] != 0.0) {
         let impulse = if level == Level::Acceleration { h * solve.force[j] } else { solve.force[j] };
         work += impulse * match con.kind[j] {
-            RowKind::Normal | RowKind::Limit if con.dist[j] <= 0.0 => correction_velocity(con.dist_start[j].min(0.0), h),
+            RowKind::Normal | RowKind::Limit if con.dist[j] <= 0.0 => correction_velocity(corrected_start(con.kind[j], con.dist_start[j]).min(0.0), h),
             RowKind::Equality | RowKind::Connect { .. } => -con.dist[j] / lever,
             RowKind::Motion { .. } => {
                 // a = K f + b = b − q where the row pushes

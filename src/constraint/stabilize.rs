@@ -40,6 +40,15 @@ pub const LIMIT_SLOP: f64 = 1e-5;
 /// meshed into each other) is eased apart over several steps, as PhysX's and Bullet's
 /// depenetration limits do, instead of flung apart in one.
 pub const DEPENETRATION_SPEED: f64 = 1.0;
+/// The penetration the step began with that a contact's correction velocity removes: at most
+/// [`SLOP`]; beyond it the projection moves the bodies out after the step, and a velocity for
+/// the same depth would remain once they are out (a robot whose keyframe sinks two feet 1.8 cm
+/// into a height field rolled off them). A limit's whole violation (the step's projection brings
+/// back only its own crossings).
+pub fn corrected_start(kind: RowKind, dist_start: f64) -> f64 {
+    if kind == RowKind::Normal { dist_start.max(-SLOP) } else { dist_start }
+}
+
 /// Passes of check and projection at most per step (the LCP uses the ABA of the step's start).
 const PASSES: usize = 3;
 
