@@ -100,8 +100,9 @@ const EDGE_ON_FACE: f64 = 0.99863;
 /// ODE's `dBoxBox`: of the 15 candidate axes, the one of least penetration (or widest gap) is the
 /// normal, a face axis preferred unless an edge axis is clearly better and not within 3° of it.
 /// Face axis: the other box's face most opposed to it is clipped against the reference face's
-/// rectangle (Sutherland–Hodgman), up to 8 points. Edge axis: the closest points of the two supporting edges, one point. Returns
-/// (feature, point, normal from box 2 to box 1, signed distance) for points within `margin`.
+/// rectangle (Sutherland–Hodgman), up to 8 points. Edge axis: the closest points of the two
+/// supporting edges, one point. Returns (feature, point, normal from box 2 to box 1, signed
+/// distance) for points within `margin`.
 #[allow(clippy::type_complexity)]
 pub(super) fn box_box(c1: DVec3, r1: DMat3, h1: DVec3, c2: DVec3, r2: DMat3, h2: DVec3, margin: f64) -> ([(usize, DVec3, DVec3, f64); 8], usize) {
     let mut out = [(0, DVec3::ZERO, DVec3::ZERO, 0.0); 8];
