@@ -43,14 +43,11 @@ n = int(round(seconds / mj.opt.timestep))
 names = [mj.key(i).name for i in range(mj.nkey)]
 k = (names.index("home") if "home" in names else 0) if names else None
 def reset():
+    sim.reset(k)
     if k is None:
         mujoco.mj_resetData(mj, d)
-        sim.reset()
     else:
         mujoco.mj_resetDataKeyframe(mj, d, k)
-        sim.reset()
-        sim.qpos[:], sim.ctrl[:] = mj.key_qpos[k], mj.key_ctrl[k]
-        sim.forward()
 # constraint-free accelerations at the start, random velocities, against mj_forward's
 reset()
 d.qvel[:] = sim.qvel[:] = np.random.default_rng(0).uniform(-1, 1, mj.nv)

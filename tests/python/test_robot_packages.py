@@ -42,12 +42,12 @@ SCENES = scenes()
 def start(mj, d, sim):
     """Both at the "home" keyframe (else the first, else qpos0) with its controls."""
     names = [mj.key(i).name for i in range(mj.nkey)]
-    if not names:
+    k = (names.index("home") if "home" in names else 0) if names else None
+    sim.reset(k)
+    if k is None:
         mujoco.mj_resetData(mj, d)
-        return
-    k = names.index("home") if "home" in names else 0
-    mujoco.mj_resetDataKeyframe(mj, d, k)
-    sim.qpos[:], sim.ctrl[:] = mj.key_qpos[k], mj.key_ctrl[k]
+    else:
+        mujoco.mj_resetDataKeyframe(mj, d, k)
 
 
 @pytest.mark.parametrize("name,path", SCENES, ids=[n for n, _ in SCENES])
@@ -68,9 +68,7 @@ def test_a_robot_scene_steps_as_mujocos(name, path):
     sim.forward()
     np.testing.assert_allclose(sim.qacc, d.qacc, rtol=0, atol=1e-9 * max(1.0, np.abs(d.qacc).max()))
     # 1 s from the keyframe, controls held
-    sim.reset()
     start(mj, d, sim)
-    sim.forward()
     deepest = {"sinew": 0.0, "MuJoCo": 0.0}
     for _ in range(int(round(1.0 / mj.opt.timestep))):
         sim.step(1)
