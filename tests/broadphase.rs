@@ -170,9 +170,9 @@ fn plane_groups_reject_no_touching_pair() {
 /// per step, clamped to ±`v_max`, positions following over 0.01 s, a jump to a random state every
 /// `jump` steps) and checks at every step that detection keeping the pairs' gaps finds the
 /// contacts of detection from scratch, and so does the second look with end velocities
-/// ([`reach_again`]). Returns (gap skips, detections with contacts, detections).
-fn walk(m: &Model, r: &mut Rng, steps: usize, jump: usize, drift: f64, v_max: f64) -> (usize, usize, usize) {
-    let (mut skipped, mut touching) = (0, 0);
+/// ([`reach_again`]). Returns (gap skips, axis skips, detections with contacts, detections).
+fn walk(m: &Model, r: &mut Rng, steps: usize, jump: usize, drift: f64, v_max: f64) -> (usize, usize, usize, usize) {
+    let (mut skipped, mut axis_skips, mut touching) = (0, 0, 0);
     let mut data = Data::new(m);
     let mut cd = CollisionData::new(m);
     let mut node_v = vec![Motion::ZERO; m.nnode];
@@ -190,6 +190,7 @@ fn walk(m: &Model, r: &mut Rng, steps: usize, jump: usize, drift: f64, v_max: f6
         collide(m, &data.dynamics, &s, &mut fresh);
         assert_eq!(cd.contacts, fresh.contacts, "{} step {step}", m.name);
         skipped += cd.gap_skips;
+        axis_skips += cd.axis_skips();
         // constraint forces changed the velocities: the pairs the new ones can close
         let v_end: Vec<f64> = v.iter().map(|x| x * r.uniform(0.0, 30.0)).collect();
         reach_again(m, &data.dynamics.kin, &v_end, &mut node_v, &mut cd);
@@ -202,7 +203,7 @@ fn walk(m: &Model, r: &mut Rng, steps: usize, jump: usize, drift: f64, v_max: f6
         let dq = v.iter().map(|x| 0.01 * x).collect::<Vec<_>>();
         sinew::integrate::integrate_pos(m, &mut q, &dq, 1.0);
     }
-    (skipped, touching, steps)
+    (skipped, axis_skips, touching, steps)
 }
 
 /// Along random walks through random trees (no floor: every plane group is apart, so the gaps are
@@ -212,11 +213,45 @@ fn gaps_reject_no_pair_that_touches() {
     let mut r = Rng(11);
     let (mut skipped, mut touching, mut tested) = (0, 0, 0);
     for m in trees().iter().filter(|m| !m.gap_pairs.is_empty()) {
-        let (s, t, n) = walk(m, &mut r, 600, 100, 0.5, 3.0);
+        let (s, _, t, n) = walk(m, &mut r, 600, 100, 0.5, 3.0);
         (skipped, touching, tested) = (skipped + s, touching + t, tested + n);
     }
     // both sides: pairs spared by their gaps, and states with contacts
     assert!(skipped > 2 * tested, "{skipped} gap skips in {tested} detections");
+    assert!(touching > tested / 20 && touching < tested, "{touching} of {tested} detections touch");
+}
+
+/// Random trees whose boxes are meshes of 60 vertices (convex hulls of over a hundred edges, so
+/// that their tests begin with GJK), with a floor or without: a pair's separating axis kept from
+/// its last test settles many tests, and detection keeping the axes finds exactly the contacts
+/// of detection from scratch.
+#[test]
+fn kept_separating_axes_change_no_contact() {
+    let mut r = Rng(3);
+    let vertex: Vec<String> = (0..60)
+        .map(|_| {
+            let d = DVec3::new(r.uniform(-1.0, 1.0), r.uniform(-1.0, 1.0), r.uniform(-1.0, 1.0)).normalize();
+            format!("{} {} {}", 0.12 * d.x, 0.08 * d.y, 0.1 * d.z)
+        })
+        .collect();
+    let asset = format!("<asset><mesh name=\"rock\" vertex=\"{}\"/></asset>", vertex.join(" "));
+    let (mut settled, mut touching, mut tested) = (0, 0, 0);
+    for seed in 0..24 {
+        let mut xml = random_tree_mjcf(3 + (seed % 5) as usize, true, seed).replace("type=\"slide\"", "type=\"hinge\"");
+        // each box a rock
+        while let Some(at) = xml.find("type=\"box\" size=\"") {
+            let end = at + 18 + xml[at + 18..].find('"').unwrap();
+            xml.replace_range(at..=end, "type=\"mesh\" mesh=\"rock\"");
+        }
+        xml = xml.replace("<worldbody>", &format!("{asset}<worldbody>"));
+        if seed % 2 == 0 {
+            xml = xml.replace("<worldbody>", "<worldbody><geom type=\"plane\" size=\"5 5 .1\" pos=\"0 0 -.6\"/>");
+        }
+        let m = Model::from_mjcf(&xml).unwrap();
+        let (_, s, t, n) = walk(&m, &mut r, 400, 100, 0.5, 3.0);
+        (settled, touching, tested) = (settled + s, touching + t, tested + n);
+    }
+    assert!(settled > tested / 4, "{settled} tests settled by kept axes in {tested} detections");
     assert!(touching > tested / 20 && touching < tested, "{touching} of {tested} detections touch");
 }
 
@@ -237,7 +272,7 @@ fn gaps_settled_at_once_reject_no_pair_that_touches() {
     .unwrap();
     assert_eq!(m.gap_pairs.len(), 3);
     let mut r = Rng(5);
-    let (skipped, touching, tested) = walk(&m, &mut r, 20000, 2000, 0.05, 1.0);
+    let (skipped, _, touching, tested) = walk(&m, &mut r, 20000, 2000, 0.05, 1.0);
     assert!(skipped > tested, "{skipped} gap skips in {tested} detections");
     assert!(touching > tested / 50 && touching < tested / 2, "{touching} of {tested} detections touch");
 }

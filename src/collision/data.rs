@@ -92,7 +92,10 @@ pub struct CollisionData {
     /// Pairs the detection narrowed to their relative motion's margin, with that margin, in the
     /// pairs' order.
     pub(super) narrowed: Vec<(usize, f64)>,
-    /// EPA's buffers, for pairs with an ellipsoid.
+    /// Per pair that begins with GJK ([`crate::model::GeomPair::axis`]): the separating axis its
+    /// last test found, in its first geom's frame (zero: none), which can settle its next test.
+    pub(super) pair_axes: Vec<DVec3>,
+    /// GJK's and EPA's scratch.
     pub(super) epa: Epa,
     /// Contacts of this configuration.
     pub contacts: Vec<Contact>,
@@ -128,16 +131,24 @@ impl CollisionData {
             // a model of few pairs tests them all, listed once here
             near: if m.collision_pairs.len() < SWEEP_PAIRS { (0..m.collision_pairs.len()).collect() } else { Vec::with_capacity(m.collision_pairs.len()) },
             narrowed: Vec::new(),
+            pair_axes: vec![DVec3::ZERO; m.collision_pairs.iter().filter(|p| p.axis.is_some()).count()],
             epa: Epa::default(),
             // grown to the most a step has found (at most `Options::max_contacts`)
             contacts: Vec::new(),
         }
     }
 
-    /// Forgets the contacts and the pairs' gaps.
+    /// Pair tests that a separating axis kept from the pair's last test settled in the last
+    /// detection.
+    pub fn axis_skips(&self) -> usize {
+        self.epa.skips
+    }
+
+    /// Forgets the contacts, the pairs' gaps and their separating axes.
     pub fn forget(&mut self) {
         self.contacts.clear();
         self.pair_gap.fill(f64::NEG_INFINITY);
+        self.pair_axes.fill(DVec3::ZERO);
         self.least_slack = f64::NEG_INFINITY;
     }
 }
@@ -208,9 +219,16 @@ pub(super) struct SweepBox {
 /// Pairs fewer than this are all tested on their spheres; more are swept first ([`near_pairs`]).
 pub(super) const SWEEP_PAIRS: usize = 256;
 
-/// EPA's buffers, kept from one detection to the next (grown once, then reused).
+/// EPA's buffers, kept from one detection to the next (grown once, then reused), and the
+/// separating axis of the pair under test: the one it kept, if any, on the way in, and the one
+/// GJK found on the way out.
 #[derive(Default)]
-pub(super) struct Epa(pub(super) parry3d_f64::query::epa::EPA);
+pub(super) struct Epa {
+    pub(super) epa: parry3d_f64::query::epa::EPA,
+    pub(super) axis: Option<DVec3>,
+    /// Tests the kept axes settled in the current detection.
+    pub(super) skips: usize,
+}
 
 impl Clone for Epa {
     fn clone(&self) -> Self {

@@ -325,21 +325,44 @@ const HINT_SHRINK: f64 = 1e-3;
 
 /// GJK's normal (from shape 2 to shape 1) of two shapes apart by at most `margin`, else EPA's;
 /// the line of the centres if EPA finds none (a degenerate overlap); None when farther apart.
+/// A separating axis in `epa.axis` (from shape 2 to shape 1) along which the shapes lie farther
+/// apart than `margin` settles it without GJK, and GJK leaves its own axis there (None when the
+/// shapes overlap). GJK's witnesses are never nearer than the shapes, so the kept axis settles
+/// only what GJK would have rejected: the contacts do not depend on it.
 fn first_normal<A: Convex, B: Convex>(a: &A, b: &B, margin: f64, shrink: f64, epa: &mut Epa) -> Option<DVec3> {
     // a diverging world's poses are not finite: no contact (GJK asserts finite supports)
     let o = a.centre();
     if !(a.support(DVec3::X) - b.support(DVec3::Y)).is_finite() {
+        epa.axis = None;
         return None;
     }
     let frame = Frame { o, k: 1.0 - shrink };
+    if let Some(n) = epa.axis {
+        let (sa, sb) = (o + (a.support(-n) - o) * frame.k, b.support(n));
+        // round-off of the supports' dot products to spare
+        if (sa - sb).dot(n) > margin + AXIS_SPARE * (sa.length() + sb.length()) {
+            epa.skips += 1;
+            return None;
+        }
+    }
     let (pa, pb, pose) = (Parry(a, Cell::new(u32::MAX), frame), Parry(b, Cell::new(u32::MAX), Frame { o, k: 1.0 }), Pose::IDENTITY);
     let toward = (b.centre() - a.centre()).try_normalize().unwrap_or(DVec3::X);
     let mut simplex = VoronoiSimplex::new();
     simplex.reset(CsoPoint::from_shapes(&pose, &pa, &pb, to_parry(toward)));
-    let n1 = match gjk::closest_points(&pose, &pa, &pb, margin, true, &mut simplex) {
-        GJKResult::ClosestPoints(_, _, n1) => from_parry(n1),
-        GJKResult::NoIntersection(_) | GJKResult::Proximity(_) => return None,
-        GJKResult::Intersection => epa.0.closest_points(&pose, &pa, &pb, &simplex).map_or(toward, |(_, _, n1)| from_parry(n1)),
+    // parry's normals and axes point from shape 1 to shape 2
+    let (n1, apart) = match gjk::closest_points(&pose, &pa, &pb, margin, true, &mut simplex) {
+        GJKResult::ClosestPoints(p1, p2, n1) => (from_parry(n1), from_parry(p2 - p1).length() > margin),
+        GJKResult::NoIntersection(n1) | GJKResult::Proximity(n1) => (from_parry(n1), true),
+        GJKResult::Intersection => {
+            epa.axis = None;
+            let n1 = epa.epa.closest_points(&pose, &pa, &pb, &simplex).map_or(toward, |(_, _, n1)| from_parry(n1));
+            return Some(-n1);
+        }
     };
-    Some(-n1)
+    epa.axis = Some(-n1);
+    (!apart).then_some(-n1)
 }
+
+/// How much farther apart than the margin (relative to the support points' distances from the
+/// origin) a kept axis must hold two shapes to settle their test.
+const AXIS_SPARE: f64 = 1e-12;

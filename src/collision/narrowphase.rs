@@ -68,7 +68,14 @@ pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, p: &GeomPai
     match round_pair(&sink, cd, (g1, s1), (g2, s2)) {
         Some(d) => d,
         None => {
+            // the pair's kept axis in world for GJK (`first_normal`), GJK's new one kept
+            let slot = p.axis.map(|s| s as usize);
+            cd.epa.axis = slot.map(|s| cd.geom_xmat[i] * cd.pair_axes[s]).filter(|n| *n != DVec3::ZERO);
             solid_pair(&sink, cd, (g1, s1), (g2, s2));
+            if let Some(s) = slot {
+                cd.pair_axes[s] = cd.epa.axis.map_or(DVec3::ZERO, |n| cd.geom_xmat[i].transpose() * n);
+            }
+            cd.epa.axis = None;
             f64::NEG_INFINITY
         }
     }

@@ -100,6 +100,20 @@ fn weld(m: &Model, mut b: usize) -> usize {
     b
 }
 
+/// Numbers the pairs whose narrowphase begins with GJK ([`GeomPair::axis`]).
+pub fn axis_slots(m: &mut Model) {
+    let gjk = |t: GeomType| matches!(t, GeomType::Mesh | GeomType::Cylinder | GeomType::Ellipsoid);
+    let flat = |t: GeomType| matches!(t, GeomType::Plane | GeomType::Hfield);
+    let mut slots = 0;
+    for p in &mut m.collision_pairs {
+        let (t1, t2) = (m.geom_type[p.g1], m.geom_type[p.g2]);
+        p.axis = ((gjk(t1) || gjk(t2)) && !flat(t1) && !flat(t2)).then(|| {
+            slots += 1;
+            slots - 1
+        });
+    }
+}
+
 /// The broadphase test of geoms i < j, which [`can_collide`].
 pub fn geom_pair(m: &Model, i: usize, j: usize) -> GeomPair {
     let margin = m.geom_margin[i].max(m.geom_margin[j]);
@@ -111,5 +125,5 @@ pub fn geom_pair(m: &Model, i: usize, j: usize) -> GeomPair {
         _ => (PairTest::Always, 0.0),
     };
     let moves = |g: usize| m.body_node[m.geom_body[g]] != WORLD && m.geom_type[g] != GeomType::Plane;
-    GeomPair { g1: i, g2: j, test, margin, radii, friction: None, both_move: moves(i) && moves(j) }
+    GeomPair { g1: i, g2: j, test, margin, radii, friction: None, both_move: moves(i) && moves(j), axis: None }
 }

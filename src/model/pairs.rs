@@ -22,6 +22,9 @@ pub struct GeomPair {
     /// Whether both geoms move (neither is the world's nor a plane): their relative motion then
     /// bounds how near the step can bring them.
     pub both_move: bool,
+    /// Where the pair keeps its separating axis in `CollisionData` when its test begins with GJK
+    /// (a mesh, cylinder or ellipsoid against anything but a plane or a height field).
+    pub axis: Option<u32>,
 }
 
 /// The friction of a pair's contacts: its condim, the sliding coefficient, and the torsional (condim ≥ 4, a length) and rolling (condim 6, a length)
