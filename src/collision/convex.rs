@@ -33,7 +33,7 @@ pub(super) const MAX_MANIFOLD: usize = 8;
 const MAX_POSED_EDGES: usize = 256;
 
 /// Largest polygon a clip keeps (an incident face's vertices plus one per reference side).
-const MAX_POLY: usize = 128;
+pub(super) const MAX_POLY: usize = 128;
 
 /// Feature offsets of a polytope pair's points: face contacts with A or B as reference, edge pairs.
 const FACE_A: usize = 1 << 40;
@@ -581,14 +581,14 @@ pub(super) fn point_polytope(p: &impl Polytope, q: DVec3) -> (DVec3, f64) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use glam::{DMat3, DQuat, DVec3};
 
     use super::{point_polytope, polytopes, Polytope, PosedHull};
     use crate::geometry::Hull;
 
     /// Points on an ellipsoid of semi-axes `radii`, `n` of them along a Fibonacci spiral.
-    fn ellipsoid_points(n: usize, radii: DVec3) -> Vec<DVec3> {
+    pub(in crate::collision) fn ellipsoid_points(n: usize, radii: DVec3) -> Vec<DVec3> {
         let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
         (0..n)
             .map(|i| {

@@ -17,7 +17,7 @@ use arrayvec::ArrayVec;
 
 use super::convex::{point_polytope, reduce, Manifold, Point, Polytope, PosedBox, PosedHull};
 use super::prism::Prism;
-use super::data::Epa;
+use super::data::Scratch;
 use super::ellipsoid;
 use super::shapes::{Cyl, Shape};
 
@@ -92,7 +92,7 @@ const MAX_GATHER: usize = 64;
 /// that make a flat contact's support polygon — the rim points against `other`, and a box's or
 /// hull's vertices, a cylinder's rim points or a capsule's ends against the cylinder — reduced to
 /// at most [`MAX_MANIFOLD`].
-pub(super) fn pair(cyl: &Cyl, other: Shape, margin: f64, epa: &mut Epa) -> Manifold {
+pub(super) fn pair(cyl: &Cyl, other: Shape, margin: f64, epa: &mut Scratch) -> Manifold {
     let Some(closest) = ellipsoid::convex(Shape::Cylinder(*cyl), other, margin, epa) else { return Manifold::new() };
     let mut pts = Gather::new(cyl, closest, margin);
     match other {
@@ -114,7 +114,7 @@ pub(super) fn pair(cyl: &Cyl, other: Shape, margin: f64, epa: &mut Epa) -> Manif
 }
 
 /// Contacts of the cylinder with a height field's prism within `margin` (normals from the prism).
-pub(super) fn with_prism(cyl: &Cyl, prism: &Prism, margin: f64, epa: &mut Epa) -> Manifold {
+pub(super) fn with_prism(cyl: &Cyl, prism: &Prism, margin: f64, epa: &mut Scratch) -> Manifold {
     let Some(closest) = ellipsoid::with_polytope(Shape::Cylinder(*cyl), prism, margin, epa) else { return Manifold::new() };
     let mut pts = Gather::new(cyl, closest, margin);
     pts.polytope(prism);

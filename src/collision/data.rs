@@ -95,8 +95,8 @@ pub struct CollisionData {
     /// Per pair that begins with GJK ([`crate::model::GeomPair::axis`]): the separating axis its
     /// last test found, in its first geom's frame (zero: none), which can settle its next test.
     pub(super) pair_axes: Vec<DVec3>,
-    /// GJK's and EPA's scratch.
-    pub(super) epa: Epa,
+    /// The narrowphase's scratch.
+    pub(super) epa: Scratch,
     /// Contacts of this configuration.
     pub contacts: Vec<Contact>,
 }
@@ -132,7 +132,7 @@ impl CollisionData {
             near: if m.collision_pairs.len() < SWEEP_PAIRS { (0..m.collision_pairs.len()).collect() } else { Vec::with_capacity(m.collision_pairs.len()) },
             narrowed: Vec::new(),
             pair_axes: vec![DVec3::ZERO; m.collision_pairs.iter().filter(|p| p.axis.is_some()).count()],
-            epa: Epa::default(),
+            epa: Scratch::sized(m.meshes.iter().map(|mesh| mesh.hull.vert.len()).max().unwrap_or(0)),
             // grown to the most a step has found (at most `Options::max_contacts`)
             contacts: Vec::new(),
         }
@@ -219,25 +219,36 @@ pub(super) struct SweepBox {
 /// Pairs fewer than this are all tested on their spheres; more are swept first ([`near_pairs`]).
 pub(super) const SWEEP_PAIRS: usize = 256;
 
-/// EPA's buffers, kept from one detection to the next (grown once, then reused), and the
-/// separating axis of the pair under test: the one it kept, if any, on the way in, and the one
-/// GJK found on the way out.
+/// The narrowphase's scratch, kept from one detection to the next (grown once, then reused):
+/// EPA's buffers, the separating axis of the pair under test (the one it kept, if any, on the way
+/// in, and the one GJK found on the way out), and the walk over a hull's vertices near a plane.
 #[derive(Default)]
-pub(super) struct Epa {
+pub(super) struct Scratch {
     pub(super) epa: parry3d_f64::query::epa::EPA,
     pub(super) axis: Option<DVec3>,
     /// Tests the kept axes settled in the current detection.
     pub(super) skips: usize,
+    /// Per vertex of the largest hull: whether the walk has met it (all false between walks).
+    pub(super) met: Vec<bool>,
+    /// The vertices the walk has met, and those it has still to leave from.
+    pub(super) walk: (Vec<u32>, Vec<u32>),
 }
 
-impl Clone for Epa {
-    fn clone(&self) -> Self {
-        Epa::default()
+impl Scratch {
+    /// Scratch for hulls of at most `verts` vertices.
+    pub(super) fn sized(verts: usize) -> Scratch {
+        Scratch { met: vec![false; verts], walk: (Vec::with_capacity(verts), Vec::with_capacity(verts)), ..Scratch::default() }
     }
 }
 
-impl std::fmt::Debug for Epa {
+impl Clone for Scratch {
+    fn clone(&self) -> Self {
+        Scratch::sized(self.met.len())
+    }
+}
+
+impl std::fmt::Debug for Scratch {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("Epa")
+        f.write_str("Scratch")
     }
 }

@@ -20,7 +20,7 @@ use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
 use parry3d_f64::shape::SupportMap;
 
 use super::convex::Polytope;
-use super::data::Epa;
+use super::data::Scratch;
 use super::shapes::{Cyl, Shape};
 
 /// (point midway between the surfaces, unit normal from shape 2 to shape 1, signed distance).
@@ -220,7 +220,7 @@ impl<C: Convex> SupportMap for Parry<'_, C> {
 /// Contact of shapes 1 and 2 (neither a plane nor a height field; one an ellipsoid or a cylinder)
 /// within `margin`, placed at the support point of the shape whose support point is most
 /// nearly unique (an ellipsoid's or sphere's always is; a box's is a corner).
-pub(super) fn convex(s1: Shape, s2: Shape, margin: f64, epa: &mut Epa) -> Option<Touch> {
+pub(super) fn convex(s1: Shape, s2: Shape, margin: f64, epa: &mut Scratch) -> Option<Touch> {
     let rank = |s: &Shape| match s {
         Shape::Ellipsoid { .. } => 4,
         Shape::Sphere { .. } => 3,
@@ -232,7 +232,7 @@ pub(super) fn convex(s1: Shape, s2: Shape, margin: f64, epa: &mut Epa) -> Option
 }
 
 /// Contact of the ellipsoid or cylinder `e` (shape 1) with the polytope `p` within `margin`.
-pub(super) fn with_polytope<P: Polytope>(e: Shape, p: &P, margin: f64, epa: &mut Epa) -> Option<Touch> {
+pub(super) fn with_polytope<P: Polytope>(e: Shape, p: &P, margin: f64, epa: &mut Scratch) -> Option<Touch> {
     contact(&e, &Vertices(p), true, margin, epa)
 }
 
@@ -241,7 +241,7 @@ const NEWTON: usize = 4;
 
 /// The contact of shapes 1 and 2 within `margin`, placed at the support point of shape 1
 /// (`on_first`) or 2.
-fn contact<A: Convex, B: Convex>(a: &A, b: &B, on_first: bool, margin: f64, epa: &mut Epa) -> Option<Touch> {
+fn contact<A: Convex, B: Convex>(a: &A, b: &B, on_first: bool, margin: f64, epa: &mut Scratch) -> Option<Touch> {
     let n = first_normal(a, b, margin, 0.0, epa)?;
     // the separation along n, and the support points
     let along = |n: DVec3| {
@@ -312,7 +312,7 @@ fn contact<A: Convex, B: Convex>(a: &A, b: &B, on_first: bool, margin: f64, epa:
 /// GJK's or EPA's normal (unit, from shape 2 to shape 1; neither a plane nor a height field)
 /// of shapes 1 and 2 within `margin`, None when farther apart: where a hull pair of many edges
 /// looks for its separating axis (`radius` bounds shape 1's points' distance from its centre).
-pub(super) fn normal(a: Shape, b: Shape, margin: f64, radius: f64, epa: &mut Epa) -> Option<DVec3> {
+pub(super) fn normal(a: Shape, b: Shape, margin: f64, radius: f64, epa: &mut Scratch) -> Option<DVec3> {
     // shrunk, shape 1's points come at most HINT_SHRINK × radius nearer shape 2
     first_normal(&a, &b, margin + HINT_SHRINK * radius, HINT_SHRINK, epa)
 }
@@ -329,7 +329,7 @@ const HINT_SHRINK: f64 = 1e-3;
 /// apart than `margin` settles it without GJK, and GJK leaves its own axis there (None when the
 /// shapes overlap). GJK's witnesses are never nearer than the shapes, so the kept axis settles
 /// only what GJK would have rejected: the contacts do not depend on it.
-fn first_normal<A: Convex, B: Convex>(a: &A, b: &B, margin: f64, shrink: f64, epa: &mut Epa) -> Option<DVec3> {
+fn first_normal<A: Convex, B: Convex>(a: &A, b: &B, margin: f64, shrink: f64, epa: &mut Scratch) -> Option<DVec3> {
     // a diverging world's poses are not finite: no contact (GJK asserts finite supports)
     let o = a.centre();
     if !(a.support(DVec3::X) - b.support(DVec3::Y)).is_finite() {

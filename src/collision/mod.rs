@@ -50,6 +50,7 @@ mod ellipsoid;
 mod data;
 mod gaps;
 mod narrowphase;
+mod plane_walk;
 mod prism;
 pub mod ray;
 mod shapes;

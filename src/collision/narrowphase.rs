@@ -4,8 +4,9 @@
 use glam::DVec3;
 
 use super::convex::{on_plane, point_polytope, polytopes, Manifold, PosedBox, PosedHull, Segment};
-use super::data::{pose_axes, CollisionData, Contact, Epa};
+use super::data::{pose_axes, CollisionData, Contact, Scratch};
 use super::cylinder;
+use super::plane_walk::hull_on_plane;
 use super::ellipsoid;
 use super::terrain::hfield_contacts;
 use super::shapes::{box_box, boxes_part, closest_on_segment, closest_segments, point_box, segment_box_points, shape, spheres, Shape};
@@ -185,7 +186,7 @@ fn solid_pair(sink: &Sink, cd: &mut CollisionData, (g1, s1): (usize, Shape), (g2
 const MANY_EDGE_PAIRS: usize = 4096;
 
 /// Contacts of a pair with a hull or a height field (shape 2; normals from shape 2 to shape 1).
-fn convex_pair(m: &Model, (s1, g1): (Shape, usize), (s2, g2): (Shape, usize), margin: f64, epa: &mut Epa) -> Manifold {
+fn convex_pair(m: &Model, (s1, g1): (Shape, usize), (s2, g2): (Shape, usize), margin: f64, epa: &mut Scratch) -> Manifold {
     match s2 {
         Shape::HField { p, rot, field } => hfield_contacts(field, p, rot, s1, margin, m.geom_rbound[g1], epa),
         _ => hull_pair(s1, s2, margin, m.geom_rbound[g1] + m.geom_rbound[g2], epa),
@@ -193,7 +194,7 @@ fn convex_pair(m: &Model, (s1, g1): (Shape, usize), (s2, g2): (Shape, usize), ma
 }
 
 /// Contacts of a pair with a hull (normals from shape 2 to shape 1).
-fn hull_pair(s1: Shape, s2: Shape, margin: f64, scale: f64, epa: &mut Epa) -> Manifold {
+fn hull_pair(s1: Shape, s2: Shape, margin: f64, scale: f64, epa: &mut Scratch) -> Manifold {
     // a pair of many edges (a robot's meshes), or a sphere and a hull of many faces: GJK and EPA
     // first (beyond the margin by more than their tolerance: no contact), then the
     // separating-axis test near their normal only
@@ -234,7 +235,7 @@ fn hull_pair(s1: Shape, s2: Shape, margin: f64, scale: f64, epa: &mut Epa) -> Ma
         m
     };
     match (s1, s2) {
-        (Shape::Hull { c, rot, hull }, Shape::Plane { p, n }) => on_plane(&PosedHull { hull, c, rot }, p, n, margin),
+        (Shape::Hull { c, rot, hull }, Shape::Plane { p, n }) => hull_on_plane(&PosedHull { hull, c, rot }, p, n, margin, epa),
         (Shape::Sphere { c, r }, Shape::Hull { c: hc, rot, hull }) | (Shape::Hull { c: hc, rot, hull }, Shape::Sphere { c, r }) => {
             let (out, d) = point_polytope(&PosedHull { hull, c: hc, rot }, c);
             let n = if matches!(s1, Shape::Sphere { .. }) { out } else { -out };

@@ -9,7 +9,7 @@ use glam::{DMat3, DVec3};
 use super::cylinder;
 use super::convex::{point_polytope, polytopes, reduce, Manifold, Point, PosedBox, PosedHull, Segment, MAX_MANIFOLD};
 use super::prism::Prism;
-use super::data::Epa;
+use super::data::Scratch;
 use super::ellipsoid::{half_width, with_polytope};
 use super::shapes::Shape;
 use crate::geometry::HField;
@@ -19,7 +19,7 @@ const MAX_GATHER: usize = 64;
 
 /// Contacts of `other` (within `margin`) with the height field `h` at pose (`p`, `rot`); normals
 /// point from the field toward `other`.
-pub(super) fn hfield_contacts(h: &HField, p: DVec3, rot: DMat3, other: Shape, margin: f64, scale: f64, epa: &mut Epa) -> Manifold {
+pub(super) fn hfield_contacts(h: &HField, p: DVec3, rot: DMat3, other: Shape, margin: f64, scale: f64, epa: &mut Scratch) -> Manifold {
     let up = rot.col(2);
     // the shape's centre and its half-extents along the field's x and y
     let (x, y) = (rot.col(0), rot.col(1));
@@ -91,7 +91,7 @@ fn lowest_along(shape: Shape, n: DVec3) -> f64 {
 }
 
 /// Contacts of `other` with one prism, normals from the prism toward `other`.
-fn prism_contacts(prism: &Prism, other: Shape, margin: f64, epa: &mut Epa) -> Manifold {
+fn prism_contacts(prism: &Prism, other: Shape, margin: f64, epa: &mut Scratch) -> Manifold {
     let scale = prism.v[0].distance(prism.v[3]).max(prism.v[0].distance(prism.v[1]));
     let flip = |mut m: Manifold| {
         for q in m.iter_mut() {

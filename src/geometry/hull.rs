@@ -66,6 +66,16 @@ impl Hull {
         h.merge_faces().then_some(h)
     }
 
+    /// Whether the hull finds its support by climbing its vertex graph ([`Hull::neighbours_of`]).
+    pub fn climbs(&self) -> bool {
+        self.vert.len() > CLIMB_FROM && !self.start.is_empty()
+    }
+
+    /// Vertex i's neighbours along the triangles' edges.
+    pub fn neighbours_of(&self, i: usize) -> &[u32] {
+        &self.neighbours[self.start[i] as usize..self.start[i + 1] as usize]
+    }
+
     /// The vertex farthest along `d` and its projection on `d`: on a hull of many vertices by
     /// climbing from a triangle's vertex to the best neighbour while one is farther (on a convex polytope a
     /// vertex no neighbour beats is a farthest one, as in the simplex method).
@@ -76,7 +86,7 @@ impl Hull {
     /// [`Hull::support`] climbing from vertex `start` (the last support point of a nearby
     /// direction: a few steps away) instead of the best of the axes' extremes.
     pub fn support_from(&self, d: DVec3, start: Option<usize>) -> (usize, f64) {
-        if self.vert.len() > CLIMB_FROM && !self.start.is_empty() {
+        if self.climbs() {
             let mut best = (0, f64::NEG_INFINITY);
             match start.filter(|&i| i < self.vert.len()) {
                 Some(i) => best = (i, self.vert[i].dot(d)),
@@ -91,7 +101,7 @@ impl Hull {
             }
             loop {
                 let (i, s) = best;
-                for &j in &self.neighbours[self.start[i] as usize..self.start[i + 1] as usize] {
+                for &j in self.neighbours_of(i) {
                     let t = self.vert[j as usize].dot(d);
                     if t > best.1 {
                         best = (j as usize, t);
