@@ -92,9 +92,9 @@ pub struct CollisionData {
     /// Pairs the detection narrowed to their relative motion's margin, with that margin, in the
     /// pairs' order.
     pub(super) narrowed: Vec<(usize, f64)>,
-    /// Per pair that begins with GJK ([`crate::model::GeomPair::axis`]): the separating axis its
-    /// last test found, in its first geom's frame (zero: none), which can settle its next test.
-    pub(super) pair_axes: Vec<DVec3>,
+    /// Per pair with a mesh, a cylinder or an ellipsoid ([`crate::model::GeomPair::axis`]): what
+    /// its last test found apart, which can settle its next test.
+    pub(super) pair_kept: Vec<Separation>,
     /// The narrowphase's scratch.
     pub(super) epa: Scratch,
     /// Contacts of this configuration.
@@ -131,24 +131,24 @@ impl CollisionData {
             // a model of few pairs tests them all, listed once here
             near: if m.collision_pairs.len() < SWEEP_PAIRS { (0..m.collision_pairs.len()).collect() } else { Vec::with_capacity(m.collision_pairs.len()) },
             narrowed: Vec::new(),
-            pair_axes: vec![DVec3::ZERO; m.collision_pairs.iter().filter(|p| p.axis.is_some()).count()],
+            pair_kept: vec![Separation::Unknown; m.collision_pairs.iter().filter(|p| p.axis.is_some()).count()],
             epa: Scratch::sized(m.meshes.iter().map(|mesh| mesh.hull.vert.len()).max().unwrap_or(0)),
             // grown to the most a step has found (at most `Options::max_contacts`)
             contacts: Vec::new(),
         }
     }
 
-    /// Pair tests that a separating axis kept from the pair's last test settled in the last
+    /// Pair tests that a separation kept from the pair's last test settled in the last
     /// detection.
     pub fn axis_skips(&self) -> usize {
-        self.epa.skips
+        self.epa.kept.skips
     }
 
     /// Forgets the contacts, the pairs' gaps and their separating axes.
     pub fn forget(&mut self) {
         self.contacts.clear();
         self.pair_gap.fill(f64::NEG_INFINITY);
-        self.pair_axes.fill(DVec3::ZERO);
+        self.pair_kept.fill(Separation::Unknown);
         self.least_slack = f64::NEG_INFINITY;
     }
 }
@@ -219,15 +219,35 @@ pub(super) struct SweepBox {
 /// Pairs fewer than this are all tested on their spheres; more are swept first ([`near_pairs`]).
 pub(super) const SWEEP_PAIRS: usize = 256;
 
+/// What a pair's test found that holds its shapes apart, kept to settle its next test: the same
+/// axis, a touch farther than the margin, proves the pair apart without the test.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) enum Separation {
+    /// Nothing kept.
+    #[default]
+    Unknown,
+    /// GJK's separating axis (unit, from shape 2 to shape 1): in world while its pair is tested,
+    /// in the first geom's frame while kept.
+    Axis(DVec3),
+    /// A face of the separating-axis test's first polytope (`false`) or second (`true`).
+    Face(bool, u32),
+}
+
+/// The separation of the pair under test, and the tests kept separations settled in the current
+/// detection.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Kept {
+    pub(super) sep: Separation,
+    pub(super) skips: usize,
+}
+
 /// The narrowphase's scratch, kept from one detection to the next (grown once, then reused):
-/// EPA's buffers, the separating axis of the pair under test (the one it kept, if any, on the way
-/// in, and the one GJK found on the way out), and the walk over a hull's vertices near a plane.
+/// EPA's buffers, what the pair under test keeps apart (its kept [`Separation`] on the way in,
+/// the test's on the way out), and the walk over a hull's vertices near a plane.
 #[derive(Default)]
 pub(super) struct Scratch {
     pub(super) epa: parry3d_f64::query::epa::EPA,
-    pub(super) axis: Option<DVec3>,
-    /// Tests the kept axes settled in the current detection.
-    pub(super) skips: usize,
+    pub(super) kept: Kept,
     /// Per vertex of the largest hull: whether the walk has met it (all false between walks).
     pub(super) met: Vec<bool>,
     /// The vertices the walk has met, and those it has still to leave from.

@@ -20,7 +20,7 @@ use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
 use parry3d_f64::shape::SupportMap;
 
 use super::convex::Polytope;
-use super::data::Scratch;
+use super::data::{Scratch, Separation};
 use super::shapes::{Cyl, Shape};
 
 /// (point midway between the surfaces, unit normal from shape 2 to shape 1, signed distance).
@@ -325,23 +325,23 @@ const HINT_SHRINK: f64 = 1e-3;
 
 /// GJK's normal (from shape 2 to shape 1) of two shapes apart by at most `margin`, else EPA's;
 /// the line of the centres if EPA finds none (a degenerate overlap); None when farther apart.
-/// A separating axis in `epa.axis` (from shape 2 to shape 1) along which the shapes lie farther
-/// apart than `margin` settles it without GJK, and GJK leaves its own axis there (None when the
-/// shapes overlap). GJK's witnesses are never nearer than the shapes, so the kept axis settles
-/// only what GJK would have rejected: the contacts do not depend on it.
+/// A separating axis kept in `epa.kept` (from shape 2 to shape 1) along which the shapes lie
+/// farther apart than `margin` settles it without GJK, and GJK leaves its own axis there (none
+/// when the shapes overlap). GJK's witnesses are never nearer than the shapes, so the kept axis
+/// settles only what GJK would have rejected: the contacts do not depend on it.
 fn first_normal<A: Convex, B: Convex>(a: &A, b: &B, margin: f64, shrink: f64, epa: &mut Scratch) -> Option<DVec3> {
     // a diverging world's poses are not finite: no contact (GJK asserts finite supports)
     let o = a.centre();
     if !(a.support(DVec3::X) - b.support(DVec3::Y)).is_finite() {
-        epa.axis = None;
+        epa.kept.sep = Separation::Unknown;
         return None;
     }
     let frame = Frame { o, k: 1.0 - shrink };
-    if let Some(n) = epa.axis {
+    if let Separation::Axis(n) = epa.kept.sep {
         let (sa, sb) = (o + (a.support(-n) - o) * frame.k, b.support(n));
         // round-off of the supports' dot products to spare
         if (sa - sb).dot(n) > margin + AXIS_SPARE * (sa.length() + sb.length()) {
-            epa.skips += 1;
+            epa.kept.skips += 1;
             return None;
         }
     }
@@ -354,12 +354,12 @@ fn first_normal<A: Convex, B: Convex>(a: &A, b: &B, margin: f64, shrink: f64, ep
         GJKResult::ClosestPoints(p1, p2, n1) => (from_parry(n1), from_parry(p2 - p1).length() > margin),
         GJKResult::NoIntersection(n1) | GJKResult::Proximity(n1) => (from_parry(n1), true),
         GJKResult::Intersection => {
-            epa.axis = None;
+            epa.kept.sep = Separation::Unknown;
             let n1 = epa.epa.closest_points(&pose, &pa, &pb, &simplex).map_or(toward, |(_, _, n1)| from_parry(n1));
             return Some(-n1);
         }
     };
-    epa.axis = Some(-n1);
+    epa.kept.sep = Separation::Axis(-n1);
     (!apart).then_some(-n1)
 }
 

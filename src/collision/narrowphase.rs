@@ -1,10 +1,10 @@
 //! The narrowphase: each geom as a shape in world, one arm per unordered pair of shapes, and
 //! MuJoCo's rule for a pair's friction and condim.
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 use super::convex::{on_plane, point_polytope, polytopes, Manifold, PosedBox, PosedHull, Segment};
-use super::data::{pose_axes, CollisionData, Contact, Scratch};
+use super::data::{pose_axes, CollisionData, Contact, Scratch, Separation};
 use super::cylinder;
 use super::plane_walk::hull_on_plane;
 use super::ellipsoid;
@@ -69,14 +69,15 @@ pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, p: &GeomPai
     match round_pair(&sink, cd, (g1, s1), (g2, s2)) {
         Some(d) => d,
         None => {
-            // the pair's kept axis in world for GJK (`first_normal`), GJK's new one kept
+            // the pair's kept separation (an axis turned into world), the test's kept
             let slot = p.axis.map(|s| s as usize);
-            cd.epa.axis = slot.map(|s| cd.geom_xmat[i] * cd.pair_axes[s]).filter(|n| *n != DVec3::ZERO);
+            let turn = |kept: Separation, rot: DMat3| if let Separation::Axis(n) = kept { Separation::Axis(rot * n) } else { kept };
+            cd.epa.kept.sep = slot.map_or(Separation::Unknown, |s| turn(cd.pair_kept[s], cd.geom_xmat[i]));
             solid_pair(&sink, cd, (g1, s1), (g2, s2));
             if let Some(s) = slot {
-                cd.pair_axes[s] = cd.epa.axis.map_or(DVec3::ZERO, |n| cd.geom_xmat[i].transpose() * n);
+                cd.pair_kept[s] = turn(cd.epa.kept.sep, cd.geom_xmat[i].transpose());
             }
-            cd.epa.axis = None;
+            cd.epa.kept.sep = Separation::Unknown;
             f64::NEG_INFINITY
         }
     }
@@ -241,11 +242,11 @@ fn hull_pair(s1: Shape, s2: Shape, margin: f64, scale: f64, epa: &mut Scratch) -
             let n = if matches!(s1, Shape::Sphere { .. }) { out } else { -out };
             one(0, c - out * (r + 0.5 * (d - r)), n, d - r)
         }
-        (Shape::Hull { c, rot, hull }, Shape::Segment { a, b, r }) => rounded(polytopes(&PosedHull { hull, c, rot }, &Segment { a, b }, margin + r, scale, hint), r, -1.0),
-        (Shape::Segment { a, b, r }, Shape::Hull { c, rot, hull }) => flip(rounded(polytopes(&PosedHull { hull, c, rot }, &Segment { a, b }, margin + r, scale, hint.map(|n| -n)), r, -1.0)),
-        (Shape::Hull { c, rot, hull }, Shape::Box { c: bc, rot: br, half }) => polytopes(&PosedHull { hull, c, rot }, &PosedBox { c: bc, rot: br, half }, margin, scale, hint),
-        (Shape::Box { c: bc, rot: br, half }, Shape::Hull { c, rot, hull }) => polytopes(&PosedBox { c: bc, rot: br, half }, &PosedHull { hull, c, rot }, margin, scale, hint),
-        (Shape::Hull { c, rot, hull }, Shape::Hull { c: c2, rot: r2, hull: h2 }) => polytopes(&PosedHull { hull, c, rot }, &PosedHull { hull: h2, c: c2, rot: r2 }, margin, scale, hint),
+        (Shape::Hull { c, rot, hull }, Shape::Segment { a, b, r }) => rounded(polytopes(&PosedHull { hull, c, rot }, &Segment { a, b }, margin + r, scale, hint, &mut epa.kept), r, -1.0),
+        (Shape::Segment { a, b, r }, Shape::Hull { c, rot, hull }) => flip(rounded(polytopes(&PosedHull { hull, c, rot }, &Segment { a, b }, margin + r, scale, hint.map(|n| -n), &mut epa.kept), r, -1.0)),
+        (Shape::Hull { c, rot, hull }, Shape::Box { c: bc, rot: br, half }) => polytopes(&PosedHull { hull, c, rot }, &PosedBox { c: bc, rot: br, half }, margin, scale, hint, &mut epa.kept),
+        (Shape::Box { c: bc, rot: br, half }, Shape::Hull { c, rot, hull }) => polytopes(&PosedBox { c: bc, rot: br, half }, &PosedHull { hull, c, rot }, margin, scale, hint, &mut epa.kept),
+        (Shape::Hull { c, rot, hull }, Shape::Hull { c: c2, rot: r2, hull: h2 }) => polytopes(&PosedHull { hull, c, rot }, &PosedHull { hull: h2, c: c2, rot: r2 }, margin, scale, hint, &mut epa.kept),
         _ => Manifold::new(),
     }
 }

@@ -9,7 +9,7 @@ use glam::{DMat3, DVec3};
 use super::cylinder;
 use super::convex::{point_polytope, polytopes, reduce, Manifold, Point, PosedBox, PosedHull, Segment, MAX_MANIFOLD};
 use super::prism::Prism;
-use super::data::Scratch;
+use super::data::{Kept, Scratch};
 use super::ellipsoid::{half_width, with_polytope};
 use super::shapes::Shape;
 use crate::geometry::HField;
@@ -110,15 +110,15 @@ fn prism_contacts(prism: &Prism, other: Shape, margin: f64, epa: &mut Scratch) -
         }
         Shape::Segment { a, b, r } => {
             // normals from the segment to the prism: the capsule's surface is r nearer it
-            let mut m = polytopes(prism, &Segment { a, b }, margin + r, scale, None);
+            let mut m = polytopes(prism, &Segment { a, b }, margin + r, scale, None, &mut Kept::default());
             for q in m.iter_mut() {
                 q.1 += q.2 * (0.5 * r);
                 q.3 -= r;
             }
             flip(m)
         }
-        Shape::Box { c, rot, half } => polytopes(&PosedBox { c, rot, half }, prism, margin, scale, None),
-        Shape::Hull { c, rot, hull } => polytopes(&PosedHull { hull, c, rot }, prism, margin, scale, None),
+        Shape::Box { c, rot, half } => polytopes(&PosedBox { c, rot, half }, prism, margin, scale, None, &mut Kept::default()),
+        Shape::Hull { c, rot, hull } => polytopes(&PosedHull { hull, c, rot }, prism, margin, scale, None, &mut Kept::default()),
         Shape::Ellipsoid { .. } => with_polytope(other, prism, margin, epa).into_iter().map(|(at, n, d)| (0, at, n, d)).collect(),
         Shape::Cylinder(cyl) => cylinder::with_prism(&cyl, prism, margin, epa),
         Shape::Plane { .. } | Shape::HField { .. } => Manifold::new(),
