@@ -260,28 +260,30 @@ fn kept_separations_change_no_contact() {
     assert!(touching > tested / 20 && touching < tested, "{touching} of {tested} detections touch");
 }
 
-/// A pebble (a hull of 10 vertices, tested by separating axes) on an arm swinging back and forth
-/// past four others, near and touching: the face that held a pair apart settles its next tests,
-/// and the contacts are those of detection from scratch.
+/// A pebble (a hull of 10 vertices, tested by separating axes), and then a box, on an arm
+/// swinging back and forth past four others, near and touching: the face that held a pair apart
+/// settles its next tests, and the contacts are those of detection from scratch.
 #[test]
 fn a_kept_separating_face_changes_no_contact() {
     let pebble = "0.05 0 0  -0.05 0 0  0 0.04 0  0 -0.04 0  0 0 0.045  0 0 -0.045  0.03 0.02 0.03  -0.03 -0.02 0.03  0.03 -0.02 -0.03  -0.03 0.02 -0.03";
-    let others: String = (0..4)
-        .map(|k| {
-            let t = 0.6 + 0.5 * k as f64;
-            format!("<geom type=\"mesh\" mesh=\"pebble\" pos=\"{} {} {}\" euler=\"{} 20 40\"/>", 0.3 * t.cos(), 0.3 * t.sin(), 0.04 * k as f64 - 0.06, 30 * k)
-        })
-        .collect();
-    let m = Model::from_mjcf(&format!(
-        r#"<mujoco><asset><mesh name="pebble" vertex="{pebble}"/></asset><worldbody>{others}
-        <body><joint type="hinge" axis="0 0 1"/><geom type="mesh" mesh="pebble" pos=".3 0 0" euler="10 50 0"/></body>
-        </worldbody></mujoco>"#
-    ))
-    .unwrap();
-    let mut r = Rng(9);
-    let (_, settled, touching, tested) = walk(&m, &mut r, 6000, 6000, 0.3, 2.0);
-    assert!(settled > tested / 20, "{settled} tests settled by kept faces in {tested} detections");
-    assert!(touching > tested / 50 && touching < tested / 2, "{touching} of {tested} detections touch");
+    for shape in [r#"type="mesh" mesh="pebble""#, r#"type="box" size=".04 .03 .035""#] {
+        let others: String = (0..4)
+            .map(|k| {
+                let t = 0.6 + 0.5 * k as f64;
+                format!("<geom {shape} pos=\"{} {} {}\" euler=\"{} 20 40\"/>", 0.3 * t.cos(), 0.3 * t.sin(), 0.04 * k as f64 - 0.06, 30 * k)
+            })
+            .collect();
+        let m = Model::from_mjcf(&format!(
+            r#"<mujoco><asset><mesh name="pebble" vertex="{pebble}"/></asset><worldbody>{others}
+            <body><joint type="hinge" axis="0 0 1"/><geom {shape} pos=".3 0 0" euler="10 50 0"/></body>
+            </worldbody></mujoco>"#
+        ))
+        .unwrap();
+        let mut r = Rng(9);
+        let (_, settled, touching, tested) = walk(&m, &mut r, 6000, 6000, 0.3, 2.0);
+        assert!(settled > tested / 20, "{shape}: {settled} tests settled by kept faces in {tested} detections");
+        assert!(touching > tested / 50 && touching < tested / 2, "{shape}: {touching} of {tested} detections touch");
+    }
 }
 
 /// An arm folding slowly onto its base: while its pairs are far apart the whole tree's travel

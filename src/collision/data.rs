@@ -92,8 +92,9 @@ pub struct CollisionData {
     /// Pairs the detection narrowed to their relative motion's margin, with that margin, in the
     /// pairs' order.
     pub(super) narrowed: Vec<(usize, f64)>,
-    /// Per pair with a mesh, a cylinder or an ellipsoid ([`crate::model::GeomPair::axis`]): what
-    /// its last test found apart, which can settle its next test.
+    /// Per pair with a mesh, a cylinder or an ellipsoid, or of two boxes
+    /// ([`crate::model::GeomPair::axis`]): what its last test found apart, which can settle its
+    /// next test.
     pub(super) pair_kept: Vec<Separation>,
     /// The narrowphase's scratch.
     pub(super) epa: Scratch,
@@ -229,7 +230,8 @@ pub(super) enum Separation {
     /// GJK's separating axis (unit, from shape 2 to shape 1): in world while its pair is tested,
     /// in the first geom's frame while kept.
     Axis(DVec3),
-    /// A face of the separating-axis test's first polytope (`false`) or second (`true`).
+    /// A face of the separating-axis test's first polytope (`false`) or second (`true`); of two
+    /// boxes, the first's or second's axis.
     Face(bool, u32),
 }
 

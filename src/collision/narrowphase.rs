@@ -148,7 +148,7 @@ fn solid_pair(sink: &Sink, cd: &mut CollisionData, (g1, s1): (usize, Shape), (g2
             }
         }
         (Shape::Box { c: c1, rot: r1, half: h1 }, Shape::Box { c: c2, rot: r2, half: h2 }) => {
-            let (points, count) = box_box(c1, r1, h1, c2, r2, h2, margin);
+            let (points, count) = box_box((c1, r1, h1), (c2, r2, h2), margin, &mut cd.epa.kept);
             each(cd, &points[..count], 1.0);
         }
         (Shape::Ellipsoid { c, rot, radii }, Shape::Plane { p, n }) => {

@@ -4,7 +4,7 @@
 
 use glam::{DMat3, DVec3};
 
-use super::data::CollisionData;
+use super::data::{CollisionData, Kept, Separation};
 use crate::geometry::{HField, Hull};
 use crate::model::{GeomType, Model};
 
@@ -104,12 +104,20 @@ const EDGE_ON_FACE: f64 = 0.99863;
 /// supporting edges, one point. Returns (feature, point, normal from box 2 to box 1, signed
 /// distance) for points within `margin`.
 #[allow(clippy::type_complexity)]
-pub(super) fn box_box(c1: DVec3, r1: DMat3, h1: DVec3, c2: DVec3, r2: DMat3, h2: DVec3, margin: f64) -> ([(usize, DVec3, DVec3, f64); 8], usize) {
+pub(super) fn box_box((c1, r1, h1): (DVec3, DMat3, DVec3), (c2, r2, h2): (DVec3, DMat3, DVec3), margin: f64, kept: &mut Kept) -> ([(usize, DVec3, DVec3, f64); 8], usize) {
     let mut out = [(0, DVec3::ZERO, DVec3::ZERO, 0.0); 8];
     let d = c1 - c2;
     let radius = |axis: DVec3, rot: DMat3, half: DVec3| (0..3).map(|k| half[k] * axis.dot(rot.col(k)).abs()).sum::<f64>();
     let gap = |axis: DVec3| axis.dot(d).abs() - radius(axis, r1, h1) - radius(axis, r2, h2);
     let scale = h1.max_element() + h2.max_element();
+    // a face axis that held the boxes apart last time, still farther than the margin by the
+    // tolerance of the best face's choice: the best face below is at least as far apart
+    if let Separation::Face(of_2, k @ 0..3) = kept.sep
+        && gap(if of_2 { r2 } else { r1 }.col(k as usize)) > margin + 1e-9 * scale
+    {
+        kept.skips += 1;
+        return (out, 0);
+    }
     // best face axis: (gap, reference box is box 1, axis index); a later axis must be better by
     // more than round-off, so that faces tied (equal boxes stacked) keep one reference box and
     // the contacts their features
@@ -139,6 +147,7 @@ pub(super) fn box_box(c1: DVec3, r1: DMat3, h1: DVec3, c2: DVec3, r2: DMat3, h2:
     // box's edge across a cube's face): the face's clipping gives the segment's two ends, where
     // the edges' closest points give one, about which the box would rock
     let on_face = |axis: DVec3| axis.dot(if face.1 { r1.col(face.2) } else { r2.col(face.2) }).abs() > EDGE_ON_FACE;
+    kept.sep = if face.0 > margin { Separation::Face(!face.1, face.2 as u32) } else { Separation::Unknown };
     if edge.0 > face.0 + 0.05 * face.0.abs() + 1e-9 * scale && !on_face(edge.3) {
         if edge.0 > margin {
             return (out, 0);
@@ -356,7 +365,7 @@ pub(super) fn closest_segments(a1: DVec3, b1: DVec3, a2: DVec3, b2: DVec3) -> (D
 
 #[cfg(test)]
 mod tests {
-    use super::box_box;
+    use super::{box_box, Kept};
     use glam::{DMat3, DVec3};
 
     /// Equal boxes stacked face to face touch at the four corners, whatever round-off turns or
@@ -371,7 +380,7 @@ mod tests {
             let top = DMat3::from_rotation_z(a) * DMat3::from_rotation_y(0.5 * a) * DMat3::from_rotation_y(-0.5 * a) * DMat3::from_rotation_z(-a);
             let bottom = DMat3::from_rotation_x(a) * DMat3::from_rotation_x(-a);
             let eps = 1e-16 * (k as f64 - 100.0);
-            let (pts, n) = box_box(DVec3::new(eps, -eps, 0.2 + 1e-12), top, h, DVec3::new(0.0, 7.0 * eps, 0.0), bottom, h, 1e-3);
+            let (pts, n) = box_box((DVec3::new(eps, -eps, 0.2 + 1e-12), top, h), (DVec3::new(0.0, 7.0 * eps, 0.0), bottom, h), 1e-3, &mut Kept::default());
             assert_eq!(n, 4, "round-off {eps}: {:?}", &pts[..n]);
             for p in &pts[..n] {
                 assert!((p.1.x.abs() - 0.1).abs() < 1e-9 && (p.1.y.abs() - 0.1).abs() < 1e-9, "not a corner: {:?}", p.1);
@@ -398,7 +407,7 @@ mod tests {
             // the bar's x and z faces turned 45° about its length (y): its lowest edge along y
             let rot = DMat3::from_rotation_z(turn) * DMat3::from_rotation_x(lift / 0.05) * DMat3::from_rotation_y(std::f64::consts::FRAC_PI_4);
             let low = (0.007f64.powi(2) + 0.013f64.powi(2)).sqrt() * (std::f64::consts::FRAC_PI_4 - (0.007f64 / 0.013).atan()).cos();
-            let (pts, n) = box_box(DVec3::new(0.0, 0.0, 0.025 + low), rot, bar, DVec3::ZERO, DMat3::IDENTITY, cube, 2e-3);
+            let (pts, n) = box_box((DVec3::new(0.0, 0.0, 0.025 + low), rot, bar), (DVec3::ZERO, DMat3::IDENTITY, cube), 2e-3, &mut Kept::default());
             assert_eq!(n, 2, "turn {turn}, lift {lift}: {:?}", &pts[..n]);
             let ys: Vec<f64> = pts[..n].iter().map(|p| p.1.y).collect();
             assert!(ys.iter().any(|&y| y > 0.02) && ys.iter().any(|&y| y < -0.02), "turn {turn}, lift {lift}: {:?}", &pts[..n]);

@@ -100,14 +100,15 @@ fn weld(m: &Model, mut b: usize) -> usize {
     b
 }
 
-/// Numbers the pairs whose narrowphase begins with GJK ([`GeomPair::axis`]).
+/// Numbers the pairs that keep what their test found apart ([`GeomPair::axis`]).
 pub fn axis_slots(m: &mut Model) {
     let gjk = |t: GeomType| matches!(t, GeomType::Mesh | GeomType::Cylinder | GeomType::Ellipsoid);
     let flat = |t: GeomType| matches!(t, GeomType::Plane | GeomType::Hfield);
     let mut slots = 0;
     for p in &mut m.collision_pairs {
         let (t1, t2) = (m.geom_type[p.g1], m.geom_type[p.g2]);
-        p.axis = ((gjk(t1) || gjk(t2)) && !flat(t1) && !flat(t2)).then(|| {
+        let boxes = t1 == GeomType::Box && t2 == GeomType::Box;
+        p.axis = (boxes || ((gjk(t1) || gjk(t2)) && !flat(t1) && !flat(t2))).then(|| {
             slots += 1;
             slots - 1
         });

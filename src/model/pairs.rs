@@ -22,8 +22,8 @@ pub struct GeomPair {
     /// Whether both geoms move (neither is the world's nor a plane): their relative motion then
     /// bounds how near the step can bring them.
     pub both_move: bool,
-    /// Where the pair keeps its separating axis in `CollisionData` when its test begins with GJK
-    /// (a mesh, cylinder or ellipsoid against anything but a plane or a height field).
+    /// Where the pair keeps what its last test found apart in `CollisionData` (a mesh, cylinder
+    /// or ellipsoid against anything but a plane or a height field, or two boxes).
     pub axis: Option<u32>,
 }
 
