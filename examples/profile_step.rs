@@ -5,7 +5,8 @@
 //! model's own integrator (RK4 for Ant, Hopper, Humanoid); a third and fourth set the step count
 //! and the controls' random seed (`benches/ab_instructions.py` counts a short run's instructions);
 //! `key` keeps the model's integrator and steps from its "home" keyframe (else its first) holding
-//! the keyframe's controls, back to it every 300 steps (`benches/robot_models.py`'s workload).
+//! the keyframe's controls, back to it every 300 steps as `Sim.reset` goes back
+//! (`benches/robot_models.py`'s workload).
 fn main() {
     let path = std::env::args().nth(1).unwrap();
     let m = sinew::Model::from_mjcf_file(std::path::Path::new(&path)).unwrap();
@@ -27,9 +28,13 @@ fn main() {
         let (qpos, ctrl) = key.map_or((m.qpos0.clone(), vec![0.0; m.nu]), |k| (k.qpos.clone(), k.ctrl.clone()));
         for k in 0..arg(3, 200_000) {
             if k % 300 == 0 {
-                s = sinew::State::new(&m);
+                // reset as `Sim.reset` does, keeping the buffers a workload has grown
                 s.qpos.copy_from_slice(&qpos);
                 s.ctrl.copy_from_slice(&ctrl);
+                s.qvel.fill(0.0);
+                s.act.fill(0.0);
+                s.time = 0.0;
+                s.data.restore(None, &sinew::constraint::History::new());
             }
             s.step(&m);
         }
