@@ -172,7 +172,7 @@ fn plane_groups_reject_no_touching_pair() {
 /// contacts of detection from scratch, and so does the second look with end velocities
 /// ([`reach_again`]). Returns (gap skips, axis skips, detections with contacts, detections).
 fn walk(m: &Model, r: &mut Rng, steps: usize, jump: usize, drift: f64, v_max: f64) -> (usize, usize, usize, usize) {
-    let (mut skipped, mut axis_skips, mut touching) = (0, 0, 0);
+    let (mut skipped, mut kept_skips, mut touching) = (0, 0, 0);
     let mut data = Data::new(m);
     let mut cd = CollisionData::new(m);
     let mut node_v = vec![Motion::ZERO; m.nnode];
@@ -190,7 +190,7 @@ fn walk(m: &Model, r: &mut Rng, steps: usize, jump: usize, drift: f64, v_max: f6
         collide(m, &data.dynamics, &s, &mut fresh);
         assert_eq!(cd.contacts, fresh.contacts, "{} step {step}", m.name);
         skipped += cd.gap_skips;
-        axis_skips += cd.axis_skips();
+        kept_skips += cd.kept_skips();
         // constraint forces changed the velocities: the pairs the new ones can close
         let v_end: Vec<f64> = v.iter().map(|x| x * r.uniform(0.0, 30.0)).collect();
         reach_again(m, &data.dynamics.kin, &v_end, &mut node_v, &mut cd);
@@ -203,7 +203,7 @@ fn walk(m: &Model, r: &mut Rng, steps: usize, jump: usize, drift: f64, v_max: f6
         let dq = v.iter().map(|x| 0.01 * x).collect::<Vec<_>>();
         sinew::integrate::integrate_pos(m, &mut q, &dq, 1.0);
     }
-    (skipped, axis_skips, touching, steps)
+    (skipped, kept_skips, touching, steps)
 }
 
 /// Along random walks through random trees (no floor: every plane group is apart, so the gaps are

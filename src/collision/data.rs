@@ -93,11 +93,11 @@ pub struct CollisionData {
     /// pairs' order.
     pub(super) narrowed: Vec<(usize, f64)>,
     /// Per pair with a mesh, a cylinder or an ellipsoid, or of two boxes
-    /// ([`crate::model::GeomPair::axis`]): what its last test found apart, which can settle its
+    /// ([`crate::model::GeomPair::kept`]): what its last test found apart, which can settle its
     /// next test.
     pub(super) pair_kept: Vec<Separation>,
     /// The narrowphase's scratch.
-    pub(super) epa: Scratch,
+    pub(super) scratch: Scratch,
     /// Contacts of this configuration.
     pub contacts: Vec<Contact>,
 }
@@ -132,8 +132,8 @@ impl CollisionData {
             // a model of few pairs tests them all, listed once here
             near: if m.collision_pairs.len() < SWEEP_PAIRS { (0..m.collision_pairs.len()).collect() } else { Vec::with_capacity(m.collision_pairs.len()) },
             narrowed: Vec::new(),
-            pair_kept: vec![Separation::Unknown; m.collision_pairs.iter().filter(|p| p.axis.is_some()).count()],
-            epa: Scratch::sized(m.meshes.iter().map(|mesh| mesh.hull.vert.len()).max().unwrap_or(0)),
+            pair_kept: vec![Separation::Unknown; m.collision_pairs.iter().filter(|p| p.kept.is_some()).count()],
+            scratch: Scratch::sized(m.meshes.iter().map(|mesh| mesh.hull.vert.len()).max().unwrap_or(0)),
             // grown to the most a step has found (at most `Options::max_contacts`)
             contacts: Vec::new(),
         }
@@ -141,11 +141,11 @@ impl CollisionData {
 
     /// Pair tests that a separation kept from the pair's last test settled in the last
     /// detection.
-    pub fn axis_skips(&self) -> usize {
-        self.epa.kept.skips
+    pub fn kept_skips(&self) -> usize {
+        self.scratch.kept.skips
     }
 
-    /// Forgets the contacts, the pairs' gaps and their separating axes.
+    /// Forgets the contacts, the pairs' gaps and their kept separations.
     pub fn forget(&mut self) {
         self.contacts.clear();
         self.pair_gap.fill(f64::NEG_INFINITY);

@@ -72,7 +72,7 @@ fn begin(m: &Model, kin: &KinData, out: &mut CollisionData, reach: f64) -> Optio
     out.contacts.clear();
     out.narrowed.clear();
     out.gap_skips = 0;
-    out.epa.kept.skips = 0;
+    out.scratch.kept.skips = 0;
     if !m.opt.contact || m.collision_pairs.is_empty() {
         return None;
     }

@@ -70,14 +70,14 @@ pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, p: &GeomPai
         Some(d) => d,
         None => {
             // the pair's kept separation (an axis turned into world), the test's kept
-            let slot = p.axis.map(|s| s as usize);
+            let slot = p.kept.map(|s| s as usize);
             let turn = |kept: Separation, rot: DMat3| if let Separation::Axis(n) = kept { Separation::Axis(rot * n) } else { kept };
-            cd.epa.kept.sep = slot.map_or(Separation::Unknown, |s| turn(cd.pair_kept[s], cd.geom_xmat[i]));
+            cd.scratch.kept.sep = slot.map_or(Separation::Unknown, |s| turn(cd.pair_kept[s], cd.geom_xmat[i]));
             solid_pair(&sink, cd, (g1, s1), (g2, s2));
             if let Some(s) = slot {
-                cd.pair_kept[s] = turn(cd.epa.kept.sep, cd.geom_xmat[i].transpose());
+                cd.pair_kept[s] = turn(cd.scratch.kept.sep, cd.geom_xmat[i].transpose());
             }
-            cd.epa.kept.sep = Separation::Unknown;
+            cd.scratch.kept.sep = Separation::Unknown;
             f64::NEG_INFINITY
         }
     }
@@ -148,7 +148,7 @@ fn solid_pair(sink: &Sink, cd: &mut CollisionData, (g1, s1): (usize, Shape), (g2
             }
         }
         (Shape::Box { c: c1, rot: r1, half: h1 }, Shape::Box { c: c2, rot: r2, half: h2 }) => {
-            let (points, count) = box_box((c1, r1, h1), (c2, r2, h2), margin, &mut cd.epa.kept);
+            let (points, count) = box_box((c1, r1, h1), (c2, r2, h2), margin, &mut cd.scratch.kept);
             each(cd, &points[..count], 1.0);
         }
         (Shape::Ellipsoid { c, rot, radii }, Shape::Plane { p, n }) => {
@@ -156,7 +156,7 @@ fn solid_pair(sink: &Sink, cd: &mut CollisionData, (g1, s1): (usize, Shape), (g2
             add(cd, 0, pos, n, d);
         }
         (Shape::Ellipsoid { .. }, other) | (other, Shape::Ellipsoid { .. }) if !matches!(other, Shape::HField { .. }) => {
-            if let Some((pos, n, d)) = ellipsoid::convex(s1, s2, margin, &mut cd.epa) {
+            if let Some((pos, n, d)) = ellipsoid::convex(s1, s2, margin, &mut cd.scratch) {
                 add(cd, 0, pos, n, d);
             }
         }
@@ -166,16 +166,16 @@ fn solid_pair(sink: &Sink, cd: &mut CollisionData, (g1, s1): (usize, Shape), (g2
         // a hull's GJK first meets the boxes
         (Shape::Cylinder(_), Shape::Hull { .. }) | (Shape::Hull { .. }, Shape::Cylinder(_)) if boxes_part(&s1, &s2, margin) => {}
         (Shape::Cylinder(cyl), other) if !matches!(other, Shape::HField { .. }) => {
-            let found = cylinder::pair(&cyl, other, margin, &mut cd.epa);
+            let found = cylinder::pair(&cyl, other, margin, &mut cd.scratch);
             each(cd, &found, 1.0);
         }
         (other, Shape::Cylinder(cyl)) => {
             // normals from geom 2 to geom 1 (a plane or height field is geom 2 already)
-            let found = cylinder::pair(&cyl, other, margin, &mut cd.epa);
+            let found = cylinder::pair(&cyl, other, margin, &mut cd.scratch);
             each(cd, &found, -1.0);
         }
         (Shape::Hull { .. } | Shape::HField { .. }, _) | (_, Shape::Hull { .. } | Shape::HField { .. }) => {
-            let found = convex_pair(m, (s1, g1), (s2, g2), margin, &mut cd.epa);
+            let found = convex_pair(m, (s1, g1), (s2, g2), margin, &mut cd.scratch);
             each(cd, &found, 1.0);
         }
         _ => {}

@@ -143,7 +143,7 @@ fn compile(mut spec: ModelSpec, x: &include::Expanded) -> Result<Model> {
     }
     m.collision_pairs.extend(explicit);
     m.collision_pairs.sort_by_key(|p| (p.g1, p.g2));
-    pairs::axis_slots(&mut m);
+    pairs::kept_slots(&mut m);
     sweep_lists(&mut m);
     m.body_reach = body_reaches(&m);
     m.dof_arm = dof_arms(&m);

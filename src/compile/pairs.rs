@@ -100,15 +100,15 @@ fn weld(m: &Model, mut b: usize) -> usize {
     b
 }
 
-/// Numbers the pairs that keep what their test found apart ([`GeomPair::axis`]).
-pub fn axis_slots(m: &mut Model) {
+/// Numbers the pairs that keep what their test found apart ([`GeomPair::kept`]).
+pub fn kept_slots(m: &mut Model) {
     let gjk = |t: GeomType| matches!(t, GeomType::Mesh | GeomType::Cylinder | GeomType::Ellipsoid);
     let flat = |t: GeomType| matches!(t, GeomType::Plane | GeomType::Hfield);
     let mut slots = 0;
     for p in &mut m.collision_pairs {
         let (t1, t2) = (m.geom_type[p.g1], m.geom_type[p.g2]);
         let boxes = t1 == GeomType::Box && t2 == GeomType::Box;
-        p.axis = (boxes || ((gjk(t1) || gjk(t2)) && !flat(t1) && !flat(t2))).then(|| {
+        p.kept = (boxes || ((gjk(t1) || gjk(t2)) && !flat(t1) && !flat(t2))).then(|| {
             slots += 1;
             slots - 1
         });
@@ -126,5 +126,5 @@ pub fn geom_pair(m: &Model, i: usize, j: usize) -> GeomPair {
         _ => (PairTest::Always, 0.0),
     };
     let moves = |g: usize| m.body_node[m.geom_body[g]] != WORLD && m.geom_type[g] != GeomType::Plane;
-    GeomPair { g1: i, g2: j, test, margin, radii, friction: None, both_move: moves(i) && moves(j), axis: None }
+    GeomPair { g1: i, g2: j, test, margin, radii, friction: None, both_move: moves(i) && moves(j), kept: None }
 }

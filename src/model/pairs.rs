@@ -24,7 +24,7 @@ pub struct GeomPair {
     pub both_move: bool,
     /// Where the pair keeps what its last test found apart in `CollisionData` (a mesh, cylinder
     /// or ellipsoid against anything but a plane or a height field, or two boxes).
-    pub axis: Option<u32>,
+    pub kept: Option<u32>,
 }
 
 /// The friction of a pair's contacts: its condim, the sliding coefficient, and the torsional (condim ≥ 4, a length) and rolling (condim 6, a length)
