@@ -193,16 +193,26 @@ def main() -> None:
                     f"{px / theirs_px:.1f} | {bound:.1f} " + returns)
         print(rows[-1], flush=True)
     lines = ["# dm_control's suite: sinew beside dm_control", "",
-             "`MUJOCO_GL=egl python benches/dmc.py --out results/dmc.md` (2 cores; sinew's native vector env, 64 "
-             "worlds from state, 16 from 84 × 84 pixels; dm_control's own loop, one env, MuJoCo "
+             "`MUJOCO_GL=egl python benches/dmc.py --out results/dmc.md` (`--tasks T...` rewrites those tasks' rows "
+             "alone; 2 cores; sinew's native vector env, 64 worlds from state, 16 from 84 × 84 pixels; dm_control's own loop, one env, MuJoCo "
              f"{version}; each task in a process of its own, the sides' 1.5 s windows alternating: state steps/s are "
              f"medians of {a.rounds} rounds and × the median of the rounds' ratios, pixels one window each, by mesa's "
              f"EGL for dm_control; \"physics alone\": the state × with the env's Python left out, by the share of each sinew window its "
              f"worlds' `Batch.step` calls took, resets' included; random-policy returns over {EPISODES} episodes of each)", "",
              "| task | state steps/s sinew | dm_control | × | pixels steps/s sinew | dm_control | × | × from state, sinew's physics alone | random return sinew | dm_control |",
-             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|", *rows]
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    # the rows of the tasks not rerun are kept, in the order of TASKS
+    kept = read_rows(a.out) if a.tasks and os.path.exists(a.out) else {}
+    fresh = {row.split(" | ", 1)[0][2:]: row for row in rows}
+    lines += [r for r in (fresh.get(t[4:], kept.get(t[4:])) for t in TASKS) if r]
     with open(a.out, "w") as f:
         f.write("\n".join(lines) + "\n")
+
+
+def read_rows(path: str) -> dict:
+    """The per-task rows (keyed by the task's name) of a table this bench wrote."""
+    rows = [line for line in open(path).read().splitlines() if line.startswith("| ") and not line.startswith("| task ")]
+    return {row.split(" | ", 1)[0][2:]: row for row in rows}
 
 
 if __name__ == "__main__":
