@@ -127,11 +127,10 @@ def robot(task: str) -> str:
     return next(r for r in RESET if task.startswith(r))
 
 
-def rollout(sim, task, policy, n, steps=250, seed=0):
+def rollout(env, task, policy, n, steps=250, seed=0):
     """Mean reward per step, each term's mean (scaled, per second) over the worlds whose episode
     has not terminated yet, and the share that terminated within `steps`, under `policy` ("zero": the default pose held; "random":
-    uniform actions in [-1, 1] redrawn each step)."""
-    env = sim(task, n, 2, seed)
+    uniform actions in [-1, 1] redrawn each step), from `env` as made (2 threads, `seed`)."""
     rng = np.random.default_rng(seed)
     fell = np.zeros(n, dtype=bool)
     rewards, terms = [], {k: [] for k in TASKS[task]}
@@ -147,8 +146,8 @@ def rollout(sim, task, policy, n, steps=250, seed=0):
     return float(np.mean(rewards)), {k: float(np.mean(v)) for k, v in terms.items()}, float(fell.mean())
 
 
-def throughput(sim, task, n, threads, steps=200):
-    env = sim(task, n, threads, 0)
+def throughput(env, n, steps=200):
+    """Env-steps/s of `env` (`n` worlds) under seeded uniform actions, after one step."""
     a = np.random.default_rng(0).uniform(-1, 1, (steps, n, env.nu))
     env.step(a[0])
     t0 = time.perf_counter()
@@ -193,10 +192,15 @@ def main():
         lines = []
         names, n = TASKS[task], WORLDS[robot(task)]
         lines += [f"## {task}", ""]
+        # each policy's rollout starts from envs made afresh (seed 0); the zero policy's are the
+        # reset distribution's too (an EnvPool env of a humanoid task holds gigabytes: made
+        # as few times as the table needs)
+        fresh = {policy: {"sinew": Sinew(task, n, 2, 0), "EnvPool": None} for policy in ("zero", "random")}
+        fresh["zero"]["EnvPool"] = EnvPool(task, n, 2, 0)
         if "Joystick" in task:
             lines += [f"Reset distribution (privileged state, clean readings; {n} worlds): mean ± std per group.", "",
                       "| quantity | sinew | EnvPool |", "|---|---|---|"]
-            s, e = Sinew(task, n, 2, 0), EnvPool(task, n, 2, 0)
+            s, e = fresh["zero"]["sinew"], fresh["zero"]["EnvPool"]
             for name, cols in RESET[robot(task)]:
                 lines.append(f"| {name} | {s.priv[:, cols].mean():+.3f} ± {s.priv[:, cols].std():.3f} | "
                              f"{e.priv[:, cols].mean():+.3f} ± {e.priv[:, cols].std():.3f} |")
@@ -209,15 +213,19 @@ def main():
                   "| policy | sim | reward/step | ended | " + " | ".join(names) + " |", "|---|---|---:|---:|" + "---:|" * len(names)]
         for policy in ("zero", "random"):
             for name, sim in (("sinew", Sinew), ("EnvPool", EnvPool)):
-                r, t, fell = rollout(sim, task, policy, n)
+                env = fresh[policy].pop(name) or sim(task, n, 2, 0)
+                r, t, fell = rollout(env, task, policy, n)
+                del env
                 lines.append(f"| {policy} | {name} | {r:.4f} | {fell:.2f} | " + " | ".join(f"{t[k]:+.3f}" for k in names) + " |")
         lines += ["", "Env-steps/s, random actions, median of alternating rounds:", "",
                   "| worlds | threads | sinew | EnvPool | × |", "|---:|---:|---:|---:|---:|"]
         for threads in (1, 2):
             ours, theirs = [], []
+            s, e = Sinew(task, n, threads, 0), EnvPool(task, n, threads, 0)
             for _ in range(args.rounds):
-                ours.append(throughput(Sinew, task, n, threads))
-                theirs.append(throughput(EnvPool, task, n, threads))
+                ours.append(throughput(s, n))
+                theirs.append(throughput(e, n))
+            del s, e
             a, b = np.median(ours), np.median(theirs)
             lines.append(f"| {n} | {threads} | {a:,.0f} | {b:,.0f} | {a / b:.2f} |")
         lines.append("")
