@@ -58,6 +58,19 @@ pub(super) fn settle(n: usize, m: &[f64], q: &[f64], role: &[Role], start: impl 
             changed |= now != guess[i];
             guess[i] = now;
         }
+        // a bounded force joining the set at its cap: when the force that would zero its own w
+        // alone, −w_i / M_ii, exceeds the cap, it joins pinned there (its slack active), a pass
+        // sooner than the solve free of the cap would show it (a joint starting to slide)
+        for i in 0..n {
+            if let Role::Bounded { lambda, cap } = role[i]
+                && guess[i]
+                && !guess[lambda]
+                && work.trial[i] == 0.0
+                && -work.w[i] > cap * m[i * n + i]
+            {
+                guess[lambda] = true;
+            }
+        }
         // a contact without normal force has no friction force (|f_t| ≤ μ f_n); one that starts
         // pressing starts sticking too, on the rows its tangential demand pushes against (their
         // w without λ, which was free while the normal was inactive, below zero)
