@@ -33,14 +33,18 @@ fn warm_start_recovers_the_lambda_of_a_contact_without_normal_force() {
 /// An LCP: size, M (row-major), q and the variables' roles.
 type Owned = (usize, Vec<f64>, Vec<f64>, Vec<Role>);
 
+/// A seeded stream of numbers uniform in [−1, 1) (a linear congruential generator).
+fn uniform(mut x: u64) -> impl FnMut() -> f64 {
+    move || {
+        x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+}
+
 /// Random pyramid-friction problems: k contacts (normal, ±t1, ±t2, λ) with K = J Jᵀ + εI from a
 /// random J, random demands; (n, M, q, roles) for each of `count` trials.
 fn random_pyramid_problems(count: usize) -> Vec<Owned> {
-    let mut x: u64 = 11;
-    let mut rnd = || {
-        x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
+    let mut rnd = uniform(11);
     let mut out = vec![];
     for trial in 0..count {
         let k = 1 + trial % 4;
@@ -121,11 +125,7 @@ fn a_warm_guess_one_contact_off_is_corrected_without_lemke() {
 /// by the dof's loss, each row with its slack σ (w_σ = cap − f); K = J Jᵀ (1 + ε) from random J,
 /// random demands: (n, M, q, roles), rows first (+, − per dof), then their slacks.
 fn random_dry_friction_problems(count: usize) -> Vec<Owned> {
-    let mut x: u64 = 5;
-    let mut rnd = || {
-        x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
+    let mut rnd = uniform(5);
     let mut out = vec![];
     for trial in 0..count {
         let d = 2 + trial % 6;
