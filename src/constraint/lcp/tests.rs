@@ -2,7 +2,7 @@
 
 use super::active_set::{eliminate, eliminate_wide, settle};
 use super::lemke::{pivot, pivot_wide};
-use super::{lemke, residual, solve, LcpStats, LcpWork, Problem, Role, ACCEPT_RESIDUAL, REGULARISATION};
+use super::{lemke, residual, solve, LcpStats, LcpWork, Problem, Role, ACCEPT_RESIDUAL, PIVOT_CAP_PER_ROW, REGULARISATION};
 
 #[test]
 fn solves_a_small_symmetric_problem() {
@@ -94,6 +94,24 @@ fn solves_random_pyramid_friction_problems_without_fallback() {
     }
     assert_eq!((stats.fallback_pgs, stats.inexact, stats.fallback_zero), (0, 0, 0), "{stats:?}");
     assert!(stats.pivots > 400, "{stats:?}");
+}
+
+#[test]
+fn lemkes_accepted_paths_stay_within_half_the_pivot_cap() {
+    // the cap ends paths that cycle on round-off; one that reaches an answer the check accepts
+    // is far shorter (random friction and dry-friction problems, the first attempt's covering)
+    let mut work = LcpWork::default();
+    let (mut longest, mut accepted) = (0.0f64, 0);
+    for (n, m, q, role) in random_pyramid_problems(400).into_iter().chain(random_dry_friction_problems(400)) {
+        let mut z = vec![0.0; n];
+        let Some(p) = lemke(n, &m, &q, |i| role[i] == Role::Lambda, &mut z, &mut work) else { continue };
+        if residual(n, &m, &q, &z, (&mut work.w, &mut work.nz)) <= ACCEPT_RESIDUAL {
+            accepted += 1;
+            longest = longest.max(p.saturating_sub(10) as f64 / n as f64);
+        }
+    }
+    eprintln!("{accepted} accepted, the longest {longest:.2} n pivots");
+    assert!(accepted > 600 && longest <= PIVOT_CAP_PER_ROW as f64 / 2.0, "{accepted} accepted, the longest {longest:.2} n");
 }
 
 #[test]
