@@ -17,7 +17,8 @@ rounds from the same start, sinew's and MuJoCo's in turn: the constraint-free ac
 the start (random velocities) against MuJoCo's (largest error over MuJoCo's largest), whether the
 state stays finite, a floating base's height after the 1 s beside MuJoCo's, the median over
 rounds of each simulator's median step time, and sinew's slowest step (the least over rounds:
-the same step each time) over its median.
+the same step each time) over its median. Random controls: robosuite's files with actuators
+(`random_controls`).
 """
 
 import argparse
@@ -29,6 +30,8 @@ import re
 import subprocess
 import sys
 import warnings
+
+import numpy as np
 
 from emit import emit, invocation
 
@@ -162,7 +165,57 @@ def main():
         lines.append(f"| {name} | {steps} | {r['qacc_error']:.0e} | {'yes' if r['finite'] else 'no'} | {z} | {1e6 * r['ours']:.0f} | "
                      f"{1e6 * r['theirs']:.0f} | {r['ours'] / r['theirs']:.1f} | {r['worst'] / r['ours']:.1f} |")
         print(lines[-1], flush=True)
+    lines += random_controls(root, files)
     emit("\n".join(lines) + "\n", args.out)
+
+
+def random_controls(root, files, steps=2000, hold=10):
+    """robosuite's grippers, hands and robots with actuators under random controls, beside
+    MuJoCo: from qpos0, `steps` steps of controls drawn uniformly in each actuator's range (±1
+    where unlimited), seeded, held `hold` steps; whether sinew's state stays finite (else the
+    step where it diverged), the fastest joint speed each simulator reached, and how many times
+    MuJoCo found its accelerations bad and reset the state itself (`mjWARN_BADQACC`)."""
+    import mujoco
+    import sinew
+
+    lines = ["", f"robosuite's files with actuators from qpos0 under random controls ({steps} steps, each draw held {hold}):", "",
+             "| file | dofs | sinew | sinew's fastest \\|q̇\\| | MuJoCo's fastest \\|q̇\\| | MuJoCo's own resets |",
+             "|---|---:|---|---:|---:|---:|"]
+    for f in files:
+        if package(root, f) != "robosuite_models":
+            continue
+        mj = mujoco.MjModel.from_xml_path(f)
+        if mj.nu == 0:
+            continue
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                sim = sinew.Sim(sinew.Model.from_mjcf(f))
+            except Exception:
+                continue
+        d = mujoco.MjData(mj)
+        limited = mj.actuator_ctrllimited.astype(bool)
+        lo = np.where(limited, mj.actuator_ctrlrange[:, 0], -1.0)
+        hi = np.where(limited, mj.actuator_ctrlrange[:, 1], 1.0)
+        ctrl = np.random.default_rng(0).uniform(lo, hi, (steps // hold, mj.nu))
+        ours, theirs, outcome = 0.0, 0.0, "finite"
+        for k in range(steps):
+            sim.ctrl = d.ctrl[:] = ctrl[k // hold]
+            if outcome == "finite":
+                try:
+                    sim.step(1)
+                    ours = max(ours, float(np.abs(sim.qvel).max()))
+                except Exception:
+                    outcome = f"diverged at step {k}"
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                mujoco.mj_step(mj, d)
+            theirs = max(theirs, float(np.abs(d.qvel).max()))
+        name = os.path.relpath(f, root).split("assets" + os.sep)[-1]
+        resets = d.warning[int(mujoco.mjtWarning.mjWARN_BADQACC)].number
+        lines.append(f"| {name} | {mj.nv} | {outcome} | {ours:.3g} | {theirs:.3g} | {resets} |")
+        print(lines[-1], flush=True)
+    return lines
 
 
 if __name__ == "__main__":
