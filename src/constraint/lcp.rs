@@ -141,8 +141,9 @@ pub const ACCEPT_RESIDUAL: f64 = 1e-5;
 /// Pivot cap of one Lemke attempt, as a multiple of the problem size (plus 10). Accepted answers
 /// took at most 4.7 n pivots (gymnasium's, dm_control's and Playground's tasks under random
 /// actions, the contact-scene tests); a path beyond that cycles on round-off in a degenerate
-/// problem and ends at the cap, which then bounds the cost before the regularised retry
-/// (a G1 with hands step spent 10,610 pivots there at 50 n, 65× its median step).
+/// problem and ends at the cap, which then bounds the cost before the regularised retry (at
+/// 50 n, one step of Menagerie's G1 with hands spent 10,610 pivots there: 64 ms, 400× its
+/// median step).
 pub const PIVOT_CAP_PER_ROW: usize = 10;
 
 /// Independent check: max over rows of violations of z ≥ 0, w ≥ 0 and z·w = 0, scaled. `w`
