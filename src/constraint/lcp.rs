@@ -42,7 +42,7 @@ pub struct Problem<'a> {
 pub struct LcpStats {
     /// LCP solves attempted (one per island of touching trees).
     pub solves: u64,
-    /// Total Lemke pivots.
+    /// Total Lemke pivots, of the attempts that found no answer too.
     pub pivots: u64,
     /// Solves settled by the previous step's active set, without pivoting.
     pub warm_starts: u64,
@@ -463,10 +463,11 @@ fn cascade(p: Problem<'_>, warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpW
             }
         }
         let uncovered = |i: usize| attempt < 2 && role[i] == Role::Lambda;
-        let Some(p) = lemke(n, if retry { &stiff } else { m }, q, uncovered, z, work) else {
+        let p = lemke(n, if retry { &stiff } else { m }, q, uncovered, z, work);
+        stats.pivots += p.unwrap_or_else(|spent| spent) as u64;
+        if p.is_err() {
             continue;
-        };
-        stats.pivots += p as u64;
+        }
         let res = polish(n, m, q, role, z, work);
         if res <= ACCEPT_RESIDUAL {
             work.stiff = stiff;

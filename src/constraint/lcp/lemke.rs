@@ -3,8 +3,8 @@
 use super::{LcpWork, PIVOT_CAP_PER_ROW};
 
 /// Lemke's algorithm with covering vector d (d_i = 1, except 0 on rows where `uncovered(i)` and
-/// q_i ≥ 0). `m` is n × n row-major. Returns the pivot count, or None on ray termination, pivot cap
-/// or non-finite values. `z` receives the solution.
+/// q_i ≥ 0). `m` is n × n row-major. Returns the pivot count, or, as the error, the pivots spent
+/// before a ray termination, the pivot cap or non-finite values. `z` receives the solution.
 ///
 /// The friction λ rows (q = 0) and the slack rows of bounded forces (q = cap ≥ 0) need no
 /// covering; covering them too sends Lemke's path to a secondary ray on contacts whose tangential
@@ -14,11 +14,11 @@ use super::{LcpWork, PIVOT_CAP_PER_ROW};
 /// and the right-hand side, not the unit columns of the basic ones, so a pivot updates n × (n + 2)
 /// entries instead of n × (2n + 2), with the same arithmetic on every entry it keeps. Variables are
 /// numbered w_i = i, z_i = n + i, z0 = 2n.
-pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, z: &mut [f64], work: &mut LcpWork) -> Option<usize> {
+pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, z: &mut [f64], work: &mut LcpWork) -> Result<usize, usize> {
     z[..n].fill(0.0);
     let qmin = (0..n).map(|i| q[i]).fold(f64::INFINITY, f64::min);
     if n == 0 || qmin >= 0.0 {
-        return Some(0);
+        return Ok(0);
     }
     // columns: the nonbasic variables (at first z_0 … z_{n−1}, z0) | rhs
     let cols = n + 2;
@@ -55,16 +55,16 @@ pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, 
                     z[v - n] = work.tab[i * cols + rhs].max(0.0);
                 }
             }
-            return z[..n].iter().all(|x| x.is_finite()).then_some(pivots);
+            return if z[..n].iter().all(|x| x.is_finite()) { Ok(pivots) } else { Err(pivots) };
         }
         // complement of the leaving variable enters
         entering = if leaving < n { leaving + n } else { leaving - n };
-        r = ratio_test(&work.tab, cols, n, work.column[entering], &work.basis, &work.column, (&mut work.w, &mut work.cand))?;
+        r = ratio_test(&work.tab, cols, n, work.column[entering], &work.basis, &work.column, (&mut work.w, &mut work.cand)).ok_or(pivots)?;
         if !work.tab[r * cols + rhs].is_finite() {
-            return None;
+            return Err(pivots);
         }
     }
-    None
+    Err(cap)
 }
 
 /// Lexicographic minimum-ratio test (Cottle, Pang & Stone 1992, §4.9) on the condensed tableau's

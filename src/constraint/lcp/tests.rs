@@ -104,7 +104,7 @@ fn lemkes_accepted_paths_stay_within_half_the_pivot_cap() {
     let (mut longest, mut accepted) = (0.0f64, 0);
     for (n, m, q, role) in random_pyramid_problems(400).into_iter().chain(random_dry_friction_problems(400)) {
         let mut z = vec![0.0; n];
-        let Some(p) = lemke(n, &m, &q, |i| role[i] == Role::Lambda, &mut z, &mut work) else { continue };
+        let Ok(p) = lemke(n, &m, &q, |i| role[i] == Role::Lambda, &mut z, &mut work) else { continue };
         if residual(n, &m, &q, &z, (&mut work.w, &mut work.nz)) <= ACCEPT_RESIDUAL {
             accepted += 1;
             longest = longest.max(p.saturating_sub(10) as f64 / n as f64);
