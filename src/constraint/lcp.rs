@@ -95,6 +95,8 @@ pub struct LcpWork {
     used: Vec<bool>,
     /// Candidate rows of the ratio test.
     cand: Vec<usize>,
+    /// The bases a Lemke path has met, as Zobrist hashes ([`lemke`]).
+    bases: Vec<u64>,
     /// Projected Gauss–Seidel's sums of each λ's friction forces.
     pgs_sum: Vec<f64>,
     /// Bounded forces an active-set solve holds at their caps, with their slacks, and which

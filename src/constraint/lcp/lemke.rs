@@ -41,6 +41,10 @@ pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, 
     let mut r = (0..n).min_by(|&a, &b| q[a].total_cmp(&q[b])).unwrap();
     let mut entering = z0;
     let cap = PIVOT_CAP_PER_ROW * n + 10;
+    // the basis met again: the path cycles on round-off (the lexicographic rule excludes it in
+    // exact arithmetic) and would run to the cap
+    let mut basis_hash = (0..n).fold(0, |h, v| h ^ zobrist(v));
+    work.bases.clear();
     for pivots in 1..=cap {
         let c = work.column[entering];
         pivot_wide(&mut work.tab, cols, n, r, c);
@@ -48,6 +52,7 @@ pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, 
         work.basis[r] = entering;
         work.column[entering] = usize::MAX;
         work.column[leaving] = c;
+        basis_hash ^= zobrist(leaving) ^ zobrist(entering);
         if leaving == z0 {
             for i in 0..n {
                 let v = work.basis[i];
@@ -57,6 +62,10 @@ pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, 
             }
             return if z[..n].iter().all(|x| x.is_finite()) { Ok(pivots) } else { Err(pivots) };
         }
+        if work.bases.contains(&basis_hash) {
+            return Err(pivots);
+        }
+        work.bases.push(basis_hash);
         // complement of the leaving variable enters
         entering = if leaving < n { leaving + n } else { leaving - n };
         r = ratio_test(&work.tab, cols, n, work.column[entering], &work.basis, &work.column, (&mut work.w, &mut work.cand)).ok_or(pivots)?;
@@ -65,6 +74,15 @@ pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, 
         }
     }
     Err(cap)
+}
+
+/// A fixed random key of variable `v` (SplitMix64's finaliser): a basis's hash is the XOR of
+/// its variables' keys.
+fn zobrist(v: usize) -> u64 {
+    let mut x = (v as u64).wrapping_add(1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    x ^ (x >> 31)
 }
 
 /// Lexicographic minimum-ratio test (Cottle, Pang & Stone 1992, §4.9) on the condensed tableau's

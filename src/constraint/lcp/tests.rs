@@ -114,6 +114,36 @@ fn lemkes_accepted_paths_stay_within_half_the_pivot_cap() {
     assert!(accepted > 600 && longest <= PIVOT_CAP_PER_ROW as f64 / 2.0, "{accepted} accepted, the longest {longest:.2} n");
 }
 
+/// A degenerate LCP met in a step (`cycling.txt`): four foot contacts, pyramid friction, μ = 1.
+fn cycling_problem() -> Owned {
+    let mut lines = include_str!("cycling.txt").lines().filter(|l| !l.starts_with('#'));
+    let mut bits = || lines.next().unwrap().split(' ').map(|b| f64::from_bits(b.parse().unwrap())).collect::<Vec<f64>>();
+    let (m, q) = (bits(), bits());
+    let mut role = vec![Role::Lambda; 24];
+    for c in 0..4 {
+        role[5 * c] = Role::Normal;
+        for t in 1..5 {
+            role[5 * c + t] = Role::Friction { normal: 5 * c, lambda: 20 + c, mu: 1.0 };
+        }
+    }
+    (24, m, q, role)
+}
+
+#[test]
+fn a_lemke_path_that_cycles_on_round_off_stops_at_the_first_basis_it_meets_again() {
+    // its first attempt's path comes back to a basis it has met (the lexicographic rule forbids
+    // that only in exact arithmetic) and used to go round until the pivot cap; the cascade's
+    // regularised retry solves it
+    let (n, m, q, role) = cycling_problem();
+    let (mut z, mut work) = (vec![0.0; n], LcpWork::default());
+    let first = lemke(n, &m, &q, |i| role[i] == Role::Lambda, &mut z, &mut work);
+    assert!(matches!(first, Err(p) if p < 4 * n), "{first:?}");
+    let mut stats = LcpStats::default();
+    assert!(solve(Problem { n, m: &m, q: &q, role: &role }, true, None, &mut vec![], &mut z, &mut work, &mut stats));
+    assert!(residual(n, &m, &q, &z, (&mut work.w, &mut work.nz)) <= ACCEPT_RESIDUAL, "{stats:?}");
+    assert!(stats.pivots < (PIVOT_CAP_PER_ROW * n) as u64, "{stats:?}");
+}
+
 #[test]
 fn a_warm_guess_one_contact_off_is_corrected_without_lemke() {
     // each problem solved, then solved again from its answer's active set with the first
