@@ -1,6 +1,7 @@
 //! Lemke's complementary pivoting on a condensed tableau (Cottle, Pang & Stone 1992, §4.4).
 
 use super::{LcpWork, PIVOT_CAP_PER_ROW};
+use crate::math::splitmix64;
 
 /// Lemke's algorithm with covering vector d (d_i = 1, except 0 on rows where `uncovered(i)` and
 /// q_i ≥ 0). `m` is n × n row-major. Returns the pivot count, or, as the error, the pivots spent
@@ -42,9 +43,12 @@ pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, 
     let mut entering = z0;
     let cap = PIVOT_CAP_PER_ROW * n + 10;
     // the basis met again: the path cycles on round-off (the lexicographic rule excludes it in
-    // exact arithmetic) and would run to the cap
-    let mut basis_hash = (0..n).fold(0, |h, v| h ^ zobrist(v));
+    // exact arithmetic) and would run to the cap. A basis's hash is the XOR of its variables'
+    // random keys (Zobrist's), so a pivot updates it with two
+    let key = |v: usize| splitmix64(v as u64);
+    let mut basis_hash = (0..n).fold(0, |h, v| h ^ key(v));
     work.bases.clear();
+    work.bases.reserve(cap);
     for pivots in 1..=cap {
         let c = work.column[entering];
         pivot_wide(&mut work.tab, cols, n, r, c);
@@ -52,7 +56,7 @@ pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, 
         work.basis[r] = entering;
         work.column[entering] = usize::MAX;
         work.column[leaving] = c;
-        basis_hash ^= zobrist(leaving) ^ zobrist(entering);
+        basis_hash ^= key(leaving) ^ key(entering);
         if leaving == z0 {
             for i in 0..n {
                 let v = work.basis[i];
@@ -74,15 +78,6 @@ pub fn lemke(n: usize, m: &[f64], q: &[f64], uncovered: impl Fn(usize) -> bool, 
         }
     }
     Err(cap)
-}
-
-/// A fixed random key of variable `v` (SplitMix64's finaliser): a basis's hash is the XOR of
-/// its variables' keys.
-fn zobrist(v: usize) -> u64 {
-    let mut x = (v as u64).wrapping_add(1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    x ^ (x >> 31)
 }
 
 /// Lexicographic minimum-ratio test (Cottle, Pang & Stone 1992, §4.9) on the condensed tableau's
