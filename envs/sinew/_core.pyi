@@ -334,6 +334,10 @@ class Batch:
     @property
     def watched_readings(self) -> NDArray[np.float64]:
         """The watched sensors' readings after the last `step` (N, their total dimension)."""
+    @property
+    def constraint_stats(self) -> dict[str, Union[int, float]]:
+        """Solver counters summed over the worlds (the residual: the largest), as Sim's without
+        the rows and energy bound."""
     def penetrations(self) -> NDArray[np.uintp]:
         """How many contacts penetrate in each world's current configuration (MuJoCo's ncon)."""
     def set_params(self, field: str, values: ArrayLike, worlds: Optional[ArrayLike] = None) -> None:

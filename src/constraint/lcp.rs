@@ -259,6 +259,23 @@ pub fn solve(p: Problem<'_>, split: bool, warm: Option<&[bool]>, out: &mut Vec<b
 }
 
 impl LcpStats {
+    /// Adds `o`'s counters to these; the residual becomes the larger of the two.
+    pub fn add(&mut self, o: &LcpStats) {
+        let LcpStats { solves, pivots, warm_starts, retries, rescued, fallback_pgs, inexact, fallback_zero, impulse_steps, left_out, regrown, residual } = *o;
+        self.solves += solves;
+        self.pivots += pivots;
+        self.warm_starts += warm_starts;
+        self.retries += retries;
+        self.rescued += rescued;
+        self.fallback_pgs += fallback_pgs;
+        self.inexact += inexact;
+        self.fallback_zero += fallback_zero;
+        self.impulse_steps += impulse_steps;
+        self.left_out += left_out;
+        self.regrown += regrown;
+        self.residual = self.residual.max(residual);
+    }
+
     /// Whether a solve since `before` kept an answer that fails the check (or zero force).
     pub fn inexact_since(&self, before: &LcpStats) -> bool {
         (self.fallback_pgs, self.inexact, self.fallback_zero) != (before.fallback_pgs, before.inexact, before.fallback_zero)

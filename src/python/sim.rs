@@ -426,23 +426,9 @@ impl PySim {
     /// projections, steps whose velocities the energy bound scaled.
     #[getter]
     fn constraint_stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
-        let s = &self.data.constraints.stats;
-        let d = pyo3::types::PyDict::new(py);
-        d.set_item("rows", self.data.constraints.con.len())?;
-        d.set_item("solves", s.solves)?;
-        d.set_item("pivots", s.pivots)?;
-        d.set_item("warm_starts", s.warm_starts)?;
-        d.set_item("retries", s.retries)?;
-        d.set_item("rescued", s.rescued)?;
-        d.set_item("fallback_pgs", s.fallback_pgs)?;
-        d.set_item("inexact", s.inexact)?;
-        d.set_item("fallback_zero", s.fallback_zero)?;
-        d.set_item("impulse_steps", s.impulse_steps)?;
-        d.set_item("left_out", s.left_out)?;
-        d.set_item("regrown", s.regrown)?;
-        d.set_item("residual", s.residual)?;
-        d.set_item("impacts", self.data.constraints.impacts)?;
-        d.set_item("projections", self.data.constraints.projections)?;
+        let c = &self.data.constraints;
+        let d = stats_dict(py, &c.stats, c.impacts, c.projections)?;
+        d.set_item("rows", c.con.len())?;
         d.set_item("energy_bounded", self.data.energy.bounded)?;
         Ok(d)
     }
@@ -475,4 +461,17 @@ impl PySim {
         kinematics::forward(&self.model, qpos.as_slice()?, qvel.as_slice()?, &mut self.data.dynamics.kin);
         Ok(())
     }
+}
+
+/// The LCP counters of `s` (the residual as it is), impacts and projections as a dict: what
+/// `Sim.constraint_stats` and `Batch.constraint_stats` share.
+pub(super) fn stats_dict<'py>(py: Python<'py>, s: &crate::constraint::lcp::LcpStats, impacts: u64, projections: u64) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+    let d = pyo3::types::PyDict::new(py);
+    for (key, value) in [("solves", s.solves), ("pivots", s.pivots), ("warm_starts", s.warm_starts), ("retries", s.retries), ("rescued", s.rescued),
+                         ("fallback_pgs", s.fallback_pgs), ("inexact", s.inexact), ("fallback_zero", s.fallback_zero),
+                         ("impulse_steps", s.impulse_steps), ("left_out", s.left_out), ("regrown", s.regrown), ("impacts", impacts), ("projections", projections)] {
+        d.set_item(key, value)?;
+    }
+    d.set_item("residual", s.residual)?;
+    Ok(d)
 }

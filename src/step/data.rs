@@ -189,6 +189,12 @@ impl Kept {
         }
     }
 
+    /// The world's solver counters since it was made: its LCP statistics, impacts resolved and
+    /// position projections.
+    pub fn stats(&self) -> (&LcpStats, u64, u64) {
+        (&self.stats, self.impacts, self.projections)
+    }
+
     /// Re-seeds the world's random stream (its friction tangents, drawn from it, are redrawn).
     pub fn seed(&mut self, seed: u64) {
         self.history.rng = crate::math::splitmix64(seed);

@@ -421,3 +421,25 @@ def test_a_reset_sim_steps_exactly_as_a_new_one():
     state_new, warm_new = run(fresh, 200)
     np.testing.assert_array_equal(state_used, state_new)
     assert warm_used == warm_new
+
+
+def test_a_batchs_constraint_stats_sum_its_worlds():
+    """Batch.constraint_stats: each counter the sum of what each world counts stepped alone (a
+    batch of one with the world's seed), the residual the largest of theirs."""
+    model = sinew.Model.from_mjcf_string(STACK.format(dt=0.005))
+    qpos = np.repeat(model.qpos0[None], 3, axis=0)
+    qpos[:, 2::7] += np.array([[0.0], [0.05], [0.2]])   # dropped from three heights
+    batch = sinew.Batch(model, 3, seed=7, num_threads=2)
+    batch.qpos[:] = qpos
+    batch.step(200)
+    alone = []
+    for i in range(3):
+        one = sinew.Batch(model, 1, seed=7 + i, num_threads=1)
+        one.qpos[:] = qpos[i]
+        one.step(200)
+        alone.append(one.constraint_stats)
+    got = batch.constraint_stats
+    assert got["solves"] > 0 and got["warm_starts"] > 0 and got["pivots"] > 0
+    for key, value in got.items():
+        own = [a[key] for a in alone]
+        assert value == (max(own) if key == "residual" else sum(own)), key
