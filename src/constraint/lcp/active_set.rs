@@ -151,8 +151,9 @@ fn solve_on(n: usize, m: &[f64], q: &[f64], role: &[Role], active: impl Fn(usize
         if let Role::Friction { lambda, .. } = role[i]
             && work.free[lambda]
         {
-            // w_i without λ's own contribution (M_iλ = 1)
-            let wi = q[i] + (0..n).filter(|&j| j != lambda).map(|j| m[i * n + j] * work.trial[j]).sum::<f64>();
+            // w_i without λ's own contribution (M_iλ = 1), over the forces the solve set (the
+            // row has no entry at another contact's λ or at a slack)
+            let wi = q[i] + work.support.iter().map(|&j| m[i * n + j] * work.trial[j]).sum::<f64>();
             work.trial[lambda] = work.trial[lambda].max(-wi);
         }
     }
@@ -164,7 +165,7 @@ fn solve_on(n: usize, m: &[f64], q: &[f64], role: &[Role], active: impl Fn(usize
 /// `work.pinned` at its cap (q of its slack) and the slack from the force's own row. False when
 /// singular or non-finite.
 fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
-    let LcpWork { tab: a, active, trial, pinned, .. } = work;
+    let LcpWork { tab: a, active, trial, pinned, support, .. } = work;
     let k = active.len();
     trial.clear();
     trial.resize(n, 0.0);
@@ -191,10 +192,17 @@ fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
         }
         trial[active[r]] = x * row[r];
     }
-    // each slack: what keeps its force's row at w = 0 (M_fσ = 1)
+    // the variables z may be nonzero at besides λ and the slacks, in order: the rows of
+    // M_AA, the pinned forces
+    support.clear();
+    support.extend(active.iter().copied());
+    support.extend(pinned.iter().map(|&(f, _)| f));
+    support.sort_unstable();
+    // each slack: what keeps its force's row at w = 0 (M_fσ = 1; a force's row has no entry at
+    // another force's slack)
     for &(f, s) in pinned.iter() {
         let row = &m[f * n..(f + 1) * n];
-        trial[s] = -q[f] - (0..n).filter(|&j| j != s).map(|j| row[j] * trial[j]).sum::<f64>();
+        trial[s] = -q[f] - support.iter().map(|&j| row[j] * trial[j]).sum::<f64>();
     }
     trial.iter().all(|x| x.is_finite())
 }
