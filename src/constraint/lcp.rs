@@ -74,6 +74,9 @@ pub struct LcpStats {
 /// Reusable storage for the solver.
 #[derive(Clone, Debug, Default)]
 pub struct LcpWork {
+    /// Whether the caller replaces an inexact answer (the force solve, by the step's impulses):
+    /// projected Gauss–Seidel then stops sooner (`pgs::PGS_SWEEPS_BEFORE_FALLBACK`).
+    pub fallback_follows: bool,
     tab: Vec<f64>,
     basis: Vec<usize>,
     /// Tableau column of each variable (usize::MAX while basic).
@@ -506,7 +509,8 @@ fn cascade(p: Problem<'_>, warm: Option<&[bool]>, z: &mut [f64], work: &mut LcpW
     work.stiff = stiff;
     // Lemke failed the check: projected Gauss–Seidel, polished (near the solution, its active set
     // often settles it exactly), unless Lemke's answer was the closer one
-    if pgs(n, m, q, role, z, &mut work.pgs_sum) {
+    let sweeps = if work.fallback_follows { PGS_SWEEPS_BEFORE_FALLBACK } else { PGS_SWEEPS };
+    if pgs(n, m, q, role, z, &mut work.pgs_sum, sweeps) {
         let pgs_res = polish(n, m, q, role, z, work);
         if pgs_res <= lemke_res {
             if pgs_res <= ACCEPT_RESIDUAL {
@@ -567,6 +571,6 @@ mod pgs;
 
 use active_set::{polish, settle, WARM_PASSES};
 pub use lemke::lemke;
-use pgs::pgs;
+use pgs::{pgs, PGS_SWEEPS, PGS_SWEEPS_BEFORE_FALLBACK};
 #[cfg(test)]
 mod tests;

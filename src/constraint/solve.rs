@@ -459,6 +459,8 @@ pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, islan
         }
     }
     scatter_unpushed(con, &vars[..rows], unpushed, mm, k);
+    // an inexact force solve is replaced by the step's impulses (`step::constrain`)
+    work.fallback_follows = level == Level::Acceleration;
     let solved = lcp::solve(lcp::Problem { n: k, m: mm, q, role }, false, warm.then_some(&guess[..]), out, z, work, stats);
     if !whole {
         for (a, &v) in vars.iter().enumerate() {

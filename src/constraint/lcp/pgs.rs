@@ -2,37 +2,41 @@
 
 use super::Role;
 
-/// Sweeps projected Gauss–Seidel makes at most. Its answer only has to come near enough for the
-/// polish to settle it from its active set: on Playground's hand tasks, whose Lemke attempts
-/// fail most often, PGS hardly ever converges and sweeps to the cap, and polishes settle as
-/// many solves after 30 or 100 sweeps as after 500 (`Batch.constraint_stats["rescued"]`), while
-/// 500 sweeps cost 500 n² (about 4 ms at n = 120: a tenth of the Aero hand's step time).
-pub const PGS_SWEEPS: usize = 100;
+/// Sweeps projected Gauss–Seidel makes at most where its answer is final (impulse solves,
+/// post-stabilisation): a fallback answer to keep, as close as it can come.
+pub const PGS_SWEEPS: usize = 500;
+/// Sweeps where an inexact answer has a fallback after it (the force solve, which the step's
+/// impulses replace: `step::constrain`): PGS then only has to come near enough for the polish to
+/// settle its active set exactly. On Playground's hand tasks, whose Lemke attempts fail most
+/// often, PGS hardly ever converges, and the polish settles as many force solves from 100
+/// sweeps as from 500 (`Batch.constraint_stats["rescued"]`), while the sweeps past 100 were a
+/// tenth of the Aero hand's time.
+pub const PGS_SWEEPS_BEFORE_FALLBACK: usize = 100;
 
 /// Projected Gauss–Seidel on the same conditions: normals z ≥ 0, each contact's friction forces
 /// summing to at most μ f_n, λ recovered afterwards as the unmet tangential demand. Sweeps until
-/// no variable moves by more than 1e-12 of the largest, at most [`PGS_SWEEPS`] times. The λ variables stay
+/// no variable moves by more than 1e-12 of the largest, at most `cap` times. The λ variables stay
 /// zero through the sweeps (each row's w then leaves them out, as it must: a λ is not a force),
 /// their friction rows' sums kept in `sum` (n, scratch).
-pub(super) fn pgs(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64], sum: &mut Vec<f64>) -> bool {
+pub(super) fn pgs(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64], sum: &mut Vec<f64>, cap: usize) -> bool {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         #[target_feature(enable = "avx2")]
-        fn avx2(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64], sum: &mut Vec<f64>) -> bool {
-            sweeps(n, m, q, role, z, sum)
+        fn avx2(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64], sum: &mut Vec<f64>, cap: usize) -> bool {
+            sweeps(n, m, q, role, z, sum, cap)
         }
         // SAFETY: the processor has AVX2, checked just above
-        return unsafe { avx2(n, m, q, role, z, sum) };
+        return unsafe { avx2(n, m, q, role, z, sum, cap) };
     }
-    sweeps(n, m, q, role, z, sum)
+    sweeps(n, m, q, role, z, sum, cap)
 }
 
 #[inline(always)]
-fn sweeps(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64], sum: &mut Vec<f64>) -> bool {
+fn sweeps(n: usize, m: &[f64], q: &[f64], role: &[Role], z: &mut [f64], sum: &mut Vec<f64>, cap: usize) -> bool {
     z[..n].fill(0.0);
     sum.clear();
     sum.resize(n, 0.0);
-    for _ in 0..PGS_SWEEPS {
+    for _ in 0..cap {
         let (mut moved, mut largest) = (0.0f64, 0.0f64);
         for i in 0..n {
             let d = m[i * n + i];
