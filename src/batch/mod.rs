@@ -11,6 +11,7 @@
 
 use std::sync::{Arc, Mutex};
 
+use crate::constraint::lcp::LcpStats;
 use crate::collision::{self, CollisionData};
 use crate::compile::params::{self, Param};
 use crate::dynamics::kinematics::{self, KinData};
@@ -290,6 +291,18 @@ impl Batch {
             scratch.with_kept(d, |d| sensordata::read(m, d, s, which, row));
         });
         out
+    }
+
+    /// The worlds' solver counters since they were made, summed (the residual: the largest of
+    /// their last solves): LCP statistics, impacts, projections.
+    pub fn constraint_stats(&self) -> (LcpStats, u64, u64) {
+        let mut total = (LcpStats::default(), 0, 0);
+        for kept in &self.data {
+            let (s, impacts, projections) = kept.stats();
+            total.0.add(s);
+            (total.1, total.2) = (total.1 + impacts, total.2 + projections);
+        }
+        total
     }
 
     /// How many contacts penetrate (distance < 0) in each world's configuration (rows of

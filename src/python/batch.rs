@@ -147,8 +147,7 @@ impl PyBatch {
         self.watched = sensors;
         Ok(())
     }
-    /// The readings of the sensors `watch_sensors` chose, after the last `step` (N, their total
-    /// dimension).
+    /// The readings of the sensors `watch_sensors` chose after the last `step` (N, their dims).
     #[getter]
     fn watched_readings(&self, py: Python<'_>) -> Py<PyArray2<f64>> {
         self.watched_readings.clone_ref(py)
@@ -177,20 +176,11 @@ impl PyBatch {
         let out = self.inner.read_sensors(st, &sensors, chosen.as_deref());
         PyArray1::from_vec(py, out).reshape([n, ns])
     }
-    /// Constraint statistics summed over the worlds since they were made (the residual: the
-    /// largest of the worlds' last solves), with `Sim.constraint_stats`'s keys but the rows and
-    /// energy bound: LCP solves, pivots, warm starts, retries, rescues, fallbacks, impulse
-    /// steps, rows left out and brought back, impacts, projections.
+    /// Solver counters summed over the worlds (residual: the largest), as `Sim.constraint_stats`.
     #[getter]
     fn constraint_stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let mut total = crate::constraint::lcp::LcpStats::default();
-        let (mut impacts, mut projections) = (0, 0);
-        for kept in &self.inner.data {
-            let (s, i, p) = kept.stats();
-            total.add(s);
-            (impacts, projections) = (impacts + i, projections + p);
-        }
-        super::sim::stats_dict(py, &total, impacts, projections)
+        let (s, impacts, projections) = self.inner.constraint_stats();
+        super::sim::stats_dict(py, &s, impacts, projections)
     }
     /// How many contacts penetrate (distance < 0) in each world's current configuration (N,):
     /// MuJoCo's `ncon` after `mj_forward` where margins are zero, which a task's reset reads to
