@@ -85,8 +85,8 @@ pub struct LcpWork {
     /// The nonzero variables of an answer being checked ([`residual`]).
     nz: Vec<usize>,
     active: Vec<usize>,
-    /// The active variables and pinned forces of an active-set solve, in order: where its
-    /// answer may be nonzero besides λ and the slacks.
+    /// The active variables and pinned forces of an active-set solve with forces pinned, in
+    /// order: where its answer may be nonzero besides λ and the slacks.
     support: Vec<usize>,
     trial: Vec<f64>,
     stiff: Vec<f64>,

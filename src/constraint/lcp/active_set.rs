@@ -153,7 +153,8 @@ fn solve_on(n: usize, m: &[f64], q: &[f64], role: &[Role], active: impl Fn(usize
         {
             // w_i without λ's own contribution (M_iλ = 1), over the forces the solve set (the
             // row has no entry at another contact's λ or at a slack)
-            let wi = q[i] + work.support.iter().map(|&j| m[i * n + j] * work.trial[j]).sum::<f64>();
+            let set = if work.pinned.is_empty() { &work.active } else { &work.support };
+            let wi = q[i] + set.iter().map(|&j| m[i * n + j] * work.trial[j]).sum::<f64>();
             work.trial[lambda] = work.trial[lambda].max(-wi);
         }
     }
@@ -192,12 +193,14 @@ fn solve_active(n: usize, m: &[f64], q: &[f64], work: &mut LcpWork) -> bool {
         }
         trial[active[r]] = x * row[r];
     }
-    // the variables z may be nonzero at besides λ and the slacks, in order: the rows of
-    // M_AA, the pinned forces
+    // with forces pinned, the variables z may be nonzero at besides λ and the slacks, in order:
+    // the rows of M_AA and the pinned forces (without, the active set alone)
     support.clear();
-    support.extend(active.iter().copied());
-    support.extend(pinned.iter().map(|&(f, _)| f));
-    support.sort_unstable();
+    if !pinned.is_empty() {
+        support.extend(active.iter().copied());
+        support.extend(pinned.iter().map(|&(f, _)| f));
+        support.sort_unstable();
+    }
     // each slack: what keeps its force's row at w = 0 (M_fσ = 1; a force's row has no entry at
     // another force's slack)
     for &(f, s) in pinned.iter() {
