@@ -40,10 +40,22 @@ def axis_angle_quat(axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
     return np.hstack([np.cos(angle / 2)[:, None], np.sin(angle / 2)[:, None] * axis])
 
 
-def rand_dir(rng) -> np.ndarray:
-    """``get_rand_dir``: a direction from normally drawn spherical angles (θ ~ 2π N, φ ~ π N)."""
-    theta, phi = rng.normal() * 2 * np.pi, rng.normal() * np.pi
-    return np.array([np.sin(phi) * np.cos(theta), np.sin(phi) * np.sin(theta), np.cos(phi)])
+def rand_dir(u: np.ndarray) -> np.ndarray:
+    """``get_rand_dir``: a direction from normally drawn spherical angles (θ ~ 2π N, φ ~ π N), the
+    two normals by Box–Muller from the uniforms ``u`` (worlds, 2) in [0, 1)."""
+    radius, turn = np.sqrt(-2.0 * np.log1p(-u[:, 0])), 2.0 * np.pi * u[:, 1]
+    theta, phi = radius * np.cos(turn) * 2 * np.pi, radius * np.sin(turn) * np.pi
+    return np.stack([np.sin(phi) * np.cos(theta), np.sin(phi) * np.sin(theta), np.cos(phi)], axis=1)
+
+
+def draws(rngs: list, n: int) -> np.ndarray:
+    """Each world's next n uniforms in [0, 1) (worlds, n): one call per world's generator."""
+    return np.array([rng.random(n) for rng in rngs]).reshape(len(rngs), n)
+
+
+#: Uniforms a physics step draws per world: the observation's 11 (``single_obs``), then the
+#: observation's and the next action's delays.
+OBS_DRAWS, STEP_DRAWS = 11, 13
 
 
 class PandaRobotiqPushCube(Task):
@@ -156,14 +168,14 @@ class PandaRobotiqPushCube(Task):
         """The action each world's servos act on: ``delay`` entries back in its history."""
         return self.action_history[idx].reshape(len(idx), 5, 7)[np.arange(len(idx)), self.delay[idx]]
 
-    def single_obs(self, r, idx: np.ndarray, rngs: list) -> np.ndarray:
+    def single_obs(self, r, idx: np.ndarray, u: np.ndarray) -> np.ndarray:
         """``_get_single_obs``: the target's pose, the last action, the arm's joints and velocities
         and the hand's pose (each shifted by one draw U(0, scale): Playground draws a scalar per
         vector, and the hand's turn angle from the joints' key), the box's pose (turned by U(0,
-        7.5°) about a random direction, moved by U(±0.015) per axis)."""
+        7.5°) about a random direction, moved by U(±0.015) per axis), from each world's
+        ``OBS_DRAWS`` uniforms ``u``."""
         k = len(idx)
-        u = np.array([rng.random(7) for rng in rngs]).reshape(k, 7)
-        dirs = np.array([np.concatenate([rand_dir(rng), rand_dir(rng)]) for rng in rngs]).reshape(k, 6)
+        dirs = np.hstack([rand_dir(u[:, 7:9]), rand_dir(u[:, 9:11])])
         nz = self.noise
         noisy_box_mat = quat_to_mat(axis_angle_quat(dirs[:, :3], u[:, 0] * nz["obj_angle"])) @ r.xmat(self.box)
         box_pos = r.xpos(self.box) + (2 * u[:, 1:4] - 1) * nz["obj_pos"]
@@ -178,7 +190,7 @@ class PandaRobotiqPushCube(Task):
 
     def observe(self, r, idx: np.ndarray, rngs: list):
         """At reset, the readings themselves (Playground starts the history empty)."""
-        state = self.single_obs(r, idx, rngs).astype(np.float32)
+        state = self.single_obs(r, idx, draws(rngs, OBS_DRAWS)).astype(np.float32)
         return state, state.copy()
 
     def after_step(self, r, actions: np.ndarray, idx: np.ndarray, rngs: list):
@@ -227,12 +239,12 @@ class PandaRobotiqPushCube(Task):
             self.target_pos[i] = self.sample_pos(rng, POS_CURRICULUM[level])
             self.target_quat[i] = quat_mul(mat_to_quat(box_mat[j])[None], self.sample_turn(rng, ANGLE_CURRICULUM[level])[None])[0]
         # the observation: one 6–11 physics steps old
-        self.obs_history[idx] = np.hstack([self.single_obs(r, idx, rngs), self.obs_history[idx][:, :-48]])
-        late = np.array([rng.integers(*self.obs_delay) for rng in rngs], dtype=np.int64).reshape(k)
+        u = draws(rngs, STEP_DRAWS)
+        self.obs_history[idx] = np.hstack([self.single_obs(r, idx, u), self.obs_history[idx][:, :-48]])
+        late = self.obs_delay[0] + (u[:, 11] * (self.obs_delay[1] - self.obs_delay[0])).astype(np.int64)
         state = self.obs_history[idx].reshape(k, 30, 48)[np.arange(k), late].astype(np.float32)
         self.last_action[idx] = delayed
-        for j, rng in enumerate(rngs):
-            self.delay[idx[j]] = rng.integers(*self.action_delay)
+        self.delay[idx] = self.action_delay[0] + (u[:, 12] * (self.action_delay[1] - self.action_delay[0])).astype(np.int64)
         return state, state.copy(), reward, done, terms
 
 
