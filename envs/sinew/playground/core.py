@@ -118,11 +118,11 @@ class PlaygroundCore(Worlds):
         self.reset_batch(idx, rngs, qpos, qvel)
         self.task.place(self.batch, idx)
         self.batch.ctrl[idx] = self.task.initial_ctrl(qpos, idx)
+        mask = np.zeros(self.num_envs, dtype=bool)
+        mask[idx] = True
         if self.task.settle_steps and keyframe is None:
-            mask = np.zeros(self.num_envs, dtype=bool)
-            mask[idx] = True
             self.batch.step(self.task.settle_steps, mask)
-        self.batch.forward_kinematics()
+        self.batch.forward_kinematics(mask)
         readings = self.batch.read_sensors(self._sensor_ids, idx.tolist())
         self._state[idx], self._priv[idx] = self.task.observe(Readings(self.batch, self.sensors, idx, readings), idx, rngs)
         self._draw(idx)
