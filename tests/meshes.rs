@@ -319,3 +319,48 @@ fn a_files_normals_follow_its_mesh_into_the_mesh_frame() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// An n-sided prism of radius r and half-height h about (x0, 0, 0) as mesh vertices.
+fn prism_verts(n: usize, r: f64, h: f64, x0: f64) -> String {
+    (0..2 * n).map(|k| {
+        let a = std::f64::consts::TAU * (k % n) as f64 / n as f64;
+        format!("{} {} {} ", x0 + r * a.cos(), r * a.sin(), if k < n { -h } else { h })
+    }).collect()
+}
+
+#[test]
+fn a_hulls_box_follows_it_into_the_mesh_frame() {
+    // the hull moves from the file's frame into the mass frame (here 0.5 m away and turned, the
+    // prism's axis becoming a principal one): its box (the oriented-box midphase's) must bound
+    // its vertices there. Left in the file's frame, it declared overlapping meshes apart
+    let verts = prism_verts(40, 0.1, 0.3, 0.5);
+    let xml = format!(r#"<mujoco><asset><mesh name="p" vertex="{verts}"/></asset><worldbody>
+        <body><freejoint/><geom type="mesh" mesh="p"/></body></worldbody></mujoco>"#);
+    let m = Model::from_mjcf(&xml).unwrap();
+    let hull = &m.meshes[0].hull;
+    let lo = hull.vert.iter().fold(glam::DVec3::INFINITY, |a, &v| a.min(v));
+    let hi = hull.vert.iter().fold(glam::DVec3::NEG_INFINITY, |a, &v| a.max(v));
+    assert!(m.meshes[0].frame.pos.length() > 0.4, "the mass frame is moved from the file's");
+    assert!((hull.bounds.0 - (lo + hi) * 0.5).length() < 1e-12 && (hull.bounds.1 - (hi - lo) * 0.5).length() < 1e-12,
+        "box {:?} for vertices within {lo} .. {hi}", hull.bounds);
+}
+
+#[test]
+fn a_detailed_mesh_whose_file_origin_lies_off_it_rests_on_another() {
+    // two 40-sided prisms (120 edges each: a pair tested by GJK after the oriented boxes), the
+    // upper one's vertices 0.5 m from its file's origin: it comes to rest on the lower one
+    let lower = prism_verts(40, 0.1, 0.05, 0.0);
+    let upper = prism_verts(40, 0.05, 0.05, 0.5);
+    let xml = format!(r#"<mujoco><option timestep="0.002"/><asset><mesh name="lower" vertex="{lower}"/>
+        <mesh name="upper" vertex="{upper}"/></asset><worldbody>
+        <body pos="0 0 0.05"><geom type="mesh" mesh="lower"/></body>
+        <body pos="-0.5 0 0.2"><freejoint/><geom type="mesh" mesh="upper"/></body></worldbody></mujoco>"#);
+    let m = Model::from_mjcf(&xml).unwrap();
+    let mut s = State::new(&m);
+    for _ in 0..1000 {
+        s.step(&m);
+    }
+    // the upper prism's centre of mass, 0.05 above the lower prism's top face at z = 0.1
+    let z = s.qpos[2];
+    assert!((z - 0.15).abs() < 1e-6, "rests at z = {z}, expected 0.15");
+}

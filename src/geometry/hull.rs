@@ -66,6 +66,21 @@ impl Hull {
         h.merge_faces().then_some(h)
     }
 
+    /// The hull moved into the frame whose origin is `origin` and whose rotation from the hull's
+    /// present frame is `rot`ᵀ: each point x goes to `rot` (x − origin). Its faces' planes, support
+    /// seeds and bounding box follow (the box is the oriented-box midphase's: one left in the
+    /// old frame declared overlapping meshes apart).
+    pub fn move_into(&mut self, rot: glam::DMat3, origin: DVec3) {
+        for v in &mut self.vert {
+            *v = rot * (*v - origin);
+        }
+        for f in &mut self.faces {
+            f.offset -= f.normal.dot(origin);
+            f.normal = rot * f.normal;
+        }
+        self.find_extremes();
+    }
+
     /// Whether the hull finds its support by climbing its vertex graph ([`Hull::neighbours_of`]).
     pub fn climbs(&self) -> bool {
         self.vert.len() > CLIMB_FROM && !self.start.is_empty()
@@ -141,6 +156,11 @@ impl Hull {
             Some(*n)
         })).collect();
         self.neighbours = lists.concat();
+        self.find_extremes();
+    }
+
+    /// The vertices farthest along ±x, ±y, ±z (`seeds`) and the box they bound (`bounds`).
+    fn find_extremes(&mut self) {
         let extreme = |d: DVec3| (0..self.vert.len()).max_by(|&a, &b| self.vert[a].dot(d).total_cmp(&self.vert[b].dot(d))).unwrap_or(0) as u32;
         self.seeds = [DVec3::X, -DVec3::X, DVec3::Y, -DVec3::Y, DVec3::Z, -DVec3::Z].map(extreme);
         let [hx, lx, hy, ly, hz, lz] = self.seeds.map(|i| self.vert[i as usize]);

@@ -67,13 +67,7 @@ impl Mesh {
         let to_frame = |v: DVec3| rot * (v - frame.pos);
         let vert: Vec<DVec3> = vert.into_iter().map(to_frame).collect();
         let mut hull = hull;
-        for v in &mut hull.vert {
-            *v = to_frame(*v);
-        }
-        for f in &mut hull.faces {
-            f.offset -= f.normal.dot(frame.pos);
-            f.normal = rot * f.normal;
-        }
+        hull.move_into(rot, frame.pos);
         let rbound = vert.iter().map(|v| v.length()).fold(0.0, f64::max);
         // the file's normals through the same placement (the inverse-transpose of the scale, so
         // they stay perpendicular to the scaled faces; MuJoCo multiplies, which differs only for
