@@ -143,16 +143,33 @@ fn compile(mut spec: ModelSpec, x: &include::Expanded) -> Result<Model> {
     }
     m.collision_pairs.extend(explicit);
     m.collision_pairs.sort_by_key(|p| (p.g1, p.g2));
-    pairs::kept_slots(&mut m);
-    sweep_lists(&mut m);
     m.body_reach = body_reaches(&m);
     m.dof_arm = dof_arms(&m);
-    m.plane_groups = plane_groups(&mut m);
-    m.gaps_within_trees = m.gap_pairs.iter().all(|gp| gp.ancestor != 0);
-    m.gap_arms = gap_arms(&m);
+    pair_lists(&mut m);
     // the forward dynamics at qpos0, as MuJoCo's mj_setConst runs it
     let mut dy = DynamicsData::new(&m);
     crate::dynamics::forward(&m, &mut dy, &m.qpos0, &vec![0.0; m.nv], &vec![0.0; m.nu], &vec![0.0; m.na]);
+    let overlapping = pairs::overlapping_at_qpos0(&m, &dy.kin);
+    if !overlapping.is_empty() {
+        let name = |g: usize| m.geom_name.get(g).filter(|n| !n.is_empty()).cloned().unwrap_or_else(|| format!("#{g}"));
+        let list: Vec<String> = overlapping.iter().map(|&(k, d)| {
+            let p = &m.collision_pairs[k];
+            format!("{} and {} ({:.1} mm)", name(p.g1), name(p.g2), -d * 1e3)
+        }).collect();
+        m.warnings.push(format!(
+            "geoms of one robot overlap at qpos0: {}; sinew leaves these pairs out of collision (as MoveIt disables the \
+             pairs in collision by default), where MuJoCo keeps them as soft contacts: an exact contact that no joint \
+             can move apart would fling the joints",
+            list.join(", ")
+        ));
+        let drop: Vec<usize> = overlapping.iter().map(|&(k, _)| k).collect();
+        let mut k = 0;
+        m.collision_pairs.retain(|_| {
+            k += 1;
+            !drop.contains(&(k - 1))
+        });
+        pair_lists(&mut m);
+    }
     check_solvable(&m, &dy)?;
     muscle_acc0(&mut m, &dy);
     servo_damping(&mut m, &dy);
@@ -165,6 +182,16 @@ fn compile(mut spec: ModelSpec, x: &include::Expanded) -> Result<Model> {
     m.motion_plane = motion_plane(&m, &dy.kin);
     m.vis = visual::compile(&spec, |n| m.body_id(n))?;
     Ok(m)
+}
+
+/// What the collision pairs give: their kept slots, the sweep lists, the plane groups and the
+/// gaps.
+fn pair_lists(m: &mut Model) {
+    pairs::kept_slots(m);
+    sweep_lists(m);
+    m.plane_groups = plane_groups(m);
+    m.gaps_within_trees = m.gap_pairs.iter().all(|gp| gp.ancestor != 0);
+    m.gap_arms = gap_arms(m);
 }
 
 /// Joints, dofs and nodes in MuJoCo's order: each body's joints share a node while their dofs

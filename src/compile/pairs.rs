@@ -100,6 +100,46 @@ fn weld(m: &Model, mut b: usize) -> usize {
     b
 }
 
+/// Depth beyond which two geoms of one robot overlapping at qpos0 leave collision (m): meshes
+/// that overlap around a joint (robosuite's PR2 and G1 grippers: 1.6–4.9 cm) rather than
+/// parts resting on each other.
+pub const SELF_OVERLAP: f64 = 1e-3;
+
+/// The collision pairs (index, deepest distance) whose geoms overlap by more than
+/// [`SELF_OVERLAP`] at qpos0 (`kin`: there) and whose bodies share an ancestor below the world:
+/// parts of one robot, whose overlap a joint may be unable to remove (a finger's hub inside
+/// its palm overlaps alike at every angle). An explicit `<pair>` asks for its contact and stays.
+pub fn overlapping_at_qpos0(m: &Model, kin: &crate::dynamics::kinematics::KinData) -> Vec<(usize, f64)> {
+    let mut cd = crate::collision::CollisionData::new(m);
+    crate::collision::penetrations(m, kin, &mut cd);
+    let ancestors = |mut b: usize| {
+        let mut up = vec![b];
+        while b != 0 {
+            b = m.body_parent[b];
+            up.push(b);
+        }
+        up
+    };
+    let one_robot = |g1: usize, g2: usize| {
+        let a = ancestors(m.geom_body[g1]);
+        ancestors(m.geom_body[g2]).into_iter().find(|b| a.contains(b)).is_some_and(|b| b != 0)
+    };
+    let mut found: Vec<(usize, f64)> = Vec::new();
+    for c in &cd.contacts {
+        if c.dist >= -SELF_OVERLAP || !one_robot(c.geom1, c.geom2) {
+            continue;
+        }
+        let (g1, g2) = (c.geom1.min(c.geom2), c.geom1.max(c.geom2));
+        let Some(k) = m.collision_pairs.iter().position(|p| (p.g1, p.g2) == (g1, g2) && p.friction.is_none()) else { continue };
+        match found.iter_mut().find(|f| f.0 == k) {
+            Some(f) => f.1 = f.1.min(c.dist),
+            None => found.push((k, c.dist)),
+        }
+    }
+    found.sort_unstable_by_key(|f| f.0);
+    found
+}
+
 /// Numbers the pairs that keep what their test found apart ([`GeomPair::kept`]).
 pub fn kept_slots(m: &mut Model) {
     let gjk = |t: GeomType| matches!(t, GeomType::Mesh | GeomType::Cylinder | GeomType::Ellipsoid);
