@@ -278,19 +278,21 @@ def prism(r, h, n=12):
 
 
 def test_a_link_meshed_into_its_base_around_its_hinge_is_left_unpushed():
-    """robosuite's ARX5: a link's mesh overlaps its base's 2 mm along the link's hinge axis at
-    rest. Those contacts' normals are rows the joints cannot move (K at round-off, not zero), so
-    the projection's push 1/K would be unbounded; they are left out, and the arm hangs from its
-    limits (it diverged at the fourth step before)."""
+    """As robosuite's ARX5: a link's mesh overlaps its base's along the link's hinge axis at rest
+    (0.8 mm here; the ARX5's 2 mm leaves collision at load, beyond 1 mm). Those contacts' normals
+    are rows the joints cannot move (K at round-off, not zero), so the projection's push 1/K
+    would be unbounded; they are left out, and the arm hangs from its limits."""
     xml = f"""<mujoco><compiler angle="radian"/>
       <asset><mesh name="base" vertex="{prism(0.1, 0.05)}"/><mesh name="link" vertex="{prism(0.05, 0.08)}"/></asset>
       <worldbody><body name="base" euler="0.3 0.2 0.1"><geom type="mesh" mesh="base"/>
-        <body name="link" pos="0 0 0.048"><joint axis="0 0 1" range="0 3" frictionloss="0.001" damping="0.1"/><geom type="mesh" mesh="link" pos="0.01 0 0"/>
+        <body name="link" pos="0 0 0.0492"><joint axis="0 0 1" range="0 3" frictionloss="0.001" damping="0.1"/><geom type="mesh" mesh="link" pos="0.01 0 0"/>
           <body pos="0.05 0 0.08"><joint axis="0 1 0" range="0 3"/><geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.02"/></body></body></body>
       </worldbody></mujoco>"""
-    sim = sinew.Sim(sinew.Model.from_mjcf_string(xml))
+    model = sinew.Model.from_mjcf_string(xml)
+    assert not any("overlap at qpos0" in w for w in model.warnings)
+    sim = sinew.Sim(model)
     sim.step(300)
-    assert len(sim.contacts) > 0 and np.abs(sim.qvel).max() < 1e-3
+    assert any(c["geom1"] == 0 and c["geom2"] == 1 for c in sim.contacts) and np.abs(sim.qvel).max() < 1e-3
     assert np.all(sim.qpos >= -1e-4) and np.all(sim.qpos <= 3)
 
 
