@@ -149,25 +149,7 @@ fn compile(mut spec: ModelSpec, x: &include::Expanded) -> Result<Model> {
     // the forward dynamics at qpos0, as MuJoCo's mj_setConst runs it
     let mut dy = DynamicsData::new(&m);
     crate::dynamics::forward(&m, &mut dy, &m.qpos0, &vec![0.0; m.nv], &vec![0.0; m.nu], &vec![0.0; m.na]);
-    let overlapping = pairs::overlapping_at_qpos0(&m, &dy.kin);
-    if !overlapping.is_empty() {
-        let name = |g: usize| m.geom_name.get(g).filter(|n| !n.is_empty()).cloned().unwrap_or_else(|| format!("#{g}"));
-        let list: Vec<String> = overlapping.iter().map(|&(k, d)| {
-            let p = &m.collision_pairs[k];
-            format!("{} and {} ({:.1} mm)", name(p.g1), name(p.g2), -d * 1e3)
-        }).collect();
-        m.warnings.push(format!(
-            "geoms of one robot overlap at qpos0: {}; sinew leaves these pairs out of collision (as MoveIt disables the \
-             pairs in collision by default), where MuJoCo keeps them as soft contacts: an exact contact that no joint \
-             can move apart would fling the joints",
-            list.join(", ")
-        ));
-        let drop: Vec<usize> = overlapping.iter().map(|&(k, _)| k).collect();
-        let mut k = 0;
-        m.collision_pairs.retain(|_| {
-            k += 1;
-            !drop.contains(&(k - 1))
-        });
+    if pairs::leave_out_overlapping(&mut m, &dy.kin) {
         pair_lists(&mut m);
     }
     check_solvable(&m, &dy)?;

@@ -140,6 +140,29 @@ pub fn overlapping_at_qpos0(m: &Model, kin: &crate::dynamics::kinematics::KinDat
     found
 }
 
+/// Leaves the pairs [`overlapping_at_qpos0`] finds out of collision, with a warning naming each
+/// and its depth; whether there were any (the lists built from the pairs are then stale).
+pub fn leave_out_overlapping(m: &mut Model, kin: &crate::dynamics::kinematics::KinData) -> bool {
+    let overlapping = overlapping_at_qpos0(m, kin);
+    if overlapping.is_empty() {
+        return false;
+    }
+    let name = |g: usize| m.geom_name.get(g).filter(|n| !n.is_empty()).cloned().unwrap_or_else(|| format!("#{g}"));
+    let list: Vec<String> = overlapping.iter().map(|&(k, d)| {
+        let p = &m.collision_pairs[k];
+        format!("{} and {} ({:.1} mm)", name(p.g1), name(p.g2), -d * 1e3)
+    }).collect();
+    m.warnings.push(format!(
+        "geoms of one robot overlap at qpos0: {}; sinew leaves these pairs out of collision (as MoveIt disables the \
+         pairs in collision by default), where MuJoCo keeps them as soft contacts: an exact contact that no joint \
+         can move apart would fling the joints",
+        list.join(", ")
+    ));
+    let pairs = std::mem::take(&mut m.collision_pairs);
+    m.collision_pairs = pairs.into_iter().enumerate().filter(|(k, _)| !overlapping.iter().any(|o| o.0 == *k)).map(|(_, p)| p).collect();
+    true
+}
+
 /// Numbers the pairs that keep what their test found apart ([`GeomPair::kept`]).
 pub fn kept_slots(m: &mut Model) {
     let gjk = |t: GeomType| matches!(t, GeomType::Mesh | GeomType::Cylinder | GeomType::Ellipsoid);
