@@ -69,4 +69,18 @@ fn parts_of_one_robot_overlapping_at_qpos0_leave_collision_and_others_stay() {
     // 0.5 mm, within the slop of parts that rest on each other: the pair stays
     let m = Model::from_mjcf(&overlapping_hub(0.0005, 0.0)).unwrap();
     assert!(!m.warnings.iter().any(|w| w.contains("overlap at qpos0")), "{:?}", m.warnings);
+    // a finger whose tip sinks 5 mm into the palm, which its hinge lifts out at 0.08 m/rad: the
+    // pair stays, and the step eases the tip out
+    let xml = r#"<mujoco><option timestep="0.002" gravity="0 0 0"/><worldbody>
+        <body name="palm"><geom name="palm" type="box" size="0.1 0.05 0.02"/>
+          <body pos="0 0 0.035"><joint axis="0 1 0" damping="0.1"/>
+            <geom name="tip" type="capsule" fromto="0 0 0 0.08 0 -0.015" size="0.005"/></body></body>
+        </worldbody></mujoco>"#;
+    let m = Model::from_mjcf(xml).unwrap();
+    assert!(!m.warnings.iter().any(|w| w.contains("overlap at qpos0")), "{:?}", m.warnings);
+    let mut s = State::new(&m);
+    for _ in 0..100 {
+        s.step(&m);
+    }
+    assert!(s.qpos[0] < -0.04 && s.qvel[0].abs() < 1.0, "q {} q̇ {}", s.qpos[0], s.qvel[0]);
 }

@@ -100,15 +100,22 @@ fn weld(m: &Model, mut b: usize) -> usize {
     b
 }
 
-/// Depth beyond which two geoms of one robot overlapping at qpos0 leave collision (m): meshes
-/// that overlap around a joint (robosuite's PR2 and G1 grippers: 1.6–4.9 cm) rather than
-/// parts resting on each other.
+/// Depth beyond which two geoms of one robot overlapping at qpos0 may leave collision (m), a
+/// millimetre: parts resting on each other overlap less.
 pub const SELF_OVERLAP: f64 = 1e-3;
 
+/// Joint travel (rad, or m of a slide) within which the joints must be able to undo such an
+/// overlap at its contact's normal rate for the pair to stay.
+pub const UNDO_TRAVEL: f64 = 1.0;
+
 /// The collision pairs (index, deepest distance) whose geoms overlap by more than
-/// [`SELF_OVERLAP`] at qpos0 (`kin`: there) and whose bodies share an ancestor below the world:
-/// parts of one robot, whose overlap a joint may be unable to remove (a finger's hub inside
-/// its palm overlaps alike at every angle). An explicit `<pair>` asks for its contact and stays.
+/// [`SELF_OVERLAP`] at qpos0 (`kin`: there), whose bodies share an ancestor below the world
+/// (parts of one robot), and whose deepest contact no dof can move out within [`UNDO_TRAVEL`]
+/// (its normal's rate per unit of the fastest dof times that travel is less than the depth): a
+/// finger's hub inside its palm overlaps alike at every angle, and an exact contact there pushes
+/// without end (robosuite's G1 three-finger grippers, 1.6 cm at a normal rate of 1e-4 m/rad).
+/// Overlaps the joints can undo (a lying humanoid's hand in its hip) stay, and are eased apart.
+/// An explicit `<pair>` asks for its contact and stays.
 pub fn overlapping_at_qpos0(m: &Model, kin: &crate::dynamics::kinematics::KinData) -> Vec<(usize, f64)> {
     let mut cd = crate::collision::CollisionData::new(m);
     crate::collision::penetrations(m, kin, &mut cd);
@@ -125,8 +132,12 @@ pub fn overlapping_at_qpos0(m: &Model, kin: &crate::dynamics::kinematics::KinDat
         ancestors(m.geom_body[g2]).into_iter().find(|b| a.contains(b)).is_some_and(|b| b != 0)
     };
     let mut found: Vec<(usize, f64)> = Vec::new();
+    let stuck = |c: &crate::collision::Contact| {
+        let rate = crate::constraint::stabilize::contact_normal_rate(m, kin, c).iter().fold(0.0, |a: f64, r| a.max(r.abs()));
+        -c.dist > rate * UNDO_TRAVEL
+    };
     for c in &cd.contacts {
-        if c.dist >= -SELF_OVERLAP || !one_robot(c.geom1, c.geom2) {
+        if c.dist >= -SELF_OVERLAP || !one_robot(c.geom1, c.geom2) || !stuck(c) {
             continue;
         }
         let (g1, g2) = (c.geom1.min(c.geom2), c.geom1.max(c.geom2));
@@ -140,6 +151,9 @@ pub fn overlapping_at_qpos0(m: &Model, kin: &crate::dynamics::kinematics::KinDat
     found
 }
 
+/// Pairs a warning names at most.
+const LISTED: usize = 8;
+
 /// Leaves the pairs [`overlapping_at_qpos0`] finds out of collision, with a warning naming each
 /// and its depth; whether there were any (the lists built from the pairs are then stale).
 pub fn leave_out_overlapping(m: &mut Model, kin: &crate::dynamics::kinematics::KinData) -> bool {
@@ -148,14 +162,17 @@ pub fn leave_out_overlapping(m: &mut Model, kin: &crate::dynamics::kinematics::K
         return false;
     }
     let name = |g: usize| m.geom_name.get(g).filter(|n| !n.is_empty()).cloned().unwrap_or_else(|| format!("#{g}"));
-    let list: Vec<String> = overlapping.iter().map(|&(k, d)| {
+    let mut list: Vec<String> = overlapping.iter().take(LISTED).map(|&(k, d)| {
         let p = &m.collision_pairs[k];
         format!("{} and {} ({:.1} mm)", name(p.g1), name(p.g2), -d * 1e3)
     }).collect();
+    if overlapping.len() > LISTED {
+        list.push(format!("{} more", overlapping.len() - LISTED));
+    }
     m.warnings.push(format!(
         "geoms of one robot overlap at qpos0: {}; sinew leaves these pairs out of collision (as MoveIt disables the \
-         pairs in collision by default), where MuJoCo keeps them as soft contacts: an exact contact that no joint \
-         can move apart would fling the joints",
+         pairs in collision by default), where MuJoCo keeps them as soft contacts: no joint can move these \
+         contacts apart, and an exact contact would fling the joints",
         list.join(", ")
     ));
     let pairs = std::mem::take(&mut m.collision_pairs);

@@ -245,6 +245,19 @@ fn gather(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]) -> bool {
     true
 }
 
+/// Contact `c`'s normal velocity per unit of each dof's velocity (nv) in the configuration of
+/// `kin`, where it was found.
+pub fn contact_normal_rate(m: &Model, kin: &KinData, c: &Contact) -> Vec<f64> {
+    let nodes = [m.body_node[m.geom_body[c.geom1]], m.body_node[m.geom_body[c.geom2]]];
+    let at = |side: usize| {
+        let n = nodes[side];
+        if n == WORLD { c.pos - kin.origin } else { kin.rel(n, kin.node_rot[n].transpose() * (c.pos - kin.node_pos[n])) }
+    };
+    let mut out = Vec::with_capacity(m.nv);
+    push_jacobian(m, kin, nodes, constraint::jacobian(nodes, [at(0), at(1)], [c.normal; 2]), &mut out);
+    out
+}
+
 /// Appends the projection row of contact `c`, found penetrating after the step without a row of
 /// the step (`new`: the kinematics there), its Δq̈ by a test force through the step's start.
 fn push_contact_row(m: &Model, kin: &KinData, aba: &AbaData, new: &KinData, post: &mut StabilizeData, c: &Contact) {
