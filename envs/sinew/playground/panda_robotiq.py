@@ -10,7 +10,7 @@ import numpy as np
 from sinew.playground.aloha import tolerance
 from sinew.playground.leap import quat_mul
 from sinew.playground.panda import quat_to_mat
-from sinew.playground.task import Task, site_rot, site_world
+from sinew.playground.task import Task, draws, site_rot, site_world
 
 ROBOTIQ = "mujoco_playground/_src/manipulation/franka_emika_panda_robotiq/xmls"
 GRIPPER_GEOMS = ("left_coupler_col_1", "left_coupler_col_2", "left_follower_pad2", "right_coupler_col_1", "right_coupler_col_2",
@@ -46,11 +46,6 @@ def rand_dir(u: np.ndarray) -> np.ndarray:
     radius, turn = np.sqrt(-2.0 * np.log1p(-u[:, 0])), 2.0 * np.pi * u[:, 1]
     theta, phi = radius * np.cos(turn) * 2 * np.pi, radius * np.sin(turn) * np.pi
     return np.stack([np.sin(phi) * np.cos(theta), np.sin(phi) * np.sin(theta), np.cos(phi)], axis=1)
-
-
-def draws(rngs: list, n: int) -> np.ndarray:
-    """Each world's next n uniforms in [0, 1) (worlds, n): one call per world's generator."""
-    return np.array([rng.random(n) for rng in rngs]).reshape(len(rngs), n)
 
 
 #: Uniforms a physics step draws per world: the observation's 11 (``single_obs``), then the

@@ -18,9 +18,14 @@ def site_rot(r, model, site: int) -> np.ndarray:
     return r.xmat(model.site_body[site]) @ model.site_mat[site].reshape(3, 3)
 
 
+def draws(rngs: list, n: int) -> np.ndarray:
+    """Each world's next n uniforms in [0, 1) (worlds, n): one call per world's generator."""
+    return np.array([rng.random(n) for rng in rngs]).reshape(len(rngs), n)
+
+
 def uniform_noise(rngs: list, n: int, level: float) -> np.ndarray:
     """Each world's n draws U(−1, 1) times the noise level (worlds, n)."""
-    return np.array([2.0 * rng.random(n) - 1.0 for rng in rngs]).reshape(len(rngs), n) * level
+    return (2.0 * draws(rngs, n) - 1.0) * level
 
 
 def drop_pose(rngs: list, qpos: np.ndarray, qvel: np.ndarray) -> None:
