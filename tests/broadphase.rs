@@ -14,13 +14,17 @@ use sinew::dynamics::kinematics::{forward, KinData};
 use sinew::Model;
 use sinew::state::WorldState;
 
-/// Random trees, once as generated and once with every slide joint made a hinge (all arms finite).
+/// Random trees, as generated, with every slide joint made a hinge (all arms finite), and with
+/// every slide limited (arms finite while the slides keep within their ranges).
 fn trees() -> Vec<Model> {
     let mut models = vec![];
     for seed in 0..40 {
         let xml = random_tree_mjcf(2 + (seed % 7) as usize, seed % 2 == 0, seed);
         models.push(Model::from_mjcf(&xml).unwrap());
         models.push(Model::from_mjcf(&xml.replace("type=\"slide\"", "type=\"hinge\"")).unwrap());
+        if xml.contains("type=\"slide\"") {
+            models.push(Model::from_mjcf(&xml.replace("type=\"slide\"", "type=\"slide\" limited=\"true\" range=\"-20.5 20.5\"")).unwrap());
+        }
     }
     models
 }
@@ -91,12 +95,23 @@ fn body_boxes_hold_their_geoms() {
 #[test]
 fn dof_arms_bound_every_geom_point_speed_and_body_reach_its_distance() {
     let mut r = Rng(7);
-    let (mut finite, mut tightest) = (0, 0.0_f64);
+    let (mut finite, mut tightest, mut ranged, mut beyond) = (0, 0.0_f64, 0, 0);
     for m in trees() {
         finite += m.dof_arm.iter().all(|c| c.is_finite()) as usize;
+        ranged += !m.arm_slides.is_empty() as usize;
         let mut kin = KinData::new(&m);
         for _ in 0..10 {
-            let (q, _) = random_state(&m, &mut r);
+            let (mut q, _) = random_state(&m, &mut r);
+            // a limited slide carried past its range: the arms no longer bound the motion
+            if let Some(&(qa, most)) = m.arm_slides.first() {
+                let inside = q[qa];
+                q[qa] = m.qpos0[qa] + 1.001 * most;
+                assert!(!m.arms_hold(&q), "{}: a slide beyond its range", m.name);
+                beyond += 1;
+                q[qa] = inside;
+            }
+            // random_state moves a slide at most 1 from qpos0: within what the arms allow for
+            assert!(m.arms_hold(&q), "{}: a state within the ranges", m.name);
             // a unit velocity of one dof at a time moves no point faster than that dof's arm
             for k in 0..m.nv {
                 let mut v = vec![0.0; m.nv];
@@ -121,7 +136,7 @@ fn dof_arms_bound_every_geom_point_speed_and_body_reach_its_distance() {
             }
         }
     }
-    assert!(finite >= 20, "only {finite} trees with bounded arms");
+    assert!(finite >= 20 + ranged && ranged >= 10 && beyond >= 100, "{finite} trees with bounded arms, {ranged} by their slides' ranges, {beyond} states beyond");
     // the bounds are reached closely somewhere (a geom at full stretch from its joint)
     assert!(tightest > 0.9, "no point comes near its bound: {tightest}");
 }
@@ -284,6 +299,31 @@ fn a_kept_separating_face_changes_no_contact() {
         assert!(settled > tested / 20, "{shape}: {settled} tests settled by kept faces in {tested} detections");
         assert!(touching > tested / 50 && touching < tested / 2, "{shape}: {touching} of {tested} detections touch");
     }
+}
+
+/// A hinged arm carrying two fingers on limited slides, swept past three obstacles: the hinge's
+/// arm (`Model::dof_arm`) counts the fingers by their ranges, so the gaps spare pairs (with an
+/// unlimited slide it is unbounded and spares none); the walk's jumps carry the fingers past
+/// their ranges too, where the arms bound nothing and every pair is tested: either way detection
+/// finds the contacts of detection from scratch.
+#[test]
+fn fingers_on_limited_slides_keep_the_gaps_in_use() {
+    let m = Model::from_mjcf(
+        r#"<mujoco><worldbody>
+        <geom type="box" size=".05 .05 .05" pos=".3 .25 0"/><geom type="box" size=".04 .04 .04" pos="-.25 .2 .05"/>
+        <geom type="capsule" fromto=".1 -.4 0 .1 -.2 0" size=".02"/>
+        <body><joint type="hinge" axis="0 0 1"/><geom type="box" size=".15 .02 .02" pos=".15 0 0"/>
+          <body pos=".3 0 0"><joint type="slide" axis="0 1 0" range="-.6 .6"/><geom type="box" size=".01 .03 .01" pos="0 .03 0"/></body>
+          <body pos=".3 0 0"><joint type="slide" axis="0 -1 0" range="-.6 .6"/><geom type="box" size=".01 .03 .01" pos="0 -.03 0"/></body>
+        </body></worldbody></mujoco>"#,
+    )
+    .unwrap();
+    assert_eq!(m.arm_slides.len(), 2);
+    assert!(m.dof_arm.iter().all(|a| a.is_finite()), "{:?}", m.dof_arm);
+    let mut r = Rng(17);
+    let (skipped, _, touching, tested) = walk(&m, &mut r, 20000, 400, 0.2, 2.0);
+    assert!(skipped > tested / 2, "{skipped} gap skips in {tested} detections");
+    assert!(touching > tested / 50 && touching < tested / 2, "{touching} of {tested} detections touch");
 }
 
 /// An arm folding slowly onto its base: while its pairs are far apart the whole tree's travel

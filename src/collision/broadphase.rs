@@ -182,6 +182,36 @@ pub(super) fn boxes_apart((ci, ri, hi): (DVec3, DMat3, DVec3), (cj, rj, hj): (DV
     false
 }
 
+/// A lower bound on the distance between boxes (centre, rotation, half extents): the most they
+/// lie apart along one of the axes [`boxes_apart`] reads (each unit axis's separation is one; the
+/// edge pairs' nearly parallel are left out), less a round-off's slack. Negative where they may
+/// overlap.
+pub(super) fn boxes_separation((ci, ri, hi): (DVec3, DMat3, DVec3), (cj, rj, hj): (DVec3, DMat3, DVec3)) -> f64 {
+    let t = ri.transpose() * (cj - ci);
+    let r = ri.transpose() * rj;
+    let a = [r.x_axis.abs(), r.y_axis.abs(), r.z_axis.abs()];
+    let abs = |k: usize| DVec3::new(a[0][k], a[1][k], a[2][k]);
+    let mut best = f64::NEG_INFINITY;
+    for k in 0..3 {
+        best = best.max(t[k].abs() - hi[k] - hj.dot(abs(k)));
+        best = best.max(r.col(k).dot(t).abs() - hj[k] - hi.dot(a[k]));
+    }
+    for p in 0..3 {
+        let (u, v) = ((p + 1) % 3, (p + 2) % 3);
+        for k in 0..3 {
+            let len = (1.0 - a[k][p] * a[k][p]).max(0.0).sqrt();
+            if len < 1e-3 {
+                continue;
+            }
+            let (ku, kv) = ((k + 1) % 3, (k + 2) % 3);
+            let along = (t[v] * r.col(k)[u] - t[u] * r.col(k)[v]).abs();
+            let reach = hi[u] * a[k][v] + hi[v] * a[k][u] + hj[ku] * a[kv][p] + hj[kv] * a[ku][p];
+            best = best.max((along - reach) / len);
+        }
+    }
+    best - 1e-12 * (1.0 + t.length() + hi.max_element() + hj.max_element())
+}
+
 /// Computes geom g's own bound (with the shared one) unless it already is.
 #[inline(always)]
 pub(super) fn own_reach_of(m: &Model, kin: &KinData, aba: &AbaData, cd: &mut CollisionData, g: usize) {
@@ -285,7 +315,7 @@ pub(super) fn arm_speed(m: &Model, speeds: impl Iterator<Item = f64>) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::{boxes_apart, pair_of};
+    use super::{boxes_apart, boxes_separation, pair_of};
     use glam::{DMat3, DVec3};
     use crate::Model;
 
@@ -293,7 +323,8 @@ mod tests {
     fn boxes_apart_only_where_the_boxes_are_apart() {
         // beside parry's exact distance of two cuboids: boxes declared apart are farther apart
         // than the margin, overlapping boxes never are, and most pairs farther apart than the
-        // margin plus their size's tenth are found apart (the test reads 15 axes, not the distance)
+        // margin plus their size's tenth are found apart (the test reads 15 axes, not the
+        // distance); the separation of boxes found apart lies between the margin and the distance
         use parry3d_f64::math::{Pose, Rotation, Vector};
         use parry3d_f64::shape::Cuboid;
         let mut x = 7u64;
@@ -301,7 +332,7 @@ mod tests {
             x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
             (x >> 11) as f64 / (1u64 << 53) as f64
         };
-        let (mut apart, mut overlap, mut far, mut far_found) = (0, 0, 0, 0);
+        let (mut apart, mut overlap, mut far, mut far_found, mut tightest) = (0, 0, 0, 0, 0.0_f64);
         for _ in 0..4000 {
             let mut pose = || {
                 let q = glam::DQuat::from_xyzw(rand() - 0.5, rand() - 0.5, rand() - 0.5, rand() - 0.5).normalize();
@@ -315,10 +346,16 @@ mod tests {
             };
             let ((pa, ca), (pb, cb)) = (parry(a), parry(b));
             let dist = parry3d_f64::query::distance(&pa, &ca, &pb, &cb).unwrap().distance;
-            let found = boxes_apart((a.0, DMat3::from_quat(a.1), a.2), (b.0, DMat3::from_quat(b.1), b.2), margin);
+            let (ba, bb) = ((a.0, DMat3::from_quat(a.1), a.2), (b.0, DMat3::from_quat(b.1), b.2));
+            let found = boxes_apart(ba, bb, margin);
             if found {
                 assert!(dist > margin, "{a:?} {b:?} {margin} {dist}");
                 apart += 1;
+                // where they part, their separation bounds the distance from below, and beyond
+                // the margin (the pair's gap, `collision::gaps`)
+                let sep = boxes_separation(ba, bb);
+                assert!(sep <= dist && sep > margin - 1e-12, "{a:?} {b:?} {margin}: {sep} against {dist}");
+                tightest = tightest.max(sep / dist);
             }
             if dist == 0.0 {
                 assert!(!found);
@@ -331,6 +368,7 @@ mod tests {
         }
         assert!(apart > 500 && overlap > 500, "{apart} {overlap}");
         assert!(far_found as f64 > 0.9 * far as f64, "{far_found} of {far}");
+        assert!(tightest > 0.999, "the separations stay below the distances by {tightest}");
     }
 
     /// A pair's index by its bit's rank is its index in the pairs, and geoms that make no pair

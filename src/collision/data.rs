@@ -77,6 +77,9 @@ pub struct CollisionData {
     pub(super) least_slack: f64,
     /// How much any gap may have shrunk between `qpos_gap` and the last detection's configuration.
     pub(super) shrink: f64,
+    /// Whether the joints' arms bound the geoms' motion at the last detection's configuration
+    /// ([`Model::arms_hold`](crate::model::Model::arms_hold)).
+    pub(super) arms_hold: bool,
     /// Pairs whose gap spared them a test in the last detection.
     pub gap_skips: usize,
     /// The boxes of [`Model::sweep_geoms`] by increasing `lo.x` (x: the sweep axis), as the last sweep left them
@@ -125,6 +128,7 @@ impl CollisionData {
             gaps_current: false,
             least_slack: f64::NEG_INFINITY,
             shrink: 0.0,
+            arms_hold: true,
             gap_skips: 0,
             sweep: m.sweep_geoms.iter().map(|&g| SweepBox { lo: DVec3::ZERO, hi: DVec3::ZERO, geom: g }).collect(),
             sweep_axis: 0,
@@ -148,8 +152,13 @@ impl CollisionData {
     /// Forgets the contacts, the pairs' gaps and their kept separations.
     pub fn forget(&mut self) {
         self.contacts.clear();
-        self.pair_gap.fill(f64::NEG_INFINITY);
         self.pair_kept.fill(Separation::Unknown);
+        self.forget_gaps();
+    }
+
+    /// Forgets the pairs' gaps.
+    pub(super) fn forget_gaps(&mut self) {
+        self.pair_gap.fill(f64::NEG_INFINITY);
         self.least_slack = f64::NEG_INFINITY;
     }
 }
@@ -254,12 +263,15 @@ pub(super) struct Scratch {
     pub(super) met: Vec<bool>,
     /// The vertices the walk has met, and those it has still to leave from.
     pub(super) walk: (Vec<u32>, Vec<u32>),
+    /// A lower bound on the distance between the pair under test where their oriented boxes
+    /// parted them before GJK ran, else −∞.
+    pub(super) parted: f64,
 }
 
 impl Scratch {
     /// Scratch for hulls of at most `verts` vertices.
     pub(super) fn sized(verts: usize) -> Scratch {
-        Scratch { met: vec![false; verts], walk: (Vec::with_capacity(verts), Vec::with_capacity(verts)), ..Scratch::default() }
+        Scratch { met: vec![false; verts], walk: (Vec::with_capacity(verts), Vec::with_capacity(verts)), parted: f64::NEG_INFINITY, ..Scratch::default() }
     }
 }
 

@@ -97,7 +97,9 @@ pub fn collide(m: &Model, dy: &DynamicsData, s: &WorldState<'_>, out: &mut Colli
     // speed: one bound for all moving geoms decides the plane groups (and the gaps); each geom's
     // own, usually tighter and dearer, serves the pair tests
     let h = m.opt.timestep;
-    let shared = m.opt.lever() * arm_speed(m, qvel.iter().zip(qacc).map(|(v, a)| v.abs() + h * a.abs()));
+    // the joints' arms bound it while the limited slides keep within their ranges
+    out.arms_hold = m.arms_hold(qpos);
+    let shared = if out.arms_hold { m.opt.lever() * arm_speed(m, qvel.iter().zip(qacc).map(|(v, a)| v.abs() + h * a.abs())) } else { f64::INFINITY };
     let Some(all_apart) = begin(m, kin, out, shared) else { return };
     out.gaps_current = all_apart;
     if all_apart {
@@ -119,6 +121,10 @@ pub fn collide(m: &Model, dy: &DynamicsData, s: &WorldState<'_>, out: &mut Colli
         }
         // the gap pairs, then the rest, narrowed: in the pairs' order for `test_again`'s search
         out.narrowed.sort_unstable_by_key(|n| n.0);
+        if !out.arms_hold {
+            // travel measured from here would count arms that did not hold on the way
+            out.forget_gaps();
+        }
         return;
     }
     for g in 0..m.ngeom {
@@ -224,8 +230,9 @@ pub fn reach_again(m: &Model, kin: &KinData, qvel_end: &[f64], v_end: &mut [Moti
         return false;
     }
     let lever = m.opt.lever();
-    // one bound for every geom point decides the groups and settles most gap pairs
-    let reach = lever * arm_speed(m, qvel_end.iter().map(|v| v.abs()));
+    // one bound for every geom point decides the groups and settles most gap pairs (while the
+    // arms hold at this configuration, the detection's)
+    let reach = if out.arms_hold { lever * arm_speed(m, qvel_end.iter().map(|v| v.abs())) } else { f64::INFINITY };
     judge_groups(m, kin, out, reach);
     let mut found = false;
     if !out.group_apart.iter().all(|&a| a) {

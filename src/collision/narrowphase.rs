@@ -53,7 +53,8 @@ impl Sink<'_> {
 }
 
 /// Narrowphase of geoms i and j: appends the contacts within `margin`. Returns the distance
-/// between the geoms where a pair of spheres and capsules gives it exactly, else −∞.
+/// between the geoms where a pair of spheres and capsules gives it exactly, a lower bound on it
+/// where their oriented boxes part them before GJK, else −∞.
 pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, p: &GeomPair, margin: f64) -> f64 {
     let (i, j, explicit) = (p.g1, p.g2, p.friction);
     pose_axes(m, kin, cd, i);
@@ -73,12 +74,13 @@ pub(super) fn pair(m: &Model, kin: &KinData, cd: &mut CollisionData, p: &GeomPai
             let slot = p.kept.map(|s| s as usize);
             let turn = |kept: Separation, rot: DMat3| if let Separation::Axis(n) = kept { Separation::Axis(rot * n) } else { kept };
             cd.scratch.kept.sep = slot.map_or(Separation::Unknown, |s| turn(cd.pair_kept[s], cd.geom_xmat[i]));
+            cd.scratch.parted = f64::NEG_INFINITY;
             solid_pair(&sink, cd, (g1, s1), (g2, s2));
             if let Some(s) = slot {
                 cd.pair_kept[s] = turn(cd.scratch.kept.sep, cd.geom_xmat[i].transpose());
             }
             cd.scratch.kept.sep = Separation::Unknown;
-            f64::NEG_INFINITY
+            cd.scratch.parted
         }
     }
 }
@@ -164,7 +166,7 @@ fn solid_pair(sink: &Sink, cd: &mut CollisionData, (g1, s1): (usize, Shape), (g2
             each(cd, &cylinder::on_plane(&cyl, p, n, margin), 1.0);
         }
         // a hull's GJK first meets the boxes
-        (Shape::Cylinder(_), Shape::Hull { .. }) | (Shape::Hull { .. }, Shape::Cylinder(_)) if boxes_part(&s1, &s2, margin) => {}
+        (Shape::Cylinder(_), Shape::Hull { .. }) | (Shape::Hull { .. }, Shape::Cylinder(_)) if boxes_part(&s1, &s2, margin, &mut cd.scratch.parted) => {}
         (Shape::Cylinder(cyl), other) if !matches!(other, Shape::HField { .. }) => {
             let found = cylinder::pair(&cyl, other, margin, &mut cd.scratch);
             each(cd, &found, 1.0);
@@ -206,7 +208,7 @@ fn hull_pair(s1: Shape, s2: Shape, margin: f64, scale: f64, epa: &mut Scratch) -
     };
     let many = edges(&s1) * edges(&s2) > MANY_EDGE_PAIRS || matches!((s1, s2), (Shape::Sphere { .. }, Shape::Hull { hull, .. }) | (Shape::Hull { hull, .. }, Shape::Sphere { .. }) if hull.faces.len() > 64);
     let hint = if !matches!(s2, Shape::Plane { .. }) && many {
-        if boxes_part(&s1, &s2, margin + 1e-6 * scale) {
+        if boxes_part(&s1, &s2, margin + 1e-6 * scale, &mut epa.parted) {
             return Manifold::new();
         }
         match ellipsoid::normal(s1, s2, margin + 1e-6 * scale, scale, epa) {

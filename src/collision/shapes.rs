@@ -47,10 +47,16 @@ impl Shape<'_> {
 
 /// Whether two shapes' boxes ([`Shape::oriented_box`]) lie farther apart than `margin`: the
 /// midphase of a pair whose test starts with GJK on a hull (MuJoCo's oriented-box test), which
-/// spares the support walks of limbs near each other but apart.
-pub(super) fn boxes_part(s1: &Shape, s2: &Shape, margin: f64) -> bool {
+/// spares the support walks of limbs near each other but apart. Where they do, `parted` gets a
+/// lower bound on the distance between the shapes
+/// ([`boxes_separation`](super::broadphase::boxes_separation)): it spares the pair's next tests
+/// while the joints' travel has not taken it up.
+pub(super) fn boxes_part(s1: &Shape, s2: &Shape, margin: f64, parted: &mut f64) -> bool {
     match (s1.oriented_box(), s2.oriented_box()) {
-        (Some(a), Some(b)) => super::broadphase::boxes_apart(a, b, margin),
+        (Some(a), Some(b)) if super::broadphase::boxes_apart(a, b, margin) => {
+            *parted = super::broadphase::boxes_separation(a, b);
+            true
+        }
         _ => false,
     }
 }

@@ -143,7 +143,8 @@ fn compile(mut spec: ModelSpec, x: &include::Expanded) -> Result<Model> {
     }
     m.collision_pairs.extend(explicit);
     m.collision_pairs.sort_by_key(|p| (p.g1, p.g2));
-    m.body_reach = body_reaches(&m);
+    m.body_reach = body_reaches(&m, false);
+    m.arm_slides = arm_slides(&m);
     m.dof_arm = dof_arms(&m);
     pair_lists(&mut m);
     // the forward dynamics at qpos0, as MuJoCo's mj_setConst runs it
@@ -468,13 +469,28 @@ fn sweep_lists(m: &mut Model) {
 }
 
 /// How far a body's joints can carry its origin from where its parent puts it: 2|anchor| per
-/// hinge or ball joint (a turn about the anchor), unboundedly by a slide; joints `after` the
-/// given one only, when it is Some.
-fn joint_travel(m: &Model, b: usize, after: Option<usize>) -> f64 {
+/// hinge or ball joint (a turn about the anchor), unboundedly by a slide, unless `ranged` and the
+/// slide is limited ([`Model::arm_slides`]); joints `after` the given one only, when it is Some.
+fn joint_travel(m: &Model, b: usize, after: Option<usize>, ranged: bool) -> f64 {
     (0..m.njnt)
         .filter(|&j| m.jnt_body[j] == b && after.is_none_or(|a| j > a))
-        .map(|j| if m.jnt_type[j] == JointType::Slide { f64::INFINITY } else { 2.0 * m.jnt_pos[j].length() })
+        .map(|j| match m.jnt_type[j] {
+            JointType::Slide => m.arm_slides.iter().find(|s| ranged && s.0 == m.jnt_qposadr[j]).map_or(f64::INFINITY, |s| s.1),
+            _ => 2.0 * m.jnt_pos[j].length(),
+        })
         .sum()
+}
+
+/// [`Model::arm_slides`]: each limited slide's farther range end from qpos0, and a hundredth of
+/// its range to spare (a finger pressed against its limit sits a round-off beyond it).
+fn arm_slides(m: &Model) -> Vec<(usize, f64)> {
+    (0..m.njnt)
+        .filter(|&j| m.jnt_type[j] == JointType::Slide && m.jnt_limited[j])
+        .map(|j| {
+            let (qa, [lo, hi]) = (m.jnt_qposadr[j], m.jnt_range[j]);
+            (qa, (lo - m.qpos0[qa]).abs().max((hi - m.qpos0[qa]).abs()) + 0.01 * (hi - lo).abs())
+        })
+        .collect()
 }
 
 /// [`Model::node_tree`] and [`Model::node_end`] from the parents (numbered parents first).
@@ -495,8 +511,8 @@ fn node_trees(parent: &[usize]) -> (Vec<usize>, Vec<usize>) {
 }
 
 /// [`Model::body_reach`], bottom-up: a body's own geoms, and each child's reach from where the
-/// child's origin can be.
-fn body_reaches(m: &Model) -> Vec<f64> {
+/// child's origin can be (a limited slide's by its range when `ranged`: `Model::dof_arm`'s).
+fn body_reaches(m: &Model, ranged: bool) -> Vec<f64> {
     let mut reach = vec![0.0_f64; m.nbody];
     for g in (0..m.ngeom).filter(|&g| m.geom_type[g] != GeomType::Plane) {
         let b = m.geom_body[g];
@@ -505,7 +521,7 @@ fn body_reaches(m: &Model) -> Vec<f64> {
     // children come after their parents
     for c in (1..m.nbody).rev() {
         let p = m.body_parent[c];
-        reach[p] = reach[p].max(m.body_pos[c].length() + joint_travel(m, c, None) + reach[c]);
+        reach[p] = reach[p].max(m.body_pos[c].length() + joint_travel(m, c, None, ranged) + reach[c]);
     }
     reach
 }
@@ -514,9 +530,10 @@ fn body_reaches(m: &Model) -> Vec<f64> {
 /// once the joints that follow it in the body have moved that, plus the body's reach.
 fn dof_arms(m: &Model) -> Vec<f64> {
     let mut arm = vec![0.0; m.nv];
+    let reach = body_reaches(m, true);
     for j in 0..m.njnt {
         let b = m.jnt_body[j];
-        let rotational = m.jnt_pos[j].length() + joint_travel(m, b, Some(j)) + m.body_reach[b];
+        let rotational = m.jnt_pos[j].length() + joint_travel(m, b, Some(j), true) + reach[b];
         let da = m.jnt_dofadr[j];
         match m.jnt_type[j] {
             JointType::Slide => arm[da] = 1.0,
@@ -525,7 +542,7 @@ fn dof_arms(m: &Model) -> Vec<f64> {
             // linear velocity of the body's origin, then angular velocity about it
             JointType::Free => {
                 arm[da..da + 3].fill(1.0);
-                arm[da + 3..da + 6].fill(m.body_reach[b]);
+                arm[da + 3..da + 6].fill(reach[b]);
             }
         }
     }

@@ -156,7 +156,10 @@ fn gather(m: &Model, data: &mut World<'_>, qpos: &[f64], qvel: &[f64]) -> bool {
     let nv = m.nv;
     let new = ahead.at(m, qpos, qvel);
     collision::penetrations(m, new, &mut post.coll);
-    tendon::evaluate(m, new, qpos, &mut post.ten);
+    // the tendons' lengths serve their limits alone (a hand's spatial tendons wrap at a cost)
+    if m.limited_tendons().next().is_some() {
+        tendon::evaluate(m, new, qpos, &mut post.ten);
+    }
     let tendon_violated = m.limited_tendons().any(|t| {
         let ([lo, hi], l) = (m.tendon_range[t], post.ten.length[t]);
         l < lo - LIMIT_SLOP || l > hi + LIMIT_SLOP

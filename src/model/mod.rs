@@ -260,6 +260,12 @@ impl Model {
         &self.tendon_path[self.tendon_path_adr[t]..self.tendon_path_adr[t + 1]]
     }
 
+    /// Whether [`Model::dof_arm`] bounds the geoms' motion at `qpos`: every limited slide within
+    /// the travel the arms allow for (a gripper's fingers within their range).
+    pub fn arms_hold(&self, qpos: &[f64]) -> bool {
+        self.arm_slides.iter().all(|&(qa, most)| (qpos[qa] - self.qpos0[qa]).abs() <= most)
+    }
+
     /// Limited tendons (with limits enabled).
     pub fn limited_tendons(&self) -> impl Iterator<Item = usize> + '_ {
         (0..self.ntendon).filter(|&t| self.opt.limit && self.tendon_limited[t])
@@ -396,11 +402,15 @@ pub struct Model {
     pub dof_frictionloss: Vec<f64>,
     /// Joint of each dof (nv).
     pub dof_jnt: Vec<usize>,
-    /// Bound, valid at every configuration, on the speed a unit velocity of the dof gives any
-    /// point of a geom it moves: 1 for a translational dof; for a rotational one, the greatest
-    /// distance such a point can have from the joint's anchor, or ∞ when a slide joint beyond
-    /// the dof makes it unbounded (nv). So a point moves at most Σ_k `dof_arm[k]` |q̇_k|.
+    /// Bound on the speed a unit velocity of the dof gives any point of a geom it moves: 1 for a
+    /// translational dof; for a rotational one, the greatest distance such a point can have from
+    /// the joint's anchor, or ∞ when an unlimited slide joint beyond the dof makes it unbounded
+    /// (nv). A limited slide beyond it counts by its range ([`Model::arm_slides`]), so the bound
+    /// holds where [`Model::arms_hold`]. A point then moves at most Σ_k `dof_arm[k]` |q̇_k|.
     pub dof_arm: Vec<f64>,
+    /// The limited slide joints, as `dof_arm` counts them: (qpos address, the most |q − qpos0|
+    /// the arms allow for: the range's farther end from qpos0, and a hundredth of the range).
+    pub arm_slides: Vec<(usize, f64)>,
 
     /// Parent node or [`WORLD`] (nnode).
     pub node_parent: Vec<usize>,
