@@ -143,29 +143,50 @@ pub(super) fn apart(cd: &CollisionData, p: &GeomPair, margin: f64) -> bool {
 }
 
 /// Whether boxes (centre, rotation, half extents) lie farther apart than `margin` along one of
-/// the 15 axes that can separate them (their faces' normals and the cross products of their
-/// edges; Gottschalk, Lin & Manocha 1996).
-pub(super) fn boxes_apart((ci, ri, hi): (DVec3, DMat3, DVec3), (cj, rj, hj): (DVec3, DMat3, DVec3), margin: f64) -> bool {
+/// the 15 axes that can separate them ([`box_axes`]).
+pub(super) fn boxes_apart(i: (DVec3, DMat3, DVec3), j: (DVec3, DMat3, DVec3), margin: f64) -> bool {
+    // a round-off's slack on the edge axes (near zero length for parallel edges)
+    let slack = 1e-12 * (i.2.max_element() + j.2.max_element());
+    box_axes(i, j, |along, reach, len, edge| along > reach + margin * len + if edge { slack } else { 0.0 })
+}
+
+/// A lower bound on the distance between boxes (centre, rotation, half extents): the most they
+/// lie apart along one of [`box_axes`] (each unit axis's separation is one; the edge pairs'
+/// nearly parallel are left out), less a round-off's slack. Negative where they may overlap.
+pub(super) fn boxes_separation(i: (DVec3, DMat3, DVec3), j: (DVec3, DMat3, DVec3)) -> f64 {
+    let mut best = f64::NEG_INFINITY;
+    box_axes(i, j, |along, reach, len, _| {
+        if len >= 1e-3 {
+            best = best.max((along - reach) / len);
+        }
+        false
+    });
+    best - 1e-12 * (1.0 + (j.0 - i.0).length() + i.2.max_element() + j.2.max_element())
+}
+
+/// The 15 axes that can separate two boxes (their faces' normals, then the cross products of
+/// their edges; Gottschalk, Lin & Manocha 1996), each given to `visit` as (|centres' offset|
+/// along it, the two boxes' reach along it, its length, whether it is an edge pair's) until
+/// `visit` returns true; whether one did.
+#[inline(always)]
+fn box_axes((ci, ri, hi): (DVec3, DMat3, DVec3), (cj, rj, hj): (DVec3, DMat3, DVec3), mut visit: impl FnMut(f64, f64, f64, bool) -> bool) -> bool {
     // j's box in i's frame: centre t, axes the columns of r
     let t = ri.transpose() * (cj - ci);
     let r = ri.transpose() * rj;
     let a = [r.x_axis.abs(), r.y_axis.abs(), r.z_axis.abs()];
     let abs = |k: usize| DVec3::new(a[0][k], a[1][k], a[2][k]);
-    // i's faces
+    // i's faces, then j's
     for k in 0..3 {
-        if t[k].abs() > hi[k] + hj.dot(abs(k)) + margin {
+        if visit(t[k].abs(), hi[k] + hj.dot(abs(k)), 1.0, false) {
             return true;
         }
     }
-    // j's faces
     for k in 0..3 {
-        if r.col(k).dot(t).abs() > hj[k] + hi.dot(a[k]) + margin {
+        if visit(r.col(k).dot(t).abs(), hj[k] + hi.dot(a[k]), 1.0, false) {
             return true;
         }
     }
-    // edge pairs: axis e_p × col_k of r, of length √(1 − r_pk²) (near zero for parallel edges:
-    // a round-off's slack)
-    let slack = 1e-12 * (hi.max_element() + hj.max_element());
+    // edge pairs: axis e_p × col_k of r, of length √(1 − r_pk²)
     for p in 0..3 {
         let (u, v) = ((p + 1) % 3, (p + 2) % 3);
         for k in 0..3 {
@@ -174,42 +195,12 @@ pub(super) fn boxes_apart((ci, ri, hi): (DVec3, DMat3, DVec3), (cj, rj, hj): (DV
             let reach_i = hi[u] * a[k][v] + hi[v] * a[k][u];
             let reach_j = hj[ku] * a[kv][p] + hj[kv] * a[ku][p];
             let len = (1.0 - a[k][p] * a[k][p]).max(0.0).sqrt();
-            if along > reach_i + reach_j + margin * len + slack {
+            if visit(along, reach_i + reach_j, len, true) {
                 return true;
             }
         }
     }
     false
-}
-
-/// A lower bound on the distance between boxes (centre, rotation, half extents): the most they
-/// lie apart along one of the axes [`boxes_apart`] reads (each unit axis's separation is one; the
-/// edge pairs' nearly parallel are left out), less a round-off's slack. Negative where they may
-/// overlap.
-pub(super) fn boxes_separation((ci, ri, hi): (DVec3, DMat3, DVec3), (cj, rj, hj): (DVec3, DMat3, DVec3)) -> f64 {
-    let t = ri.transpose() * (cj - ci);
-    let r = ri.transpose() * rj;
-    let a = [r.x_axis.abs(), r.y_axis.abs(), r.z_axis.abs()];
-    let abs = |k: usize| DVec3::new(a[0][k], a[1][k], a[2][k]);
-    let mut best = f64::NEG_INFINITY;
-    for k in 0..3 {
-        best = best.max(t[k].abs() - hi[k] - hj.dot(abs(k)));
-        best = best.max(r.col(k).dot(t).abs() - hj[k] - hi.dot(a[k]));
-    }
-    for p in 0..3 {
-        let (u, v) = ((p + 1) % 3, (p + 2) % 3);
-        for k in 0..3 {
-            let len = (1.0 - a[k][p] * a[k][p]).max(0.0).sqrt();
-            if len < 1e-3 {
-                continue;
-            }
-            let (ku, kv) = ((k + 1) % 3, (k + 2) % 3);
-            let along = (t[v] * r.col(k)[u] - t[u] * r.col(k)[v]).abs();
-            let reach = hi[u] * a[k][v] + hi[v] * a[k][u] + hj[ku] * a[kv][p] + hj[kv] * a[ku][p];
-            best = best.max((along - reach) / len);
-        }
-    }
-    best - 1e-12 * (1.0 + t.length() + hi.max_element() + hj.max_element())
 }
 
 /// Computes geom g's own bound (with the shared one) unless it already is.
