@@ -134,3 +134,74 @@ fn a_known_friction_is_checked_and_posed_as_rows_when_it_would_turn_the_dof() {
     assert!((s.qvel[0] - expected).abs() < 1e-12, "{} vs {expected}", s.qvel[0]);
     assert_eq!(s.data.constraints.history.sliding, vec![(0, false)]);
 }
+
+/// A torso on a hinge with two three-hinge arms driven by position servos, friction loss on
+/// every arm hinge, the right arm long enough to drag over the floor.
+fn two_arms() -> Model {
+    let arm = |side: &str, x: f64, len: f64| {
+        let body = |i: usize, loss: f64| {
+            format!("<joint name='{side}{i}' axis='0 1 0' frictionloss='{loss}' armature='0.01'/><geom type='capsule' size='0.03' fromto='0 0 0 0 0 -{len}'/>")
+        };
+        format!("<body pos='{x} 0 0'>{}<body pos='0 0 -{len}'>{}<body pos='0 0 -{len}'>{}</body></body></body>", body(1, 0.6), body(2, 0.3), body(3, 0.15))
+    };
+    let servos: String = ["l1", "l2", "l3", "r1", "r2", "r3"].iter().map(|n| format!("<position joint='{n}' kp='8' kv='1.5' ctrlrange='-1 1'/>")).collect();
+    let xml = format!(
+        "<mujoco><option timestep='0.002'/><worldbody><geom type='plane' size='5 5 0.1'/>\
+         <body pos='0 0 1.2'><joint name='torso' axis='1 0 0' damping='0.5'/><geom type='box' size='0.3 0.05 0.05'/>\
+         {}{}</body></worldbody><actuator>{servos}</actuator></mujoco>",
+        arm("l", -0.3, 0.25),
+        arm("r", 0.3, 0.42)
+    );
+    Model::from_mjcf(&xml).unwrap()
+}
+
+#[test]
+fn a_joint_held_by_its_friction_gives_the_rows_answer() {
+    // the servos' targets change every 500 steps: the arms swing, stop and stick, the long one
+    // drags and rests on the floor; the free arm's hinges are held still while they stick. Each
+    // step beside the same step with every stuck dof's rows posed, from the same state
+    let m = two_arms();
+    let mut rows_model = m.clone();
+    rows_model.opt.hold_stuck_joints = false;
+    let mut s = State::new(&m);
+    let mut rng = common::Rng(5);
+    let (mut worst, mut holding, mut touching) = (0.0f64, 0, 0);
+    for step in 0..3000 {
+        if step % 500 == 0 {
+            for u in 0..m.nu {
+                s.ctrl[u] = rng.uniform(-1.0, 1.0);
+            }
+        }
+        let mut rows = s.clone();
+        s.step(&m);
+        rows.step(&rows_model);
+        assert!(rows.data.dynamics.aba.locked.iter().all(|&l| !l));
+        if s.data.dynamics.aba.locked.iter().any(|&l| l) {
+            holding += 1;
+            touching += !s.data.coll.contacts.is_empty() as usize;
+            for (a, b) in s.qvel.iter().zip(&rows.qvel) {
+                worst = worst.max((a - b).abs());
+            }
+        }
+    }
+    assert!(holding > 600, "joints held on {holding} of 3000 steps");
+    assert!(touching > 600, "the long arm touched the floor on {touching} of them");
+    assert!(worst < 1e-9, "largest difference of q̇ {worst:e}");
+}
+#[test]
+fn a_held_joint_is_exactly_still_and_lets_go_past_its_friction() {
+    // below breakaway the held hinge does not move by a bit; above it, it is let go and slides
+    let (m, torque, _) = pendulum(1.01 * 9.81 * 0.5, "acceleration");
+    let mut s = State::new(&m);
+    for _ in 0..500 {
+        s.step(&m);
+        assert!(s.data.dynamics.aba.locked[0]);
+    }
+    assert_eq!((s.qpos[0], s.qvel[0]), (0.0, 0.0));
+    let applied = &s.data.constraints.applied.joint;
+    assert!(applied.len() == 1 && (applied[0].1 + torque).abs() < 1e-12, "the friction holds gravity's torque: {applied:?}");
+    let (m, _, _) = pendulum(0.99 * 9.81 * 0.5, "acceleration");
+    let mut s = State::new(&m);
+    s.step(&m);
+    assert!(!s.data.dynamics.aba.locked[0] && s.qvel[0] > 0.0);
+}

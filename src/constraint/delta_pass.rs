@@ -80,12 +80,15 @@ pub struct DeltaScratch {
     u: Vec<Spatial>,
     /// Spatial δa per node (nnode).
     pub(super) a: Vec<Spatial>,
+    /// Per node held still (`AbaData::locked`): the change of the torque that holds it,
+    /// −(δu − Uᵀ δa') (nnode; written only at held nodes).
+    pub(super) held: Vec<Lanes>,
 }
 
 impl DeltaScratch {
     /// Buffers sized for `m`.
     pub fn new(m: &Model) -> Self {
-        DeltaScratch { pa: vec![ZERO_LANES; m.nnode], u: vec![ZERO_LANES; m.nnode], a: vec![ZERO_LANES; m.nnode] }
+        DeltaScratch { pa: vec![ZERO_LANES; m.nnode], u: vec![ZERO_LANES; m.nnode], a: vec![ZERO_LANES; m.nnode], held: vec![Lanes::ZERO; m.nnode] }
     }
 
     /// No test force on the nodes of the trees `trees`.
@@ -157,7 +160,7 @@ pub fn delta_pass(m: &Model, kin: &KinData, aba: &AbaData, trees: [usize; 2], dt
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn delta_lanes(m: &Model, kin: &KinData, aba: &AbaData, trees: [usize; 2], dtau: [&[(usize, f64)]; LANES], delta: &mut DeltaScratch, dqdd: &mut [f64], at: [Option<usize>; LANES]) {
-    let DeltaScratch { pa: dpa, u: du, a: da } = delta;
+    let DeltaScratch { pa: dpa, u: du, a: da, held } = delta;
     let s_parts = |i: usize, r: usize| parts(kin.s[i][r].ang, kin.s[i][r].lin);
     let u_parts = |i: usize, r: usize| parts(aba.u_mat[i][r].ang, aba.u_mat[i][r].lin);
     let torques = dtau.iter().any(|t| !t.is_empty());
@@ -219,6 +222,10 @@ fn delta_lanes(m: &Model, kin: &KinData, aba: &AbaData, trees: [usize; 2], dtau:
             let mut rhs = ZERO_LANES;
             for r in 0..k {
                 rhs[r] = du[i][r] - dot(&u_parts(i, r), &a);
+            }
+            if aba.locking && aba.locked[i] {
+                // a held joint's D⁻¹ is 0 (its q̈ does not change): the torque holding it does
+                held[i] = Lanes::ZERO - rhs[0];
             }
             let qdd = solve_lanes(k, &aba.d_inv[i], &rhs);
             for r in 0..k {

@@ -9,14 +9,25 @@
 //! its slack σ = s q̇⁺ / h ≥ 0; the other row without force, its w = s q̇⁺ / h ≥ 0). Where one
 //! does not hold (the dof would stop and turn within the step), the step is solved again with
 //! that dof's rows posed, and with every dof's if one turns again (`step::constrain`).
+//! A dof at rest (its velocity one its friction alone can stop within the step) most likely
+//! stays stuck: its joint is held still through the step, a joint of known acceleration −q̇/h
+//! (Featherstone 2008, §9.2: D⁻¹ 0 in the ABA, so test forces pass through it as through a
+//! weld; `aba::inward_held`), and its rows are not posed either. The step's answer is the rows'
+//! exactly when the torque holding each such joint, with the solve's forces, lies within its
+//! friction (|τ| ≤ loss: the rows' forces inside their caps, w = 0). Where one does not hold,
+//! that joint is let go and the step solved again with its rows, and with every dof's rows if
+//! one fails again. A held joint is one of one dof, within its limits, with no joint row on it.
 //! Only under Euler (MuJoCo's Euler and implicitfast): RK4's stages and leapfrog's midpoint
-//! evaluate the forces elsewhere than the rows' check reads them.
+//! evaluate the forces elsewhere than the rows' check reads them; and not with restitution,
+//! whose impacts pass impulses through the joints.
 
 use super::solve::Level;
 use super::system::{ConstraintData, RowKind};
 use super::History;
+use crate::collision::Contact;
+use crate::dynamics::aba::AbaData;
 use crate::dynamics::DynamicsData;
-use crate::model::{Integrator, Model};
+use crate::model::{Integrator, Model, WORLD};
 
 /// Relative shortfall below its cap within which a friction row's force counts as at the cap.
 const AT_CAP: f64 = 1e-9;
@@ -27,17 +38,126 @@ const MARGIN: f64 = 1.5;
 /// Before the step's dynamics: `dy.qfrc_friction` holds −loss · s on each dof that slid at its
 /// cap last step (`history.sliding`) and still moves the same way, and `dy.friction_known` says
 /// whether there is one.
-pub fn predict(m: &Model, history: &History, qvel: &[f64], dy: &mut DynamicsData) {
+pub fn predict(m: &Model, history: &History, (qpos, qvel): (&[f64], &[f64]), contacts: &[Contact], dy: &mut DynamicsData) {
     dy.friction_known = false;
-    if history.sliding.is_empty() || m.opt.integrator != Integrator::Euler {
+    if m.opt.integrator != Integrator::Euler {
         return;
     }
-    dy.qfrc_friction.fill(0.0);
-    for &(dof, positive) in &history.sliding {
-        let (loss, v) = (m.dof_frictionloss[dof], qvel[dof]);
-        if loss > 0.0 && (if positive { v > 0.0 } else { v < 0.0 }) {
-            dy.qfrc_friction[dof] = if positive { -loss } else { loss };
-            dy.friction_known = true;
+    if !history.sliding.is_empty() {
+        dy.qfrc_friction.fill(0.0);
+        for &(dof, positive) in &history.sliding {
+            let (loss, v) = (m.dof_frictionloss[dof], qvel[dof]);
+            if loss > 0.0 && (if positive { v > 0.0 } else { v < 0.0 }) {
+                dy.qfrc_friction[dof] = if positive { -loss } else { loss };
+                dy.friction_known = true;
+            }
+        }
+    }
+    hold_candidates(m, qpos, qvel, contacts, dy);
+}
+
+/// The joints the step may hold still (`AbaData::lock_cap`, `lock_qacc`): one dof with friction
+/// loss, not sliding on with known friction, strictly within its limits, and carrying no body
+/// that touched anything last step (`contacts`): the torque holding a joint that bears a
+/// contact depends on how its contacts share the load, which a held (rigid) chain leaves open
+/// (a stance leg's and its feet's). The inward pass holds those whose friction alone could stop
+/// them within the step.
+fn hold_candidates(m: &Model, qpos: &[f64], qvel: &[f64], contacts: &[Contact], dy: &mut DynamicsData) {
+    let aba = &mut dy.aba;
+    aba.locking = false;
+    if !m.opt.hold_stuck_joints || m.opt.restitution != 0.0 || !m.dof_frictionloss.iter().any(|&l| l > 0.0) {
+        return;
+    }
+    let h = m.opt.timestep;
+    for i in 0..m.nnode {
+        let dof = m.node_dofadr[i];
+        let cap = if m.node_nv[i] == 1 { m.dof_frictionloss[dof] } else { 0.0 };
+        let jnt = m.dof_jnt[dof];
+        let within = || !m.jnt_limited[jnt] || !m.opt.limit || {
+            let ([lo, hi], q) = (m.jnt_range[jnt], qpos[m.jnt_qposadr[jnt]]);
+            lo < q && q < hi
+        };
+        let free = !(dy.friction_known && dy.qfrc_friction[dof] != 0.0);
+        aba.lock_cap[i] = if cap > 0.0 && free && within() { cap } else { 0.0 };
+        aba.lock_qacc[i] = -qvel[dof] / h;
+        aba.locking |= aba.lock_cap[i] > 0.0;
+    }
+    for c in contacts {
+        for g in [c.geom1, c.geom2] {
+            bear(m, m.body_node[m.geom_body[g]], |n| aba.lock_cap[n] = 0.0);
+        }
+    }
+}
+
+/// `f` on node n and each node it hangs from: the joints that bear a force on n.
+fn bear(m: &Model, mut n: usize, mut f: impl FnMut(usize)) {
+    while n != WORLD {
+        f(n);
+        n = m.node_parent[n];
+    }
+}
+
+/// Whether the step holds any joint still.
+pub fn holding(m: &Model, aba: &AbaData) -> bool {
+    aba.locking && (0..m.nnode).any(|i| aba.locked[i])
+}
+
+/// Whether each held joint's torque (`aba.lock_torque`, with the solve's forces once added)
+/// lies within its friction.
+pub fn held(m: &Model, aba: &AbaData) -> bool {
+    !aba.locking || (0..m.nnode).all(|i| !aba.locked[i] || aba.lock_torque[i].abs() <= aba.lock_cap[i])
+}
+
+/// Lets go of the held joints whose torque exceeds their friction, or of every one with `all`:
+/// their rows are posed instead.
+pub fn let_go(m: &Model, aba: &mut AbaData, all: bool) {
+    for i in 0..m.nnode {
+        if aba.locked[i] && (all || aba.lock_torque[i].abs() > aba.lock_cap[i]) {
+            aba.lock_cap[i] = 0.0;
+        }
+    }
+    if all {
+        aba.locking = false;
+    }
+}
+
+/// Lets go of the held joints a joint row (a limit, an equality, motion control, a tendon's
+/// row) acts on and of those bearing a point row (a contact, a connect); whether there was one.
+pub fn let_go_of_rows(m: &Model, con: &ConstraintData, aba: &mut AbaData) -> bool {
+    if !aba.locking {
+        return false;
+    }
+    let mut any = false;
+    let mut go = |n: usize| {
+        if aba.locked[n] && aba.lock_cap[n] > 0.0 {
+            aba.lock_cap[n] = 0.0;
+            any = true;
+        }
+    };
+    for j in 0..con.len() {
+        if con.kind[j].is_point() {
+            for n in con.node[j] {
+                bear(m, n, &mut go);
+            }
+        } else {
+            for &(dof, _) in con.joint_terms(j) {
+                go(m.jnt_node[m.dof_jnt[dof]]);
+            }
+        }
+    }
+    any
+}
+
+/// Adds scale · Σ_k f_k δτ⁽ᵏ⁾ (the solve's forces `force`, or impulses with scale 1/h) to the
+/// held joints' torques.
+pub fn add_held_torques(m: &Model, con: &ConstraintData, force: &[f64], scale: f64, aba: &mut AbaData) {
+    let nv = m.nv;
+    for i in (0..m.nnode).filter(|&i| aba.locked[i]) {
+        let (dof, tree) = (m.node_dofadr[i], m.node_tree[i]);
+        for (k, &f) in force.iter().enumerate().take(con.len()) {
+            if f != 0.0 && con.tree[k].contains(&tree) {
+                aba.lock_torque[i] += f * scale * con.held_torque[k * nv + dof];
+            }
         }
     }
 }
@@ -90,6 +210,7 @@ pub fn record(m: &Model, dy: &mut DynamicsData, con: &ConstraintData, force: &[f
         sliding.extend(dy.qfrc_friction.iter().enumerate().filter(|&(dof, &f)| f != 0.0 && away(dof, f < 0.0)).map(|(dof, &f)| (dof, f < 0.0)));
     }
     dy.friction_known = false;
+    dy.aba.locking = false;
     let Some(level) = level else { return };
     let per_step = if level == Level::TimeStep { m.opt.timestep } else { 1.0 };
     let before = sliding.len();

@@ -153,7 +153,8 @@ pub fn build_rows(m: &Model, data: &mut World<'_>, s: &WorldState<'_>) {
     push_equality_rows(m, qpos, qvel, con);
     push_connect_rows(m, kin, con);
     let known = data.dynamics.friction_known.then_some(&data.dynamics.qfrc_friction[..]);
-    push_friction_rows(m, &data.dynamics.ten, qvel, known, con);
+    let held = data.dynamics.aba.locking.then_some(&data.dynamics.aba.locked[..]);
+    push_friction_rows(m, &data.dynamics.ten, qvel, (known, held), con);
     push_motion_rows(m, qpos, qvel, ctrl, feedforward, con);
     std::mem::swap(tangents, tangents_next);
     // leapfrog's rows are built at the midpoint: each gap before the opening drift, from the
@@ -489,9 +490,10 @@ pub fn push_connect_rows(m: &Model, kin: &KinData, out: &mut ConstraintData) {
 }
 
 /// Dry friction's rows: a ± pair on each dof and each tendon with friction loss, each force at
-/// most that loss; none on a dof whose friction is `known` (nonzero: `dry_friction::predict`).
-pub fn push_friction_rows(m: &Model, ten: &TendonData, qvel: &[f64], known: Option<&[f64]>, out: &mut ConstraintData) {
-    let rowless = |dof: usize| known.is_some_and(|f| f[dof] != 0.0);
+/// most that loss; none on a dof whose friction is `known` (nonzero: `dry_friction::predict`) or
+/// whose joint is `held` still (per node: `AbaData::locked`).
+pub fn push_friction_rows(m: &Model, ten: &TendonData, qvel: &[f64], (known, held): (Option<&[f64]>, Option<&[bool]>), out: &mut ConstraintData) {
+    let rowless = |dof: usize| known.is_some_and(|f| f[dof] != 0.0) || held.is_some_and(|h| h[m.jnt_node[m.dof_jnt[dof]]]);
     for (dof, &loss) in m.dof_frictionloss.iter().enumerate().filter(|&(dof, loss)| *loss > 0.0 && !rowless(dof)) {
         for sign in [1.0, -1.0] {
             let r = out.len();

@@ -199,6 +199,9 @@ pub struct ConstraintData {
     /// Δq̈ per unit force of each row (m × nv), meaningful on the dofs of the row's trees only
     /// ([`tree_dofs`](super::test_forces::tree_dofs); it is zero elsewhere and those entries are not kept).
     pub dqdd: Vec<f64>,
+    /// The change per unit force of each row of the torque holding each joint held still
+    /// (`AbaData::locked`), at its dof (m × nv), meaningful at the held dofs of the row's trees.
+    pub held_torque: Vec<f64>,
     /// Whether `k`, `dqdd` and `column_done` are sized for the current rows.
     pub assembled: bool,
     /// Whether column k of K and Δq̈ of row k hold row k's test-force response (computed only

@@ -88,7 +88,31 @@ fn push_test_forces(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constrain
         }
     }
     delta_pass(m, kin, aba, trees, dtau, &mut out.delta, &mut out.dqdd, at);
+    if aba.locking {
+        write_held(m, aba, out, cols);
+    }
     write_columns(m, out, cols);
+}
+
+/// The held joints' torque changes of the delta pass's lanes into `out.held_torque` for the
+/// columns `cols` (and their mirrors, negated).
+fn write_held(m: &Model, aba: &AbaData, out: &mut ConstraintData, cols: &[usize]) {
+    let (nr, nv) = (out.len(), m.nv);
+    if out.held_torque.len() < nr * nv {
+        out.held_torque.resize(nr * nv, 0.0);
+    }
+    for range in tree_ranges(m, out.tree[cols[0]]) {
+        for i in range.filter(|&i| aba.locked[i]) {
+            let dof = m.node_dofadr[i];
+            for (l, &k) in cols.iter().enumerate() {
+                let v = out.delta.held[i].0[l];
+                out.held_torque[k * nv + dof] = v;
+                if k + 1 < nr && out.mirror[k + 1] == k {
+                    out.held_torque[(k + 1) * nv + dof] = -v;
+                }
+            }
+        }
+    }
 }
 
 /// Columns `cols` of K from the delta pass's lanes, as if written one after another in row order

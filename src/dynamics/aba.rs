@@ -52,6 +52,20 @@ pub struct AbaData {
     pub a: Vec<Motion>,
     /// A joint whose D_i was not positive definite in the last inward pass.
     pub singular_node: Option<usize>,
+    /// Whether any node may be locked ([`AbaData::lock_cap`]); false outside a step.
+    pub locking: bool,
+    /// Per node: the dry friction's cap of a one-dof joint the step may hold still (0: none), a
+    /// joint stuck by its friction (`constraint::dry_friction`).
+    pub lock_cap: Vec<f64>,
+    /// Per node: the acceleration a held joint is given, −q̇/h (its velocity ends the step at 0).
+    pub lock_qacc: Vec<f64>,
+    /// Per node: whether the last inward pass held the joint (hybrid dynamics, Featherstone 2008,
+    /// §9.2: a joint of known acceleration; its D⁻¹ left at 0, so the test forces pass through it).
+    pub locked: Vec<bool>,
+    /// Per node: D of a held joint (un-inverted).
+    pub lock_d: Vec<f64>,
+    /// Per node: the torque a held joint needs for its acceleration, from the last outward pass.
+    pub lock_torque: Vec<f64>,
 }
 
 impl AbaData {
@@ -65,6 +79,12 @@ impl AbaData {
             u: vec![[0.0; 6]; m.nnode],
             a: vec![Motion::ZERO; m.nnode],
             singular_node: None,
+            locking: false,
+            lock_cap: vec![0.0; m.nnode],
+            lock_qacc: vec![0.0; m.nnode],
+            locked: vec![false; m.nnode],
+            lock_d: vec![0.0; m.nnode],
+            lock_torque: vec![0.0; m.nnode],
         }
     }
 }
@@ -79,12 +99,25 @@ pub fn backward(m: &Model, kin: &KinData, tau: &[f64], h_damp: f64, aba: &mut Ab
     }
     rigid_bias(kin, &mut aba.pa);
     aba.singular_node = None;
-    let AbaData { ia: ia_all, pa: pa_all, u_mat, d_inv, u, singular_node, .. } = aba;
+    let AbaData { ia: ia_all, pa: pa_all, u_mat, d_inv, u, singular_node, locking, lock_cap, lock_qacc, locked, lock_d, .. } = aba;
     // pass 2: leaves to root, each node at its own size so the small loops unroll
     for i in (0..m.nnode).rev() {
         let p = m.node_parent[i];
         let args = (m, kin, tau, h_damp, i, &ia_all[i], &pa_all[i]);
         let (um, d, ui) = (&mut u_mat[i], &mut d_inv[i], &mut u[i]);
+        if *locking && lock_cap[i] > 0.0 {
+            let (ok, held, ia_small, pa) = inward_held(args, um, d, ui, (lock_cap[i], lock_qacc[i], &mut lock_d[i]), p != WORLD);
+            locked[i] = held;
+            if !ok {
+                singular_node.get_or_insert(i);
+            }
+            if p != WORLD {
+                ia_all[p].add(&ia_small);
+                pa_all[p] += pa;
+            }
+            continue;
+        }
+        locked[i] = false;
         let (ok, ia_small, pa) = sized!(m.node_nv[i], inward(args, um, d, ui, p != WORLD));
         if !ok {
             singular_node.get_or_insert(i);
@@ -140,6 +173,32 @@ fn inward<const K: usize>(
     (ok, ia_small, articulated_bias::<K>(ia, um, d, ui, &kin.c[i], pa))
 }
 
+/// [`inward`] for a one-dof joint that the step may hold still: held when its dry friction's
+/// `cap` alone could give it the acceleration `qdd` (|D q̈| ≤ cap), as a joint of known
+/// acceleration (Featherstone 2008, §9.2): D⁻¹ left at 0, its whole I^A handed on and
+/// p^a = p^A + I^A c + U q̈. Returns whether D was positive definite, whether it is held, I^a, p^a.
+#[allow(clippy::type_complexity)]
+fn inward_held(
+    args: (&Model, &KinData, &[f64], f64, usize, &ArtInertia, &Force),
+    um: &mut [Force; 6],
+    d: &mut [f64; 36],
+    ui: &mut [f64; 6],
+    (cap, qdd, d_held): (f64, f64, &mut f64),
+    has_parent: bool,
+) -> (bool, bool, ArtInertia, Force) {
+    let (m, kin, _, h_damp, i, ia, pa) = args;
+    let (ia, pa, c) = (*ia, *pa, kin.c[i]);
+    let (ok, ia_small, pa_small) = inward::<1>(args, um, d, ui, has_parent);
+    let da = m.node_dofadr[i];
+    let dd = kin.s[i][0].dot(&um[0]) + m.dof_armature[da] + h_damp * (m.dof_damping[da] + m.dof_actdamping[da]);
+    if !ok || (dd * qdd).abs() > cap {
+        return (ok, false, ia_small, pa_small);
+    }
+    *d_held = dd;
+    d[0] = 0.0;
+    (ok, true, ia, pa + ia.mul_motion(&c) + um[0] * qdd)
+}
+
 /// The inward pass's bias terms p^A and u alone, for new velocities and forces `tau` on the
 /// configuration whose I^A, U and D⁻¹ are already in `aba` (after an impulse).
 pub fn backward_bias(m: &Model, kin: &KinData, tau: &[f64], aba: &mut AbaData) {
@@ -154,7 +213,11 @@ pub fn backward_bias(m: &Model, kin: &KinData, tau: &[f64], aba: &mut AbaData) {
         if p == WORLD {
             continue;
         }
-        let pa = sized!(k, articulated_bias(&aba.ia[i], &aba.u_mat[i], &aba.d_inv[i], &aba.u[i], &kin.c[i], &aba.pa[i]));
+        let pa = if aba.locked[i] {
+            aba.pa[i] + aba.ia[i].mul_motion(&kin.c[i]) + aba.u_mat[i][0] * aba.lock_qacc[i]
+        } else {
+            sized!(k, articulated_bias(&aba.ia[i], &aba.u_mat[i], &aba.d_inv[i], &aba.u[i], &kin.c[i], &aba.pa[i]))
+        };
         aba.pa[p] += pa;
     }
 }
@@ -190,8 +253,17 @@ pub fn forward(m: &Model, kin: &KinData, aba: &mut AbaData, qacc: &mut [f64]) {
         let p = m.node_parent[i];
         let a_parent = if p == WORLD { a0 } else { aba.a[p] };
         let a = a_parent + kin.c[i];
-        aba.a[i] = joint_accel(m, kin, aba, i, &aba.u[i], a, qacc);
+        aba.a[i] = if aba.locked[i] { held_accel(m, kin, aba, i, a, qacc) } else { joint_accel(m, kin, aba, i, &aba.u[i], a, qacc) };
     }
+}
+
+/// One held node of the outward pass (Featherstone 2008, §9.2): q̈ the prescribed one, and the
+/// torque that gives it, D q̈ − (u − Uᵀ a'), into `aba.lock_torque`; returns a = a' + S q̈.
+fn held_accel(m: &Model, kin: &KinData, aba: &mut AbaData, i: usize, a_prime: Motion, qacc: &mut [f64]) -> Motion {
+    let qdd = aba.lock_qacc[i];
+    aba.lock_torque[i] = aba.lock_d[i] * qdd - (aba.u[i][0] - a_prime.dot(&aba.u_mat[i][0]));
+    qacc[m.node_dofadr[i]] = qdd;
+    a_prime + kin.s[i][0] * qdd
 }
 
 /// One node of the outward pass: q̈_i = D_i⁻¹(u_i − U_iᵀ a'_i) into `qacc`, returning

@@ -222,6 +222,9 @@ pub struct Options {
     /// MuJoCo's `implicitfast` (and `implicit`): the actuators' velocity feedback on a joint is
     /// treated implicitly with its damping ([`Model::dof_actdamping`]).
     pub implicit_actuators: bool,
+    /// Whether a step holds a joint stuck by its dry friction still, with no rows
+    /// (`constraint::dry_friction`); off, its rows are posed. The answers agree.
+    pub hold_stuck_joints: bool,
 }
 
 /// Contacts a step keeps unless `<size nconmax>` says otherwise: four per geom (a box on a floor
@@ -291,6 +294,7 @@ impl Default for Options {
             wind: DVec3::ZERO,
             max_contacts: default_max_contacts(0),
             implicit_actuators: false,
+            hold_stuck_joints: true,
         }
     }
 }

@@ -42,17 +42,21 @@ pub fn step(m: &Model, data: &mut Data, s: &mut WorldState<'_>) {
     timed!(data, Stage::Kinematics, dynamics::kinematics(m, &mut data.dynamics, s.qpos, s.qvel));
     // 2. articulated inertias and the constraint-free accelerations, with the dry friction of
     // the dofs sliding on as known forces
-    dry_friction::predict(m, &data.constraints.history, s.qvel, &mut data.dynamics);
+    dry_friction::predict(m, &data.constraints.history, (s.qpos, s.qvel), &data.coll.contacts, &mut data.dynamics);
     timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, s.act, h_damp));
     // 3. contacts of this configuration (reach over the step from velocities and accelerations)
     timed!(data, Stage::Collision, collision::collide(m, &data.dynamics, s, &mut data.coll));
     // 4. constraint rows: contacts (normal + friction), active limits, dry friction, motion control
     timed!(data, Stage::Rows, build_rows(m, &mut data.world(), s));
-    if data.constraints.con.is_empty() && !dry_friction::holds(m, &data.dynamics, s.qvel) {
-        // a known friction would turn its dof: its rows instead
+    rows_off_held_joints(m, data, s, h_damp);
+    if data.constraints.con.is_empty() && !(dry_friction::holds(m, &data.dynamics, s.qvel) && dry_friction::held(m, &data.dynamics.aba)) {
+        // a known friction would turn its dof, or a held joint's friction cannot hold it: their
+        // rows instead
         dry_friction::turning_to_rows(m, &mut data.dynamics, s.qvel, false);
+        dry_friction::let_go(m, &mut data.dynamics.aba, false);
         timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, s.act, h_damp));
         timed!(data, Stage::Rows, build_rows(m, &mut data.world(), s));
+        rows_off_held_joints(m, data, s, h_damp);
     }
     data.constraints.history.constrained = !data.constraints.con.is_empty();
     if data.constraints.con.is_empty() {
@@ -80,12 +84,26 @@ pub fn step(m: &Model, data: &mut Data, s: &mut WorldState<'_>) {
     *s.time += h;
 }
 
-/// The known dry friction among the applied constraint forces, and the dofs sliding at their
-/// friction's cap into the history (`level`: the solve applied, if any).
+/// Lets go of the held joints that a joint row acts on, and evaluates the dynamics and the rows
+/// again without them, until none is (`dry_friction::let_go_of_rows`).
+fn rows_off_held_joints(m: &Model, data: &mut Data, s: &WorldState<'_>, h_damp: f64) {
+    while dry_friction::let_go_of_rows(m, &data.constraints.con, &mut data.dynamics.aba) {
+        timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, s.act, h_damp));
+        timed!(data, Stage::Rows, build_rows(m, &mut data.world(), s));
+    }
+}
+
+/// The known dry friction and the torques holding the held joints among the applied constraint
+/// forces, and the dofs sliding at their friction's cap into the history (`level`: the solve
+/// applied, if any).
 fn record_friction(m: &Model, data: &mut Data, qvel: &[f64], level: Option<Level>) {
     let (dy, c) = (&mut data.dynamics, &mut data.constraints);
     if dy.friction_known {
         c.applied.joint.extend(dy.qfrc_friction.iter().enumerate().filter(|(_, f)| **f != 0.0).map(|(dof, &f)| (dof, f)));
+    }
+    if dry_friction::holding(m, &dy.aba) {
+        let aba = &dy.aba;
+        c.applied.joint.extend((0..m.nnode).filter(|&i| aba.locked[i]).map(|i| (m.node_dofadr[i], aba.lock_torque[i])));
     }
     dry_friction::record(m, dy, &c.con, &c.solve.force, level, qvel, &mut c.history.sliding);
 }
@@ -169,6 +187,7 @@ fn constrain(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) ->
     let mut level;
     data.constraints.solve.impact_warm.clear();
     loop {
+        let before_all = data.constraints.stats;
         // 5. b; K by test forces once a solve needs it (rows that the constraint-free motion
         // already satisfies need no K)
         timed!(data, Stage::Rows, test_forces::bias(m, &data.dynamics.kin, &data.dynamics.aba, &data.dynamics.qacc, &mut data.constraints.con));
@@ -198,19 +217,29 @@ fn constrain(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) ->
                 apply_to_qacc(m, &mut data.world(), 1.0);
             }
         }
+        // the held joints' torques with the solve's forces; a solve with no exact answer may
+        // owe it to the joints held (a contact no free joint can move)
+        let holding = dry_friction::holding(m, &data.dynamics.aba);
+        let inexact = holding && data.constraints.stats.inexact_since(&before_all);
+        if holding {
+            let scale = if level == Level::Acceleration { 1.0 } else { 1.0 / h };
+            let c = &data.constraints;
+            dry_friction::add_held_torques(m, &c.con, &c.solve.force, scale, &mut data.dynamics.aba);
+        }
         // with no force, no impulse and the accelerations the rows were chosen with, the motion
         // is the constraint-free one they were chosen for: nothing can have been missed
         let pushed = impacted || h_damp != h || data.constraints.solve.force.iter().any(|&f| f != 0.0);
         let missed = pushed && (missed_limits(m, &mut data.world(), s) | timed!(data, Stage::Collision, missed_contacts(m, &mut data.world(), s)));
         // a known dry friction that would turn its dof within the step: that dof's rows instead
         // (every sliding dof's, the second time)
-        let slipped = !dry_friction::holds(m, &data.dynamics, s.qvel);
+        let slipped = !dry_friction::holds(m, &data.dynamics, s.qvel) || !dry_friction::held(m, &data.dynamics.aba) || inexact;
         if !slipped && (redo || !missed) {
             break;
         }
         if slipped {
             slips += 1;
             dry_friction::turning_to_rows(m, &mut data.dynamics, s.qvel, slips > 1);
+            dry_friction::let_go(m, &mut data.dynamics.aba, slips > 1 || inexact);
         }
         redo = true;
         // the first solve's limit rows stay (an impulse may have made them look inactive)
@@ -220,6 +249,7 @@ fn constrain(m: &Model, data: &mut Data, s: &mut WorldState<'_>, h_damp: f64) ->
         }
         timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, s.act, h));
         timed!(data, Stage::Rows, build_rows(m, &mut data.world(), s));
+        rows_off_held_joints(m, data, s, h);
         data.constraints.solve.impact_warm.clear();
     }
     if redo {
@@ -253,6 +283,8 @@ pub fn constraint_system(m: &Model, data: &Data, s: &WorldState<'_>) -> Constrai
     let mut d = data.clone();
     let h = m.opt.timestep;
     kinematics::forward(m, s.qpos, s.qvel, &mut d.dynamics.kin);
+    // every row posed: no joint held still
+    d.dynamics.aba.locking = false;
     // the constrained step's dynamics: damping implicit over the step, whatever the integrator
     dynamics::accelerations(m, &mut d.dynamics, s.qpos, s.qvel, s.ctrl, s.act, h);
     collision::collide(m, &d.dynamics, s, &mut d.coll);
