@@ -14,9 +14,10 @@
 //! (Featherstone 2008, §9.2: D⁻¹ 0 in the ABA, so test forces pass through it as through a
 //! weld; `aba::inward_held`), and its rows are not posed either. The step's answer is the rows'
 //! exactly when the torque holding each such joint, with the solve's forces, lies within its
-//! friction (|τ| ≤ loss: the rows' forces inside their caps, w = 0). Where one does not hold,
-//! that joint is let go and the step solved again with its rows, and with every dof's rows if
-//! one fails again. A held joint is one of one dof, within its limits, with no joint row on it.
+//! friction (|τ| ≤ loss: the rows' forces inside their caps, w = 0). A joint whose torque
+//! exceeds it before any constraint force is let go at once (the dynamics evaluated again);
+//! where one fails with the solve's forces, it is let go and the step solved again with its
+//! rows, and with every dof's rows if one fails again. A held joint is one of one dof, within its limits, with no joint row on it.
 //! Only under Euler (MuJoCo's Euler and implicitfast): RK4's stages and leapfrog's midpoint
 //! evaluate the forces elsewhere than the rows' check reads them; and not with restitution,
 //! whose impacts pass impulses through the joints.

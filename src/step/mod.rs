@@ -44,6 +44,11 @@ pub fn step(m: &Model, data: &mut Data, s: &mut WorldState<'_>) {
     // the dofs sliding on as known forces
     dry_friction::predict(m, &data.constraints.history, (s.qpos, s.qvel), &data.coll.contacts, &mut data.dynamics);
     timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, s.act, h_damp));
+    if !dry_friction::held(m, &data.dynamics.aba) {
+        // a held joint whose torque exceeds its friction before any constraint force slips
+        dry_friction::let_go(m, &mut data.dynamics.aba, false);
+        timed!(data, Stage::Dynamics, dynamics::accelerations(m, &mut data.dynamics, s.qpos, s.qvel, s.ctrl, s.act, h_damp));
+    }
     // 3. contacts of this configuration (reach over the step from velocities and accelerations)
     timed!(data, Stage::Collision, collision::collide(m, &data.dynamics, s, &mut data.coll));
     // 4. constraint rows: contacts (normal + friction), active limits, dry friction, motion control
