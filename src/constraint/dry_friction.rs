@@ -58,11 +58,11 @@ pub fn predict(m: &Model, history: &History, (qpos, qvel): (&[f64], &[f64]), con
 }
 
 /// The joints the step may hold still (`AbaData::lock_cap`, `lock_qacc`): one dof with friction
-/// loss, not sliding on with known friction, strictly within its limits, and carrying no body
-/// that touched anything last step (`contacts`): the torque holding a joint that bears a
-/// contact depends on how its contacts share the load, which a held (rigid) chain leaves open
-/// (a stance leg's and its feet's). The inward pass holds those whose friction alone could stop
-/// them within the step.
+/// loss, not sliding on with known friction, strictly within its limits, in no equality or fixed
+/// tendon with rows, and carrying no body that touched anything last step (`contacts`): the
+/// torque holding a joint that bears a contact depends on how its contacts share the load,
+/// which a held (rigid) chain leaves open (a stance leg's and its feet's). The inward pass holds
+/// those whose friction alone could stop them within the step.
 fn hold_candidates(m: &Model, qpos: &[f64], qvel: &[f64], contacts: &[Contact], dy: &mut DynamicsData) {
     let aba = &mut dy.aba;
     aba.locking = false;
@@ -81,13 +81,20 @@ fn hold_candidates(m: &Model, qpos: &[f64], qvel: &[f64], contacts: &[Contact], 
         let free = !(dy.friction_known && dy.qfrc_friction[dof] != 0.0);
         aba.lock_cap[i] = if cap > 0.0 && free && within() { cap } else { 0.0 };
         aba.lock_qacc[i] = -qvel[dof] / h;
-        aba.locking |= aba.lock_cap[i] > 0.0;
     }
     for c in contacts {
         for g in [c.geom1, c.geom2] {
             bear(m, m.body_node[m.geom_body[g]], |n| aba.lock_cap[n] = 0.0);
         }
     }
+    // nor a joint an equality couples, or a fixed tendon with a limit or friction spans: their
+    // rows would let it go each step
+    let coupled = (0..m.neq).filter(|&e| m.eq_active[e]).flat_map(|e| m.eq_side(e, 0).iter().chain(m.eq_side(e, 1)));
+    let spanned = (0..m.ntendon).filter(|&t| m.tendon_limited[t] || m.tendon_frictionloss[t] > 0.0).flat_map(|t| m.tendon_terms(t));
+    for w in coupled.chain(spanned) {
+        aba.lock_cap[m.jnt_node[m.dof_jnt[w.dof]]] = 0.0;
+    }
+    aba.locking = aba.lock_cap.iter().any(|&c| c > 0.0);
 }
 
 /// `f` on node n and each node it hangs from: the joints that bear a force on n.
