@@ -79,8 +79,15 @@ fn hold_candidates(m: &Model, qpos: &[f64], qvel: &[f64], contacts: &[Contact], 
             lo < q && q < hi
         };
         let free = !(dy.friction_known && dy.qfrc_friction[dof] != 0.0);
-        aba.lock_cap[i] = if cap > 0.0 && free && within() { cap } else { 0.0 };
+        // D ≥ armature + h · damping: a joint moving faster than that lets its friction stop
+        // cannot be held
+        let stoppable = || (m.dof_armature[dof] + h * m.dof_damping[dof]) * qvel[dof].abs() <= h * cap;
+        aba.lock_cap[i] = if cap > 0.0 && free && stoppable() && within() { cap } else { 0.0 };
         aba.lock_qacc[i] = -qvel[dof] / h;
+        aba.locking |= aba.lock_cap[i] > 0.0;
+    }
+    if !aba.locking {
+        return;
     }
     for c in contacts {
         for g in [c.geom1, c.geom2] {
@@ -132,7 +139,7 @@ pub fn let_go(m: &Model, aba: &mut AbaData, all: bool) {
 /// Lets go of the held joints a joint row (a limit, an equality, motion control, a tendon's
 /// row) acts on and of those bearing a point row (a contact, a connect); whether there was one.
 pub fn let_go_of_rows(m: &Model, con: &ConstraintData, aba: &mut AbaData) -> bool {
-    if !aba.locking {
+    if !holding(m, aba) {
         return false;
     }
     let mut any = false;
