@@ -17,7 +17,8 @@
 //! friction (|τ| ≤ loss: the rows' forces inside their caps, w = 0). A joint whose torque
 //! exceeds it before any constraint force is let go at once (the dynamics evaluated again);
 //! where one fails with the solve's forces, it is let go and the step solved again with its
-//! rows, and with every dof's rows if one fails again. A held joint is one of one dof, within its limits, with no joint row on it.
+//! rows, and with every dof's rows if one fails again (`hold_candidates` says which joints may
+//! be held).
 //! Only under Euler (MuJoCo's Euler and implicitfast): RK4's stages and leapfrog's midpoint
 //! evaluate the forces elsewhere than the rows' check reads them; and not with restitution,
 //! whose impacts pass impulses through the joints.
