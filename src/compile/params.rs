@@ -6,7 +6,7 @@ use glam::{DMat3, DVec3};
 
 use crate::dynamics::DynamicsData;
 use crate::error::{Error, Result};
-use crate::math::{SpatialInertia, Xform, MAX_STATE};
+use crate::math::{SpatialInertia, Xform, MAX_DAMPING, MAX_STATE};
 use crate::model::{EqRef, Model, PairFriction, Transmission, Wrap, WORLD};
 
 /// A model field that may vary per world.
@@ -179,8 +179,9 @@ impl Param {
         if values.len() != rows * cols {
             return Err(format!("{} takes {rows} × {cols} values, got {}", self.name(), values.len()));
         }
-        if let Some(k) = values.iter().position(|x| !x.is_finite() || x.abs() > MAX_STATE) {
-            return Err(format!("{}{} = {} is not finite or beyond ±{MAX_STATE:e}", self.name(), self.at(k, cols), values[k]));
+        let max = if self == Param::DofDamping { MAX_DAMPING } else { MAX_STATE };
+        if let Some(k) = values.iter().position(|x| !x.is_finite() || x.abs() > max) {
+            return Err(format!("{}{} = {} is not finite or beyond ±{max:e}", self.name(), self.at(k, cols), values[k]));
         }
         let non_negative = matches!(
             self,

@@ -25,6 +25,11 @@ pub const SPLITMIX_GAMMA: u64 = 0x9E37_79B9_7F4A_7C15;
 /// mjMAXVAL), and the largest number the loader and the options accept.
 pub const MAX_STATE: f64 = 1e10;
 
+/// Largest joint damping the loader and the per-world parameters accept: damping is implicit in
+/// the Euler step (h·damping added to the ABA's D), where one beyond [`MAX_STATE`] only holds its
+/// joint still (gymnasium-robotics' Fetch pins its base's slides with 1e11).
+pub const MAX_DAMPING: f64 = 1e15;
+
 /// Whether a state entry is NaN or beyond [`MAX_STATE`] (±inf included).
 #[inline]
 pub fn out_of_range(x: f64) -> bool {

@@ -271,6 +271,28 @@ def test_implicitfast_treats_a_servos_damping_implicitly_as_mujoco_does():
         explicit.step(200)
 
 
+def test_a_joint_damped_past_the_state_bound_is_held_still_as_in_mujoco():
+    """gymnasium-robotics' Fetch pins its base's slides with damping 1e11, beyond the 1e10 bound on
+    other numbers: implicit in the Euler step, it loads, holds its slide still under gravity and
+    lets the arm swing as MuJoCo's step does; the per-world damping takes the value back, and
+    one beyond 1e15 is refused by name."""
+    xml = """<mujoco><option timestep="0.002"/><worldbody><body pos="0 0 1">
+      <joint name="base" type="slide" axis="0 0 1" damping="{}"/><geom type="box" size=".2 .2 .1" mass="50"/>
+      <body pos="0 0 .2"><joint name="arm" axis="0 1 0" damping="1"/>
+        <geom type="capsule" fromto="0 0 0 .5 0 0" size=".03" mass="2"/></body></body></worldbody></mujoco>"""
+    mj, sm = both(xml.format("1e+11"))
+    d, sim = mujoco.MjData(mj), sinew.Sim(sm)
+    for _ in range(500):
+        mujoco.mj_step(mj, d)
+    sim.step(500)
+    np.testing.assert_allclose(sim.qpos, d.qpos, atol=1e-12)
+    assert abs(sim.qpos[0]) < 1e-8 and abs(sim.qpos[1]) > 1.0, "the base held, the arm swung"
+    b = sinew.Batch(sm, 2)
+    b.set_params("dof_damping", b.params("dof_damping"))
+    with pytest.raises(sinew.ModelError, match="damping"):
+        sinew.Model.from_mjcf_string(xml.format("1e16"))
+
+
 def prism(r, h, n=12):
     """An n-sided prism's vertices (radius r, height h) as an inline mesh's `vertex`."""
     pts = [(r * np.cos(a), r * np.sin(a), z) for a in 2 * np.pi * np.arange(n) / n for z in (0.0, h)]

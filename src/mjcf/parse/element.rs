@@ -7,6 +7,7 @@ use roxmltree::{Document, Node};
 
 use crate::error::{Error, Result};
 use super::MAX_VALUE;
+use crate::math::MAX_DAMPING;
 
 /// Visual and soft-constraint attributes: accepted, no effect on sinew's exact constraints.
 const IGNORED: &[&str] = &[
@@ -48,13 +49,14 @@ impl<'a, 'd> El<'a, 'd> {
     pub(super) fn nums(&self, name: &str) -> Result<Option<Vec<f64>>> {
         let Some(v) = self.get(name) else { return Ok(None) };
         let mut out = Vec::new();
+        let max = if name == "damping" && self.node.tag_name().name() == "joint" { MAX_DAMPING } else { MAX_VALUE };
         for tok in v.split_whitespace() {
             let x: f64 = tok.parse().map_err(|_| self.err(name, format!("'{tok}' is not a number")))?;
             if !x.is_finite() {
                 return Err(self.err(name, format!("'{tok}' is not finite")));
             }
-            if x.abs() > MAX_VALUE {
-                return Err(self.err(name, format!("'{tok}' is beyond ±{MAX_VALUE:e}, the largest value sinew accepts")));
+            if x.abs() > max {
+                return Err(self.err(name, format!("'{tok}' is beyond ±{max:e}, the largest value sinew accepts")));
             }
             out.push(x);
         }
