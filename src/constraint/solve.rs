@@ -400,13 +400,16 @@ pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, islan
     // only as rows, at the columns computed: each computed row's measures are scattered into them
     // below (their own K rows are not written)
     let done = &con.column_done;
-    let k_max = vars[..rows].iter().filter(|&&j| done[j]).map(|&j| con.k[con.k_index(j, j)]).fold(0.0, f64::max);
+    let (k_max, pushed) = vars[..rows].iter().filter(|&&j| done[j]).fold((0.0f64, 0), |(k_max, n), &j| (k_max.max(con.k[con.k_index(j, j)]), n + 1));
+    // a left-out row is zeroed whole where most rows are pushed, else at the pushed columns
+    let sparse = 4 * pushed < rows;
     let impact = impact_speed(h, m.opt.gravity.length());
     // the island's rows are its block's, in order (K's block row copied whole), unless some are
     // missing from it
     let whole_block = rows > 0 && con.k_size[con.k_block[vars[0]]] == rows;
-    // the λ and σ rows hold only the couplings their rows set
-    mm[rows * k..].fill(0.0);
+    // the λ and σ rows hold only the couplings their rows set; a left-out contact's is never read
+    // (`lcp::solve` reads the kept rows, and the left-out normal and friction rows at kept columns)
+    mm.chunks_exact_mut(k).zip(&out[..k]).skip(rows).filter(|(_, o)| !**o).for_each(|(row, _)| row.fill(0.0));
     unpushed.clear();
     for (a, &j) in vars[..rows].iter().enumerate() {
         let krow = con.k_row(j);
@@ -420,7 +423,11 @@ pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, islan
             continue;
         }
         if !done[j] {
-            mm[a * k..a * k + rows].fill(0.0);
+            // left out (its test force was not pushed): read only at the kept columns, all pushed,
+            // which `scatter_unpushed` writes
+            if !sparse {
+                mm[a * k..a * k + rows].fill(0.0);
+            }
             unpushed.push((j, a));
         } else if whole_block {
             mm[a * k..a * k + rows].copy_from_slice(krow);
@@ -458,7 +465,7 @@ pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, islan
             _ => role[a] = lcp::Role::Normal,
         }
     }
-    scatter_unpushed(con, &vars[..rows], unpushed, mm, k);
+    scatter_unpushed(con, &vars[..rows], unpushed, sparse, mm, k);
     // an inexact force solve is replaced by the step's impulses (`step::constrain`)
     work.fallback_follows = level == Level::Acceleration;
     let solved = lcp::solve(lcp::Problem { n: k, m: mm, q, role }, false, warm.then_some(&guess[..]), out, z, work, stats);
@@ -512,13 +519,21 @@ fn gather_island(vars: &[usize], (q, out, warm_set): (&[f64], &[bool], &[bool]),
 
 /// The island's rows whose K column was not computed (`unpushed`: row, island index), written at
 /// the columns computed: K_jj' = K_j'j, nonzero only between rows that share a tree (within the
-/// span of those of row j'). `rows` are the island's rows, `mm` its k × k matrix.
-fn scatter_unpushed(con: &ConstraintData, rows: &[usize], unpushed: &[(usize, usize)], mm: &mut [f64], k: usize) {
+/// span of those of row j'), and with `zero` zero at the other columns computed (else zeroed
+/// already); the columns not computed are left as they were. `rows` are the island's rows, `mm`
+/// its k × k matrix.
+fn scatter_unpushed(con: &ConstraintData, rows: &[usize], unpushed: &[(usize, usize)], zero: bool, mm: &mut [f64], k: usize) {
     if unpushed.is_empty() {
         return;
     }
     let done = &con.column_done;
     for (b, &jj) in rows.iter().enumerate().filter(|&(_, &jj)| done[jj]) {
+        // zero where the rows share no tree
+        if zero {
+            for &(_, a) in unpushed {
+                mm[a * k + b] = 0.0;
+            }
+        }
         let (lo, hi) = con.sharing_span(jj);
         let from = unpushed.partition_point(|&(j, _)| j < lo);
         let krow = con.k_row(jj);

@@ -183,8 +183,9 @@ pub struct ConstraintData {
     /// row order ([`k_index`](Self::k_index)). `K_jk` = acceleration of row j per unit force of
     /// row k = `K_kj` (K is symmetric). Row k is written, between rows that share a tree, when
     /// row k's test force is pushed ([`column_done`](Self::column_done)): the row of a row not
-    /// pushed is read as its column. A block of several trees is zeroed when the blocks are laid
-    /// out ([`prepare`](super::test_forces::prepare)), so that its entries between rows of no shared tree read zero.
+    /// pushed is read as its column, and is never read itself. In a block of several trees a row
+    /// is zeroed as its test force is pushed, so that its entries at rows of no shared tree read
+    /// zero.
     pub k: Vec<f64>,
     /// Block of each row in `k`.
     pub k_block: Vec<usize>,

@@ -118,8 +118,8 @@ fn write_held(m: &Model, aba: &AbaData, out: &mut ConstraintData, cols: &[usize]
 /// Columns `cols` of K from the delta pass's lanes, as if written one after another in row order
 /// (K is symmetric, J M⁻¹ Jᵀ: a force's measures at the rows of its trees are its row, and its
 /// mirror's, negated; a row pushed before holds its own measure of the force, and so does a
-/// column of `cols` for the ones after it; rows of other trees are not written: zero, their block
-/// was zeroed when laid out), and the mirrors' Δq̈.
+/// column of `cols` for the ones after it; rows of other trees are not written: zero, each
+/// column's row zeroed first in a block of several trees), and the mirrors' Δq̈.
 fn write_columns(m: &Model, out: &mut ConstraintData, cols: &[usize]) {
     let (nr, nv) = (out.len(), m.nv);
     let trees = out.tree[cols[0]];
@@ -132,6 +132,13 @@ fn write_columns(m: &Model, out: &mut ConstraintData, cols: &[usize]) {
     let mut point = PointLanes::NONE;
     let row: [usize; LANES] = pos.map(|p| start + p * size);
     let mirror: [bool; LANES] = std::array::from_fn(|l| cols.get(l).is_some_and(|&k| mirrored(k)));
+    // a block of several trees: the columns' rows (and their mirrors') read zero where no shared
+    // tree writes them; the rows of rows never pushed are never read
+    if out.block_tree[out.k_block[cols[0]]].1 {
+        for l in 0..cols.len() {
+            kk[row[l]..row[l] + if mirror[l] { 2 * size } else { size }].fill(0.0);
+        }
+    }
     let write = |kk: &mut [f64], l: usize, pj: usize, v: f64| {
         let row = row[l];
         kk[row + pj] = v;
@@ -180,8 +187,8 @@ fn write_columns(m: &Model, out: &mut ConstraintData, cols: &[usize]) {
 
 /// Lays K out in blocks ([`ConstraintData::k`]), sizes Δq̈ and lists each tree's rows, once per
 /// set of rows. Test forces write K only between rows that share a tree (and Δq̈ on the row's
-/// trees' dofs): a block of several trees is zeroed here, a block of one tree is written whole
-/// by the test forces of its rows.
+/// trees' dofs): in a block of several trees a row is zeroed as its test force is pushed
+/// ([`write_columns`]), a block of one tree is written whole by the test forces of its rows.
 pub fn prepare(m: &Model, out: &mut ConstraintData) {
     if out.assembled {
         return;
@@ -199,7 +206,7 @@ pub fn prepare(m: &Model, out: &mut ConstraintData) {
 
 /// The blocks of K: rows whose trees rows link (union–find over the trees) share a block,
 /// numbered in the order of their first rows, as are the rows within each (rows on no tree share
-/// one); zeroes each block of more than one tree.
+/// one), and whether each holds rows of more than one tree (`block_tree`).
 fn lay_out_blocks(nnode: usize, out: &mut ConstraintData) {
     let ConstraintData { tree, k, k_block, k_pos, k_start, k_size, block_tree, block_of_root, tree_link: link, .. } = out;
     let nr = tree.len();
@@ -214,6 +221,8 @@ fn lay_out_blocks(nnode: usize, out: &mut ConstraintData) {
         k_size.push(nr);
         k_start.clear();
         k_start.push(0);
+        block_tree.clear();
+        block_tree.push((first, false));
         k.resize(nr * nr, 0.0);
         return;
     }
@@ -256,11 +265,6 @@ fn lay_out_blocks(nnode: usize, out: &mut ConstraintData) {
         start += size * size;
     }
     k.resize(start, 0.0);
-    for (blk, &(_, several)) in block_tree.iter().enumerate() {
-        if several {
-            k[k_start[blk]..k_start[blk] + k_size[blk] * k_size[blk]].fill(0.0);
-        }
-    }
 }
 
 /// [`ConstraintData`]'s lists of each tree's rows (counted, then filled: O(nnode + rows)).
