@@ -407,9 +407,8 @@ pub fn lcp_matrix_and_solve(m: &Model, data: &mut World<'_>, level: Level, islan
     // the island's rows are its block's, in order (K's block row copied whole), unless some are
     // missing from it
     let whole_block = rows > 0 && con.k_size[con.k_block[vars[0]]] == rows;
-    // the λ and σ rows hold only the couplings their rows set; a left-out contact's is never read
-    // (`lcp::solve` reads the kept rows, and the left-out normal and friction rows at kept columns)
-    mm.chunks_exact_mut(k).zip(&out[..k]).skip(rows).filter(|(_, o)| !**o).for_each(|(row, _)| row.fill(0.0));
+    // the λ and σ rows hold only the couplings their rows set
+    mm[rows * k..].fill(0.0);
     unpushed.clear();
     for (a, &j) in vars[..rows].iter().enumerate() {
         let krow = con.k_row(j);
