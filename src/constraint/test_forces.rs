@@ -72,6 +72,10 @@ fn push_test_forces(m: &Model, kin: &KinData, aba: &AbaData, out: &mut Constrain
     let mut at = [None; LANES];
     for (lane, &k) in cols.iter().enumerate() {
         at[lane] = Some(k * nv);
+        // the pass writes the dofs of the row's trees; a joint row across trees (an equality, a
+        // tendon) reads the others too, where the force moves nothing (a mirror's likewise)
+        let rows = if k + 1 < out.len() && out.mirror[k + 1] == k { 2 } else { 1 };
+        out.dqdd[k * nv..(k + rows) * nv].fill(0.0);
         if out.kind[k].is_point() {
             for side in 0..2 {
                 let n = out.node[k][side];
