@@ -8,7 +8,7 @@ mod common;
 use common::{random_state, random_tree_mjcf, Rng};
 use sinew::dynamics::crba::{cholesky_solve, crba};
 use sinew::math::{DVec3, Motion};
-use sinew::model::{GeomType, Model, PairFriction, WORLD};
+use sinew::model::{GeomType, JointType, Model, PairFriction, WORLD};
 use sinew::collision::Contact;
 use sinew::constraint::{self, ConstraintData, RowKind};
 use sinew::dynamics::{aba, kinematics};
@@ -35,6 +35,8 @@ fn jacobian(m: &Model, data: &Data, con: &ConstraintData) -> Vec<Vec<f64>> {
         for j in 0..con.len() {
             rows[j][dof] = match con.kind[j] {
                 RowKind::Limit | RowKind::Motion { .. } => if con.dof[j].0 == dof { con.dof[j].1 } else { 0.0 },
+                // a joint equality: its terms over the dofs of both joints
+                RowKind::Equality => con.joint_terms(j).iter().filter(|t| t.0 == dof).map(|t| t.1).sum(),
                 // torsional and rolling friction: the sides' relative turning about dir
                 RowKind::Spin { .. } => {
                     let w = |side: usize| if con.node[j][side] == WORLD { DVec3::ZERO } else { a[con.node[j][side]].ang };
@@ -106,6 +108,10 @@ fn check(xml: &str, seed: u64) {
     constraint::rows::push_contact_rows(&m2, &data.dynamics.kin, &data.dynamics.aba, &contacts, |_, n, _, _| n.any_orthonormal_vector(), &mut con);
     constraint::rows::push_limit_rows(&m2, &q, &v, &qacc, &forced, &mut con);
     constraint::rows::push_motion_rows(&m2, &q, &v, &ctrl, &ff, &mut con);
+    constraint::rows::push_equality_rows(&m2, &q, &v, &mut con);
+    // a scratch another world's step used: its Δq̈ must not reach these columns (an equality
+    // across trees reads its test forces' responses at the other tree's dofs too)
+    con.dqdd = vec![f64::NAN; 64 * m2.nv];
     constraint::test_forces::assemble(&m2, &data.dynamics.kin, &data.dynamics.aba, &qacc, &mut con);
     let nr = con.len();
     assert!(nr >= 6, "rows {nr}");
@@ -121,6 +127,7 @@ fn check(xml: &str, seed: u64) {
             worst = worst.max((con.k_at(rr, c) - reference).abs() / scale);
         }
     }
+    assert!((0..nr * nr).all(|i| con.k_at(i / nr, i % nr).is_finite()), "K not finite (seed {seed})");
     assert!(worst <= 1e-9, "K vs J M⁻¹ Jᵀ: rel err {worst:e} (seed {seed})");
     check_arc(&m, &data.dynamics.kin, &q, &v, &con, seed);
 }
@@ -181,7 +188,10 @@ fn test_force_k_matches_dense_delassus_on_forests() {
         let xml = forest_mjcf(&[2 + seed as usize % 4, 3, 1 + seed as usize % 3], seed);
         let m = Model::from_mjcf(&xml).unwrap();
         assert!(m.node_end[0] < m.nnode, "more than one tree");
-        check(&xml, seed);
+        // an equality coupling a hinge or slide of the first tree to one of the second
+        let one = |t: &str| (0..m.njnt).find(|&j| m.jnt_name[j].starts_with(t) && matches!(m.jnt_type[j], JointType::Hinge | JointType::Slide)).map(|j| m.jnt_name[j].clone());
+        let (a, b) = (one("t0_").unwrap(), one("t1_").unwrap());
+        check(&xml.replace("</mujoco>", &format!("<equality><joint joint1=\"{a}\" joint2=\"{b}\"/></equality></mujoco>")), seed);
     }
 }
 
